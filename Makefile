@@ -1,0 +1,44 @@
+# Thin wrapper around CMake for the two commands of the README.
+#   make demo   install dependencies, build, run the default case, say where the results are
+#   make test   install dependencies, build, run the C tests (ctest) and the Python tests (pytest)
+BUILD   ?= build
+JOBS    ?= 2
+PYTHON  ?= /usr/bin/python3
+export OMPI_ALLOW_RUN_AS_ROOT=1
+export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+export OMPI_MCA_rmaps_base_oversubscribe=1
+
+.PHONY: all deps build demo test test-c test-python bench clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+build: deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
+	cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	$(BUILD)/flexslosh -options_file cases/taylor_green.opts -fs_output_dir output/demo
+	@echo ""
+	@echo "flexslosh demo finished. Results are in output/demo/:"
+	@echo "  particles.xdmf    particle snapshots (open in ParaView), snapshot_*.h5 the data"
+	@echo "  timeseries.csv    time, dt, kinetic energy (with the exact decay), mass, momentum, ..."
+	@echo "  summary.json      particles, steps, wall time, speed, options used"
+
+test-c: build
+	cd $(BUILD) && ctest --output-on-failure
+
+test-python: build
+	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q tests/python
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure
+	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q tests/python
+
+bench: build
+	bash bench/bench_taylor_green.sh
+
+clean:
+	rm -rf $(BUILD)

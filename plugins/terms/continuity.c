@@ -1,0 +1,25 @@
+/* Term "continuity": the SPH continuity equation, D rho_i/Dt = -rho_i sum_j (u_j - u_i) . grad_i W_ij V_j (seed Eq. 4). */
+#include <flexslosh.h>
+
+static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  const PetscInt   dim = P->dim, S = P->stride;
+  const PetscReal *ri = &P->rec[nb->i * S], rhoi = ri[2 * dim];
+  PetscReal        sum = 0;
+  (void)t;
+  for (PetscInt k = 0; k < nb->n; k++) {
+    const PetscReal *rj = &P->rec[nb->j[k] * S], *g = &nb->gradW[k * dim];
+    const PetscReal  Vj = rj[2 * dim + 1] / rj[2 * dim];
+    PetscReal        dot = 0;
+    for (PetscInt d = 0; d < dim; d++) dot += (rj[dim + d] - ri[dim + d]) * g[d];
+    sum += dot * Vj;
+  }
+  rate->drho -= rhoi * sum;
+}
+
+PETSC_EXTERN PetscErrorCode FSTermCreate_Continuity(FSTerm t)
+{
+  PetscFunctionBegin;
+  t->ops.interact = Interact;
+  PetscFunctionReturn(0);
+}

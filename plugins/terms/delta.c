@@ -1,0 +1,112 @@
+/*
+   Term "delta": the delta-LES diffusive term of the continuity equation (seed Eqs. 4-9),
+     D rho_i/Dt += h c0 sum_j delta_ij D_ij . grad_i W_ij V_j,
+     D_ij = 2 [(rho_j - rho_i) - 1/2 (<grad rho>^L_i + <grad rho>^L_j) . (x_j - x_i)] (x_j - x_i) / |x_j - x_i|^2,
+     delta_ij = 2 delta_i delta_j / (delta_i + delta_j),  delta_i = (C_delta L_LES)^2 ||D||_i / (c0 h),  L_LES = 2h.
+   Its dissipation power (seed Eq. 38, with the sign that closes the budget of Eq. 40) is
+     P_delta = sum_i V_i p_i / rho_i (D rho_i/Dt)_delta.
+   Options: -fs_delta_c (C_delta, 1.5), -fs_delta_constant (a fixed delta instead of the LES one: classic delta-SPH).
+*/
+#include <flexslosh.h>
+
+typedef struct {
+  PetscReal  C, fixed;
+  PetscReal *delta;
+  PetscInt   cap;
+} Delta;
+
+static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  Delta           *ctx = (Delta *)t->data;
+  const PetscInt   dim = P->dim, S = P->stride, i = nb->i;
+  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *gi = &P->aux[i * (dim + 1)];
+  const PetscReal  di = ctx->delta[i];
+  PetscReal        sum = 0;
+  for (PetscInt k = 0; k < nb->n; k++) {
+    const PetscInt   j = nb->j[k];
+    const PetscReal *rj = &P->rec[j * S], *gj = &P->aux[j * (dim + 1)], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
+    const PetscReal  dj = ctx->delta[j], dsum = di + dj;
+    PetscReal        corr = 0, proj = 0, Dij;
+    if (dsum <= 0) continue;
+    for (PetscInt d = 0; d < dim; d++) {
+      corr += (gi[d] + gj[d]) * dx[d];
+      proj += dx[d] * g[d];
+    }
+    Dij = 2.0 * ((rj[2 * dim] - rhoi) - 0.5 * corr) / nb->r2[k];
+    sum += (2.0 * di * dj / dsum) * Dij * proj * rj[2 * dim + 1] / rj[2 * dim];
+  }
+  sum *= P->h * P->c0;
+  rate->drho += sum;
+  t->power += ri[2 * dim + 1] / rhoi * (P->c0 * P->c0 * (rhoi - P->rho0) + P->background_pressure) / rhoi * sum;
+}
+
+static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)
+{
+  Delta         *ctx = (Delta *)t->data;
+  const PetscInt n   = P->nowned + P->nghost, dim = P->dim;
+  const PetscReal L  = 2.0 * P->h, coef = ctx->C * ctx->C * L * L / (P->c0 * P->h);
+
+  PetscFunctionBegin;
+  if (n > ctx->cap) {
+    PetscCall(PetscFree(ctx->delta));
+    ctx->cap = PetscMax(n, (PetscInt)(1.25 * ctx->cap));
+    PetscCall(PetscMalloc1(ctx->cap, &ctx->delta));
+  }
+  if (ctx->fixed > 0)
+    for (PetscInt k = 0; k < n; k++) ctx->delta[k] = ctx->fixed;
+  else
+    for (PetscInt k = 0; k < n; k++) ctx->delta[k] = coef * P->aux[k * (dim + 1) + dim];
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObject)
+{
+  Delta *ctx = (Delta *)t->data;
+
+  PetscFunctionBegin;
+  PetscOptionsHeadBegin(PetscOptionsObject, "Term delta: delta-LES diffusive term in the continuity equation");
+  PetscCall(PetscOptionsReal("-fs_delta_c", "C_delta of the delta-LES model (seed Eq. 8)", "", ctx->C, &ctx->C, NULL));
+  PetscCall(PetscOptionsReal("-fs_delta_constant", "A constant delta (classic delta-SPH, e.g. 0.1) instead of the LES one; 0 = LES", "", ctx->fixed, &ctx->fixed, NULL));
+  PetscOptionsHeadEnd();
+  PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_c %g must be non-negative", (double)ctx->C);
+  PetscCheck(ctx->fixed >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_constant %g must be non-negative", (double)ctx->fixed);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode View(FSTerm t, PetscViewer v)
+{
+  Delta *ctx = (Delta *)t->data;
+
+  PetscFunctionBegin;
+  if (ctx->fixed > 0) PetscCall(PetscViewerASCIIPrintf(v, "delta: constant delta = %g\n", (double)ctx->fixed));
+  else PetscCall(PetscViewerASCIIPrintf(v, "delta: delta-LES, C_delta = %g, L_LES = 2h\n", (double)ctx->C));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Destroy(FSTerm t)
+{
+  Delta *ctx = (Delta *)t->data;
+
+  PetscFunctionBegin;
+  PetscCall(PetscFree(ctx->delta));
+  PetscCall(PetscFree(t->data));
+  PetscFunctionReturn(0);
+}
+
+PETSC_EXTERN PetscErrorCode FSTermCreate_Delta(FSTerm t)
+{
+  Delta *ctx;
+
+  PetscFunctionBegin;
+  PetscCall(PetscNew(&ctx));
+  ctx->C                  = 1.5;
+  t->data                 = ctx;
+  t->needs                = FS_NEED_DENSITY_GRADIENT | FS_NEED_STRAIN_RATE;
+  t->has_power            = PETSC_TRUE;
+  t->ops.interact         = Interact;
+  t->ops.prepare          = Prepare;
+  t->ops.setfromoptions   = SetFromOptions;
+  t->ops.view             = View;
+  t->ops.destroy          = Destroy;
+  PetscFunctionReturn(0);
+}

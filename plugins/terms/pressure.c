@@ -1,0 +1,26 @@
+/* Term "pressure": the pressure gradient in the (p_i + p_j) form, -1/rho_i sum_j (p_i + p_j) grad_i W_ij V_j (seed Eq. 4),
+   with the linear equation of state p = c0^2 (rho - rho0) + p_b (seed Eq. 2; p_b is -fs_background_pressure, 0 by default). */
+#include <flexslosh.h>
+
+static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  const PetscInt   dim = P->dim, S = P->stride;
+  const PetscReal  c2 = P->c0 * P->c0, rho0 = P->rho0, pb = P->background_pressure;
+  const PetscReal *ri = &P->rec[nb->i * S], rhoi = ri[2 * dim], pi = c2 * (rhoi - rho0) + pb;
+  PetscReal        acc[3] = {0, 0, 0};
+  (void)t;
+  for (PetscInt k = 0; k < nb->n; k++) {
+    const PetscReal *rj = &P->rec[nb->j[k] * S], *g = &nb->gradW[k * dim];
+    const PetscReal  rhoj = rj[2 * dim], pj = c2 * (rhoj - rho0) + pb;
+    const PetscReal  f = (pi + pj) * rj[2 * dim + 1] / rhoj;
+    for (PetscInt d = 0; d < dim; d++) acc[d] += f * g[d];
+  }
+  for (PetscInt d = 0; d < dim; d++) rate->du[d] -= acc[d] / rhoi;
+}
+
+PETSC_EXTERN PetscErrorCode FSTermCreate_Pressure(FSTerm t)
+{
+  PetscFunctionBegin;
+  t->ops.interact = Interact;
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,70 @@
+/* The registry of cases (set-ups): -fs_case <name>. */
+#include "fsimpl.h"
+
+static PetscFunctionList FSCaseList = NULL;
+
+typedef struct _n_FSCaseInfo {
+  char                   name[64], description[256];
+  struct _n_FSCaseInfo  *next;
+} FSCaseInfo;
+static FSCaseInfo *FSCaseInfos = NULL;
+
+PETSC_EXTERN PetscErrorCode FSCaseCreate_TaylorGreen(FSSolver, FSCaseOps *);
+PETSC_EXTERN PetscErrorCode FSCaseCreate_Shear(FSSolver, FSCaseOps *);
+
+/*
+   FSCaseRegister - adds a case (a set-up routine) to the registry.
+
+   Input Parameters:
++  name        - the name used in -fs_case
+.  description - one line
+-  create      - fills the case's ops
+*/
+PetscErrorCode FSCaseRegister(const char name[], const char description[], FSCaseCreateFn create)
+{
+  FSCaseInfo *info;
+
+  PetscFunctionBegin;
+  PetscCall(PetscFunctionListAdd(&FSCaseList, name, create));
+  for (info = FSCaseInfos; info; info = info->next)
+    if (!strcmp(info->name, name)) break;
+  if (!info) {
+    info = (FSCaseInfo *)calloc(1, sizeof(*info));
+    PetscCheck(info, PETSC_COMM_SELF, PETSC_ERR_MEM, "Out of memory registering case %s", name);
+    info->next  = FSCaseInfos;
+    FSCaseInfos = info;
+  }
+  PetscCall(PetscStrncpy(info->name, name, sizeof(info->name)));
+  PetscCall(PetscStrncpy(info->description, description ? description : "", sizeof(info->description)));
+  PetscFunctionReturn(0);
+}
+
+/* FSCaseRegisterAll - registers the built-in cases (idempotent). */
+PetscErrorCode FSCaseRegisterAll(void)
+{
+  static PetscBool done = PETSC_FALSE;
+
+  PetscFunctionBegin;
+  if (done) PetscFunctionReturn(0);
+  done = PETSC_TRUE;
+  PetscCall(FSCaseRegister("taylor_green", "Taylor-Green vortices in a periodic box (2-D, or extruded in 3-D); exact viscous decay", FSCaseCreate_TaylorGreen));
+  PetscCall(FSCaseRegister("shear", "periodic shear flow u = U sin(2 pi y/L) in 2-D or 3-D; exact viscous decay", FSCaseCreate_Shear));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSCaseFind(const char name[], FSCaseCreateFn *create)
+{
+  PetscFunctionBegin;
+  PetscCall(FSCaseRegisterAll());
+  PetscCall(PetscFunctionListFind(FSCaseList, name, create));
+  PetscFunctionReturn(0);
+}
+
+/* FSCaseListView - prints every registered case with its description. */
+PetscErrorCode FSCaseListView(PetscViewer viewer)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Registered cases, select with -fs_case name:\n"));
+  for (FSCaseInfo *info = FSCaseInfos; info; info = info->next) PetscCall(PetscViewerASCIIPrintf(viewer, "  %-16s %s\n", info->name, info->description));
+  PetscFunctionReturn(0);
+}

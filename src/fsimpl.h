@@ -1,0 +1,213 @@
+/*
+   Private data structures of libflexslosh. Not part of the public interface.
+
+   Data flow of one run:  options -> case set-up (domain, particles) -> decomposition ->
+   TS loop [ halo refresh -> cell list and neighbour lists -> first pass (correction matrix,
+   density gradient, strain rate) -> ghost refresh of those -> pair pass of the terms ] ->
+   monitors (time series, snapshots, checkpoints, progress, blow-up checks).
+*/
+#pragma once
+#include <flexslosh.h>
+#include <petsc/private/petscimpl.h>
+#include "output/fsoutput.h"
+
+#define FS_MAX_TERMS 32
+#define FS_MAX_GLOBAL 64
+
+/* Wendland C2 kernel with support 2h, dimension 2 or 3. */
+typedef struct {
+  PetscInt  dim;
+  PetscReal h, support, support2;
+  PetscReal wnorm; /* W(q) = wnorm (1 - q/2)^4 (2q + 1) */
+  PetscReal fnorm; /* grad_i W = fnorm (1 - q/2)^3 (x_i - x_j), i.e. F(r) = W'(r)/r */
+} FSKernel;
+
+PETSC_INTERN PetscErrorCode FSKernelSetUp(FSKernel *, PetscInt dim, PetscReal h);
+static inline PetscReal FSKernelW(const FSKernel *k, PetscReal r)
+{
+  const PetscReal q = r / k->h, a = 1.0 - 0.5 * q;
+  return q >= 2.0 ? 0.0 : k->wnorm * a * a * a * a * (2.0 * q + 1.0);
+}
+/* F(r) such that grad_i W(x_i - x_j) = F(r) (x_i - x_j); valid for r < 2h. */
+static inline PetscReal FSKernelF(const FSKernel *k, PetscReal r)
+{
+  const PetscReal a = 1.0 - 0.5 * r / k->h;
+  return k->fnorm * a * a * a;
+}
+
+/* Orthogonal process grid over the domain box: rank (i,j,k) owns
+   [cut[d][i_d], cut[d][i_d+1]) in every direction d. */
+typedef struct {
+  PetscInt    dim;
+  PetscReal   lo[3], hi[3], len[3];
+  PetscBool   periodic[3];
+  PetscMPIInt size, rank;
+  PetscMPIInt np[3];    /* ranks per direction */
+  PetscMPIInt coord[3]; /* this rank's position in the grid */
+  PetscReal  *cut[3];   /* np[d]+1 cut positions per direction */
+} FSDecomp;
+
+PETSC_INTERN PetscErrorCode FSDecompSetUp(FSDecomp *, MPI_Comm, PetscInt dim, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[], PetscReal minwidth);
+PETSC_INTERN PetscErrorCode FSDecompBalance(FSDecomp *, MPI_Comm, PetscInt n, const PetscReal x[], PetscReal minwidth);
+PETSC_INTERN PetscErrorCode FSDecompDestroy(FSDecomp *);
+PETSC_INTERN PetscMPIInt    FSDecompRankOf(const FSDecomp *, const PetscReal x[]);
+PETSC_INTERN PetscMPIInt    FSDecompRankAt(const FSDecomp *, const PetscMPIInt c[]);
+
+/* Ghost particles: copies of owned particles of other ranks (or periodic images of this rank's)
+   within the halo width of this rank's subdomain. Refreshed through a PetscSF each RHS. */
+typedef struct {
+  PetscInt   nghost, cap;
+  PetscReal *shift; /* nghost*dim periodic shift added after each refresh */
+  PetscSF    sf;    /* roots: owned records, leaves: ghost records */
+  MPI_Datatype rectype, auxtype;
+  PetscInt   recstride, auxstride;
+  /* send-side work for building */
+  PetscInt   nsend, sendcap;
+  PetscInt  *send_index;
+  PetscMPIInt *send_rank;
+  PetscReal *send_shift;
+} FSHalo;
+
+PETSC_INTERN PetscErrorCode FSHaloBuild(FSHalo *, MPI_Comm, const FSDecomp *, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width);
+PETSC_INTERN PetscErrorCode FSHaloRefresh(FSHalo *, PetscInt dim, PetscInt nowned, PetscReal rec[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshAux(FSHalo *, PetscInt nowned, PetscReal aux[]);
+PETSC_INTERN PetscErrorCode FSHaloDestroy(FSHalo *);
+
+/* Cell-linked list (counting sort) and the full neighbour list of owned particles (CSR). */
+typedef struct {
+  PetscInt   dim;
+  PetscReal  lo[3], cellsize;
+  PetscInt   nc[3], ncells;
+  PetscInt  *cellstart; /* ncells+1 */
+  PetscInt  *cellof;    /* cell of each particle */
+  PetscInt  *order;     /* particles sorted by cell */
+  PetscInt   ncap, ccap;
+  /* neighbour list */
+  PetscInt  *start;     /* nowned+1 */
+  PetscInt  *nbr;       /* neighbour index per pair */
+  PetscReal *F;         /* kernel gradient factor per pair */
+  PetscInt   scap, pcap;
+  PetscInt64 npairs;
+} FSNeighbours;
+
+PETSC_INTERN PetscErrorCode FSNeighboursBuildCells(FSNeighbours *, PetscInt dim, PetscInt n, const PetscReal rec[], PetscInt stride, PetscReal cellsize);
+PETSC_INTERN PetscErrorCode FSNeighboursBuildList(FSNeighbours *, const FSKernel *, PetscInt nowned, const PetscReal rec[], PetscInt stride);
+PETSC_INTERN PetscErrorCode FSNeighboursDestroy(FSNeighbours *);
+
+/* Selected terms and the per-particle work of one right-hand side. */
+typedef struct {
+  PetscInt nterms;
+  FSTerm   term[FS_MAX_TERMS];
+  PetscInt needs;
+} FSTermSet;
+
+typedef struct _FSSolverOps *FSSolverOps;
+struct _FSSolverOps {
+  PetscErrorCode (*dummy)(void);
+};
+
+struct _p_FSSolver {
+  PETSCHEADER(struct _FSSolverOps);
+  /* options */
+  char      casename[64];
+  char      outdir[PETSC_MAX_PATH_LEN];
+  char      restart[PETSC_MAX_PATH_LEN];
+  PetscInt  dim;
+  PetscReal dx, h_over_dx, h, rho0, c0, nu, gravity[3], background_pressure;
+  PetscReal cfl, cfl_visc, cfl_force;
+  PetscReal halo_skin;        /* extra halo width, in units of h */
+  PetscReal max_density_variation;
+  PetscReal output_interval;
+  PetscInt  checkpoint_interval;
+  PetscBool progress, write_output;
+  PetscReal progress_interval;
+  PetscBool terms_view, setupcalled;
+  PetscInt  sort_interval;
+
+  /* case */
+  FSCaseOps caseops;
+  void     *casedata;
+
+  /* geometry and decomposition */
+  PetscReal lo[3], hi[3];
+  PetscBool periodic[3], domain_set;
+  FSDecomp  decomp;
+  FSKernel  kernel;
+
+  /* particles: DMSwarm (BASIC) with fields position, velocity, density, mass, id */
+  DM       swarm;
+  PetscInt nowned;
+  PetscInt64 nglobal_particles;
+
+  /* work arrays: particle records of owned + ghost particles, derived quantities */
+  PetscInt   stride;    /* 2*dim+2 */
+  PetscInt   auxstride; /* dim+1 */
+  PetscReal *rec, *aux;
+  PetscInt   reccap;
+  FSHalo       halo;
+  FSNeighbours nbrs;
+  PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW */
+  PetscInt     scratchcap;
+
+  /* terms */
+  FSTermSet terms;
+
+  /* time stepping: U packs (x, u, rho) per owned particle, then the global DOFs on rank 0 */
+  TS        ts;
+  Vec       U;
+  PetscInt  nglobaldofs;
+  PetscReal global0[FS_MAX_GLOBAL];
+  PetscInt  ustride; /* 2*dim+1 */
+  PetscReal dt_stable, final_time;
+  PetscInt  nrhs;
+  Vec       Uprev;               /* state at the start of the step (for the displacement check) */
+  FSCheckpointHeader restart_hdr;
+  PetscReal max_variation;       /* max |rho/rho0 - 1| at the last check */
+
+  /* monitors and output */
+  FSSnapshotWriter snapshots;
+  FSTimeSeries     series;
+  PetscReal        next_output;
+  PetscLogDouble   wall_start, wall_last_progress;
+  PetscInt         step0;
+  PetscInt64       pair_visits, particle_steps;
+  PetscInt         nmigrations;
+  PetscBool        monitoring;
+  PetscReal        t0, last_snapshot_time;
+  PetscReal       *field;        /* output staging */
+  PetscInt         fieldcap;
+};
+
+/* solver pieces, one file each */
+PETSC_INTERN PetscErrorCode FSSolverCreateSwarm(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverMigrate(FSSolver, PetscBool *changed);
+PETSC_INTERN PetscErrorCode FSSolverSortByCell(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverPackState(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverUnpackState(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverEnsureWork(FSSolver, PetscInt n);
+PETSC_INTERN PetscErrorCode FSSolverSetUpTS(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverRHS(TS, PetscReal, Vec, Vec, void *);
+PETSC_INTERN PetscErrorCode FSSolverComputeStableDt(FSSolver, PetscReal *);
+PETSC_INTERN PetscErrorCode FSSolverMonitor(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverMonitorBegin(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
+PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool local_only);
+PETSC_INTERN PetscErrorCode FSTermCreate(FSSolver, const char name[], FSTerm *);
+PETSC_INTERN PetscErrorCode FSTermDestroy(FSTerm *);
+PETSC_INTERN PetscErrorCode FSCaseFind(const char name[], FSCaseCreateFn *);
+
+/* log events */
+PETSC_EXTERN PetscLogEvent FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_Migrate, FS_Output, FS_RHS;
+
+/* field names in the swarm */
+#define FS_FIELD_POSITION "position"
+#define FS_FIELD_VELOCITY "velocity"
+#define FS_FIELD_DENSITY  "density"
+#define FS_FIELD_MASS     "mass"
+#define FS_FIELD_ID       "id"

@@ -1,0 +1,336 @@
+/*
+   Checkpoints: everything needed to restart a run, in one HDF5 file.
+
+   Layout (all reals float64):
+     /particles/<field>   dataset (N,) for bs = 1, (N, bs) for bs > 1, particles in rank order;
+                          group attribute nparticles (int)
+     /header              group; attributes format = "flexslosh-checkpoint", version (int),
+                          time, dt (double), step, nglobal, nparticles, nranks, nfields (int)
+     /header/global       dataset (nglobal,): the replicated global values (absent if nglobal = 0)
+     /layout/nlocal       dataset (nranks,): particles owned by each writing rank
+
+   The file is written as "<path>.tmp" and renamed into place by rank 0 once complete. Reading
+   on the same number of ranks restores the original distribution (FSCheckpointGetLocalSize());
+   on another number the particles are split evenly, keeping their order.
+*/
+#include <string.h>
+#include <petscvec.h>
+#include <petscviewerhdf5.h>
+#include <petsclayouthdf5.h> /* PetscViewerHDF5ReadSizes() */
+#include "fsoutput.h"
+
+#if defined(PETSC_USE_COMPLEX)
+  #error "flexslosh output wraps PetscReal arrays as PetscScalar: a real PETSc build is required"
+#endif
+
+#define FS_CHECKPOINT_FORMAT  "flexslosh-checkpoint"
+#define FS_CHECKPOINT_VERSION 1
+
+/*@C
+   FSCheckpointWrite - Writes a checkpoint: the header, the global values, the particle layout and
+   all particle fields.
+
+   Collective
+
+   Input Parameters:
++  comm    - communicator of the particles
+.  path    - the checkpoint file (written as "<path>.tmp", then renamed)
+.  hdr     - time, dt, step and the nglobal (<= 64) global values, identical on all ranks (rank 0's are written)
+.  nlocal  - number of particles on this rank
+.  nfields - number of fields
+-  fields  - the fields (any bs >= 1); names as for snapshots
+
+   Notes:
+   See the file comment of checkpoint.c for the layout.
+@*/
+PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheckpointHeader *hdr, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[])
+{
+  char        tmp[PETSC_MAX_PATH_LEN];
+  PetscViewer viewer;
+  PetscMPIInt rank, size;
+  PetscInt    N, nranks, nf = nfields, version = FS_CHECKPOINT_VERSION;
+  double      t, dt;
+  Vec         v;
+  PetscReal   mine = (PetscReal)nlocal;
+
+  PetscFunctionBegin;
+  PetscCheck(path && hdr, comm, PETSC_ERR_ARG_NULL, "FSCheckpointWrite: path and header are required");
+  PetscCheck(strlen(path) + 5 < sizeof(tmp), comm, PETSC_ERR_ARG_SIZ, "Checkpoint path too long: \"%s\"", path);
+  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
+  PetscCheck(hdr->nglobal >= 0 && hdr->nglobal <= (PetscInt)(sizeof(hdr->global) / sizeof(hdr->global[0])), comm, PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint \"%s\": nglobal %" PetscInt_FMT " must be in [0, %d]", path, hdr->nglobal, (int)(sizeof(hdr->global) / sizeof(hdr->global[0])));
+  PetscCall(FSCheckFields_Private(comm, path, 0, nlocal, nfields, fields));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCallMPI(MPI_Allreduce(&nlocal, &N, 1, MPIU_INT, MPI_SUM, comm));
+  nranks = size;
+  t      = (double)hdr->time;
+  dt     = (double)hdr->dt;
+
+  PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
+  /* particle fields */
+  PetscCall(PetscViewerHDF5WriteGroup(viewer, "/particles"));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
+  PetscCall(FSViewFields_Private(viewer, comm, nlocal, nfields, fields));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "nparticles", PETSC_INT, &N));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  /* header */
+  PetscCall(PetscViewerHDF5WriteGroup(viewer, "/header"));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "format", PETSC_STRING, FS_CHECKPOINT_FORMAT));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "version", PETSC_INT, &version));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "time", PETSC_DOUBLE, &t));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "dt", PETSC_DOUBLE, &dt));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "step", PETSC_INT, &hdr->step));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nglobal", PETSC_INT, &hdr->nglobal));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nparticles", PETSC_INT, &N));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nranks", PETSC_INT, &nranks));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nfields", PETSC_INT, &nf));
+  if (hdr->nglobal > 0) {
+    PetscCall(VecCreateMPIWithArray(comm, 1, rank == 0 ? hdr->nglobal : 0, hdr->nglobal, (const PetscScalar *)hdr->global, &v));
+    PetscCall(PetscObjectSetName((PetscObject)v, "global"));
+    PetscCall(PetscViewerHDF5PushGroup(viewer, "/header"));
+    PetscCall(VecView(v, viewer));
+    PetscCall(PetscViewerHDF5PopGroup(viewer));
+    PetscCall(VecDestroy(&v));
+  }
+  /* layout: one entry per rank */
+  PetscCall(VecCreateMPIWithArray(comm, 1, 1, size, (const PetscScalar *)&mine, &v));
+  PetscCall(PetscObjectSetName((PetscObject)v, "nlocal"));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/layout"));
+  PetscCall(VecView(v, viewer));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(VecDestroy(&v));
+  PetscCall(PetscViewerDestroy(&viewer));
+  PetscCallMPI(MPI_Barrier(comm)); /* every rank has closed the file before it is renamed */
+  PetscCall(FSRenameFile_Private(comm, tmp, path));
+  PetscFunctionReturn(0);
+}
+
+/* Opens an existing checkpoint for reading; a missing file is PETSC_ERR_FILE_OPEN on every rank */
+static PetscErrorCode FSCheckpointOpen(MPI_Comm comm, const char path[], PetscViewer *viewer)
+{
+  PetscBool exists, has;
+
+  PetscFunctionBegin;
+  PetscCheck(path, comm, PETSC_ERR_ARG_NULL, "Checkpoint path is required");
+  PetscCall(FSTestFile_Private(comm, path, &exists));
+  PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "Checkpoint \"%s\" does not exist or cannot be read", path);
+  PetscCall(PetscViewerHDF5Open(comm, path, FILE_MODE_READ, viewer));
+  PetscCall(PetscViewerHDF5HasGroup(*viewer, "/header", &has));
+  if (!has) PetscCall(PetscViewerDestroy(viewer));
+  PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\" has no /header group: not a flexslosh checkpoint", path);
+  PetscFunctionReturn(0);
+}
+
+/* Reads a required attribute of /header; its absence is PETSC_ERR_FILE_UNEXPECTED naming the file */
+static PetscErrorCode FSCheckpointReadAttr(PetscViewer viewer, MPI_Comm comm, const char path[], const char name[], PetscDataType type, void *value)
+{
+  PetscBool has;
+
+  PetscFunctionBegin;
+  PetscCall(PetscViewerHDF5HasAttribute(viewer, "/header", name, &has));
+  PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": attribute /header.%s is missing", path, name);
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/header", name, type, NULL, value));
+  PetscFunctionReturn(0);
+}
+
+/* Header of an open checkpoint; any output may be NULL */
+static PetscErrorCode FSCheckpointReadHeader_Viewer(PetscViewer viewer, MPI_Comm comm, const char path[], FSCheckpointHeader *hdr, PetscInt *N, PetscInt *nranks)
+{
+  PetscInt           version, np, nr;
+  double             t, dt;
+  FSCheckpointHeader h;
+
+  PetscFunctionBegin;
+  PetscCall(PetscMemzero(&h, sizeof(h)));
+  PetscCall(FSCheckpointReadAttr(viewer, comm, path, "version", PETSC_INT, &version));
+  PetscCheck(version == FS_CHECKPOINT_VERSION, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\" has format version %" PetscInt_FMT "; this build reads version %d", path, version, FS_CHECKPOINT_VERSION);
+  PetscCall(FSCheckpointReadAttr(viewer, comm, path, "time", PETSC_DOUBLE, &t));
+  PetscCall(FSCheckpointReadAttr(viewer, comm, path, "dt", PETSC_DOUBLE, &dt));
+  PetscCall(FSCheckpointReadAttr(viewer, comm, path, "step", PETSC_INT, &h.step));
+  PetscCall(FSCheckpointReadAttr(viewer, comm, path, "nglobal", PETSC_INT, &h.nglobal));
+  PetscCall(FSCheckpointReadAttr(viewer, comm, path, "nparticles", PETSC_INT, &np));
+  PetscCall(FSCheckpointReadAttr(viewer, comm, path, "nranks", PETSC_INT, &nr));
+  h.time = (PetscReal)t;
+  h.dt   = (PetscReal)dt;
+  PetscCheck(h.nglobal >= 0 && h.nglobal <= (PetscInt)(sizeof(h.global) / sizeof(h.global[0])), comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": nglobal %" PetscInt_FMT " outside [0, %d]", path, h.nglobal, (int)(sizeof(h.global) / sizeof(h.global[0])));
+  PetscCheck(np >= 0 && nr >= 1, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": invalid nparticles %" PetscInt_FMT " or nranks %" PetscInt_FMT, path, np, nr);
+  if (hdr && h.nglobal > 0) {
+    PetscMPIInt rank;
+    PetscBool   has;
+    PetscInt    n;
+    Vec         g;
+
+    PetscCallMPI(MPI_Comm_rank(comm, &rank));
+    PetscCall(PetscViewerHDF5HasDataset(viewer, "/header/global", &has));
+    PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": dataset /header/global is missing (nglobal = %" PetscInt_FMT ")", path, h.nglobal);
+    PetscCall(PetscViewerHDF5PushGroup(viewer, "/header"));
+    PetscCall(PetscViewerHDF5ReadSizes(viewer, "global", NULL, &n));
+    PetscCheck(n == h.nglobal, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": /header/global has %" PetscInt_FMT " values, nglobal says %" PetscInt_FMT, path, n, h.nglobal);
+    PetscCall(VecCreateMPI(comm, rank == 0 ? h.nglobal : 0, h.nglobal, &g));
+    PetscCall(PetscObjectSetName((PetscObject)g, "global"));
+    PetscCall(VecLoad(g, viewer));
+    PetscCall(PetscViewerHDF5PopGroup(viewer));
+    if (rank == 0) {
+      const PetscScalar *a;
+
+      PetscCall(VecGetArrayRead(g, &a));
+      for (PetscInt i = 0; i < h.nglobal; i++) h.global[i] = PetscRealPart(a[i]);
+      PetscCall(VecRestoreArrayRead(g, &a));
+    }
+    PetscCall(VecDestroy(&g));
+    PetscCallMPI(MPI_Bcast(h.global, (PetscMPIInt)h.nglobal, MPIU_REAL, 0, comm));
+  }
+  if (hdr) *hdr = h;
+  if (N) *N = np;
+  if (nranks) *nranks = nr;
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSCheckpointReadHeader - Reads the header of a checkpoint.
+
+   Collective
+
+   Input Parameters:
++  comm - communicator
+-  path - the checkpoint file
+
+   Output Parameters:
++  hdr               - time, dt, step, nglobal and global[] (may be NULL)
+.  nglobal_particles - total number of particles (may be NULL)
+-  nranks_written    - number of ranks that wrote the checkpoint (may be NULL)
+
+   Notes:
+   A missing file raises PETSC_ERR_FILE_OPEN, a file that is not a checkpoint of this format
+   PETSC_ERR_FILE_UNEXPECTED; the message names the file.
+@*/
+PetscErrorCode FSCheckpointReadHeader(MPI_Comm comm, const char path[], FSCheckpointHeader *hdr, PetscInt *nglobal_particles, PetscMPIInt *nranks_written)
+{
+  PetscViewer viewer;
+  PetscInt    nr;
+
+  PetscFunctionBegin;
+  PetscCall(FSCheckpointOpen(comm, path, &viewer));
+  PetscCall(FSCheckpointReadHeader_Viewer(viewer, comm, path, hdr, nglobal_particles, &nr));
+  PetscCall(PetscViewerDestroy(&viewer));
+  if (nranks_written) *nranks_written = (PetscMPIInt)nr;
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSCheckpointGetLocalSize - Number of particles this rank should read from a checkpoint.
+
+   Collective
+
+   Input Parameters:
++  comm - communicator
+-  path - the checkpoint file
+
+   Output Parameter:
+.  nlocal - this rank's share
+
+   Notes:
+   On as many ranks as wrote the checkpoint, each rank gets back the particles it wrote; otherwise
+   N/size each, the remainder going one each to the first ranks. Either way the shares, taken in
+   rank order, cover the particles in the order they were written.
+@*/
+PetscErrorCode FSCheckpointGetLocalSize(MPI_Comm comm, const char path[], PetscInt *nlocal)
+{
+  PetscViewer viewer;
+  PetscMPIInt rank, size;
+  PetscInt    N, nr;
+
+  PetscFunctionBegin;
+  PetscCheck(nlocal, comm, PETSC_ERR_ARG_NULL, "FSCheckpointGetLocalSize: nlocal is required");
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(FSCheckpointOpen(comm, path, &viewer));
+  PetscCall(FSCheckpointReadHeader_Viewer(viewer, comm, path, NULL, &N, &nr));
+  if (nr == (PetscInt)size) {
+    PetscBool          has;
+    PetscInt           n, sum;
+    Vec                v;
+    const PetscScalar *a;
+
+    PetscCall(PetscViewerHDF5HasDataset(viewer, "/layout/nlocal", &has));
+    PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": dataset /layout/nlocal is missing", path);
+    PetscCall(PetscViewerHDF5PushGroup(viewer, "/layout"));
+    PetscCall(PetscViewerHDF5ReadSizes(viewer, "nlocal", NULL, &n));
+    PetscCheck(n == nr, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": /layout/nlocal has %" PetscInt_FMT " entries, nranks is %" PetscInt_FMT, path, n, nr);
+    PetscCall(VecCreateMPI(comm, 1, size, &v));
+    PetscCall(PetscObjectSetName((PetscObject)v, "nlocal"));
+    PetscCall(VecLoad(v, viewer));
+    PetscCall(PetscViewerHDF5PopGroup(viewer));
+    PetscCall(VecGetArrayRead(v, &a));
+    *nlocal = (PetscInt)PetscRealPart(a[0]);
+    PetscCall(VecRestoreArrayRead(v, &a));
+    PetscCall(VecDestroy(&v));
+    PetscCallMPI(MPI_Allreduce(nlocal, &sum, 1, MPIU_INT, MPI_SUM, comm));
+    PetscCheck(sum == N, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": /layout/nlocal sums to %" PetscInt_FMT ", nparticles is %" PetscInt_FMT, path, sum, N);
+  } else {
+    *nlocal = N / size + ((PetscInt)rank < N % size ? 1 : 0);
+  }
+  PetscCall(PetscViewerDestroy(&viewer));
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSCheckpointReadField - Reads one particle field of a checkpoint into a local array.
+
+   Collective
+
+   Input Parameters:
++  comm   - communicator
+.  path   - the checkpoint file
+.  name   - field name (dataset /particles/<name>)
+.  bs     - components per particle expected
+-  nlocal - particles to read on this rank (e.g. from FSCheckpointGetLocalSize()); rank r gets the
+            particles that follow those of ranks 0..r-1, in the order they were written
+
+   Output Parameter:
+.  data - nlocal*bs values
+
+   Notes:
+   A missing file is PETSC_ERR_FILE_OPEN; a missing field, a bs that differs from the file's, or a
+   sum of nlocal that differs from the number of particles in the file is PETSC_ERR_FILE_UNEXPECTED.
+@*/
+PetscErrorCode FSCheckpointReadField(MPI_Comm comm, const char path[], const char name[], PetscInt bs, PetscInt nlocal, PetscReal data[])
+{
+  PetscViewer        viewer;
+  char               dset[PETSC_MAX_PATH_LEN];
+  PetscBool          has;
+  PetscInt           fbs, flen, N;
+  Vec                v;
+  const PetscScalar *a;
+
+  PetscFunctionBegin;
+  PetscCheck(path && name, comm, PETSC_ERR_ARG_NULL, "FSCheckpointReadField: path and field name are required");
+  PetscCheck(bs >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint \"%s\": field \"%s\" requested with bs %" PetscInt_FMT ", expected >= 1", path, name, bs);
+  PetscCheck(nlocal >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint \"%s\": nlocal %" PetscInt_FMT " must be >= 0", path, nlocal);
+  PetscCheck(data || nlocal * bs == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Checkpoint \"%s\": no array to read field \"%s\" into", path, name);
+  PetscCall(PetscSNPrintf(dset, sizeof(dset), "/particles/%s", name));
+  PetscCallMPI(MPI_Allreduce(&nlocal, &N, 1, MPIU_INT, MPI_SUM, comm));
+  PetscCall(FSCheckpointOpen(comm, path, &viewer));
+  PetscCall(PetscViewerHDF5HasDataset(viewer, dset, &has));
+  if (!has) PetscCall(PetscViewerDestroy(&viewer));
+  PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\" has no field \"%s\" (dataset %s)", path, name, dset);
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
+  PetscCall(PetscViewerHDF5ReadSizes(viewer, name, &fbs, &flen));
+  if (fbs != bs || flen != N * bs) PetscCall(PetscViewerDestroy(&viewer));
+  PetscCheck(fbs == bs, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": field \"%s\" has %" PetscInt_FMT " components per particle, expected %" PetscInt_FMT, path, name, fbs, bs);
+  PetscCheck(flen == N * bs, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": field \"%s\" holds %" PetscInt_FMT " particles, but the local sizes add up to %" PetscInt_FMT, path, name, flen / bs, N);
+  PetscCall(VecCreate(comm, &v));
+  PetscCall(VecSetSizes(v, nlocal * bs, PETSC_DETERMINE));
+  PetscCall(VecSetBlockSize(v, bs));
+  PetscCall(VecSetType(v, VECSTANDARD));
+  PetscCall(PetscObjectSetName((PetscObject)v, name));
+  PetscCall(VecLoad(v, viewer));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(PetscViewerDestroy(&viewer));
+  /* VecLoad may replace the Vec's array, so read into a Vec of our own and copy out */
+  PetscCall(VecGetArrayRead(v, &a));
+  for (PetscInt i = 0; i < nlocal * bs; i++) data[i] = PetscRealPart(a[i]);
+  PetscCall(VecRestoreArrayRead(v, &a));
+  PetscCall(VecDestroy(&v));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,69 @@
+/*
+   Output writers of flexslosh: particle snapshots (HDF5 + XDMF index), checkpoints (HDF5),
+   the time-series CSV and the JSON summary.
+
+   These writers know nothing about the solver: they take plain arrays, so the solver, the
+   tests and future front ends use them alike. Every file is written to "<name>.tmp" and
+   renamed into place when complete, so a crash never corrupts a file already written.
+*/
+#pragma once
+#include <petscsys.h>
+
+/* One per-particle real field: data holds nlocal*bs values (particle-major, bs per particle). */
+typedef struct {
+  const char      *name; /* dataset name, e.g. "velocity" */
+  PetscInt         bs;   /* components per particle: 1 (scalar) or dim (vector) */
+  const PetscReal *data; /* local values, nlocal*bs */
+} FSOutputField;
+
+/* ---------------- particle snapshots ---------------- */
+typedef struct _n_FSSnapshotWriter *FSSnapshotWriter;
+
+PETSC_EXTERN PetscErrorCode FSSnapshotWriterCreate(MPI_Comm, const char dir[], PetscReal restart_time, FSSnapshotWriter *);
+PETSC_EXTERN PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter, PetscReal time, PetscInt step, PetscInt dim, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[]);
+PETSC_EXTERN PetscErrorCode FSSnapshotWriterGetCount(FSSnapshotWriter, PetscInt *);
+PETSC_EXTERN PetscErrorCode FSSnapshotWriterDestroy(FSSnapshotWriter *);
+
+/* ---------------- checkpoints ---------------- */
+/* Global (replicated) data of a checkpoint: time, step, dt, and nglobal extra doubles
+   (the state's global DOFs, e.g. structure DOFs and energy integrals). */
+typedef struct {
+  PetscReal time, dt;
+  PetscInt  step;
+  PetscInt  nglobal;
+  PetscReal global[64];
+} FSCheckpointHeader;
+
+PETSC_EXTERN PetscErrorCode FSCheckpointWrite(MPI_Comm, const char path[], const FSCheckpointHeader *, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[]);
+PETSC_EXTERN PetscErrorCode FSCheckpointReadHeader(MPI_Comm, const char path[], FSCheckpointHeader *, PetscInt *nglobal_particles, PetscMPIInt *nranks_written);
+PETSC_EXTERN PetscErrorCode FSCheckpointReadField(MPI_Comm, const char path[], const char name[], PetscInt bs, PetscInt nlocal, PetscReal data[]);
+PETSC_EXTERN PetscErrorCode FSCheckpointGetLocalSize(MPI_Comm, const char path[], PetscInt *nlocal);
+
+/* ---------------- time series (CSV) ---------------- */
+typedef struct _n_FSTimeSeries *FSTimeSeries;
+
+PETSC_EXTERN PetscErrorCode FSTimeSeriesCreate(MPI_Comm, const char path[], PetscInt ncols, const char *const names[], PetscInt restart_step, FSTimeSeries *);
+PETSC_EXTERN PetscErrorCode FSTimeSeriesAppend(FSTimeSeries, PetscInt step, const PetscReal values[]);
+PETSC_EXTERN PetscErrorCode FSTimeSeriesDestroy(FSTimeSeries *);
+
+/* ---------------- JSON ---------------- */
+typedef struct _n_FSJSON *FSJSON;
+
+PETSC_EXTERN PetscErrorCode FSJSONCreate(MPI_Comm, const char path[], FSJSON *);
+PETSC_EXTERN PetscErrorCode FSJSONBeginObject(FSJSON, const char key[]);
+PETSC_EXTERN PetscErrorCode FSJSONEndObject(FSJSON);
+PETSC_EXTERN PetscErrorCode FSJSONWriteString(FSJSON, const char key[], const char value[]);
+PETSC_EXTERN PetscErrorCode FSJSONWriteInt(FSJSON, const char key[], PetscInt64 value);
+PETSC_EXTERN PetscErrorCode FSJSONWriteReal(FSJSON, const char key[], PetscReal value);
+PETSC_EXTERN PetscErrorCode FSJSONWriteRealArray(FSJSON, const char key[], PetscInt n, const PetscReal values[]);
+PETSC_EXTERN PetscErrorCode FSJSONWriteBool(FSJSON, const char key[], PetscBool value);
+PETSC_EXTERN PetscErrorCode FSJSONDestroy(FSJSON *);
+
+/* ---------------- helpers ---------------- */
+PETSC_EXTERN PetscErrorCode FSMakeDirectory(MPI_Comm, const char path[], const char option[]);
+
+/* Internal to the output writers (rank 0 acts, the outcome is broadcast over the communicator). */
+PETSC_INTERN PetscErrorCode FSRenameFile_Private(MPI_Comm, const char from[], const char to[]);
+PETSC_INTERN PetscErrorCode FSTestFile_Private(MPI_Comm, const char path[], PetscBool *exists);
+PETSC_INTERN PetscErrorCode FSCheckFields_Private(MPI_Comm, const char file[], PetscInt dim, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[]);
+PETSC_INTERN PetscErrorCode FSViewFields_Private(PetscViewer, MPI_Comm, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[]);

@@ -1,0 +1,241 @@
+/*
+   FSTimeSeries: a CSV file with a header "step,<names...>" and one row per output step, written
+   by rank 0. Each row is formatted in memory, written with one fprintf and flushed, so a crash
+   leaves only complete lines (at worst a torn last line, which a restart drops).
+*/
+#define _POSIX_C_SOURCE 200809L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <errno.h>
+#include "fsoutput.h"
+
+struct _n_FSTimeSeries {
+  MPI_Comm    comm;
+  PetscMPIInt rank;
+  FILE       *fp; /* rank 0 only, opened for appending */
+  PetscInt    ncols;
+  char        path[PETSC_MAX_PATH_LEN];
+  char       *row;    /* rank 0: buffer for one formatted row */
+  size_t      rowlen; /* its size */
+};
+
+/* Header line (without newline) in a PetscMalloc'ed string */
+static PetscErrorCode FSTimeSeriesBuildHeader(MPI_Comm comm, const char path[], PetscInt ncols, const char *const names[], char **header)
+{
+  size_t len = 5, l;
+
+  PetscFunctionBegin;
+  for (PetscInt c = 0; c < ncols; c++) {
+    PetscCheck(names[c] && names[c][0], comm, PETSC_ERR_ARG_WRONG, "Time series \"%s\": column %" PetscInt_FMT " has no name", path, c);
+    PetscCheck(!strpbrk(names[c], ",\"\n\r"), comm, PETSC_ERR_ARG_WRONG, "Time series \"%s\": column name \"%s\" contains a comma, quote or newline", path, names[c]);
+    PetscCall(PetscStrlen(names[c], &l));
+    len += l + 1;
+  }
+  PetscCall(PetscMalloc1(len + 1, header));
+  PetscCall(PetscStrcpy(*header, "step"));
+  for (PetscInt c = 0; c < ncols; c++) {
+    PetscCall(PetscStrcat(*header, ","));
+    PetscCall(PetscStrcat(*header, names[c]));
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   Rank 0: keep the header and the complete rows with step <= restart_step of an existing file,
+   writing them to "<path>.tmp" and renaming it over path. Sets *ioerr (errno) or *badheader on failure.
+*/
+static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[], PetscInt restart_step, int *ioerr, PetscBool *badheader)
+{
+  char    tmp[PETSC_MAX_PATH_LEN];
+  FILE   *in, *out;
+  char   *line = NULL;
+  size_t  cap  = 0;
+  ssize_t n;
+  long    lineno = 0;
+
+  PetscFunctionBegin;
+  *ioerr     = 0;
+  *badheader = PETSC_FALSE;
+  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
+  in = fopen(path, "r");
+  if (!in) {
+    *ioerr = errno ? errno : EIO;
+    PetscFunctionReturn(0);
+  }
+  out = fopen(tmp, "w");
+  if (!out) {
+    *ioerr = errno ? errno : EIO;
+    (void)fclose(in);
+    PetscFunctionReturn(0);
+  }
+  while ((n = getline(&line, &cap, in)) > 0) {
+    lineno++;
+    if (line[n - 1] != '\n') break; /* torn last line of a crashed run */
+    if (lineno == 1) {
+      line[n - 1] = '\0';
+      if (n > 1 && line[n - 2] == '\r') line[n - 2] = '\0';
+      if (strcmp(line, header)) {
+        *badheader = PETSC_TRUE;
+        break;
+      }
+      if (fprintf(out, "%s\n", header) < 0) *ioerr = errno ? errno : EIO;
+    } else {
+      char *end;
+      long  step = strtol(line, &end, 10);
+
+      if (end == line || *end != ',') continue; /* not a data row */
+      if (step <= (long)restart_step && fputs(line, out) == EOF) *ioerr = errno ? errno : EIO;
+    }
+    if (*ioerr) break;
+  }
+  free(line); /* allocated by getline() */
+  if (ferror(in) && !*ioerr) *ioerr = EIO;
+  (void)fclose(in);
+  if (fclose(out) != 0 && !*ioerr) *ioerr = errno ? errno : EIO;
+  if (lineno == 0 && !*ioerr && !*badheader) {
+    /* empty file: start again with just the header */
+    out = fopen(tmp, "w");
+    if (!out || fprintf(out, "%s\n", header) < 0) *ioerr = errno ? errno : EIO;
+    if (out && fclose(out) != 0 && !*ioerr) *ioerr = errno ? errno : EIO;
+  }
+  if (*ioerr || *badheader) {
+    (void)remove(tmp);
+    PetscFunctionReturn(0);
+  }
+  if (rename(tmp, path) != 0) *ioerr = errno ? errno : EIO;
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSTimeSeriesCreate - Opens a CSV time series "step,<names...>" written by rank 0.
+
+   Collective
+
+   Input Parameters:
++  comm         - communicator; only rank 0 writes
+.  path         - the CSV file
+.  ncols        - number of value columns
+.  names        - their names (no commas, quotes or newlines)
+-  restart_step - < 0: a new file (an existing one is truncated); >= 0: a restart at this step: an
+                  existing file keeps its header and the rows with step <= restart_step (rewritten
+                  through "<path>.tmp" and a rename), then rows are appended; a missing file is created
+
+   Output Parameter:
+.  ts - the time series
+
+   Notes:
+   On restart the existing header must equal the new one, otherwise PETSC_ERR_FILE_UNEXPECTED is
+   raised (columns would not line up). Errors are raised on every rank.
+@*/
+PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt ncols, const char *const names[], PetscInt restart_step, FSTimeSeries *ts)
+{
+  FSTimeSeries w;
+  char        *header;
+  int          st[2] = {0, 0}; /* errno, bad header */
+
+  PetscFunctionBegin;
+  PetscCheck(path && ts, comm, PETSC_ERR_ARG_NULL, "FSTimeSeriesCreate: path and output handle are required");
+  PetscCheck(ncols >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Time series \"%s\": ncols %" PetscInt_FMT " must be >= 0", path, ncols);
+  PetscCheck(names || ncols == 0, comm, PETSC_ERR_ARG_NULL, "Time series \"%s\": no column names", path);
+  PetscCheck(strlen(path) + 5 < PETSC_MAX_PATH_LEN, comm, PETSC_ERR_ARG_SIZ, "Time series path too long: \"%s\"", path);
+  PetscCall(FSTimeSeriesBuildHeader(comm, path, ncols, names, &header));
+  PetscCall(PetscNew(&w));
+  w->comm  = comm;
+  w->ncols = ncols;
+  PetscCall(PetscStrcpy(w->path, path));
+  PetscCallMPI(MPI_Comm_rank(comm, &w->rank));
+  if (w->rank == 0) {
+    PetscBool exists = PETSC_FALSE, bad = PETSC_FALSE;
+
+    if (restart_step >= 0) PetscCall(PetscTestFile(path, 'r', &exists));
+    if (exists) {
+      PetscCall(FSTimeSeriesTruncate(path, header, restart_step, &st[0], &bad));
+      st[1] = bad ? 1 : 0;
+      if (!st[0] && !bad) {
+        w->fp = fopen(path, "a");
+        if (!w->fp) st[0] = errno ? errno : EIO;
+      }
+    } else {
+      w->fp = fopen(path, "w");
+      if (!w->fp) st[0] = errno ? errno : EIO;
+      else if (fprintf(w->fp, "%s\n", header) < 0 || fflush(w->fp) != 0) st[0] = errno ? errno : EIO;
+    }
+    w->rowlen = 32 + 32 * (size_t)ncols;
+    PetscCall(PetscMalloc1(w->rowlen, &w->row));
+  }
+  PetscCallMPI(MPI_Bcast(st, 2, MPI_INT, 0, comm));
+  if (st[0] || st[1]) {
+    char expected[256];
+
+    PetscCall(PetscStrncpy(expected, header, sizeof(expected)));
+    PetscCall(PetscFree(header));
+    if (w->fp) (void)fclose(w->fp);
+    PetscCall(PetscFree(w->row));
+    PetscCall(PetscFree(w));
+    PetscCheck(!st[1], comm, PETSC_ERR_FILE_UNEXPECTED, "Time series \"%s\": its header is not \"%s\" (columns changed?); cannot append to it on restart", path, expected);
+    SETERRQ(comm, PETSC_ERR_FILE_OPEN, "Cannot open time series \"%s\" for writing: %s", path, strerror(st[0]));
+  }
+  PetscCall(PetscFree(header));
+  *ts = w;
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSTimeSeriesAppend - Appends one row: step, then the values with "%.10e".
+
+   Not Collective (rank 0 writes, the other ranks return at once)
+
+   Input Parameters:
++  ts     - the time series
+.  step   - step number written in the first column
+-  values - ncols values (read on rank 0 only)
+
+   Notes:
+   The row is written with one fprintf and flushed.
+@*/
+PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscReal values[])
+{
+  size_t off;
+  int    n;
+
+  PetscFunctionBegin;
+  PetscCheck(ts, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSTimeSeries");
+  if (ts->rank != 0) PetscFunctionReturn(0);
+  PetscCheck(values || ts->ncols == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Time series \"%s\": no values", ts->path);
+  n = snprintf(ts->row, ts->rowlen, "%" PetscInt_FMT, step);
+  PetscCheck(n > 0 && (size_t)n < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
+  off = (size_t)n;
+  for (PetscInt c = 0; c < ts->ncols; c++) {
+    n = snprintf(ts->row + off, ts->rowlen - off, ",%.10e", (double)values[c]);
+    PetscCheck(n > 0 && (size_t)n < ts->rowlen - off, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
+    off += (size_t)n;
+  }
+  PetscCheck(off + 1 < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
+  ts->row[off]     = '\n';
+  ts->row[off + 1] = '\0';
+  PetscCheck(fprintf(ts->fp, "%s", ts->row) >= 0 && fflush(ts->fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot write to time series \"%s\": %s", ts->path, strerror(errno));
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSTimeSeriesDestroy - Closes the time series.
+
+   Not Collective
+
+   Input Parameter:
+.  ts - the time series (set to NULL)
+@*/
+PetscErrorCode FSTimeSeriesDestroy(FSTimeSeries *ts)
+{
+  int err = 0;
+
+  PetscFunctionBegin;
+  if (!ts || !*ts) PetscFunctionReturn(0);
+  if ((*ts)->fp && fclose((*ts)->fp) != 0) err = errno ? errno : EIO;
+  (*ts)->fp = NULL;
+  PetscCheck(!err, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot close time series \"%s\": %s", (*ts)->path, strerror(err));
+  PetscCall(PetscFree((*ts)->row));
+  PetscCall(PetscFree(*ts));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,110 @@
+/* Package initialization: class id, log events, the built-in terms and cases, plug-in checks. */
+#include "fsimpl.h"
+#include <dlfcn.h>
+
+static PetscBool FSPackageInitialized = PETSC_FALSE;
+
+PETSC_EXTERN PetscErrorCode FSTermCreate_Continuity(FSTerm);
+PETSC_EXTERN PetscErrorCode FSTermCreate_Delta(FSTerm);
+PETSC_EXTERN PetscErrorCode FSTermCreate_Pressure(FSTerm);
+PETSC_EXTERN PetscErrorCode FSTermCreate_Viscosity(FSTerm);
+PETSC_EXTERN PetscErrorCode FSTermCreate_LESViscosity(FSTerm);
+PETSC_EXTERN PetscErrorCode FSTermCreate_Gravity(FSTerm);
+
+/*
+   FSTermRegisterAll - registers the built-in physics terms (idempotent).
+*/
+PetscErrorCode FSTermRegisterAll(void)
+{
+  static PetscBool done = PETSC_FALSE;
+
+  PetscFunctionBegin;
+  if (done) PetscFunctionReturn(0);
+  done = PETSC_TRUE;
+  PetscCall(FSTermRegister("continuity", "continuity equation -rho_i sum (u_j - u_i).gradW V_j (seed Eq. 4)", FSTermCreate_Continuity));
+  PetscCall(FSTermRegister("delta", "delta-LES density diffusion with the renormalized density gradient (seed Eqs. 4-9)", FSTermCreate_Delta));
+  PetscCall(FSTermRegister("pressure", "pressure gradient, (p_i + p_j) form, linear equation of state (seed Eqs. 2, 4)", FSTermCreate_Pressure));
+  PetscCall(FSTermRegister("viscosity", "laminar viscosity K nu sum Pi_ij gradW V_j from -fs_nu (seed Eqs. 4, 5, 11)", FSTermCreate_Viscosity));
+  PetscCall(FSTermRegister("les_viscosity", "delta-LES turbulent (Smagorinsky) viscosity (seed Eqs. 11-13)", FSTermCreate_LESViscosity));
+  PetscCall(FSTermRegister("gravity", "body force -fs_gravity", FSTermCreate_Gravity));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FSFinalizePackageCallback(void)
+{
+  PetscFunctionBegin;
+  FSPackageInitialized = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSInitializePackage - registers the FSSolver class, the log events, and the built-in terms and
+   cases. Called by FSSolverCreate; idempotent.
+*/
+PetscErrorCode FSInitializePackage(void)
+{
+  PetscFunctionBegin;
+  if (FSPackageInitialized) PetscFunctionReturn(0);
+  FSPackageInitialized = PETSC_TRUE;
+  PetscCall(PetscClassIdRegister("FSSolver", &FSSOLVER_CLASSID));
+  PetscCall(PetscLogEventRegister("FSRHS", FSSOLVER_CLASSID, &FS_RHS));
+  PetscCall(PetscLogEventRegister("FSNeighbours", FSSOLVER_CLASSID, &FS_Neighbours));
+  PetscCall(PetscLogEventRegister("FSHalo", FSSOLVER_CLASSID, &FS_Halo));
+  PetscCall(PetscLogEventRegister("FSFirstPass", FSSOLVER_CLASSID, &FS_FirstPass));
+  PetscCall(PetscLogEventRegister("FSPairPass", FSSOLVER_CLASSID, &FS_PairPass));
+  PetscCall(PetscLogEventRegister("FSMigrate", FSSOLVER_CLASSID, &FS_Migrate));
+  PetscCall(PetscLogEventRegister("FSOutput", FSSOLVER_CLASSID, &FS_Output));
+  PetscCall(FSTermRegisterAll());
+  PetscCall(FSCaseRegisterAll());
+  PetscCall(PetscRegisterFinalize(FSFinalizePackageCallback));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSFinalizePackage(void)
+{
+  PetscFunctionBegin;
+  PetscCall(FSFinalizePackageCallback());
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCheckPlugins - checks every library given to -dll_append: PETSc loads a library silently even
+   when it has no entry point named after its file, and then nothing is registered. This makes that
+   a clear error.
+
+   Collective
+*/
+PetscErrorCode FSCheckPlugins(MPI_Comm comm)
+{
+  char     *paths[64];
+  PetscInt  n = 64;
+  PetscBool set;
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsGetStringArray(NULL, NULL, "-dll_append", paths, &n, &set));
+  if (!set) PetscFunctionReturn(0);
+  for (PetscInt k = 0; k < n; k++) {
+    char        base[PETSC_MAX_PATH_LEN], symbol[PETSC_MAX_PATH_LEN + 64], *dot;
+    const char *slash = strrchr(paths[k], '/');
+    void       *handle, *sym = NULL;
+    PetscCall(PetscStrncpy(base, slash ? slash + 1 : paths[k], sizeof(base)));
+    if (!strncmp(base, "lib", 3)) memmove(base, base + 3, strlen(base + 3) + 1);
+    dot = strchr(base, '.');
+    if (dot) *dot = 0;
+    for (char *c = base; *c; c++)
+      if (*c == '-') *c = '_';
+    PetscCall(PetscSNPrintf(symbol, sizeof(symbol), "PetscDLLibraryRegister_%s", base));
+    handle = dlopen(paths[k], RTLD_LAZY | RTLD_NOLOAD);
+    if (!handle) {
+      char full[PETSC_MAX_PATH_LEN + 8];
+      PetscCall(PetscSNPrintf(full, sizeof(full), "%s.so", paths[k]));
+      handle = dlopen(full, RTLD_LAZY | RTLD_NOLOAD);
+    }
+    PetscCheck(handle, comm, PETSC_ERR_FILE_OPEN, "Plug-in \"%s\" given to -dll_append was not loaded: check the path (it must be a shared library built against libflexslosh)", paths[k]);
+    sym = dlsym(handle, symbol);
+    dlclose(handle);
+    PetscCheck(sym, comm, PETSC_ERR_ARG_WRONG, "Plug-in \"%s\" given to -dll_append has no entry point %s(): the function must be named after the file (lib<name>.so exports PetscDLLibraryRegister_<name>), so nothing was registered", paths[k], symbol);
+    PetscCall(PetscFree(paths[k]));
+  }
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,251 @@
+/*
+   The right-hand side of the particle ODE system, evaluated by TS at every stage:
+     halo refresh -> cell list and neighbour lists -> first pass (correction matrix L_i, renormalized
+     density gradient, strain rate ||D||_i) -> ghost refresh of those -> the terms' pair pass.
+   Kernel gradients are computed once per pair (in the neighbour list) and shared by all passes
+   and all terms; the first pass runs only when a selected term needs it.
+*/
+#include "fsimpl.h"
+
+PetscLogEvent FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_Migrate, FS_Output, FS_RHS;
+
+/* Fills the neighbourhood scratch of particle i: x_j - x_i, r^2, grad_i W. Returns the count. */
+static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscReal *dx, PetscReal *r2, PetscReal *gw)
+{
+  const PetscInt   dim = s->dim, S = s->stride, b = s->nbrs.start[i], n = s->nbrs.start[i + 1] - b;
+  const PetscInt  *nbr = s->nbrs.nbr + b;
+  const PetscReal *F = s->nbrs.F + b, *xi = &s->rec[i * S];
+  if (dim == 2) {
+    for (PetscInt k = 0; k < n; k++) {
+      const PetscReal *xj = &s->rec[nbr[k] * S];
+      const PetscReal  a = xj[0] - xi[0], c = xj[1] - xi[1];
+      dx[2 * k]     = a;
+      dx[2 * k + 1] = c;
+      r2[k]         = a * a + c * c;
+      gw[2 * k]     = -F[k] * a;
+      gw[2 * k + 1] = -F[k] * c;
+    }
+  } else {
+    for (PetscInt k = 0; k < n; k++) {
+      const PetscReal *xj = &s->rec[nbr[k] * S];
+      const PetscReal  a = xj[0] - xi[0], c = xj[1] - xi[1], e = xj[2] - xi[2];
+      dx[3 * k]     = a;
+      dx[3 * k + 1] = c;
+      dx[3 * k + 2] = e;
+      r2[k]         = a * a + c * c + e * e;
+      gw[3 * k]     = -F[k] * a;
+      gw[3 * k + 1] = -F[k] * c;
+      gw[3 * k + 2] = -F[k] * e;
+    }
+  }
+  return n;
+}
+
+/* Inverse of the dim x dim matrix M (row-major); falls back to the identity when M is nearly
+   singular (a particle with too few neighbours, e.g. isolated spray), as is usual for L_i. */
+static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscReal Minv[])
+{
+  if (dim == 2) {
+    const PetscReal det = M[0] * M[3] - M[1] * M[2];
+    if (PetscAbsReal(det) < 1e-2) {
+      Minv[0] = Minv[3] = 1;
+      Minv[1] = Minv[2] = 0;
+      return;
+    }
+    Minv[0] = M[3] / det;
+    Minv[1] = -M[1] / det;
+    Minv[2] = -M[2] / det;
+    Minv[3] = M[0] / det;
+  } else {
+    const PetscReal c0 = M[4] * M[8] - M[5] * M[7], c1 = M[5] * M[6] - M[3] * M[8], c2 = M[3] * M[7] - M[4] * M[6];
+    const PetscReal det = M[0] * c0 + M[1] * c1 + M[2] * c2;
+    if (PetscAbsReal(det) < 1e-3) {
+      for (PetscInt a = 0; a < 9; a++) Minv[a] = (a % 4 == 0) ? 1 : 0;
+      return;
+    }
+    Minv[0] = c0 / det;
+    Minv[1] = (M[2] * M[7] - M[1] * M[8]) / det;
+    Minv[2] = (M[1] * M[5] - M[2] * M[4]) / det;
+    Minv[3] = c1 / det;
+    Minv[4] = (M[0] * M[8] - M[2] * M[6]) / det;
+    Minv[5] = (M[2] * M[3] - M[0] * M[5]) / det;
+    Minv[6] = c2 / det;
+    Minv[7] = (M[1] * M[6] - M[0] * M[7]) / det;
+    Minv[8] = (M[0] * M[4] - M[1] * M[3]) / det;
+  }
+}
+
+/*
+   First pass over the pairs of each owned particle i:
+     M_i = sum_j (x_j - x_i) (x) grad_i W_ij V_j,  L_i = M_i^{-1}   (Randles & Libersky)
+     <grad rho>^L_i = L_i^T sum_j (rho_j - rho_i) grad_i W_ij V_j
+     (grad u)_i = [sum_j (u_j - u_i) (x) grad_i W_ij V_j] L_i,  D_i = sym(grad u)_i,  ||D||_i = sqrt(2 D:D)
+   Results go to aux[i*(dim+1)]: the density gradient, then ||D||.
+*/
+static PetscErrorCode FSSolverFirstPass(FSSolver s)
+{
+  const PetscInt dim = s->dim, S = s->stride, A = s->auxstride;
+  PetscReal     *dx = s->scratch, *r2, *gw;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
+  r2 = dx + dim * s->scratchcap;
+  gw = r2 + s->scratchcap;
+  for (PetscInt i = 0; i < s->nowned; i++) {
+    const PetscInt   n = FSFillNeighbourhood(s, i, dx, r2, gw);
+    const PetscInt  *nbr = s->nbrs.nbr + s->nbrs.start[i];
+    const PetscReal *ri = &s->rec[i * S];
+    PetscReal        M[9] = {0}, Minv[9], G[3] = {0, 0, 0}, Au[9] = {0}, J[9] = {0}, nrm = 0;
+    PetscReal       *out = &s->aux[i * A];
+    for (PetscInt k = 0; k < n; k++) {
+      const PetscReal *rj = &s->rec[nbr[k] * S], *g = &gw[k * dim], *d = &dx[k * dim];
+      const PetscReal  Vj = rj[2 * dim + 1] / rj[2 * dim], drho = (rj[2 * dim] - ri[2 * dim]) * Vj;
+      for (PetscInt a = 0; a < dim; a++) {
+        const PetscReal du = (rj[dim + a] - ri[dim + a]) * Vj, dd = d[a] * Vj;
+        G[a] += drho * g[a];
+        for (PetscInt b = 0; b < dim; b++) {
+          M[a * dim + b] += dd * g[b];
+          Au[a * dim + b] += du * g[b];
+        }
+      }
+    }
+    FSInvertCorrection(dim, M, Minv);
+    for (PetscInt a = 0; a < dim; a++) {
+      PetscReal v = 0;
+      for (PetscInt b = 0; b < dim; b++) v += Minv[b * dim + a] * G[b];
+      out[a] = v;
+      for (PetscInt b = 0; b < dim; b++) {
+        PetscReal w = 0;
+        for (PetscInt c = 0; c < dim; c++) w += Au[a * dim + c] * Minv[c * dim + b];
+        J[a * dim + b] = w;
+      }
+    }
+    for (PetscInt a = 0; a < dim; a++)
+      for (PetscInt b = 0; b < dim; b++) {
+        const PetscReal Dab = 0.5 * (J[a * dim + b] + J[b * dim + a]);
+        nrm += Dab * Dab;
+      }
+    out[dim] = PetscSqrtReal(2.0 * nrm);
+  }
+  PetscCall(PetscLogEventEnd(FS_FirstPass, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverEvaluateRates - the rates (dx/dt, du/dt, drho/dt) of the owned particles for the packed
+   state u, into f (same layout); the global DOFs' rates (dissipated energies) on rank 0.
+
+   Collective
+*/
+PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *f, PetscBool local_only)
+{
+  const PetscInt dim = s->dim, S = s->stride, US = s->ustride, n = s->nowned;
+  FSParticles    P;
+  PetscReal     *dx, *r2, *gw, power[FS_MAX_TERMS];
+  PetscInt       maxn = 0, npower = 0;
+
+  PetscFunctionBegin;
+  (void)local_only;
+  PetscCall(PetscLogEventBegin(FS_RHS, 0, 0, 0, 0));
+  for (PetscInt i = 0; i < n; i++)
+    for (PetscInt a = 0; a < US; a++) s->rec[i * S + a] = u[i * US + a];
+  PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
+  PetscCall(FSHaloRefresh(&s->halo, dim, n, s->rec));
+  PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
+
+  PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
+  PetscCall(FSNeighboursBuildCells(&s->nbrs, dim, n + s->halo.nghost, s->rec, S, s->kernel.support));
+  PetscCall(FSNeighboursBuildList(&s->nbrs, &s->kernel, n, s->rec, S));
+  PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
+  for (PetscInt i = 0; i < n; i++) maxn = PetscMax(maxn, s->nbrs.start[i + 1] - s->nbrs.start[i]);
+  if (maxn > s->scratchcap) {
+    PetscCall(PetscFree(s->scratch));
+    s->scratchcap = PetscMax(maxn, 2 * s->scratchcap);
+    PetscCall(PetscMalloc1((2 * dim + 1) * s->scratchcap, &s->scratch));
+  }
+  dx = s->scratch;
+  r2 = dx + dim * s->scratchcap;
+  gw = r2 + s->scratchcap;
+
+  P.dim    = dim;
+  P.nowned = n;
+  P.nghost = s->halo.nghost;
+  P.stride = S;
+  P.rec    = s->rec;
+  P.aux    = s->aux;
+  P.rho0   = s->rho0;
+  P.c0     = s->c0;
+  P.h      = s->h;
+  P.nu     = s->nu;
+  P.background_pressure = s->background_pressure;
+  for (PetscInt d = 0; d < 3; d++) P.gravity[d] = s->gravity[d];
+
+  if (s->terms.needs) {
+    PetscCall(FSSolverFirstPass(s));
+    PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
+    PetscCall(FSHaloRefreshAux(&s->halo, n, s->aux));
+    PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
+    s->pair_visits += s->nbrs.npairs;
+  }
+  for (PetscInt t = 0; t < s->terms.nterms; t++) {
+    FSTerm term = s->terms.term[t];
+    term->power = 0;
+    if (term->ops.prepare) PetscCall((*term->ops.prepare)(term, &P));
+  }
+
+  PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
+  for (PetscInt i = 0; i < n; i++) {
+    FSNeighbourhood nb;
+    FSRate          rate = {0, {0, 0, 0}};
+    nb.i     = i;
+    nb.n     = FSFillNeighbourhood(s, i, dx, r2, gw);
+    nb.j     = s->nbrs.nbr + s->nbrs.start[i];
+    nb.dx    = dx;
+    nb.r2    = r2;
+    nb.gradW = gw;
+    for (PetscInt t = 0; t < s->terms.nterms; t++) {
+      FSTerm term = s->terms.term[t];
+      if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
+      if (term->ops.source) term->ops.source(term, &P, i, &rate);
+    }
+    for (PetscInt d = 0; d < dim; d++) {
+      f[i * US + d]       = s->rec[i * S + dim + d];
+      f[i * US + dim + d] = rate.du[d];
+    }
+    f[i * US + 2 * dim] = rate.drho;
+  }
+  PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
+  s->pair_visits += s->nbrs.npairs;
+  s->nrhs++;
+
+  /* dissipation powers: the rates of the global DOFs (dissipated energies), rank 0 */
+  for (PetscInt t = 0; t < s->terms.nterms; t++)
+    if (s->terms.term[t]->has_power) power[npower++] = s->terms.term[t]->power;
+  if (s->nglobaldofs) {
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+    PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)npower, MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
+    if (!rank)
+      for (PetscInt k = 0; k < npower; k++) f[n * US + k] = power[k];
+  }
+  PetscCall(PetscLogEventEnd(FS_RHS, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverRHS - the TS right-hand side callback. */
+PetscErrorCode FSSolverRHS(TS ts, PetscReal t, Vec U, Vec F, void *ctx)
+{
+  FSSolver           s = (FSSolver)ctx;
+  const PetscScalar *u;
+  PetscScalar       *f;
+
+  PetscFunctionBegin;
+  (void)ts;
+  (void)t;
+  PetscCall(VecGetArrayRead(U, &u));
+  PetscCall(VecGetArray(F, &f));
+  PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
+  PetscCall(VecRestoreArrayRead(U, &u));
+  PetscCall(VecRestoreArray(F, &f));
+  PetscFunctionReturn(0);
+}
