@@ -60,7 +60,8 @@ typedef struct {
   const PetscReal *rec;
   const PetscReal *aux;
   /* physical constants */
-  PetscReal rho0, c0, h, nu, gravity[3], background_pressure;
+  PetscReal rho0, c0, h, dx, nu, gravity[3], background_pressure;
+  PetscReal umax; /* largest particle speed at the start of the step */
 } FSParticles;
 
 /* The neighbourhood of one owned particle i: n neighbours j[k] with x_j - x_i in dx[k*dim] and
@@ -71,9 +72,10 @@ typedef struct {
   const PetscReal *dx, *r2, *gradW;
 } FSNeighbourhood;
 
-/* Rate of change of particle i accumulated by the terms: drho/dt and du/dt (dim). */
+/* Rate of change of particle i accumulated by the terms: drho/dt, du/dt (dim), and a correction
+   of the particle's transport velocity dx/dt = u + dx (particle shifting; zero for most terms). */
 typedef struct {
-  PetscReal drho, du[3];
+  PetscReal drho, du[3], dx[3];
 } FSRate;
 
 typedef struct {

@@ -158,7 +158,7 @@ struct _p_FSSolver {
   PetscInt  nglobaldofs;
   PetscReal global0[FS_MAX_GLOBAL];
   PetscInt  ustride; /* 2*dim+1 */
-  PetscReal dt_stable, final_time;
+  PetscReal dt_stable, final_time, umax;
   PetscInt  nrhs;
   Vec       Uprev;               /* state at the start of the step (for the displacement check) */
   FSCheckpointHeader restart_hdr;

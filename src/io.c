@@ -82,6 +82,8 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   P.c0     = s->c0;
   P.h      = s->h;
   P.nu     = s->nu;
+  P.dx     = s->dx;
+  P.umax   = s->umax;
   for (PetscInt t2 = 0; t2 < s->terms.nterms && !has; t2++) {
     FSTerm term = s->terms.term[t2];
     if (term->ops.field) PetscCall((*term->ops.field)(term, "turbulent_viscosity", &P, nut, &has));

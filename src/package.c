@@ -10,6 +10,7 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_Pressure(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_Viscosity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_LESViscosity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_Gravity(FSTerm);
+PETSC_EXTERN PetscErrorCode FSTermCreate_Shifting(FSTerm);
 
 /*
    FSTermRegisterAll - registers the built-in physics terms (idempotent).
@@ -27,6 +28,7 @@ PetscErrorCode FSTermRegisterAll(void)
   PetscCall(FSTermRegister("viscosity", "laminar viscosity K nu sum Pi_ij gradW V_j from -fs_nu (seed Eqs. 4, 5, 11)", FSTermCreate_Viscosity));
   PetscCall(FSTermRegister("les_viscosity", "delta-LES turbulent (Smagorinsky) viscosity (seed Eqs. 11-13)", FSTermCreate_LESViscosity));
   PetscCall(FSTermRegister("gravity", "body force -fs_gravity", FSTermCreate_Gravity));
+  PetscCall(FSTermRegister("shifting", "particle shifting of delta+-SPH (Sun et al. 2017), keeps the particles regular", FSTermCreate_Shifting));
   PetscFunctionReturn(0);
 }
 

@@ -177,6 +177,8 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   P.c0     = s->c0;
   P.h      = s->h;
   P.nu     = s->nu;
+  P.dx     = s->dx;
+  P.umax   = s->umax;
   P.background_pressure = s->background_pressure;
   for (PetscInt d = 0; d < 3; d++) P.gravity[d] = s->gravity[d];
 
@@ -196,7 +198,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
   for (PetscInt i = 0; i < n; i++) {
     FSNeighbourhood nb;
-    FSRate          rate = {0, {0, 0, 0}};
+    FSRate          rate = {0, {0, 0, 0}, {0, 0, 0}};
     nb.i     = i;
     nb.n     = FSFillNeighbourhood(s, i, dx, r2, gw);
     nb.j     = s->nbrs.nbr + s->nbrs.start[i];
@@ -209,7 +211,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
       if (term->ops.source) term->ops.source(term, &P, i, &rate);
     }
     for (PetscInt d = 0; d < dim; d++) {
-      f[i * US + d]       = s->rec[i * S + dim + d];
+      f[i * US + d]       = s->rec[i * S + dim + d] + rate.dx[d];
       f[i * US + dim + d] = rate.du[d];
     }
     f[i * US + 2 * dim] = rate.drho;

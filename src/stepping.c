@@ -101,7 +101,8 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
   PetscCall(VecRestoreArrayRead(s->U, &u));
   for (PetscInt t = 0; t < s->terms.nterms; t++) loc[1] = PetscMax(loc[1], s->terms.term[t]->max_viscosity);
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
-  *dt = s->cfl * s->h / (s->c0 + PetscSqrtReal(loc[0]));
+  s->umax = PetscSqrtReal(loc[0]);
+  *dt     = s->cfl * s->h / (s->c0 + s->umax);
   if (loc[1] > 0) *dt = PetscMin(*dt, s->cfl_visc * s->h * s->h / loc[1]);
   for (PetscInt d = 0; d < dim; d++) g2 += s->gravity[d] * s->gravity[d];
   if (g2 > 0) *dt = PetscMin(*dt, s->cfl_force * PetscSqrtReal(s->h / PetscSqrtReal(g2)));

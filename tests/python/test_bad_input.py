@@ -1,0 +1,75 @@
+"""Bad input gives a clean error that names the option and the value; blow-ups are detected."""
+import re
+
+import pytest
+
+from conftest import TG, assert_no_crash, petsc_error_message
+
+# (arguments, regular expressions the PETSc error message must match)
+BAD = {
+    "dx_zero": (["-fs_dx", "0"], [r"-fs_dx 0\b", "positive"]),
+    "dx_negative": (["-fs_dx", "-1"], [r"-fs_dx -1\b", "positive"]),
+    "h_over_dx_zero": (["-fs_h_over_dx", "0"], [r"-fs_h_over_dx 0\b", "range"]),
+    "c0_zero": (["-fs_c0", "0"], [r"-fs_c0 0\b", "positive"]),
+    "rho0_negative": (["-fs_rho0", "-5"], [r"-fs_rho0 -5\b", "positive"]),
+    "dim_4": (["-fs_dim", "4"], [r"-fs_dim 4\b", "2 or 3"]),
+    "unknown_term": (["-fs_terms", "continuity,nosuchterm"], ["-fs_terms", r'"nosuchterm"', "continuity"]),
+    "unknown_case": (["-fs_case", "nosuchcase"], ["-fs_case", r'"nosuchcase"']),
+    "missing_options_file": (["-options_file", "/nonexistent.opts"], [r"options file /nonexistent\.opts"]),
+    "gravity_3_values_in_2d": (["-fs_gravity", "0,-9.81,0"], ["-fs_gravity", r"has 3 values", r"expected 2"]),
+    "gravity_1_value_in_2d": (["-fs_gravity", "-9.81"], ["-fs_gravity", r"has 1 values", r"expected 2"]),
+    "gravity_2_values_in_3d": (["-fs_dim", "3", "-fs_gravity", "0,-9.81"], ["-fs_gravity", r"has 2 values", r"expected 3"]),
+    "cfl_too_large": (["-fs_cfl", "3"], [r"-fs_cfl 3\b", "range"]),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD))
+def test_bad_option(run, tmp_path, name):
+    args, patterns = BAD[name]
+    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", tmp_path / "out"] + args, check=False, timeout=60)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert msg, f"no PETSc error message in:\n{proc.stdout[-3000:]}"
+    for pat in patterns:
+        assert re.search(pat, msg), f"{pat!r} not in the error message:\n{msg}"
+    assert not (tmp_path / "out" / "summary.json").exists()
+
+
+def test_unwritable_output_dir(run, tmp_path):
+    afile = tmp_path / "afile"
+    afile.write_text("not a directory\n")
+    outdir = afile / "sub"
+    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", outdir], check=False, timeout=60)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert str(outdir) in msg and "-fs_output_dir" in msg, msg
+    assert "Not a directory" in msg
+
+
+@pytest.mark.parametrize("nranks", [1, 2])
+def test_blow_up_is_detected(run, tmp_path, nranks):
+    # CFL 2 on a coarse Taylor-Green vortex: the density blows up within a few steps
+    proc = run(TG + ["-fs_dx", "0.05", "-fs_cfl", "2", "-ts_max_steps", "200", "-fs_output_dir", tmp_path / "out"],
+               nranks=nranks, check=False, timeout=60)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    m = re.search(r"density blow-up at step (\d+), time ([-+0-9.eE]+): particle (\d+) at \(", msg)
+    assert m, f"no diagnostic line naming step, time and particle:\n{msg}"
+    step, time, particle = int(m.group(1)), float(m.group(2)), int(m.group(3))
+    assert 1 <= step < 20 and time > 0
+    assert 0 <= particle < 400
+    err = re.search(r"The run blew up: density variation ([0-9.eE+-]+) above -fs_max_density_variation 0\.3 at step (\d+), time", msg)
+    assert err, msg
+    assert float(err.group(1)) > 0.3 and int(err.group(2)) == step
+    # the run stopped there: the time series ends before the blow-up step
+    ts = (tmp_path / "out" / "timeseries.csv").read_text().strip().splitlines()
+    assert int(ts[-1].split(",")[0]) == step - 1
+
+
+def test_blow_up_threshold_option(run, tmp_path):
+    # the stable default run trips a tiny -fs_max_density_variation at once (TG starts at 0.5 %)
+    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "5", "-fs_max_density_variation", "1e-3", "-fs_output_dir", tmp_path / "out"],
+               check=False, timeout=60)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert re.search(r"above -fs_max_density_variation 0\.001 at step 0, time 0\b", msg), msg
