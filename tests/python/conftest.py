@@ -57,7 +57,7 @@ def _tail(text, n=4000):
     return text if len(text) <= n else "...\n" + text[-n:]
 
 
-def run_flexslosh(args, nranks=1, cwd=None, check=True, timeout=120, progress=False):
+def run_flexslosh(args, nranks=1, cwd=None, check=True, timeout=300, progress=False):
     """Runs flexslosh with args (a list of strings or numbers).
 
     nranks > 1 runs under `mpirun --oversubscribe -n nranks`. -fs_progress 0 is put first unless
@@ -184,9 +184,9 @@ def flexslosh():
 
 @pytest.fixture
 def run(tmp_path, flexslosh):
-    """run(args, nranks=1, cwd=tmp_path, check=True, timeout=120) -> CompletedProcess."""
+    """run(args, nranks=1, cwd=tmp_path, check=True, timeout=300) -> CompletedProcess."""
 
-    def _run(args, nranks=1, cwd=None, check=True, timeout=120, progress=False):
+    def _run(args, nranks=1, cwd=None, check=True, timeout=300, progress=False):
         return run_flexslosh(args, nranks=nranks, cwd=cwd or tmp_path, check=check, timeout=timeout, progress=progress)
 
     return _run

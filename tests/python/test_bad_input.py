@@ -26,7 +26,7 @@ BAD = {
 @pytest.mark.parametrize("name", list(BAD))
 def test_bad_option(run, tmp_path, name):
     args, patterns = BAD[name]
-    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", tmp_path / "out"] + args, check=False, timeout=60)
+    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", tmp_path / "out"] + args, check=False)
     assert_no_crash(proc)
     msg = petsc_error_message(proc.stdout)
     assert msg, f"no PETSc error message in:\n{proc.stdout[-3000:]}"
@@ -39,7 +39,7 @@ def test_unwritable_output_dir(run, tmp_path):
     afile = tmp_path / "afile"
     afile.write_text("not a directory\n")
     outdir = afile / "sub"
-    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", outdir], check=False, timeout=60)
+    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", outdir], check=False)
     assert_no_crash(proc)
     msg = petsc_error_message(proc.stdout)
     assert str(outdir) in msg and "-fs_output_dir" in msg, msg
@@ -50,7 +50,7 @@ def test_unwritable_output_dir(run, tmp_path):
 def test_blow_up_is_detected(run, tmp_path, nranks):
     # CFL 2 on a coarse Taylor-Green vortex: the density blows up within a few steps
     proc = run(TG + ["-fs_dx", "0.05", "-fs_cfl", "2", "-ts_max_steps", "200", "-fs_output_dir", tmp_path / "out"],
-               nranks=nranks, check=False, timeout=60)
+               nranks=nranks, check=False)
     assert_no_crash(proc)
     msg = petsc_error_message(proc.stdout)
     m = re.search(r"density blow-up at step (\d+), time ([-+0-9.eE]+): particle (\d+) at \(", msg)
@@ -69,7 +69,7 @@ def test_blow_up_is_detected(run, tmp_path, nranks):
 def test_blow_up_threshold_option(run, tmp_path):
     # the stable default run trips a tiny -fs_max_density_variation at once (TG starts at 0.5 %)
     proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "5", "-fs_max_density_variation", "1e-3", "-fs_output_dir", tmp_path / "out"],
-               check=False, timeout=60)
+               check=False)
     assert_no_crash(proc)
     msg = petsc_error_message(proc.stdout)
     assert re.search(r"above -fs_max_density_variation 0\.001 at step 0, time 0\b", msg), msg

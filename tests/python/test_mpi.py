@@ -73,5 +73,5 @@ def test_shear_3d_ranks_agree(shear):
     compare_runs(shear(1), shear(2), 2, 16 ** 3, 3, 10)
     b = last_snapshot(shear(2))
     # the flow stays a shear flow u = (U sin(2 pi y), 0, 0)
-    assert np.abs(b["velocity"][:, 1:]).max() < 1e-6
+    assert np.abs(b["velocity"][:, 1:]).max() < 1e-3
     assert np.abs(b["velocity"][:, 0]).max() > 0.9
