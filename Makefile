@@ -38,7 +38,7 @@ test: build
 	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q tests/python
 
 bench: build
-	bash bench/bench_taylor_green.sh
+	$(PYTHON) bench/bench_taylor_green.py
 
 clean:
 	rm -rf $(BUILD)

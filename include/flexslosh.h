@@ -59,17 +59,20 @@ typedef struct {
   PetscInt         dim, nowned, nghost, stride;
   const PetscReal *rec;
   const PetscReal *aux;
+  const PetscReal *vol;      /* V_k = m_k / rho_k, owned and ghosts */
+  const PetscReal *pressure; /* p_k = c0^2 (rho_k - rho0) + background pressure, owned and ghosts */
   /* physical constants */
   PetscReal rho0, c0, h, dx, nu, gravity[3], background_pressure;
   PetscReal umax; /* largest particle speed at the start of the step */
 } FSParticles;
 
-/* The neighbourhood of one owned particle i: n neighbours j[k] with x_j - x_i in dx[k*dim] and
-   the kernel gradient grad_i W(x_i - x_j) in gradW[k*dim], computed once per pair by the core. */
+/* The neighbourhood of one owned particle i: n neighbours j[k] with x_j - x_i in dx[k*dim], the
+   squared distance r2[k] and its inverse rinv2[k], and the kernel gradient grad_i W(x_i - x_j) in
+   gradW[k*dim], computed once per pair by the core and shared by all terms. */
 typedef struct {
   PetscInt         i, n;
   const PetscInt  *j;
-  const PetscReal *dx, *r2, *gradW;
+  const PetscReal *dx, *r2, *rinv2, *gradW;
 } FSNeighbourhood;
 
 /* Rate of change of particle i accumulated by the terms: drho/dt, du/dt (dim), and a correction

@@ -142,7 +142,7 @@ struct _p_FSSolver {
   /* work arrays: particle records of owned + ghost particles, derived quantities */
   PetscInt   stride;    /* 2*dim+2 */
   PetscInt   auxstride; /* dim+1 */
-  PetscReal *rec, *aux;
+  PetscReal *rec, *aux, *vol, *pressure;
   PetscInt   reccap;
   FSHalo       halo;
   FSNeighbours nbrs;
@@ -158,7 +158,7 @@ struct _p_FSSolver {
   PetscInt  nglobaldofs;
   PetscReal global0[FS_MAX_GLOBAL];
   PetscInt  ustride; /* 2*dim+1 */
-  PetscReal dt_stable, final_time, umax;
+  PetscReal dt_stable, final_time, umax, nu_bound;
   PetscInt  nrhs;
   Vec       Uprev;               /* state at the start of the step (for the displacement check) */
   FSCheckpointHeader restart_hdr;
@@ -197,7 +197,7 @@ PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool local_only);
+PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool count);
 PETSC_INTERN PetscErrorCode FSTermCreate(FSSolver, const char name[], FSTerm *);
 PETSC_INTERN PetscErrorCode FSTermDestroy(FSTerm *);
 PETSC_INTERN PetscErrorCode FSCaseFind(const char name[], FSCaseCreateFn *);

@@ -78,6 +78,8 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   P.stride = s->stride;
   P.rec    = s->rec;
   P.aux    = s->aux;
+  P.vol    = s->vol;
+  P.pressure = s->pressure;
   P.rho0   = s->rho0;
   P.c0     = s->c0;
   P.h      = s->h;
@@ -124,7 +126,7 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   PetscCall(TSGetTime(s->ts, &hdr.time));
   PetscCall(TSGetStepNumber(s->ts, &hdr.step));
   PetscCall(TSGetTimeStep(s->ts, &hdr.dt));
-  hdr.nglobal = s->nglobaldofs;
+  hdr.nglobal = s->nglobaldofs + 1; /* the global DOFs, then the viscosity bound of the next step */
   if (!rank && s->nglobaldofs) {
     const PetscScalar *u;
     PetscInt           nl;
@@ -134,6 +136,7 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
     PetscCall(VecRestoreArrayRead(s->U, &u));
   }
   PetscCallMPI(MPI_Bcast(hdr.global, (PetscMPIInt)s->nglobaldofs, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  PetscCallMPI(MPI_Allreduce(&s->nu_bound, &hdr.global[s->nglobaldofs], 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
   PetscCall(FSSolverEnsureField(s, n + 1));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
@@ -174,7 +177,7 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(FSCheckpointReadHeader(comm, s->restart, &hdr, &nglob, &nranks));
-  PetscCheck(hdr.nglobal == s->nglobaldofs, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s holds %" PetscInt_FMT " global values but this run has %" PetscInt_FMT ": restart with the same -fs_terms as the run that wrote it", s->restart, hdr.nglobal, s->nglobaldofs);
+  PetscCheck(hdr.nglobal == s->nglobaldofs + 1, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s holds %" PetscInt_FMT " global values but this run needs %" PetscInt_FMT ": restart with the same -fs_terms as the run that wrote it", s->restart, hdr.nglobal, s->nglobaldofs + 1);
   PetscCall(FSCheckpointGetLocalSize(comm, s->restart, &n));
   PetscCall(DMSwarmSetLocalSizes(s->swarm, n, 1024));
   PetscCall(FSSolverEnsureField(s, n + 1));
@@ -197,7 +200,8 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   s->nglobal_particles = nglob;
   s->restart_hdr       = hdr;
-  for (PetscInt g = 0; g < hdr.nglobal; g++) s->global0[g] = hdr.global[g];
+  for (PetscInt g = 0; g < s->nglobaldofs; g++) s->global0[g] = hdr.global[g];
+  s->nu_bound = hdr.global[s->nglobaldofs];
   PetscFunctionReturn(0);
 }
 

@@ -198,12 +198,14 @@ PetscErrorCode FSSolverEnsureWork(FSSolver s, PetscInt n)
   if (n <= s->reccap) PetscFunctionReturn(0);
   {
     PetscInt   cap = PetscMax(n, (PetscInt)(1.25 * s->reccap));
-    PetscReal *rec, *aux;
-    PetscCall(PetscCalloc2(cap * s->stride, &rec, cap * s->auxstride, &aux));
+    PetscReal *rec, *aux, *vol, *p;
+    PetscCall(PetscCalloc4(cap * s->stride, &rec, cap * s->auxstride, &aux, cap, &vol, cap, &p));
     if (s->rec) PetscCall(PetscArraycpy(rec, s->rec, s->reccap * s->stride));
-    PetscCall(PetscFree2(s->rec, s->aux));
-    s->rec    = rec;
-    s->aux    = aux;
+    PetscCall(PetscFree4(s->rec, s->aux, s->vol, s->pressure));
+    s->rec      = rec;
+    s->aux      = aux;
+    s->vol      = vol;
+    s->pressure = p;
     s->reccap = cap;
   }
   PetscFunctionReturn(0);

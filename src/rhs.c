@@ -10,7 +10,7 @@
 PetscLogEvent FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_Migrate, FS_Output, FS_RHS;
 
 /* Fills the neighbourhood scratch of particle i: x_j - x_i, r^2, grad_i W. Returns the count. */
-static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscReal *dx, PetscReal *r2, PetscReal *gw)
+static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
 {
   const PetscInt   dim = s->dim, S = s->stride, b = s->nbrs.start[i], n = s->nbrs.start[i + 1] - b;
   const PetscInt  *nbr = s->nbrs.nbr + b;
@@ -22,6 +22,7 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
       dx[2 * k]     = a;
       dx[2 * k + 1] = c;
       r2[k]         = a * a + c * c;
+      if (ri2) ri2[k] = 1.0 / r2[k];
       gw[2 * k]     = -F[k] * a;
       gw[2 * k + 1] = -F[k] * c;
     }
@@ -33,6 +34,7 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
       dx[3 * k + 1] = c;
       dx[3 * k + 2] = e;
       r2[k]         = a * a + c * c + e * e;
+      if (ri2) ri2[k] = 1.0 / r2[k];
       gw[3 * k]     = -F[k] * a;
       gw[3 * k + 1] = -F[k] * c;
       gw[3 * k + 2] = -F[k] * e;
@@ -92,14 +94,14 @@ static PetscErrorCode FSSolverFirstPass(FSSolver s)
   r2 = dx + dim * s->scratchcap;
   gw = r2 + s->scratchcap;
   for (PetscInt i = 0; i < s->nowned; i++) {
-    const PetscInt   n = FSFillNeighbourhood(s, i, dx, r2, gw);
+    const PetscInt   n = FSFillNeighbourhood(s, i, dx, r2, gw, NULL);
     const PetscInt  *nbr = s->nbrs.nbr + s->nbrs.start[i];
     const PetscReal *ri = &s->rec[i * S];
     PetscReal        M[9] = {0}, Minv[9], G[3] = {0, 0, 0}, Au[9] = {0}, J[9] = {0}, nrm = 0;
     PetscReal       *out = &s->aux[i * A];
     for (PetscInt k = 0; k < n; k++) {
       const PetscReal *rj = &s->rec[nbr[k] * S], *g = &gw[k * dim], *d = &dx[k * dim];
-      const PetscReal  Vj = rj[2 * dim + 1] / rj[2 * dim], drho = (rj[2 * dim] - ri[2 * dim]) * Vj;
+      const PetscReal  Vj = s->vol[nbr[k]], drho = (rj[2 * dim] - ri[2 * dim]) * Vj;
       for (PetscInt a = 0; a < dim; a++) {
         const PetscReal du = (rj[dim + a] - ri[dim + a]) * Vj, dd = d[a] * Vj;
         G[a] += drho * g[a];
@@ -134,18 +136,18 @@ static PetscErrorCode FSSolverFirstPass(FSSolver s)
 /*
    FSSolverEvaluateRates - the rates (dx/dt, du/dt, drho/dt) of the owned particles for the packed
    state u, into f (same layout); the global DOFs' rates (dissipated energies) on rank 0.
+   count: add the work to the run's statistics (PETSC_FALSE for evaluations made for output).
 
    Collective
 */
-PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *f, PetscBool local_only)
+PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *f, PetscBool count)
 {
   const PetscInt dim = s->dim, S = s->stride, US = s->ustride, n = s->nowned;
   FSParticles    P;
-  PetscReal     *dx, *r2, *gw, power[FS_MAX_TERMS];
+  PetscReal     *dx, *r2, *gw, *ri2, power[FS_MAX_TERMS];
   PetscInt       maxn = 0, npower = 0;
 
   PetscFunctionBegin;
-  (void)local_only;
   PetscCall(PetscLogEventBegin(FS_RHS, 0, 0, 0, 0));
   for (PetscInt i = 0; i < n; i++)
     for (PetscInt a = 0; a < US; a++) s->rec[i * S + a] = u[i * US + a];
@@ -161,11 +163,18 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   if (maxn > s->scratchcap) {
     PetscCall(PetscFree(s->scratch));
     s->scratchcap = PetscMax(maxn, 2 * s->scratchcap);
-    PetscCall(PetscMalloc1((2 * dim + 1) * s->scratchcap, &s->scratch));
+    PetscCall(PetscMalloc1((2 * dim + 2) * s->scratchcap, &s->scratch));
   }
-  dx = s->scratch;
-  r2 = dx + dim * s->scratchcap;
-  gw = r2 + s->scratchcap;
+  dx  = s->scratch;
+  r2  = dx + dim * s->scratchcap;
+  gw  = r2 + s->scratchcap;
+  ri2 = gw + dim * s->scratchcap;
+  /* per-particle volumes and pressures (owned and ghosts), shared by the passes and the terms */
+  for (PetscInt k = 0; k < n + s->halo.nghost; k++) {
+    const PetscReal *rk = &s->rec[k * S];
+    s->vol[k]      = rk[2 * dim + 1] / rk[2 * dim];
+    s->pressure[k] = s->c0 * s->c0 * (rk[2 * dim] - s->rho0) + s->background_pressure;
+  }
 
   P.dim    = dim;
   P.nowned = n;
@@ -173,6 +182,8 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   P.stride = S;
   P.rec    = s->rec;
   P.aux    = s->aux;
+  P.vol    = s->vol;
+  P.pressure = s->pressure;
   P.rho0   = s->rho0;
   P.c0     = s->c0;
   P.h      = s->h;
@@ -187,12 +198,16 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
     PetscCall(FSHaloRefreshAux(&s->halo, n, s->aux));
     PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
-    s->pair_visits += s->nbrs.npairs;
+    if (count) s->pair_visits += s->nbrs.npairs;
   }
   for (PetscInt t = 0; t < s->terms.nterms; t++) {
     FSTerm term = s->terms.term[t];
     term->power = 0;
     if (term->ops.prepare) PetscCall((*term->ops.prepare)(term, &P));
+  }
+  if (count) { /* the viscosity bound of the next time step comes from the integrator's own evaluations only */
+    s->nu_bound = s->nu;
+    for (PetscInt t = 0; t < s->terms.nterms; t++) s->nu_bound = PetscMax(s->nu_bound, s->terms.term[t]->max_viscosity);
   }
 
   PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
@@ -200,10 +215,11 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     FSNeighbourhood nb;
     FSRate          rate = {0, {0, 0, 0}, {0, 0, 0}};
     nb.i     = i;
-    nb.n     = FSFillNeighbourhood(s, i, dx, r2, gw);
+    nb.n     = FSFillNeighbourhood(s, i, dx, r2, gw, ri2);
     nb.j     = s->nbrs.nbr + s->nbrs.start[i];
     nb.dx    = dx;
     nb.r2    = r2;
+    nb.rinv2 = ri2;
     nb.gradW = gw;
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
@@ -217,8 +233,10 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     f[i * US + 2 * dim] = rate.drho;
   }
   PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
-  s->pair_visits += s->nbrs.npairs;
-  s->nrhs++;
+  if (count) {
+    s->pair_visits += s->nbrs.npairs;
+    s->nrhs++;
+  }
 
   /* dissipation powers: the rates of the global DOFs (dissipated energies), rank 0 */
   for (PetscInt t = 0; t < s->terms.nterms; t++)
@@ -246,7 +264,7 @@ PetscErrorCode FSSolverRHS(TS ts, PetscReal t, Vec U, Vec F, void *ctx)
   (void)t;
   PetscCall(VecGetArrayRead(U, &u));
   PetscCall(VecGetArray(F, &f));
-  PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
+  PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_TRUE));
   PetscCall(VecRestoreArrayRead(U, &u));
   PetscCall(VecRestoreArray(F, &f));
   PetscFunctionReturn(0);

@@ -293,6 +293,11 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscCall(FSSolverMigrate(s, &changed));
   PetscCall(FSSolverSortByCell(s));
   PetscCall(FSSolverResize(s, PETSC_TRUE));
+  if (!s->restart[0]) {
+    PetscReal dt;
+    PetscCall(FSSolverComputeStableDt(s, &dt));
+    PetscCall(TSSetTimeStep(s->ts, dt));
+  }
   s->setupcalled = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
@@ -358,7 +363,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSDecompDestroy(&s->decomp));
   PetscCall(FSHaloDestroy(&s->halo));
   PetscCall(FSNeighboursDestroy(&s->nbrs));
-  PetscCall(PetscFree2(s->rec, s->aux));
+  PetscCall(PetscFree4(s->rec, s->aux, s->vol, s->pressure));
   PetscCall(PetscFree(s->scratch));
   PetscCall(PetscFree(s->field));
   PetscCall(PetscHeaderDestroy(solver));

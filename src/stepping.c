@@ -81,7 +81,8 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
 /*
    FSSolverComputeStableDt - the SPH time-step limit for the current state:
      dt = min(CFL h/(c0 + |u|max), CFL_v h^2/nu_max, CFL_f sqrt(h/|g|)),
-   nu_max being the largest viscosity any term applied in the last right-hand side.
+   nu_max being the largest viscosity any term applied in the integrator's last right-hand side
+   (kept in checkpoints, so that a restarted run takes the same steps).
 
    Collective
 */
@@ -89,7 +90,7 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 {
   const PetscInt     dim = s->dim, US = s->ustride;
   const PetscScalar *u;
-  PetscReal          loc[2] = {0, s->nu}, g2 = 0;
+  PetscReal          loc[2] = {0, PetscMax(s->nu, s->nu_bound)}, g2 = 0;
 
   PetscFunctionBegin;
   PetscCall(VecGetArrayRead(s->U, &u));
@@ -99,7 +100,6 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
     loc[0] = PetscMax(loc[0], v2);
   }
   PetscCall(VecRestoreArrayRead(s->U, &u));
-  for (PetscInt t = 0; t < s->terms.nterms; t++) loc[1] = PetscMax(loc[1], s->terms.term[t]->max_viscosity);
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
   s->umax = PetscSqrtReal(loc[0]);
   *dt     = s->cfl * s->h / (s->c0 + s->umax);

@@ -8,11 +8,11 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
   PetscReal        sum = 0;
   (void)t;
   for (PetscInt k = 0; k < nb->n; k++) {
-    const PetscReal *rj = &P->rec[nb->j[k] * S], *g = &nb->gradW[k * dim];
-    const PetscReal  Vj = rj[2 * dim + 1] / rj[2 * dim];
+    const PetscInt   j  = nb->j[k];
+    const PetscReal *rj = &P->rec[j * S], *g = &nb->gradW[k * dim];
     PetscReal        dot = 0;
     for (PetscInt d = 0; d < dim; d++) dot += (rj[dim + d] - ri[dim + d]) * g[d];
-    sum += dot * Vj;
+    sum += dot * P->vol[j];
   }
   rate->drho -= rhoi * sum;
 }

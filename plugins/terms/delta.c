@@ -32,12 +32,12 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
       corr += (gi[d] + gj[d]) * dx[d];
       proj += dx[d] * g[d];
     }
-    Dij = 2.0 * ((rj[2 * dim] - rhoi) - 0.5 * corr) / nb->r2[k];
-    sum += (2.0 * di * dj / dsum) * Dij * proj * rj[2 * dim + 1] / rj[2 * dim];
+    Dij = 2.0 * ((rj[2 * dim] - rhoi) - 0.5 * corr) * nb->rinv2[k];
+    sum += (2.0 * di * dj / dsum) * Dij * proj * P->vol[j];
   }
   sum *= P->h * P->c0;
   rate->drho += sum;
-  t->power += ri[2 * dim + 1] / rhoi * (P->c0 * P->c0 * (rhoi - P->rho0) + P->background_pressure) / rhoi * sum;
+  t->power += P->vol[i] * P->pressure[i] / rhoi * sum;
 }
 
 static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)

@@ -5,14 +5,12 @@
 static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
 {
   const PetscInt   dim = P->dim, S = P->stride;
-  const PetscReal  c2 = P->c0 * P->c0, rho0 = P->rho0, pb = P->background_pressure;
-  const PetscReal *ri = &P->rec[nb->i * S], rhoi = ri[2 * dim], pi = c2 * (rhoi - rho0) + pb;
+  const PetscReal *p = P->pressure, *V = P->vol, pi = p[nb->i], rhoi = P->rec[nb->i * S + 2 * dim];
   PetscReal        acc[3] = {0, 0, 0};
   (void)t;
   for (PetscInt k = 0; k < nb->n; k++) {
-    const PetscReal *rj = &P->rec[nb->j[k] * S], *g = &nb->gradW[k * dim];
-    const PetscReal  rhoj = rj[2 * dim], pj = c2 * (rhoj - rho0) + pb;
-    const PetscReal  f = (pi + pj) * rj[2 * dim + 1] / rhoj;
+    const PetscInt   j = nb->j[k];
+    const PetscReal *g = &nb->gradW[k * dim], f = (pi + p[j]) * V[j];
     for (PetscInt d = 0; d < dim; d++) acc[d] += f * g[d];
   }
   for (PetscInt d = 0; d < dim; d++) rate->du[d] -= acc[d] / rhoi;

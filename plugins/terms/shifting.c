@@ -25,14 +25,14 @@ static inline PetscReal Wendland(PetscInt dim, PetscReal h, PetscReal r)
 static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
 {
   const Shifting *ctx = (const Shifting *)t->data;
-  const PetscInt  dim = P->dim, S = P->stride;
+  const PetscInt  dim = P->dim;
   const PetscReal W0 = Wendland(dim, P->h, P->dx), U = PetscMax(P->umax, ctx->umin);
   const PetscReal coef = -ctx->C * 4.0 * P->h * U;
   PetscReal       acc[3] = {0, 0, 0}, mag = 0;
   for (PetscInt k = 0; k < nb->n; k++) {
-    const PetscReal *rj = &P->rec[nb->j[k] * S], *g = &nb->gradW[k * dim];
+    const PetscReal *g = &nb->gradW[k * dim];
     const PetscReal  w = Wendland(dim, P->h, PetscSqrtReal(nb->r2[k])) / W0, w2 = w * w;
-    const PetscReal  f = (1.0 + ctx->R * w2 * w2) * rj[2 * dim + 1] / rj[2 * dim];
+    const PetscReal  f = (1.0 + ctx->R * w2 * w2) * P->vol[nb->j[k]];
     for (PetscInt d = 0; d < dim; d++) acc[d] += f * g[d];
   }
   for (PetscInt d = 0; d < dim; d++) {

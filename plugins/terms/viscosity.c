@@ -36,16 +36,17 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
       PetscReal        pi = 0;
       if (aj <= 0) continue;
       for (PetscInt d = 0; d < dim; d++) pi += (rj[dim + d] - ri[dim + d]) * dx[d];
-      pi *= 2.0 * ai * aj / (ai + aj) / nb->r2[k] * rj[2 * dim + 1] / rj[2 * dim];
+      pi *= 2.0 * ai * aj / (ai + aj) * nb->rinv2[k] * P->vol[j];
       for (PetscInt d = 0; d < dim; d++) acc[d] += pi * g[d];
     }
     f = P->h * P->c0 * P->rho0 / rhoi;
   } else {
     for (PetscInt k = 0; k < nb->n; k++) {
-      const PetscReal *rj = &P->rec[nb->j[k] * S], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
+      const PetscInt   j  = nb->j[k];
+      const PetscReal *rj = &P->rec[j * S], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
       PetscReal        pi = 0;
       for (PetscInt d = 0; d < dim; d++) pi += (rj[dim + d] - ri[dim + d]) * dx[d];
-      pi *= rj[2 * dim + 1] / (rj[2 * dim] * nb->r2[k]);
+      pi *= nb->rinv2[k] * P->vol[j];
       for (PetscInt d = 0; d < dim; d++) acc[d] += pi * g[d];
     }
     f = ctx->K * P->nu * P->rho0 / rhoi;
