@@ -7,7 +7,7 @@ static const char help[] = "flexslosh: liquid sloshing in tanks on flexible stru
 int main(int argc, char **argv)
 {
   FSSolver  solver;
-  PetscBool help_only;
+  PetscBool help_only; /* -help lists the options (the solver's, its terms', its cases' and its TS's) and stops */
 
   PetscFunctionBeginUser;
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
@@ -19,12 +19,6 @@ int main(int argc, char **argv)
     PetscCall(FSSolverSetUp(solver));
     PetscCall(PetscObjectViewFromOptions((PetscObject)solver, NULL, "-fs_view"));
     PetscCall(FSSolverSolve(solver));
-  } else {
-    /* -help: also list the time integrator's options */
-    TS ts;
-    PetscCall(TSCreate(PETSC_COMM_WORLD, &ts));
-    PetscCall(TSSetFromOptions(ts));
-    PetscCall(TSDestroy(&ts));
   }
   PetscCall(FSSolverDestroy(&solver));
   PetscCall(PetscFinalize());

@@ -68,3 +68,33 @@ PetscErrorCode FSCaseListView(PetscViewer viewer)
   for (FSCaseInfo *info = FSCaseInfos; info; info = info->next) PetscCall(PetscViewerASCIIPrintf(viewer, "  %-16s %s\n", info->name, info->description));
   PetscFunctionReturn(0);
 }
+
+/*
+   FSCaseHelpAll - with -help, lists the options of every registered case besides the selected one,
+   leaving the solver's parameters as the selected case set them.
+*/
+PetscErrorCode FSCaseHelpAll(FSSolver s, PetscOptionItems *PetscOptionsObject)
+{
+  FSCaseOps keepops = s->caseops;
+  void     *keepdata = s->casedata;
+  PetscReal keep[8] = {s->rho0, s->c0, s->nu, s->gravity[0], s->gravity[1], s->gravity[2], s->dx, s->final_time};
+
+  PetscFunctionBegin;
+  for (FSCaseInfo *info = FSCaseInfos; info; info = info->next) {
+    FSCaseCreateFn create;
+    FSCaseOps      ops;
+    if (!strcmp(info->name, s->casename)) continue;
+    PetscCall(PetscFunctionListFind(FSCaseList, info->name, &create));
+    PetscCall(PetscMemzero(&ops, sizeof(ops)));
+    s->casedata = NULL;
+    PetscCall((*create)(s, &ops));
+    if (ops.setfromoptions) PetscCall((*ops.setfromoptions)(s, PetscOptionsObject));
+    PetscCall(PetscFree(s->casedata));
+  }
+  s->caseops  = keepops;
+  s->casedata = keepdata;
+  s->rho0 = keep[0]; s->c0 = keep[1]; s->nu = keep[2];
+  s->gravity[0] = keep[3]; s->gravity[1] = keep[4]; s->gravity[2] = keep[5];
+  s->dx = keep[6]; s->final_time = keep[7];
+  PetscFunctionReturn(0);
+}

@@ -82,7 +82,11 @@ typedef struct {
   PetscInt  *cellof;    /* cell of each particle */
   PetscInt  *order;     /* particles sorted by cell */
   PetscInt   ncap, ccap;
-  /* neighbour list */
+  /* candidate (Verlet) list, built once per step */
+  PetscInt  *cstart;    /* nowned+1 */
+  PetscInt  *cand;
+  PetscInt   ccandcap, ncand;
+  /* neighbour list, built at every right-hand side */
   PetscInt  *start;     /* nowned+1 */
   PetscInt  *nbr;       /* neighbour index per pair */
   PetscReal *F;         /* kernel gradient factor per pair */
@@ -91,6 +95,7 @@ typedef struct {
 } FSNeighbours;
 
 PETSC_INTERN PetscErrorCode FSNeighboursBuildCells(FSNeighbours *, PetscInt dim, PetscInt n, const PetscReal rec[], PetscInt stride, PetscReal cellsize);
+PETSC_INTERN PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal radius);
 PETSC_INTERN PetscErrorCode FSNeighboursBuildList(FSNeighbours *, const FSKernel *, PetscInt nowned, const PetscReal rec[], PetscInt stride);
 PETSC_INTERN PetscErrorCode FSNeighboursDestroy(FSNeighbours *);
 
@@ -201,6 +206,8 @@ PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, 
 PETSC_INTERN PetscErrorCode FSTermCreate(FSSolver, const char name[], FSTerm *);
 PETSC_INTERN PetscErrorCode FSTermDestroy(FSTerm *);
 PETSC_INTERN PetscErrorCode FSCaseFind(const char name[], FSCaseCreateFn *);
+PETSC_INTERN PetscErrorCode FSTermHelpAll(FSSolver, PetscOptionItems *);
+PETSC_INTERN PetscErrorCode FSCaseHelpAll(FSSolver, PetscOptionItems *);
 
 /* log events */
 PETSC_EXTERN PetscLogEvent FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_Migrate, FS_Output, FS_RHS;

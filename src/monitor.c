@@ -46,7 +46,11 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
-  PetscCall(TSGetTimeStep(s->ts, &dt));
+  if (step > s->step0) { /* the step just taken (TS's own time step is its proposal for the next one) */
+    PetscReal tprev;
+    PetscCall(TSGetPrevTime(s->ts, &tprev));
+    dt = t - tprev;
+  } else PetscCall(TSGetTimeStep(s->ts, &dt));
   vals[k++] = t;
   vals[k++] = dt;
   vals[k++] = sums[0];
@@ -92,7 +96,8 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->t0             = t;
   s->particle_steps = 0;
   s->pair_visits    = 0;
-  s->next_output    = t + s->output_interval;
+  /* snapshots at multiples of the interval, also after a restart */
+  s->next_output = s->output_interval > 0 ? (PetscFloorReal(t / s->output_interval + 1e-9) + 1) * s->output_interval : PETSC_MAX_REAL;
   if (!s->write_output) PetscFunctionReturn(0);
   PetscCall(FSMakeDirectory(comm, s->outdir, "-fs_output_dir"));
   names[k++] = "time";
@@ -112,7 +117,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->restart[0] ? step : -1, &s->series));
   PetscCall(FSSnapshotWriterCreate(comm, s->outdir, s->restart[0] ? t : -1.0, &s->snapshots));
   PetscCall(FSSolverCheckState(s));
-  PetscCall(FSSolverAppendSeries(s));
+  PetscCall(FSSolverAppendSeries(s)); /* on restart, the series was cut just before this row */
   if (!s->restart[0]) PetscCall(FSSolverWriteSnapshot(s));
   PetscFunctionReturn(0);
 }

@@ -1,7 +1,8 @@
 /*
-   Neighbour search: a cell-linked list built by counting sort (cell size = kernel support 2h),
-   then the full neighbour list of every owned particle in CSR form with the kernel gradient
-   factor of each pair, computed once and shared by every pass and every term.
+   Neighbour search: a cell-linked list built by counting sort once per time step (cells as wide as
+   the kernel support plus a skin), from it the candidate (Verlet) list of every owned particle,
+   and at every right-hand side the exact neighbour list picked from the candidates, in CSR form
+   with the kernel gradient factor of each pair, computed once and shared by every pass and term.
 */
 #include "fsimpl.h"
 
@@ -88,29 +89,48 @@ static PetscErrorCode FSNeighboursGrow(FSNeighbours *nb, PetscInt64 need)
   PetscFunctionReturn(0);
 }
 
-/*
-   FSNeighboursBuildList - the neighbours j != i within the kernel support of each owned particle i,
-   with F(r_ij) such that grad_i W = F (x_i - x_j). Needs FSNeighboursBuildCells first.
-*/
-PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *k, PetscInt nowned, const PetscReal rec[], PetscInt stride)
+static PetscErrorCode FSNeighboursGrowCandidates(FSNeighbours *nb, PetscInt64 need)
 {
-  const PetscInt  dim = nb->dim, nx = nb->nc[0], ny = nb->nc[1], nz = nb->nc[2];
-  const PetscReal R2 = k->support2, inv = 1.0 / nb->cellsize;
-  PetscInt        npairs = 0;
+  PetscInt  *cand;
+  PetscInt64 cap = PetscMax(need, (PetscInt64)(1.5 * nb->ccandcap));
 
   PetscFunctionBegin;
+  PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP, "More than %d candidate pairs on one rank: use more ranks", PETSC_MAX_INT);
+  PetscCall(PetscMalloc1(cap, &cand));
+  PetscCall(PetscArraycpy(cand, nb->cand, nb->ccandcap));
+  PetscCall(PetscFree(nb->cand));
+  nb->cand     = cand;
+  nb->ccandcap = (PetscInt)cap;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSNeighboursBuildCandidates - the candidate neighbours j != i of every owned particle i: all
+   particles within radius (the kernel support plus a skin) at the start of the time step, found
+   through the cell list (FSNeighboursBuildCells first, with cells at least radius wide).
+   As long as no two particles approach each other by more than the skin during the step, every
+   pair within the kernel support at any stage is among the candidates (a Verlet list).
+*/
+PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal radius)
+{
+  const PetscInt  dim = nb->dim, nx = nb->nc[0], ny = nb->nc[1], nz = nb->nc[2];
+  const PetscReal R2 = radius * radius, inv = 1.0 / nb->cellsize;
+  const PetscInt  room = dim == 2 ? 256 : 1024;
+  PetscInt        nc = 0;
+
+  PetscFunctionBegin;
+  PetscCheck(radius <= nb->cellsize * (1 + 1e-12), PETSC_COMM_SELF, PETSC_ERR_PLIB, "Candidate radius %g exceeds the cell size %g", (double)radius, (double)nb->cellsize);
   if (nowned + 1 > nb->scap) {
-    PetscCall(PetscFree(nb->start));
+    PetscCall(PetscFree2(nb->start, nb->cstart));
     nb->scap = PetscMax(nowned + 1, (PetscInt)(1.25 * nb->scap));
-    PetscCall(PetscMalloc1(nb->scap, &nb->start));
+    PetscCall(PetscMalloc2(nb->scap, &nb->start, nb->scap, &nb->cstart));
   }
-  if (!nb->pcap) PetscCall(FSNeighboursGrow(nb, (PetscInt64)nowned * (dim == 2 ? 64 : 256) + 64));
+  if (!nb->ccandcap) PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nowned * (dim == 2 ? 96 : 400) + room));
   for (PetscInt i = 0; i < nowned; i++) {
     const PetscReal *xi = &rec[i * stride];
     PetscInt         ci[3] = {0, 0, 0};
-    nb->start[i] = npairs;
+    nb->cstart[i] = nc;
     for (PetscInt d = 0; d < dim; d++) ci[d] = (PetscInt)((xi[d] - nb->lo[d]) * inv);
-    if (npairs + (dim == 2 ? 128 : 512) > nb->pcap) PetscCall(FSNeighboursGrow(nb, (PetscInt64)npairs + (dim == 2 ? 4096 : 16384)));
     for (PetscInt cz = (dim == 3 ? PetscMax(ci[2] - 1, 0) : 0); cz <= (dim == 3 ? PetscMin(ci[2] + 1, nz - 1) : 0); cz++) {
       for (PetscInt cy = PetscMax(ci[1] - 1, 0); cy <= PetscMin(ci[1] + 1, ny - 1); cy++) {
         const PetscInt row = nx * (cy + ny * cz);
@@ -122,17 +142,60 @@ PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *k, PetscI
           PetscReal        r2 = 0;
           for (PetscInt d = 0; d < dim; d++) r2 += (xi[d] - xj[d]) * (xi[d] - xj[d]);
           if (r2 < R2 && j != i) {
-            if (npairs == nb->pcap) PetscCall(FSNeighboursGrow(nb, (PetscInt64)npairs + 4096));
-            nb->nbr[npairs] = j;
-            nb->F[npairs]   = FSKernelF(k, PetscSqrtReal(r2));
-            npairs++;
+            if (nc == nb->ccandcap) PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nc + room * 16));
+            nb->cand[nc++] = j;
           }
         }
       }
     }
   }
-  nb->start[nowned] = npairs;
-  nb->npairs        = npairs;
+  nb->cstart[nowned] = nc;
+  nb->ncand          = nc;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSNeighboursBuildList - the neighbours j != i within the kernel support of each owned particle i
+   at the current positions, picked from the candidates, with F(r_ij) such that grad_i W = F (x_i - x_j).
+   Needs FSNeighboursBuildCandidates at the start of the step.
+*/
+PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *k, PetscInt nowned, const PetscReal rec[], PetscInt stride)
+{
+  const PetscInt  dim = nb->dim;
+  const PetscReal R2  = k->support2;
+  PetscInt        np  = 0;
+
+  PetscFunctionBegin;
+  if (nb->ncand > nb->pcap) PetscCall(FSNeighboursGrow(nb, nb->ncand));
+  for (PetscInt i = 0; i < nowned; i++) {
+    const PetscReal *xi = &rec[i * stride];
+    nb->start[i]        = np;
+    if (dim == 2) {
+      for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
+        const PetscInt   j  = nb->cand[q];
+        const PetscReal *xj = &rec[j * stride];
+        const PetscReal  a = xi[0] - xj[0], b = xi[1] - xj[1], r2 = a * a + b * b;
+        if (r2 < R2) {
+          nb->nbr[np] = j;
+          nb->F[np]   = FSKernelF(k, PetscSqrtReal(r2));
+          np++;
+        }
+      }
+    } else {
+      for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
+        const PetscInt   j  = nb->cand[q];
+        const PetscReal *xj = &rec[j * stride];
+        const PetscReal  a = xi[0] - xj[0], b = xi[1] - xj[1], c = xi[2] - xj[2], r2 = a * a + b * b + c * c;
+        if (r2 < R2) {
+          nb->nbr[np] = j;
+          nb->F[np]   = FSKernelF(k, PetscSqrtReal(r2));
+          np++;
+        }
+      }
+    }
+  }
+  nb->start[nowned] = np;
+  nb->npairs        = np;
   PetscFunctionReturn(0);
 }
 
@@ -141,7 +204,8 @@ PetscErrorCode FSNeighboursDestroy(FSNeighbours *nb)
   PetscFunctionBegin;
   PetscCall(PetscFree(nb->cellstart));
   PetscCall(PetscFree2(nb->cellof, nb->order));
-  PetscCall(PetscFree(nb->start));
+  PetscCall(PetscFree2(nb->start, nb->cstart));
+  PetscCall(PetscFree(nb->cand));
   PetscCall(PetscFree2(nb->nbr, nb->F));
   PetscFunctionReturn(0);
 }

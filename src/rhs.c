@@ -156,7 +156,6 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
 
   PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
-  PetscCall(FSNeighboursBuildCells(&s->nbrs, dim, n + s->halo.nghost, s->rec, S, s->kernel.support));
   PetscCall(FSNeighboursBuildList(&s->nbrs, &s->kernel, n, s->rec, S));
   PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
   for (PetscInt i = 0; i < n; i++) maxn = PetscMax(maxn, s->nbrs.start[i + 1] - s->nbrs.start[i]);

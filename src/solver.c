@@ -89,7 +89,7 @@ PetscErrorCode FSSolverSetDefaultPhysics(FSSolver s, PetscReal rho0, PetscReal c
 PetscErrorCode FSSolverSetFromOptions(FSSolver s)
 {
   char           terms[1024];
-  PetscBool      flg, set;
+  PetscBool      flg = PETSC_FALSE, set = PETSC_FALSE; /* PetscOptionsBool() leaves flg untouched when -fs_case_view is absent */
   PetscInt       ng = 3;
   PetscReal      g[3];
   FSCaseCreateFn create;
@@ -176,9 +176,18 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       s->terms.needs |= term->needs;
     }
   }
+  {
+    PetscBool help;
+    PetscCall(PetscOptionsHasHelp(NULL, &help));
+    if (help) {
+      PetscCall(FSCaseHelpAll(s, PetscOptionsObject));
+      PetscCall(FSTermHelpAll(s, PetscOptionsObject));
+    }
+  }
   PetscOptionsEnd();
   if (s->terms_view) PetscCall(FSTermListView(PETSC_VIEWER_STDOUT_(comm)));
   s->h = s->h_over_dx * s->dx;
+  PetscCall(FSSolverSetUpTS(s));
   PetscFunctionReturn(0);
 }
 
@@ -284,7 +293,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   for (PetscInt t = 0; t < s->terms.nterms; t++)
     if (s->terms.term[t]->has_power) s->nglobaldofs++;
   if (s->restart[0]) PetscCall(FSSolverLoadCheckpoint(s));
-  PetscCall(FSSolverSetUpTS(s));
+  if (!s->ts) PetscCall(FSSolverSetUpTS(s));
   if (s->restart[0]) {
     PetscCall(TSSetTime(s->ts, s->restart_hdr.time));
     PetscCall(TSSetStepNumber(s->ts, s->restart_hdr.step));

@@ -4,12 +4,14 @@
 */
 #include "fsimpl.h"
 
-/* FSSolverSetUpTS - creates the TS (RK4 by default; -ts_type and friends change it). */
+/* FSSolverSetUpTS - creates the TS (RK4 by default; -ts_type and friends change it). Called from
+   FSSolverSetFromOptions, so that -help shows the TS options with flexslosh's defaults. */
 PetscErrorCode FSSolverSetUpTS(FSSolver s)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
+  PetscCall(TSDestroy(&s->ts));
   PetscCall(TSCreate(comm, &s->ts));
   PetscCall(TSSetProblemType(s->ts, TS_NONLINEAR));
   PetscCall(TSSetType(s->ts, TSRK));
@@ -74,6 +76,12 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   PetscCall(FSHaloBuild(&s->halo, comm, &s->decomp, s->nowned, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
   PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
   PetscCall(FSSolverEnsureWork(s, s->nowned + s->halo.nghost));
+  /* candidate neighbours for the whole step: kernel support plus the halo skin */
+  PetscCall(FSHaloRefresh(&s->halo, s->dim, s->nowned, s->rec));
+  PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
+  PetscCall(FSNeighboursBuildCells(&s->nbrs, s->dim, s->nowned + s->halo.nghost, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
+  PetscCall(FSNeighboursBuildCandidates(&s->nbrs, s->nowned, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
+  PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
   if (s->ts) PetscCall(TSRestartStep(s->ts));
   PetscFunctionReturn(0);
 }

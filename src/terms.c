@@ -110,3 +110,23 @@ PetscErrorCode FSTermGetSolver(FSTerm t, FSSolver *s)
   *s = t->solver;
   PetscFunctionReturn(0);
 }
+
+/*
+   FSTermHelpAll - with -help, lists the options of every registered term that the run did not
+   select, so that -help documents them all. Called inside the solver's options block.
+*/
+PetscErrorCode FSTermHelpAll(FSSolver s, PetscOptionItems *PetscOptionsObject)
+{
+  PetscFunctionBegin;
+  for (FSTermInfo *info = FSTermInfos; info; info = info->next) {
+    PetscBool selected = PETSC_FALSE;
+    FSTerm    t;
+    for (PetscInt k = 0; k < s->terms.nterms; k++)
+      if (!strcmp(s->terms.term[k]->name, info->name)) selected = PETSC_TRUE;
+    if (selected) continue;
+    PetscCall(FSTermCreate(s, info->name, &t));
+    if (t->ops.setfromoptions) PetscCall((*t->ops.setfromoptions)(t, PetscOptionsObject));
+    PetscCall(FSTermDestroy(&t));
+  }
+  PetscFunctionReturn(0);
+}

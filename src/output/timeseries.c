@@ -42,7 +42,7 @@ static PetscErrorCode FSTimeSeriesBuildHeader(MPI_Comm comm, const char path[], 
 }
 
 /*
-   Rank 0: keep the header and the complete rows with step <= restart_step of an existing file,
+   Rank 0: keep the header and the complete rows with step < restart_step (the restarted run writes the row of restart_step again) of an existing file,
    writing them to "<path>.tmp" and renaming it over path. Sets *ioerr (errno) or *badheader on failure.
 */
 static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[], PetscInt restart_step, int *ioerr, PetscBool *badheader)
@@ -85,7 +85,7 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
       long  step = strtol(line, &end, 10);
 
       if (end == line || *end != ',') continue; /* not a data row */
-      if (step <= (long)restart_step && fputs(line, out) == EOF) *ioerr = errno ? errno : EIO;
+      if (step < (long)restart_step && fputs(line, out) == EOF) *ioerr = errno ? errno : EIO;
     }
     if (*ioerr) break;
   }
@@ -118,7 +118,7 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
 .  ncols        - number of value columns
 .  names        - their names (no commas, quotes or newlines)
 -  restart_step - < 0: a new file (an existing one is truncated); >= 0: a restart at this step: an
-                  existing file keeps its header and the rows with step <= restart_step (rewritten
+                  existing file keeps its header and the rows with step < restart_step (rewritten
                   through "<path>.tmp" and a rename), then rows are appended; a missing file is created
 
    Output Parameter:

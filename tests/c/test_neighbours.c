@@ -53,7 +53,9 @@ static PetscErrorCode TestNeighbours(PetscInt dim, PetscInt nowned, PetscInt nex
     }
   /* run twice to exercise the reuse of the buffers */
   for (PetscInt rep = 0; rep < 2; rep++) {
-    PetscCall(FSNeighboursBuildCells(&nb, dim, n, rec, S, k.support));
+    PetscReal skin = rep ? 0.25 * h : 0;
+    PetscCall(FSNeighboursBuildCells(&nb, dim, n, rec, S, k.support + skin));
+    PetscCall(FSNeighboursBuildCandidates(&nb, nowned, rec, S, k.support + skin));
     PetscCall(FSNeighboursBuildList(&nb, &k, nowned, rec, S));
   }
   for (PetscInt i = 0; i < nowned; i++) {

@@ -74,8 +74,6 @@ def test_help_lists_ts_options(help_output):
     assert "rk" in re.search(r"^\s*-ts_type <.*$", help_output, re.M).group(0)
 
 
-@pytest.mark.xfail(strict=True, reason="BUG app/flexslosh.c: -help shows the options of a bare TSCreate() "
-                   "(-ts_type <now euler>, -ts_max_time 1.8e308), not of the solver's TS (rk4, case final time)")
 def test_help_shows_actual_ts_defaults(help_output):
     assert re.search(r"^\s*-ts_type <now rk\b", help_output, re.M)
 

@@ -43,9 +43,6 @@ def test_integrators_agree(runs, name):
     assert ke == pytest.approx(ref, rel=1e-5)
 
 
-@pytest.mark.xfail(strict=True, reason="BUG src/monitor.c FSSolverAppendSeries: the dt column is TSGetTimeStep() after the "
-                   "step, i.e. TS's proposal for the next step (0.1 at step 0, the split remainder near the final time, "
-                   "and 10x the stable step with an adaptive RK), not the step that was taken")
 @pytest.mark.parametrize("name", ["rk4", "rk5dp"])
 def test_dt_column_is_the_step_taken(runs, name):
     s = read_series(runs[name])

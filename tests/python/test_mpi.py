@@ -75,3 +75,13 @@ def test_shear_3d_ranks_agree(shear):
     # the flow stays a shear flow u = (U sin(2 pi y), 0, 0)
     assert np.abs(b["velocity"][:, 1:]).max() < 1e-3
     assert np.abs(b["velocity"][:, 0]).max() > 0.9
+
+
+def test_three_ranks_do_not_hang(tmp_path):
+    # regression: src/solver.c read -fs_case_view into an uninitialized PetscBool, so a rank could list
+    # the cases (a collective viewer call) alone and deadlock the run at random
+    for k in range(4):
+        out = tmp_path / f"o{k}"
+        run_flexslosh(["-fs_case", "taylor_green", "-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", out], nranks=3,
+                      cwd=tmp_path, timeout=60)
+        assert read_summary(out)["ranks"] == 3

@@ -136,9 +136,6 @@ def test_restart_in_place_final_state(same_dir):
         assert rel_max_diff(a[f], b[f]) == 0.0
 
 
-@pytest.mark.xfail(strict=True, reason="BUG: on restart the time series keeps the rows up to and including the checkpoint's step "
-                   "(src/output/timeseries.c FSTimeSeriesTruncate, step <= restart_step) and FSSolverMonitorBegin "
-                   "(src/monitor.c) appends that step's row again: step 20 appears twice")
 def test_restart_in_place_time_series_has_no_duplicate_rows(same_dir):
     ref, re_ = same_dir
     sa, sb = read_series(ref), read_series(re_)
@@ -147,9 +144,6 @@ def test_restart_in_place_time_series_has_no_duplicate_rows(same_dir):
         assert np.array_equal(sa[name], sb[name]), name
 
 
-@pytest.mark.xfail(strict=True, reason="BUG src/monitor.c FSSolverMonitorBegin: next_output = t + output_interval counts the "
-                   "snapshot interval from the restart time, so a restarted run writes its snapshots at other steps "
-                   "than the uninterrupted run (here steps 24, 27, ... instead of 21, 24, 28, ...)")
 def test_restart_in_place_snapshot_schedule(same_dir):
     ref, re_ = same_dir
 
