@@ -210,7 +210,7 @@ PETSC_INTERN PetscErrorCode FSTermHelpAll(FSSolver, PetscOptionItems *);
 PETSC_INTERN PetscErrorCode FSCaseHelpAll(FSSolver, PetscOptionItems *);
 
 /* log events */
-PETSC_EXTERN PetscLogEvent FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_Migrate, FS_Output, FS_RHS;
+PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_Migrate, FS_Output, FS_RHS;
 
 /* field names in the swarm */
 #define FS_FIELD_POSITION "position"

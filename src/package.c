@@ -49,6 +49,7 @@ PetscErrorCode FSInitializePackage(void)
   if (FSPackageInitialized) PetscFunctionReturn(0);
   FSPackageInitialized = PETSC_TRUE;
   PetscCall(PetscClassIdRegister("FSSolver", &FSSOLVER_CLASSID));
+  PetscCall(PetscLogEventRegister("FSStep", FSSOLVER_CLASSID, &FS_Step));
   PetscCall(PetscLogEventRegister("FSRHS", FSSOLVER_CLASSID, &FS_RHS));
   PetscCall(PetscLogEventRegister("FSNeighbours", FSSOLVER_CLASSID, &FS_Neighbours));
   PetscCall(PetscLogEventRegister("FSHalo", FSSOLVER_CLASSID, &FS_Halo));

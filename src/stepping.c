@@ -193,6 +193,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(FSSolverSetUp(s));
+  PetscCall(PetscLogEventBegin(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverComputeStableDt(s, &dt));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetMaxTime(s->ts, &tmax));
@@ -216,6 +217,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscCall(FSSolverMigrate(s, &changed));
   if (step % s->sort_interval == 0) PetscCall(FSSolverSortByCell(s));
   PetscCall(FSSolverResize(s, changed));
+  PetscCall(PetscLogEventEnd(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverMonitor(s));
   PetscFunctionReturn(0);
 }
