@@ -1,0 +1,367 @@
+/*
+   Wall geometry (2-D): named closed polygons, their checks (closed, simple, consistently oriented,
+   nested), built-in tanks, the polyline file format, and the discretization into segments.
+*/
+#include "walls.h"
+#include <ctype.h>
+
+PetscErrorCode FSWallsCreate(FSWalls *w)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscMemzero(w, sizeof(*w)));
+  PetscCall(PetscMalloc1(1, &w->pstart));
+  w->pstart[0] = 0;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSWallsDestroy(FSWalls *w)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscFree(w->pstart));
+  PetscCall(PetscFree(w->pwall));
+  PetscCall(PetscFree(w->vert));
+  PetscCall(PetscFree(w->area));
+  PetscCall(PetscFree(w->name));
+  PetscCall(PetscFree(w->seg));
+  PetscCall(PetscFree(w->segwall));
+  PetscFunctionReturn(0);
+}
+
+static PetscReal Cross(const PetscReal a[], const PetscReal b[], const PetscReal c[])
+{
+  return (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+}
+
+/* Do the closed segments ab and cd intersect (touching included)? */
+static PetscBool SegmentsIntersect(const PetscReal a[], const PetscReal b[], const PetscReal c[], const PetscReal d[])
+{
+  const PetscReal d1 = Cross(c, d, a), d2 = Cross(c, d, b), d3 = Cross(a, b, c), d4 = Cross(a, b, d);
+  const PetscReal scale = PetscMax(PetscMax(PetscAbsReal(b[0] - a[0]), PetscAbsReal(b[1] - a[1])), PetscMax(PetscAbsReal(d[0] - c[0]), PetscAbsReal(d[1] - c[1])));
+  const PetscReal eps   = 1e-12 * scale * scale;
+  if (((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))) return PETSC_TRUE;
+  /* collinear or touching cases */
+  {
+    const PetscReal *pts[4] = {a, b, c, d};
+    const PetscReal  cr[4]  = {d1, d2, d3, d4};
+    for (PetscInt k = 0; k < 4; k++) {
+      const PetscReal *p = pts[k], *s0 = k < 2 ? c : a, *s1 = k < 2 ? d : b;
+      if (PetscAbsReal(cr[k]) <= eps && p[0] >= PetscMin(s0[0], s1[0]) - 1e-12 * scale && p[0] <= PetscMax(s0[0], s1[0]) + 1e-12 * scale && p[1] >= PetscMin(s0[1], s1[1]) - 1e-12 * scale && p[1] <= PetscMax(s0[1], s1[1]) + 1e-12 * scale) return PETSC_TRUE;
+    }
+  }
+  return PETSC_FALSE;
+}
+
+/* Is x inside polygon p (even-odd rule)? */
+static PetscBool InPolygon(const FSWalls *w, PetscInt p, const PetscReal x[])
+{
+  PetscBool in = PETSC_FALSE;
+  PetscInt  s = w->pstart[p], n = w->pstart[p + 1] - s;
+  for (PetscInt i = 0, j = n - 1; i < n; j = i++) {
+    const PetscReal *a = &w->vert[2 * (s + i)], *b = &w->vert[2 * (s + j)];
+    if ((a[1] > x[1]) != (b[1] > x[1]) && x[0] < (b[0] - a[0]) * (x[1] - a[1]) / (b[1] - a[1]) + a[0]) in = (PetscBool)!in;
+  }
+  return in;
+}
+
+/*
+   FSWallsAddPolygon - adds a closed polygon to the wall named name (created if new). The last
+   vertex connects back to the first (a repeated first vertex is dropped). where names the origin
+   of the data in error messages (a file and line, or an option).
+*/
+PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], PetscInt n, const PetscReal xy[], const char where[])
+{
+  PetscInt  wall = -1, s;
+  PetscReal area = 0;
+
+  PetscFunctionBegin;
+  if (n > 1 && xy[0] == xy[2 * (n - 1)] && xy[1] == xy[2 * (n - 1) + 1]) n--;
+  PetscCheck(n >= 3, comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s) has %" PetscInt_FMT " distinct vertices: a wall is a closed polygon of at least 3 vertices", name, where, n);
+  for (PetscInt k = 0; k < w->nwalls; k++)
+    if (!strcmp(w->name[k], name)) wall = k;
+  if (wall < 0) {
+    char(*names)[64];
+    PetscCall(PetscMalloc1(w->nwalls + 1, &names));
+    if (w->nwalls) PetscCall(PetscArraycpy(names, w->name, w->nwalls));
+    PetscCall(PetscStrncpy(names[w->nwalls], name, 64));
+    PetscCall(PetscFree(w->name));
+    w->name = names;
+    wall    = w->nwalls++;
+  }
+  /* grow the arrays */
+  {
+    PetscInt  *pstart, *pwall;
+    PetscReal *vert, *ar;
+    PetscCall(PetscMalloc1(w->npoly + 2, &pstart));
+    PetscCall(PetscMalloc1(w->npoly + 1, &pwall));
+    PetscCall(PetscMalloc1(w->npoly + 1, &ar));
+    PetscCall(PetscMalloc1(2 * (w->nvert + n), &vert));
+    PetscCall(PetscArraycpy(pstart, w->pstart, w->npoly + 1));
+    if (w->npoly) {
+      PetscCall(PetscArraycpy(pwall, w->pwall, w->npoly));
+      PetscCall(PetscArraycpy(ar, w->area, w->npoly));
+    }
+    if (w->nvert) PetscCall(PetscArraycpy(vert, w->vert, 2 * w->nvert));
+    PetscCall(PetscFree(w->pstart));
+    PetscCall(PetscFree(w->pwall));
+    PetscCall(PetscFree(w->area));
+    PetscCall(PetscFree(w->vert));
+    w->pstart = pstart;
+    w->pwall  = pwall;
+    w->area   = ar;
+    w->vert   = vert;
+  }
+  s = w->nvert;
+  for (PetscInt k = 0; k < n; k++) {
+    w->vert[2 * (s + k)]     = xy[2 * k];
+    w->vert[2 * (s + k) + 1] = xy[2 * k + 1];
+    PetscCheck(PetscIsNormalReal(xy[2 * k]) || xy[2 * k] == 0, comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s): vertex %" PetscInt_FMT " is not a finite number", name, where, k);
+  }
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal *a = &xy[2 * k], *b = &xy[2 * ((k + 1) % n)];
+    area += 0.5 * (a[0] * b[1] - b[0] * a[1]);
+  }
+  /* a simple polygon: no two non-adjacent edges meet, no zero-length edge */
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *a = &xy[2 * i], *b = &xy[2 * ((i + 1) % n)];
+    PetscCheck(a[0] != b[0] || a[1] != b[1], comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s): vertices %" PetscInt_FMT " and %" PetscInt_FMT " coincide", name, where, i, (i + 1) % n);
+    for (PetscInt j = i + 2; j < n; j++) {
+      const PetscReal *c = &xy[2 * j], *d = &xy[2 * ((j + 1) % n)];
+      if ((j + 1) % n == i) continue; /* adjacent through the closing edge */
+      PetscCheck(!SegmentsIntersect(a, b, c, d), comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s) intersects itself: edge %" PetscInt_FMT " (%g,%g)-(%g,%g) meets edge %" PetscInt_FMT " (%g,%g)-(%g,%g)", name, where, i, (double)a[0], (double)a[1], (double)b[0], (double)b[1], j, (double)c[0], (double)c[1], (double)d[0], (double)d[1]);
+    }
+  }
+  PetscCheck(area != 0, comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s) encloses no area", name, where);
+  w->pwall[w->npoly]      = wall;
+  w->area[w->npoly]       = area;
+  w->nvert               += n;
+  w->pstart[++w->npoly]   = w->nvert;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSWallsCheck - the polygons together: the first (the container) runs counter-clockwise and holds
+   all the others, which run clockwise (liquid outside them), lie inside it and do not meet each
+   other. A wrong orientation is reported as inconsistent normals.
+*/
+PetscErrorCode FSWallsCheck(FSWalls *w, MPI_Comm comm)
+{
+  PetscFunctionBegin;
+  PetscCheck(w->npoly > 0, comm, PETSC_ERR_ARG_WRONG, "No walls given");
+  PetscCheck(w->area[0] > 0, comm, PETSC_ERR_ARG_WRONG, "Inconsistent normals: the container wall \"%s\" (the first polygon) runs clockwise; list its vertices counter-clockwise so that the liquid is on the left of each edge", w->name[w->pwall[0]]);
+  for (PetscInt p = 1; p < w->npoly; p++) {
+    PetscCheck(w->area[p] < 0, comm, PETSC_ERR_ARG_WRONG, "Inconsistent normals: obstacle polygon %" PetscInt_FMT " of wall \"%s\" runs counter-clockwise; obstacles inside the container must run clockwise (liquid outside them)", p, w->name[w->pwall[p]]);
+    for (PetscInt v = w->pstart[p]; v < w->pstart[p + 1]; v++) PetscCheck(InPolygon(w, 0, &w->vert[2 * v]), comm, PETSC_ERR_ARG_WRONG, "Vertex (%g, %g) of obstacle polygon %" PetscInt_FMT " (wall \"%s\") lies outside the container", (double)w->vert[2 * v], (double)w->vert[2 * v + 1], p, w->name[w->pwall[p]]);
+  }
+  for (PetscInt p = 0; p < w->npoly; p++)
+    for (PetscInt q = p + 1; q < w->npoly; q++)
+      for (PetscInt i = w->pstart[p]; i < w->pstart[p + 1]; i++) {
+        const PetscInt i1 = i + 1 < w->pstart[p + 1] ? i + 1 : w->pstart[p];
+        for (PetscInt j = w->pstart[q]; j < w->pstart[q + 1]; j++) {
+          const PetscInt j1 = j + 1 < w->pstart[q + 1] ? j + 1 : w->pstart[q];
+          PetscCheck(!SegmentsIntersect(&w->vert[2 * i], &w->vert[2 * i1], &w->vert[2 * j], &w->vert[2 * j1]), comm, PETSC_ERR_ARG_WRONG, "Polygons %" PetscInt_FMT " (wall \"%s\") and %" PetscInt_FMT " (wall \"%s\") meet: walls must not touch or cross (make a baffle that touches the tank part of the tank's outline)", p, w->name[w->pwall[p]], q, w->name[w->pwall[q]]);
+        }
+      }
+  w->lo[0] = w->lo[1] = PETSC_MAX_REAL;
+  w->hi[0] = w->hi[1] = -PETSC_MAX_REAL;
+  for (PetscInt v = 0; v < w->nvert; v++)
+    for (PetscInt d = 0; d < 2; d++) {
+      w->lo[d] = PetscMin(w->lo[d], w->vert[2 * v + d]);
+      w->hi[d] = PetscMax(w->hi[d], w->vert[2 * v + d]);
+    }
+  PetscFunctionReturn(0);
+}
+
+/* FSWallsRectangularTank - a closed rectangular tank [0, L] x [0, H], wall "tank". */
+PetscErrorCode FSWallsRectangularTank(FSWalls *w, MPI_Comm comm, PetscReal L, PetscReal H)
+{
+  const PetscReal xy[8] = {0, 0, L, 0, L, H, 0, H};
+
+  PetscFunctionBegin;
+  PetscCheck(L > 0 && H > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Tank length %g and height %g must be positive", (double)L, (double)H);
+  PetscCall(FSWallsAddPolygon(w, comm, "tank", 4, xy, "rectangular tank"));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSWallsBaffledTank - a tank of ncomp compartments of length Lc separated by ncomp-1 vertical
+   baffles of the given thickness (overall length ncomp Lc + (ncomp-1) thickness, height H). Each
+   baffle spans [bottom_gap, bottom_gap + baffle_height] vertically. A baffle from the bottom
+   (bottom_gap = 0) or up to the lid is part of the tank's outline (wall "tank"); a free-standing one
+   is an obstacle polygon of wall "baffles". Seed: 7 compartments of 0.1 m, 5 mm baffles, 0.73 m.
+*/
+PetscErrorCode FSWallsBaffledTank(FSWalls *w, MPI_Comm comm, PetscInt ncomp, PetscReal Lc, PetscReal t, PetscReal H, PetscReal gap, PetscReal hb)
+{
+  const PetscReal L = ncomp * Lc + (ncomp - 1) * t, top = gap + hb;
+  PetscReal      *xy;
+  PetscInt        n = 0;
+  const PetscBool frombottom = (PetscBool)(gap <= 0), tolid = (PetscBool)(top >= H);
+
+  PetscFunctionBegin;
+  PetscCheck(ncomp >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "Number of compartments %" PetscInt_FMT " must be at least 1", ncomp);
+  PetscCheck(Lc > 0 && H > 0 && t > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Compartment length %g, baffle thickness %g and tank height %g must be positive", (double)Lc, (double)t, (double)H);
+  PetscCheck(gap >= 0 && hb > 0 && top <= H, comm, PETSC_ERR_ARG_OUTOFRANGE, "Baffle from %g to %g does not fit in the tank height %g", (double)gap, (double)top, (double)H);
+  PetscCheck(!(frombottom && tolid), comm, PETSC_ERR_ARG_OUTOFRANGE, "Baffles spanning the whole height %g would close the compartments: leave an opening (bottom gap or lower height)", (double)H);
+  PetscCall(PetscMalloc1(2 * (8 + 8 * ncomp), &xy));
+#define PUSH(X, Y) (xy[2 * n] = (X), xy[2 * n + 1] = (Y), n++)
+  /* the outline, counter-clockwise from the origin: bottom left to right, then the lid right to left */
+  PUSH(0, 0);
+  for (PetscInt b = 1; b < ncomp && frombottom; b++) {
+    const PetscReal x0 = b * Lc + (b - 1) * t;
+    PUSH(x0, 0);
+    PUSH(x0, top);
+    PUSH(x0 + t, top);
+    PUSH(x0 + t, 0);
+  }
+  PUSH(L, 0);
+  PUSH(L, H);
+  for (PetscInt b = ncomp - 1; b >= 1 && tolid; b--) {
+    const PetscReal x0 = b * Lc + (b - 1) * t;
+    PUSH(x0 + t, H);
+    PUSH(x0 + t, gap);
+    PUSH(x0, gap);
+    PUSH(x0, H);
+  }
+  PUSH(0, H);
+  PetscCall(FSWallsAddPolygon(w, comm, "tank", n, xy, "baffled tank"));
+  if (!frombottom && !tolid)
+    for (PetscInt b = 1; b < ncomp; b++) {
+      const PetscReal x0 = b * Lc + (b - 1) * t;
+      const PetscReal r[8] = {x0, gap, x0, top, x0 + t, top, x0 + t, gap}; /* clockwise */
+      PetscCall(FSWallsAddPolygon(w, comm, "baffles", 4, r, "baffled tank"));
+    }
+#undef PUSH
+  PetscCall(PetscFree(xy));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSWallsLoad - reads walls from a text file (rank 0 reads, all ranks get the result):
+
+     # comment (anywhere after #)
+     wall <name>        start a polygon of the wall <name>
+     <x> <y>            one vertex per line
+     end                close the polygon (the last vertex connects to the first)
+
+   The first polygon is the container (counter-clockwise); later ones are obstacles (clockwise).
+   Errors name the file and line.
+*/
+PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
+{
+  FILE       *fp = NULL;
+  char        line[1024], name[64] = "", where[PETSC_MAX_PATH_LEN + 64];
+  PetscReal  *xy  = NULL;
+  PetscInt    n = 0, cap = 0, lineno = 0, start = 0;
+  PetscBool   open = PETSC_FALSE;
+  PetscMPIInt rank;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  /* every rank parses the (small) file, so that every rank raises the same error */
+  fp = fopen(path, "r");
+  PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "Cannot open the wall file \"%s\"", path);
+  while (fgets(line, sizeof(line), fp)) {
+    char *c = strchr(line, '#'), *p = line, word[64];
+    lineno++;
+    if (c) *c = 0;
+    while (isspace((unsigned char)*p)) p++;
+    if (!*p) continue;
+    if (sscanf(p, "%63s", word) == 1 && !strcmp(word, "wall")) {
+      PetscCheck(!open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": \"wall\" before the \"end\" of wall \"%s\" (started on line %" PetscInt_FMT ")", path, lineno, name, start);
+      PetscCheck(sscanf(p, "%*s %63s", name) == 1, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": \"wall\" needs a name", path, lineno);
+      open  = PETSC_TRUE;
+      n     = 0;
+      start = lineno;
+    } else if (!strcmp(word, "end")) {
+      PetscCheck(open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": \"end\" without \"wall\"", path, lineno);
+      PetscCall(PetscSNPrintf(where, sizeof(where), "%s:%" PetscInt_FMT "-%" PetscInt_FMT, path, start, lineno));
+      PetscCall(FSWallsAddPolygon(w, comm, name, n, xy, where));
+      open = PETSC_FALSE;
+    } else {
+      double x, y;
+      char   extra[8];
+      PetscCheck(open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": a vertex outside \"wall <name>\" ... \"end\": %s", path, lineno, p);
+      PetscCheck(sscanf(p, "%lf %lf %7s", &x, &y, extra) == 2, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": cannot parse \"%s\": expected two numbers x y, \"wall <name>\" or \"end\"", path, lineno, p);
+      if (n == cap) {
+        PetscReal *nxy;
+        cap = PetscMax(64, 2 * cap);
+        PetscCall(PetscMalloc1(2 * cap, &nxy));
+        if (n) PetscCall(PetscArraycpy(nxy, xy, 2 * n));
+        PetscCall(PetscFree(xy));
+        xy = nxy;
+      }
+      xy[2 * n]     = x;
+      xy[2 * n + 1] = y;
+      n++;
+    }
+  }
+  fclose(fp);
+  PetscCheck(!open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s: wall \"%s\" (line %" PetscInt_FMT ") has no \"end\": the polygon is open", path, name, start);
+  PetscCall(PetscFree(xy));
+  PetscFunctionReturn(0);
+}
+
+/* FSWallsDiscretize - splits every edge into segments of length at most dx (about dx). */
+PetscErrorCode FSWallsDiscretize(FSWalls *w, PetscReal dx)
+{
+  PetscInt nseg = 0;
+
+  PetscFunctionBegin;
+  w->dx = dx;
+  for (PetscInt p = 0; p < w->npoly; p++)
+    for (PetscInt v = w->pstart[p]; v < w->pstart[p + 1]; v++) {
+      const PetscInt  v1 = v + 1 < w->pstart[p + 1] ? v + 1 : w->pstart[p];
+      const PetscReal L  = PetscSqrtReal(PetscSqr(w->vert[2 * v1] - w->vert[2 * v]) + PetscSqr(w->vert[2 * v1 + 1] - w->vert[2 * v + 1]));
+      nseg += (PetscInt)PetscCeilReal(L / dx - 1e-9);
+    }
+  PetscCall(PetscFree(w->seg));
+  PetscCall(PetscFree(w->segwall));
+  PetscCall(PetscMalloc1(nseg * FS_SEG_STRIDE, &w->seg));
+  PetscCall(PetscMalloc1(nseg, &w->segwall));
+  w->nseg = 0;
+  for (PetscInt p = 0; p < w->npoly; p++)
+    for (PetscInt v = w->pstart[p]; v < w->pstart[p + 1]; v++) {
+      const PetscInt   v1 = v + 1 < w->pstart[p + 1] ? v + 1 : w->pstart[p];
+      const PetscReal *a = &w->vert[2 * v], *b = &w->vert[2 * v1];
+      const PetscReal  L = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]));
+      const PetscInt   m = (PetscInt)PetscCeilReal(L / dx - 1e-9);
+      for (PetscInt k = 0; k < m; k++) {
+        PetscReal *s = &w->seg[w->nseg * FS_SEG_STRIDE];
+        s[0] = a[0] + (b[0] - a[0]) * k / m;
+        s[1] = a[1] + (b[1] - a[1]) * k / m;
+        s[2] = a[0] + (b[0] - a[0]) * (k + 1) / m;
+        s[3] = a[1] + (b[1] - a[1]) * (k + 1) / m;
+        s[4] = 0.5 * (s[0] + s[2]);
+        s[5] = 0.5 * (s[1] + s[3]);
+        s[6] = (b[1] - a[1]) / L;
+        s[7] = -(b[0] - a[0]) / L;
+        s[8] = L / m;
+        w->segwall[w->nseg++] = w->pwall[p];
+      }
+    }
+  PetscFunctionReturn(0);
+}
+
+/* Distance from x to the nearest wall segment (after FSWallsDiscretize). */
+PetscReal FSWallsDistance(const FSWalls *w, const PetscReal x[])
+{
+  PetscReal best = PETSC_MAX_REAL;
+  for (PetscInt k = 0; k < w->nseg; k++) {
+    const PetscReal *s = &w->seg[k * FS_SEG_STRIDE];
+    const PetscReal  tx = s[2] - s[0], ty = s[3] - s[1], L2 = tx * tx + ty * ty;
+    PetscReal        u = ((x[0] - s[0]) * tx + (x[1] - s[1]) * ty) / L2, px, py;
+    u    = PetscMax(0.0, PetscMin(1.0, u));
+    px   = s[0] + u * tx - x[0];
+    py   = s[1] + u * ty - x[1];
+    best = PetscMin(best, px * px + py * py);
+  }
+  return PetscSqrtReal(best);
+}
+
+/* Is x in the liquid region (inside the container, outside every obstacle) and at least margin from the walls? */
+PetscBool FSWallsInLiquid(const FSWalls *w, const PetscReal x[], PetscReal margin)
+{
+  if (!InPolygon(w, 0, x)) return PETSC_FALSE;
+  for (PetscInt p = 1; p < w->npoly; p++)
+    if (InPolygon(w, p, x)) return PETSC_FALSE;
+  return (PetscBool)(margin <= 0 || FSWallsDistance(w, x) >= margin);
+}

@@ -1,0 +1,90 @@
+/*
+   The Shepard factor gamma_i of the boundary-integral method, computed geometrically from the wall
+   segments (Calderon-Sanchez, Cercos-Pita & Duque 2019; derivation in notes/boundary-integrals.md):
+
+     gamma(x) = 1 + sum_k (1/2pi) int_k (Phi(r) - 1) (e_r . n_k) / r dS,   r = |y - x|, e_r = (y - x)/r,
+
+   Phi(r) being the kernel's mass inside radius r (1 beyond the support 2h), n_k pointing out of the
+   liquid. On a straight segment (y - x) . n_k = d, the distance from x to the segment's line, so the
+   integrand is d (Phi(r) - 1) / r^2: the -d/r^2 part integrates exactly (the angle the segment
+   subtends), and d Phi(r)/r^2 is smooth and integrates by Gauss-Legendre on each side of the foot of
+   the perpendicular. Only the part of the segment within the support counts, and only segments that
+   face x (d > 0): a thin baffle's far face is hidden behind its near face.
+*/
+#include "walls.h"
+
+/* Wendland C2 in 2-D: Phi(q) = 7/2 (q^2/2 - 5/8 q^4 + 1/2 q^5 - 5/32 q^6 + q^7/56), q = r/h <= 2.
+   Returns Phi(r)/r^2 (finite at r = 0). */
+static inline PetscReal PhiOverR2(PetscReal h, PetscReal r)
+{
+  const PetscReal q = r / h;
+  if (q >= 2) return 1.0 / (r * r);
+  return 3.5 / (h * h) * (0.5 + q * q * (-0.625 + q * (0.5 + q * (-0.15625 + q / 56.0))));
+}
+
+static const PetscReal GaussX[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498, 0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
+static const PetscReal GaussW[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066531250488, 0.3626837833783620, 0.3626837833783620, 0.3137066531250488, 0.2223810344533745, 0.1012285362903763};
+
+/* int_{a}^{b} Phi(sqrt(d^2 + s^2)) / (d^2 + s^2) ds by 8-point Gauss-Legendre (a, b on one side of 0) */
+static PetscReal IntegratePhi(PetscReal h, PetscReal d, PetscReal a, PetscReal b)
+{
+  PetscReal sum = 0, mid = 0.5 * (a + b), half = 0.5 * (b - a);
+  if (half <= 0) return 0;
+  for (PetscInt g = 0; g < 8; g++) {
+    const PetscReal s = mid + half * GaussX[g];
+    sum += GaussW[g] * PhiOverR2(h, PetscSqrtReal(d * d + s * s));
+  }
+  return sum * half;
+}
+
+/*
+   FSShepardSegment - the contribution gamma_k of one segment to gamma(x) - 1 (zero if the segment
+   does not face x or lies beyond the support 2h).
+
+   seg holds p0 (2), p1 (2), midpoint (2), normal (2), length.
+*/
+PetscReal FSShepardSegment(PetscReal h, const PetscReal x[], const PetscReal seg[])
+{
+  const PetscReal *p0 = seg, *p1 = seg + 2, *n = seg + 6, len = seg[8];
+  const PetscReal  t[2] = {(p1[0] - p0[0]) / len, (p1[1] - p0[1]) / len};
+  const PetscReal  d    = (p0[0] - x[0]) * n[0] + (p0[1] - x[1]) * n[1]; /* > 0: x on the liquid side */
+  const PetscReal  s0   = (x[0] - p0[0]) * t[0] + (x[1] - p0[1]) * t[1]; /* foot of the perpendicular along the segment */
+  const PetscReal  R    = 2 * h;
+  PetscReal        a, b, half, phi = 0, ang;
+
+  if (d <= 0 || d >= R) return 0;
+  half = PetscSqrtReal(R * R - d * d);
+  a    = PetscMax(0.0, s0 - half) - s0; /* the part of the segment within the support, relative to the foot */
+  b    = PetscMin(len, s0 + half) - s0;
+  if (b <= a) return 0;
+  if (a < 0 && b > 0) phi = IntegratePhi(h, d, a, 0) + IntegratePhi(h, d, 0, b);
+  else phi = IntegratePhi(h, d, a, b);
+  ang = PetscAtan2Real(b, d) - PetscAtan2Real(a, d); /* int d/(d^2+s^2) ds */
+  return (d * phi - ang) / (2 * PETSC_PI);
+}
+
+/*
+   FSWallsShepard - gamma(x) and grad gamma(x) = -sum_k W(|y_k - x|) n_k s_k (midpoint rule per
+   segment) from all segments (a reference implementation for tests and set-up; the solver uses
+   its per-particle lists of nearby segments).
+*/
+PetscErrorCode FSWallsShepard(const FSWalls *w, PetscReal h, const PetscReal x[], PetscReal *gamma, PetscReal grad[])
+{
+  const PetscReal wnorm = 7.0 / (4.0 * PETSC_PI * h * h);
+
+  PetscFunctionBegin;
+  *gamma  = 1;
+  grad[0] = grad[1] = 0;
+  for (PetscInt k = 0; k < w->nseg; k++) {
+    const PetscReal *seg = &w->seg[k * FS_SEG_STRIDE];
+    const PetscReal  dxm = seg[4] - x[0], dym = seg[5] - x[1], r = PetscSqrtReal(dxm * dxm + dym * dym);
+    const PetscReal  d   = (seg[0] - x[0]) * seg[6] + (seg[1] - x[1]) * seg[7];
+    *gamma += FSShepardSegment(h, x, seg);
+    if (d > 0 && r < 2 * h) {
+      const PetscReal q = r / h, a = 1 - 0.5 * q, W = wnorm * a * a * a * a * (2 * q + 1);
+      grad[0] -= W * seg[6] * seg[8];
+      grad[1] -= W * seg[7] * seg[8];
+    }
+  }
+  PetscFunctionReturn(0);
+}

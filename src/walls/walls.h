@@ -1,0 +1,45 @@
+/*
+   Walls of the boundary-integral method (2-D): closed polygons discretized into segments of about dx,
+   each segment with its midpoint, length s_k and normal n_k pointing out of the liquid, grouped into
+   named walls ("tank", "baffles", ...).
+
+   Orientation convention: the container polygon (the first one, holding all the others) runs
+   counter-clockwise, so the liquid is inside; obstacle polygons (free-standing baffles) run clockwise,
+   so the liquid is outside. The normal of the edge p0 -> p1 is then (dy, -dx)/|p1 - p0| in both cases.
+*/
+#pragma once
+#include <petscsys.h>
+
+typedef struct {
+  PetscInt   npoly, nvert, vcap;
+  PetscInt  *pstart;  /* npoly+1 offsets into the vertices */
+  PetscInt  *pwall;   /* wall (name) index of each polygon */
+  PetscReal *vert;    /* vertices, 2 per vertex */
+  PetscReal *area;    /* signed area of each polygon (> 0 counter-clockwise) */
+  PetscInt   nwalls;
+  char     (*name)[64];
+  /* segments, after FSWallsDiscretize */
+  PetscInt   nseg;
+  PetscReal *seg;     /* per segment: p0 (2), p1 (2), midpoint (2), normal (2), length: 9 reals */
+  PetscInt  *segwall; /* wall index of each segment */
+  PetscReal  dx;
+  PetscReal  lo[2], hi[2]; /* bounding box of all vertices */
+} FSWalls;
+
+#define FS_SEG_STRIDE 9
+
+PETSC_INTERN PetscErrorCode FSWallsCreate(FSWalls *);
+PETSC_INTERN PetscErrorCode FSWallsDestroy(FSWalls *);
+PETSC_INTERN PetscErrorCode FSWallsAddPolygon(FSWalls *, MPI_Comm, const char name[], PetscInt n, const PetscReal xy[], const char where[]);
+PETSC_INTERN PetscErrorCode FSWallsLoad(FSWalls *, MPI_Comm, const char path[]);
+PETSC_INTERN PetscErrorCode FSWallsRectangularTank(FSWalls *, MPI_Comm, PetscReal L, PetscReal H);
+PETSC_INTERN PetscErrorCode FSWallsBaffledTank(FSWalls *, MPI_Comm, PetscInt ncomp, PetscReal Lc, PetscReal thickness, PetscReal H, PetscReal bottom_gap, PetscReal baffle_height);
+PETSC_INTERN PetscErrorCode FSWallsCheck(FSWalls *, MPI_Comm);
+PETSC_INTERN PetscErrorCode FSWallsDiscretize(FSWalls *, PetscReal dx);
+PETSC_INTERN PetscBool      FSWallsInLiquid(const FSWalls *, const PetscReal x[], PetscReal margin);
+PETSC_INTERN PetscReal      FSWallsDistance(const FSWalls *, const PetscReal x[]);
+
+/* Shepard factor from the walls alone (notes/boundary-integrals.md): gamma(x) and its gradient
+   from the segments within the kernel support that face x. */
+PETSC_INTERN PetscReal FSShepardSegment(PetscReal h, const PetscReal x[], const PetscReal seg[]);
+PETSC_INTERN PetscErrorCode FSWallsShepard(const FSWalls *, PetscReal h, const PetscReal x[], PetscReal *gamma, PetscReal grad[]);
