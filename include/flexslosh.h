@@ -7,9 +7,11 @@
      FSSolver  the whole run: particles, decomposition, physics terms, time stepping, output
      FSTerm    one physics term of the right-hand side (continuity, pressure, viscosity, ...)
      FSCase    the set-up of a run (domain, particles, initial fields, default parameters)
+     FSStructure  the structure that carries the tank (mass-spring-damper, modal beam, ...)
 
-   Implementations of terms and cases are registered in tables (FSTermRegister, FSCaseRegister)
-   and chosen by name at run time (-fs_terms, -fs_case). Plug-ins loaded with -dll_append register
+   Implementations of terms, cases and structures are registered in tables (FSTermRegister,
+   FSCaseRegister, FSStructureRegister) and chosen by name at run time (-fs_terms, -fs_case,
+   -fs_structure). Plug-ins loaded with -dll_append register
    their own from their entry point PetscDLLibraryRegister_<libname>().
 */
 #pragma once
@@ -21,6 +23,7 @@
 
 typedef struct _p_FSSolver *FSSolver;
 typedef struct _p_FSTerm   *FSTerm;
+typedef struct _p_FSStructure *FSStructure;
 
 PETSC_EXTERN PetscClassId FSSOLVER_CLASSID;
 
@@ -64,6 +67,16 @@ typedef struct {
   /* physical constants */
   PetscReal rho0, c0, h, dx, nu, gravity[3], background_pressure;
   PetscReal umax; /* largest particle speed at the start of the step */
+  PetscBool pressure_difference;      /* pressure gradient in the (p_j - p_i) form everywhere (-fs_pressure_form difference) */
+  PetscBool pressure_wall_difference; /* ... only for the particles whose kernel meets a wall (-fs_pressure_form wall) */
+  /* walls (boundary integrals); nwalls = 0 without walls */
+  PetscInt         nwalls;
+  const PetscReal *gamma;    /* Shepard factor gamma_i of the owned particles (NULL without walls: 1) */
+  const PetscReal *wseg;     /* wall segments, 9 reals each: p0 (2), p1 (2), midpoint (2), normal out of the liquid (2), length */
+  const PetscInt  *wsegwall; /* the wall each segment belongs to */
+  const PetscBool *noslip;   /* per wall: no-slip (else free-slip) */
+  PetscReal       *wallload; /* per wall: force (3) and moment about the load point (3) of the liquid on the wall, this rank's share, accumulated by the wall terms */
+  PetscReal        loadpoint[3];
 } FSParticles;
 
 /* The neighbourhood of one owned particle i: n neighbours j[k] with x_j - x_i in dx[k*dim], the
@@ -73,6 +86,10 @@ typedef struct {
   PetscInt         i, n;
   const PetscInt  *j;
   const PetscReal *dx, *r2, *rinv2, *gradW;
+  /* wall segments k within the kernel support that face i, with W(|x_k - x_i|) at their midpoints */
+  PetscInt         nw;
+  const PetscInt  *wk;
+  const PetscReal *wW;
 } FSNeighbourhood;
 
 /* Rate of change of particle i accumulated by the terms: drho/dt, du/dt (dim), and a correction
@@ -102,6 +119,7 @@ struct _p_FSTerm {
   FSSolver   solver;
   FSTermOps  ops;
   PetscInt   needs;      /* FSNeed flags */
+  PetscBool  renormalized; /* the core divides the term's rates by the Shepard factor gamma_i (boundary integrals) */
   PetscBool  has_power;  /* the term dissipates: it accumulates power */
   PetscReal  power;      /* dissipation power of the last right-hand side, this rank's share (seed Eq. 38) */
   PetscReal  max_viscosity; /* largest kinematic viscosity the term applies (time-step limit), set in prepare */
@@ -135,3 +153,75 @@ PETSC_EXTERN PetscErrorCode FSSolverSetDomain(FSSolver, const PetscReal lo[], co
 PETSC_EXTERN PetscErrorCode FSSolverAddParticles(FSSolver, PetscInt n, const PetscReal x[], const PetscReal u[], const PetscReal rho[], const PetscReal m[]);
 PETSC_EXTERN PetscErrorCode FSSolverGetParameters(FSSolver, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0, PetscReal *nu);
 PETSC_EXTERN PetscErrorCode FSSolverSetDefaultPhysics(FSSolver, PetscReal rho0, PetscReal c0, PetscReal nu, const PetscReal g[]);
+
+/* ---------- structures ---------- */
+/*
+   The structure that carries the tank. Its DOFs y (ndof values) are part of the TS state, owned by
+   rank 0 and advanced by the same integrator as the particles: dy/dt = rhs(t, y, loads).
+   Geometry: the beam lies along x from its clamp at x = 0; it deflects along y (vertical) and the
+   tank turns about z. The tank reference point sits on the beam at x = a (-fs_beam_tank_position).
+   Deflections are measured from the static equilibrium under gravity (the structure's weight is
+   not a load).
+*/
+
+/* Loads on the tank reference point from the liquid (filled by the coupling; zero without it):
+   force[3] in the global axes, moment[3] about the reference point. */
+typedef struct {
+  PetscReal force[3], moment[3];
+} FSLoads;
+
+/* Rigid motion of the tank reference point: displacement, velocity and acceleration, and the
+   rotation (about z) angle, rate and angular acceleration. */
+typedef struct {
+  PetscReal disp[3], vel[3], acc[3];
+  PetscReal angle, rate, angacc;
+} FSTankMotion;
+
+struct _n_FSJSON; /* the JSON summary writer of src/output (fsoutput.h) */
+
+typedef struct {
+  PetscErrorCode (*setfromoptions)(FSStructure, PetscOptionItems *);
+  /* builds the model; sets ndof, min_period, the extra time-series columns (FSStructureAddColumn) */
+  PetscErrorCode (*setup)(FSStructure);
+  /* the initial state y0 (ndof values) */
+  PetscErrorCode (*initial)(FSStructure, PetscReal y[]);
+  /* dy/dt at time t for state y under the liquid loads (required) */
+  PetscErrorCode (*rhs)(FSStructure, PetscReal t, const PetscReal y[], const FSLoads *, PetscReal ydot[]);
+  /* the tank's motion from the state and its rate (required) */
+  PetscErrorCode (*motion)(FSStructure, const PetscReal y[], const PetscReal ydot[], FSTankMotion *);
+  /* values of the model's own time-series columns (ncolumns of them) */
+  PetscErrorCode (*columns)(FSStructure, PetscReal t, const PetscReal y[], const PetscReal ydot[], PetscReal vals[]);
+  /* output at a snapshot time (rank 0; e.g. the deflected shape), into the directory given */
+  PetscErrorCode (*snapshot)(FSStructure, const char dir[], PetscReal t, PetscInt step, const PetscReal y[]);
+  /* the model's members of summary.json (rank 0 writes; called on every rank) */
+  PetscErrorCode (*summary)(FSStructure, struct _n_FSJSON *);
+  PetscErrorCode (*view)(FSStructure, PetscViewer);
+  PetscErrorCode (*destroy)(FSStructure);
+} FSStructureOps;
+
+#define FS_STRUCTURE_MAX_COLUMNS 64
+
+struct _p_FSStructure {
+  char           name[64];
+  FSSolver       solver;
+  MPI_Comm       comm;
+  FSStructureOps ops;
+  PetscInt       ndof;       /* state size, set by setup */
+  PetscReal      min_period; /* shortest period the model resolves (time step without particles), set by setup */
+  PetscInt       ncolumns;   /* the model's own time-series columns */
+  char           column[FS_STRUCTURE_MAX_COLUMNS][32];
+  void          *data;       /* implementation data */
+};
+
+typedef PetscErrorCode (*FSStructureCreateFn)(FSStructure);
+
+PETSC_EXTERN PetscErrorCode FSStructureRegister(const char[], const char[], FSStructureCreateFn);
+PETSC_EXTERN PetscErrorCode FSStructureRegisterAll(void);
+PETSC_EXTERN PetscErrorCode FSStructureListView(PetscViewer);
+PETSC_EXTERN PetscErrorCode FSStructureAddColumn(FSStructure, const char[]);
+PETSC_EXTERN PetscErrorCode FSStructureGetSolver(FSStructure, FSSolver *);
+PETSC_EXTERN PetscErrorCode FSSolverGetStructure(FSSolver, FSStructure *);
+PETSC_EXTERN PetscErrorCode FSSolverSetLoads(FSSolver, const FSLoads *);
+PETSC_EXTERN PetscErrorCode FSSolverGetTankMotion(FSSolver, FSTankMotion *);
+PETSC_EXTERN PetscErrorCode FSSolverGetStructureState(FSSolver, PetscInt *, PetscReal[]);
+PETSC_EXTERN PetscErrorCode FSSolverSetDefaultStructure(FSSolver, const char[]);

@@ -106,6 +106,19 @@ typedef struct {
   PetscInt needs;
 } FSTermSet;
 
+/* The global DOFs of the state (on rank 0, after the particles) are a short list of blocks:
+   the structure's DOFs first, then one dissipated energy per dissipative term. */
+#define FS_MAX_GLOBAL_BLOCKS 4
+typedef struct {
+  char     name[32];
+  PetscInt offset, n;
+} FSGlobalBlock;
+
+PETSC_INTERN PetscErrorCode FSStructureCreate(FSSolver, const char name[], FSStructure *);
+PETSC_INTERN PetscErrorCode FSStructureDestroy(FSStructure *);
+PETSC_INTERN PetscErrorCode FSStructureHelpAll(FSSolver, PetscOptionItems *);
+PETSC_INTERN PetscErrorCode FSStructureFind(const char name[], FSStructureCreateFn *);
+
 typedef struct _FSSolverOps *FSSolverOps;
 struct _FSSolverOps {
   PetscErrorCode (*dummy)(void);
@@ -115,6 +128,8 @@ struct _p_FSSolver {
   PETSCHEADER(struct _FSSolverOps);
   /* options */
   char      casename[64];
+  char      default_terms[1024]; /* the case's default for -fs_terms */
+  PetscInt  pressure_form;         /* -fs_pressure_form: 0 sum, 1 difference, 2 wall (difference near walls; the default with walls) */
   char      outdir[PETSC_MAX_PATH_LEN];
   char      restart[PETSC_MAX_PATH_LEN];
   PetscInt  dim;
@@ -157,9 +172,22 @@ struct _p_FSSolver {
   /* terms */
   FSTermSet terms;
 
+  /* the structure (NULL with -fs_structure none) */
+  char        structname[64];
+  FSStructure structure;
+  PetscBool   structure_view;
+  PetscReal   structure_cfl;  /* dt = structure_cfl * shortest period, when there are no particles */
+  FSLoads     loads;          /* liquid loads on the tank (the coupling fills them; zero until then) */
+  PetscReal  *sy, *sydot;     /* the structure's state and rate at the last right-hand side, every rank */
+  PetscReal   rhs_time;       /* time of the right-hand side being evaluated */
+  PetscInt    steps_taken;    /* steps taken since set-up (this process) */
+
   /* time stepping: U packs (x, u, rho) per owned particle, then the global DOFs on rank 0 */
   TS        ts;
   Vec       U;
+  FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
+  PetscInt  ngblocks;
+  PetscInt  gstruct, gdiss; /* offsets of the structure's DOFs and of the dissipated energies */
   PetscInt  nglobaldofs;
   PetscReal global0[FS_MAX_GLOBAL];
   PetscInt  ustride; /* 2*dim+1 */
@@ -180,6 +208,7 @@ struct _p_FSSolver {
   PetscBool        monitoring;
   PetscReal        t0, last_snapshot_time;
   PetscReal       *field;        /* output staging */
+  struct _n_FSWallData *wd;      /* walls (boundary integrals), NULL without walls: src/walls/walldata.h */
   PetscInt         fieldcap;
 };
 
@@ -209,7 +238,17 @@ PETSC_INTERN PetscErrorCode FSCaseFind(const char name[], FSCaseCreateFn *);
 PETSC_INTERN PetscErrorCode FSTermHelpAll(FSSolver, PetscOptionItems *);
 PETSC_INTERN PetscErrorCode FSCaseHelpAll(FSSolver, PetscOptionItems *);
 
+/* the structure inside the solver (src/structure.c) */
+PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, const PetscReal *u, PetscReal *f);
+PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
+PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);
+PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);
+PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverStructureSummary(FSSolver, FSJSON);
+
 /* log events */
+PETSC_EXTERN PetscLogEvent FS_Structure;
 PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_Migrate, FS_Output, FS_RHS;
 
 /* field names in the swarm */

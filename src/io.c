@@ -38,6 +38,13 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
+  PetscCall(FSSolverStructureSnapshot(s)); /* the structure's own output (e.g. the deflected shape) */
+  if (s->nglobal_particles == 0) {         /* a dry structure: no particle file */
+    s->last_snapshot_time = t;
+    PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
+    PetscFunctionReturn(0);
+  }
+  s->rhs_time = t;
   /* derived quantities at this state: one right-hand side evaluation */
   PetscCall(VecDuplicate(s->U, &F));
   PetscCall(VecGetArrayRead(s->U, &u));
@@ -85,6 +92,8 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   P.h      = s->h;
   P.nu     = s->nu;
   P.dx     = s->dx;
+  P.pressure_difference      = (PetscBool)(s->pressure_form == 1);
+  P.pressure_wall_difference = (PetscBool)(s->pressure_form == 2);
   P.umax   = s->umax;
   for (PetscInt t2 = 0; t2 < s->terms.nterms && !has; t2++) {
     FSTerm term = s->terms.term[t2];
@@ -106,8 +115,10 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
 
 /*
    FSSolverWriteCheckpoint - writes <output_dir>/checkpoint_<step>.h5 with the whole state: particles
-   (position, velocity, density, mass, id), time, step, dt and the global DOFs. A run started with
-   -fs_restart on that file continues exactly as the uninterrupted run.
+   (position, velocity, density, mass, id), time, step, dt and the global DOFs (the structure's
+   state, the dissipated energies), then the viscosity bound of the next step and the number of
+   structure DOFs (to refuse a restart with another structure). A run started with -fs_restart on
+   that file continues exactly as the uninterrupted run.
 */
 PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 {
@@ -126,7 +137,7 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   PetscCall(TSGetTime(s->ts, &hdr.time));
   PetscCall(TSGetStepNumber(s->ts, &hdr.step));
   PetscCall(TSGetTimeStep(s->ts, &hdr.dt));
-  hdr.nglobal = s->nglobaldofs + 1; /* the global DOFs, then the viscosity bound of the next step */
+  hdr.nglobal = s->nglobaldofs + 2; /* the global DOFs, the viscosity bound of the next step, the structure's DOF count */
   if (!rank && s->nglobaldofs) {
     const PetscScalar *u;
     PetscInt           nl;
@@ -137,6 +148,7 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   }
   PetscCallMPI(MPI_Bcast(hdr.global, (PetscMPIInt)s->nglobaldofs, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
   PetscCallMPI(MPI_Allreduce(&s->nu_bound, &hdr.global[s->nglobaldofs], 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  hdr.global[s->nglobaldofs + 1] = (PetscReal)(s->gdiss - s->gstruct);
   PetscCall(FSSolverEnsureField(s, n + 1));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
@@ -177,7 +189,7 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(FSCheckpointReadHeader(comm, s->restart, &hdr, &nglob, &nranks));
-  PetscCheck(hdr.nglobal == s->nglobaldofs + 1, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s holds %" PetscInt_FMT " global values but this run needs %" PetscInt_FMT ": restart with the same -fs_terms as the run that wrote it", s->restart, hdr.nglobal, s->nglobaldofs + 1);
+  PetscCheck(hdr.nglobal == s->nglobaldofs + 2 && hdr.global[hdr.nglobal - 1] == (PetscReal)(s->gdiss - s->gstruct), comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s holds %" PetscInt_FMT " global values (%g of them structure DOFs) but this run needs %" PetscInt_FMT " (%" PetscInt_FMT "): restart with the same -fs_terms and -fs_structure (and its modes) as the run that wrote it", s->restart, hdr.nglobal, hdr.nglobal > 0 ? (double)hdr.global[hdr.nglobal - 1] : 0.0, s->nglobaldofs + 2, s->gdiss - s->gstruct);
   PetscCall(FSCheckpointGetLocalSize(comm, s->restart, &n));
   PetscCall(DMSwarmSetLocalSizes(s->swarm, n, 1024));
   PetscCall(FSSolverEnsureField(s, n + 1));
@@ -249,8 +261,9 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSJSONWriteInt(js, "pair_visits", pv));
   PetscCall(FSJSONWriteReal(js, "pair_visits_per_second", wall > 0 ? (PetscReal)pv / wall : 0));
   PetscCall(FSJSONWriteReal(js, "peak_memory_bytes", memsum));
-  PetscCall(FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)s->nglobal_particles));
+  PetscCall(FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->nglobal_particles, 1)));
   PetscCall(FSJSONWriteInt(js, "migrations", s->nmigrations));
+  PetscCall(FSSolverStructureSummary(s, js));
   PetscCall(FSJSONBeginObject(js, "terms"));
   for (PetscInt k = 0; k < s->terms.nterms; k++) PetscCall(FSJSONWriteBool(js, s->terms.term[k]->name, PETSC_TRUE));
   PetscCall(FSJSONEndObject(js));

@@ -4,7 +4,7 @@
 */
 #include "fsimpl.h"
 
-#define FS_MAX_COLUMNS (16 + FS_MAX_TERMS)
+#define FS_MAX_COLUMNS (32 + FS_MAX_TERMS + FS_STRUCTURE_MAX_COLUMNS)
 
 /* Global diagnostics of the current state. vals: kinetic energy, mass, momentum (3), then max |u|. */
 static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscReal *umax)
@@ -58,15 +58,20 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   for (PetscInt d = 0; d < s->dim; d++) vals[k++] = sums[2 + d];
   vals[k++] = umax;
   vals[k++] = s->max_variation;
-  if (!rank && s->nglobaldofs) {
+  if (!rank && s->nglobaldofs > s->gdiss) { /* the dissipated energies */
     const PetscScalar *u;
-    PetscInt           n;
-    PetscCall(VecGetLocalSize(s->U, &n));
     PetscCall(VecGetArrayRead(s->U, &u));
-    for (PetscInt g = 0; g < s->nglobaldofs; g++) vals[k++] = u[n - s->nglobaldofs + g];
+    for (PetscInt g = s->gdiss; g < s->nglobaldofs; g++) vals[k++] = u[s->nowned * s->ustride + g];
     PetscCall(VecRestoreArrayRead(s->U, &u));
-  } else k += s->nglobaldofs;
+  } else k += s->nglobaldofs - s->gdiss;
   if (s->caseops.analytic) PetscCall((*s->caseops.analytic)(s, t, &vals[k++]));
+  if (s->structure) { /* the structure's motion, loads and the model's own columns */
+    const char *names[FS_MAX_COLUMNS];
+    PetscInt    nc;
+    PetscCall(FSSolverStructureColumns(s, &nc, names));
+    PetscCall(FSSolverStructureValues(s, &vals[k]));
+    k += nc;
+  }
   PetscCall(FSTimeSeriesAppend(s->series, step, vals));
   PetscFunctionReturn(0);
 }
@@ -95,6 +100,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->step0          = step;
   s->t0             = t;
   s->particle_steps = 0;
+  s->steps_taken    = 0;
   s->pair_visits    = 0;
   /* snapshots at multiples of the interval, also after a restart */
   s->next_output = s->output_interval > 0 ? (PetscFloorReal(t / s->output_interval + 1e-9) + 1) * s->output_interval : PETSC_MAX_REAL;
@@ -113,6 +119,11 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
       names[k++] = namebuf[q++];
     }
   if (s->caseops.analytic) names[k++] = s->caseops.analytic_name;
+  {
+    PetscInt nc;
+    PetscCall(FSSolverStructureColumns(s, &nc, &names[k]));
+    k += nc;
+  }
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/timeseries.csv", s->outdir));
   PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->restart[0] ? step : -1, &s->series));
   PetscCall(FSSnapshotWriterCreate(comm, s->outdir, s->restart[0] ? t : -1.0, &s->snapshots));

@@ -11,6 +11,11 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_Viscosity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_LESViscosity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_Gravity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_Shifting(FSTerm);
+PETSC_EXTERN PetscErrorCode FSStructureCreate_MSD(FSStructure);
+PETSC_EXTERN PetscErrorCode FSStructureCreate_Modal(FSStructure);
+PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm);
+PETSC_EXTERN PetscErrorCode FSTermCreate_WallPressure(FSTerm);
+PETSC_EXTERN PetscErrorCode FSTermCreate_WallViscosity(FSTerm);
 
 /*
    FSTermRegisterAll - registers the built-in physics terms (idempotent).
@@ -28,7 +33,25 @@ PetscErrorCode FSTermRegisterAll(void)
   PetscCall(FSTermRegister("viscosity", "laminar viscosity K nu sum Pi_ij gradW V_j from -fs_nu (seed Eqs. 4, 5, 11)", FSTermCreate_Viscosity));
   PetscCall(FSTermRegister("les_viscosity", "delta-LES turbulent (Smagorinsky) viscosity (seed Eqs. 11-13)", FSTermCreate_LESViscosity));
   PetscCall(FSTermRegister("gravity", "body force -fs_gravity", FSTermCreate_Gravity));
+  PetscCall(FSTermRegister("wall_continuity", "boundary-integral wall part of the continuity equation (seed Eq. 14)", FSTermCreate_WallContinuity));
+  PetscCall(FSTermRegister("wall_pressure", "boundary-integral wall part of the pressure gradient; wall loads (seed Eqs. 14, 29)", FSTermCreate_WallPressure));
+  PetscCall(FSTermRegister("wall_viscosity", "wall shear stress on no-slip walls (-fs_walls_noslip)", FSTermCreate_WallViscosity));
   PetscCall(FSTermRegister("shifting", "particle shifting of delta+-SPH (Sun et al. 2017), keeps the particles regular", FSTermCreate_Shifting));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSStructureRegisterAll - registers the built-in structure models (idempotent).
+*/
+PetscErrorCode FSStructureRegisterAll(void)
+{
+  static PetscBool done = PETSC_FALSE;
+
+  PetscFunctionBegin;
+  if (done) PetscFunctionReturn(0);
+  done = PETSC_TRUE;
+  PetscCall(FSStructureRegister("msd", "cantilever as a mass-spring-damper at the tank, K = 3 EI/a^3 (seed Eqs. 16-17), options -fs_beam_*, -fs_msd_*", FSStructureCreate_MSD));
+  PetscCall(FSStructureRegister("modal", "modal Euler-Bernoulli cantilever, modes of Hermite finite elements with the tank by SLEPc (seed Eqs. 18-27), options -fs_beam_*, -fs_modal_*", FSStructureCreate_Modal));
   PetscFunctionReturn(0);
 }
 
@@ -57,7 +80,9 @@ PetscErrorCode FSInitializePackage(void)
   PetscCall(PetscLogEventRegister("FSPairPass", FSSOLVER_CLASSID, &FS_PairPass));
   PetscCall(PetscLogEventRegister("FSMigrate", FSSOLVER_CLASSID, &FS_Migrate));
   PetscCall(PetscLogEventRegister("FSOutput", FSSOLVER_CLASSID, &FS_Output));
+  PetscCall(PetscLogEventRegister("FSStructure", FSSOLVER_CLASSID, &FS_Structure));
   PetscCall(FSTermRegisterAll());
+  PetscCall(FSStructureRegisterAll());
   PetscCall(FSCaseRegisterAll());
   PetscCall(PetscRegisterFinalize(FSFinalizePackageCallback));
   PetscFunctionReturn(0);

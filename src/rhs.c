@@ -6,7 +6,9 @@
    and all terms; the first pass runs only when a selected term needs it.
 */
 #include "fsimpl.h"
+#include "walls/walldata.h"
 
+PetscLogEvent FS_Structure;
 PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_Migrate, FS_Output, FS_RHS;
 
 /* Fills the neighbourhood scratch of particle i: x_j - x_i, r^2, grad_i W. Returns the count. */
@@ -135,7 +137,8 @@ static PetscErrorCode FSSolverFirstPass(FSSolver s)
 
 /*
    FSSolverEvaluateRates - the rates (dx/dt, du/dt, drho/dt) of the owned particles for the packed
-   state u, into f (same layout); the global DOFs' rates (dissipated energies) on rank 0.
+   state u, into f (same layout); the global DOFs' rates (the structure's, at time s->rhs_time,
+   and the dissipated energies) on rank 0.
    count: add the work to the run's statistics (PETSC_FALSE for evaluations made for output).
 
    Collective
@@ -190,6 +193,21 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   P.dx     = s->dx;
   P.umax   = s->umax;
   P.background_pressure = s->background_pressure;
+  P.pressure_difference      = (PetscBool)(s->pressure_form == 1);
+  P.pressure_wall_difference = (PetscBool)(s->pressure_form == 2);
+  P.nwalls   = 0;
+  P.gamma    = NULL;
+  P.wallload = NULL;
+  if (s->wd) {
+    PetscCall(FSSolverWallsPrepare(s));
+    P.nwalls   = s->wd->walls.nwalls;
+    P.gamma    = s->wd->gamma;
+    P.wseg     = s->wd->walls.seg;
+    P.wsegwall = s->wd->walls.segwall;
+    P.noslip   = s->wd->noslip;
+    P.wallload = s->wd->load;
+    for (PetscInt d = 0; d < 3; d++) P.loadpoint[d] = s->wd->loadpoint[d];
+  }
   for (PetscInt d = 0; d < 3; d++) P.gravity[d] = s->gravity[d];
 
   if (s->terms.needs) {
@@ -220,8 +238,30 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     nb.r2    = r2;
     nb.rinv2 = ri2;
     nb.gradW = gw;
+    nb.nw    = 0;
+    if (s->wd) {
+      nb.nw = s->wd->wstart[i + 1] - s->wd->wstart[i];
+      nb.wk = s->wd->wnbr + s->wd->wstart[i];
+      nb.wW = s->wd->wW + s->wd->wstart[i];
+    }
+    /* renormalized terms (boundary integrals) first: their sum is divided by gamma_i */
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
+      if (!term->renormalized) continue;
+      if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
+      if (term->ops.source) term->ops.source(term, &P, i, &rate);
+    }
+    if (s->wd) {
+      const PetscReal ig = 1.0 / s->wd->gamma[i];
+      rate.drho *= ig;
+      for (PetscInt d = 0; d < dim; d++) {
+        rate.du[d] *= ig;
+        rate.dx[d] *= ig;
+      }
+    }
+    for (PetscInt t = 0; t < s->terms.nterms; t++) {
+      FSTerm term = s->terms.term[t];
+      if (term->renormalized) continue;
       if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
       if (term->ops.source) term->ops.source(term, &P, i, &rate);
     }
@@ -237,15 +277,17 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     s->nrhs++;
   }
 
-  /* dissipation powers: the rates of the global DOFs (dissipated energies), rank 0 */
+  /* the structure's DOFs (first block of the global DOFs, rank 0) */
+  PetscCall(FSSolverStructureRates(s, u, f));
+  /* dissipation powers: the rates of the dissipated energies (the next block), rank 0 */
   for (PetscInt t = 0; t < s->terms.nterms; t++)
     if (s->terms.term[t]->has_power) power[npower++] = s->terms.term[t]->power;
-  if (s->nglobaldofs) {
+  if (npower) {
     PetscMPIInt rank;
     PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
     PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)npower, MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
     if (!rank)
-      for (PetscInt k = 0; k < npower; k++) f[n * US + k] = power[k];
+      for (PetscInt k = 0; k < npower; k++) f[n * US + s->gdiss + k] = power[k];
   }
   PetscCall(PetscLogEventEnd(FS_RHS, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -260,7 +302,7 @@ PetscErrorCode FSSolverRHS(TS ts, PetscReal t, Vec U, Vec F, void *ctx)
 
   PetscFunctionBegin;
   (void)ts;
-  (void)t;
+  s->rhs_time = t;
   PetscCall(VecGetArrayRead(U, &u));
   PetscCall(VecGetArray(F, &f));
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_TRUE));

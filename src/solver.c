@@ -2,6 +2,7 @@
    FSSolver: the object that holds a run. Create / SetFromOptions / SetUp / Solve / View / Destroy.
 */
 #include "fsimpl.h"
+#include "walls/walldata.h"
 
 PetscClassId FSSOLVER_CLASSID;
 
@@ -45,6 +46,8 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->write_output          = PETSC_TRUE;
   s->sort_interval         = 1;
   s->final_time            = 1.0;
+  s->structure_cfl         = 0.02;
+  PetscCall(PetscStrncpy(s->structname, "none", sizeof(s->structname)));
   s->halo.rectype          = MPI_DATATYPE_NULL;
   s->halo.auxtype          = MPI_DATATYPE_NULL;
   *solver                  = s;
@@ -79,6 +82,8 @@ PetscErrorCode FSSolverSetDefaultPhysics(FSSolver s, PetscReal rho0, PetscReal c
 .  -fs_gravity <gx,gy[,gz]>        - body force per unit mass
 .  -fs_background_pressure <0>     - constant added to the equation of state
 .  -fs_terms <list>                - physics terms, by name (-fs_terms_view lists them)
+.  -fs_structure <none|msd|modal>  - the structure carrying the tank (-fs_structure_view lists the models)
+.  -fs_structure_cfl <0.02>        - without particles: time step as a fraction of the shortest period the structure resolves (or -ts_dt)
 .  -fs_cfl, -fs_cfl_viscous, -fs_cfl_force - time-step limits: CFL h/(c0+|u|max), CFL_v h^2/nu, CFL_f sqrt(h/|g|)
 .  -fs_output_dir <dir>            - output directory (default output/<case>)
 .  -fs_output_interval <t>         - simulated time between particle snapshots (0: first and last only)
@@ -98,7 +103,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscFunctionBegin;
   PetscCall(FSCaseRegisterAll());
   PetscCall(FSTermRegisterAll());
-  PetscCall(PetscStrncpy(terms, FSDefaultTerms, sizeof(terms)));
+  PetscCall(FSStructureRegisterAll());
   PetscObjectOptionsBegin((PetscObject)s);
   PetscCall(PetscOptionsString("-fs_case", "Case to set up (list with -fs_case_view)", "FSSolverSetFromOptions", s->casename, s->casename, sizeof(s->casename), NULL));
   PetscCall(PetscOptionsBool("-fs_case_view", "List the registered cases", "FSCaseListView", PETSC_FALSE, &flg, NULL));
@@ -109,7 +114,9 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscCheck(s->dim == 2 || s->dim == 3, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dim %" PetscInt_FMT " is not supported: expected 2 or 3", s->dim);
   PetscCall(PetscMemzero(&s->caseops, sizeof(s->caseops)));
   PetscCall((*create)(s, &s->caseops));
+  PetscCall(PetscStrncpy(s->default_terms, FSDefaultTerms, sizeof(s->default_terms)));
   if (s->caseops.setfromoptions) PetscCall((*s->caseops.setfromoptions)(s, PetscOptionsObject));
+  PetscCall(PetscStrncpy(terms, s->default_terms, sizeof(terms)));
 
   PetscCall(PetscOptionsReal("-fs_dx", "Particle spacing", "FSSolverSetFromOptions", s->dx, &s->dx, NULL));
   PetscCheck(s->dx > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g must be positive", (double)s->dx);
@@ -127,9 +134,17 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
     PetscCheck(ng == s->dim, comm, PETSC_ERR_ARG_SIZ, "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng, s->dim);
     for (PetscInt d = 0; d < 3; d++) s->gravity[d] = d < ng ? g[d] : 0;
   }
+  {
+    const char *forms[] = {"sum", "difference", "wall"};
+    PetscCall(PetscOptionsEList("-fs_pressure_form", "Pressure gradient: sum (p_i + p_j, seed Eq. 4, conserves momentum), difference (p_j - p_i, exact for uniform pressure) or wall (difference only where the kernel meets a wall; the default of the cases with walls)", "FSSolverSetFromOptions", forms, 3, forms[s->pressure_form], &s->pressure_form, NULL));
+  }
   PetscCall(PetscOptionsReal("-fs_background_pressure", "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b", "FSSolverSetFromOptions", s->background_pressure, &s->background_pressure, NULL));
   PetscCall(PetscOptionsString("-fs_terms", "Physics terms, comma separated (list with -fs_terms_view)", "FSSolverSetFromOptions", terms, terms, sizeof(terms), NULL));
   PetscCall(PetscOptionsBool("-fs_terms_view", "List the registered physics terms", "FSTermListView", s->terms_view, &s->terms_view, NULL));
+  PetscCall(PetscOptionsString("-fs_structure", "Structure carrying the tank: none, or a registered model (list with -fs_structure_view)", "FSSolverSetFromOptions", s->structname, s->structname, sizeof(s->structname), NULL));
+  PetscCall(PetscOptionsBool("-fs_structure_view", "List the registered structure models", "FSStructureListView", s->structure_view, &s->structure_view, NULL));
+  PetscCall(PetscOptionsReal("-fs_structure_cfl", "Without particles: time step as a fraction of the shortest period the structure resolves (-ts_dt overrides)", "FSSolverStructureDt", s->structure_cfl, &s->structure_cfl, NULL));
+  PetscCheck(s->structure_cfl > 0 && s->structure_cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_structure_cfl %g is out of range: expected (0, 1]", (double)s->structure_cfl);
   PetscCall(PetscOptionsReal("-fs_cfl", "Acoustic CFL number: dt <= CFL h/(c0 + |u|max)", "FSSolverComputeStableDt", s->cfl, &s->cfl, NULL));
   PetscCheck(s->cfl > 0 && s->cfl <= 2, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl %g is out of range: expected (0, 2]", (double)s->cfl);
   PetscCall(PetscOptionsReal("-fs_cfl_viscous", "Viscous limit: dt <= CFL_v h^2/nu", "FSSolverComputeStableDt", s->cfl_visc, &s->cfl_visc, NULL));
@@ -176,16 +191,24 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       s->terms.needs |= term->needs;
     }
   }
+  /* the structure */
+  PetscCall(FSStructureDestroy(&s->structure));
+  if (strcmp(s->structname, "none")) {
+    PetscCall(FSStructureCreate(s, s->structname, &s->structure));
+    if (s->structure->ops.setfromoptions) PetscCall((*s->structure->ops.setfromoptions)(s->structure, PetscOptionsObject));
+  }
   {
     PetscBool help;
     PetscCall(PetscOptionsHasHelp(NULL, &help));
     if (help) {
       PetscCall(FSCaseHelpAll(s, PetscOptionsObject));
       PetscCall(FSTermHelpAll(s, PetscOptionsObject));
+      PetscCall(FSStructureHelpAll(s, PetscOptionsObject));
     }
   }
   PetscOptionsEnd();
   if (s->terms_view) PetscCall(FSTermListView(PETSC_VIEWER_STDOUT_(comm)));
+  if (s->structure_view) PetscCall(FSStructureListView(PETSC_VIEWER_STDOUT_(comm)));
   s->h = s->h_over_dx * s->dx;
   PetscCall(FSSolverSetUpTS(s));
   PetscFunctionReturn(0);
@@ -277,7 +300,8 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscCheck(s->caseops.setup, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s has no setup routine", s->casename);
   PetscCall((*s->caseops.setup)(s));
   PetscCheck(s->domain_set, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s did not set the domain (FSSolverSetDomain)", s->casename);
-  PetscCheck(s->nglobal_particles > 0, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s created no particles", s->casename);
+  PetscCall(FSSolverWallsSetUp(s));
+  PetscCheck(s->nglobal_particles > 0 || s->structure, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s created no particles and there is no structure (-fs_structure none): nothing to compute", s->casename);
 
   width = s->kernel.support + s->halo_skin * s->h;
   for (PetscInt d = 0; d < s->dim; d++)
@@ -288,10 +312,18 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscCall(FSDecompBalance(&s->decomp, comm, n, x, width));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
 
-  /* global DOFs: one dissipated energy per dissipative term */
-  s->nglobaldofs = 0;
-  for (PetscInt t = 0; t < s->terms.nterms; t++)
-    if (s->terms.term[t]->has_power) s->nglobaldofs++;
+  /* the structure, then the global DOFs: the structure's state, one dissipated energy per dissipative term */
+  if (s->structure) {
+    FSStructure st = s->structure;
+    PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
+    if (st->ops.setup) PetscCall((*st->ops.setup)(st));
+    PetscCall(PetscLogEventEnd(FS_Structure, 0, 0, 0, 0));
+    PetscCheck(st->ndof >= 0 && (st->ndof == 0 || (st->ops.rhs && st->ops.motion)), comm, PETSC_ERR_PLIB, "Structure %s: the model must set ndof and provide rhs and motion", st->name);
+    PetscCheck(!st->ncolumns || st->ops.columns, comm, PETSC_ERR_PLIB, "Structure %s adds time-series columns but has no columns routine", st->name);
+    PetscCall(PetscCalloc2(st->ndof + 1, &s->sy, st->ndof + 1, &s->sydot));
+  }
+  PetscCall(FSSolverSetUpGlobalBlocks(s));
+  if (s->structure && s->structure->ndof && s->structure->ops.initial) PetscCall((*s->structure->ops.initial)(s->structure, &s->global0[s->gstruct]));
   if (s->restart[0]) PetscCall(FSSolverLoadCheckpoint(s));
   if (!s->ts) PetscCall(FSSolverSetUpTS(s));
   if (s->restart[0]) {
@@ -344,6 +376,12 @@ PetscErrorCode FSSolverView(FSSolver s, PetscViewer viewer)
     else PetscCall(PetscViewerASCIIPrintf(viewer, "%s\n", term->name));
   }
   PetscCall(PetscViewerASCIIPopTab(viewer));
+  if (s->structure) {
+    PetscCall(PetscViewerASCIIPrintf(viewer, "structure %s, %" PetscInt_FMT " DOFs\n", s->structure->name, s->structure->ndof));
+    PetscCall(PetscViewerASCIIPushTab(viewer));
+    if (s->structure->ops.view) PetscCall((*s->structure->ops.view)(s->structure, viewer));
+    PetscCall(PetscViewerASCIIPopTab(viewer));
+  } else PetscCall(PetscViewerASCIIPrintf(viewer, "no structure\n"));
   if (s->ts) PetscCall(TSView(s->ts, viewer));
   PetscCall(PetscViewerASCIIPopTab(viewer));
   PetscFunctionReturn(0);
@@ -362,6 +400,8 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
     PetscFunctionReturn(0);
   }
   for (PetscInt t = 0; t < s->terms.nterms; t++) PetscCall(FSTermDestroy(&s->terms.term[t]));
+  PetscCall(FSStructureDestroy(&s->structure));
+  PetscCall(PetscFree2(s->sy, s->sydot));
   if (s->casedata) PetscCall(PetscFree(s->casedata));
   PetscCall(FSSnapshotWriterDestroy(&s->snapshots));
   PetscCall(FSTimeSeriesDestroy(&s->series));
@@ -370,6 +410,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(VecDestroy(&s->Uprev));
   PetscCall(DMDestroy(&s->swarm));
   PetscCall(FSDecompDestroy(&s->decomp));
+  PetscCall(FSSolverWallsDestroy(s));
   PetscCall(FSHaloDestroy(&s->halo));
   PetscCall(FSNeighboursDestroy(&s->nbrs));
   PetscCall(PetscFree4(s->rec, s->aux, s->vol, s->pressure));

@@ -3,6 +3,7 @@
    (TS step -> checks -> migration -> ordering by cell -> halo -> repack -> monitors).
 */
 #include "fsimpl.h"
+#include "walls/walldata.h"
 
 /* FSSolverSetUpTS - creates the TS (RK4 by default; -ts_type and friends change it). Called from
    FSSolverSetFromOptions, so that -help shows the TS options with flexslosh's defaults. */
@@ -81,6 +82,7 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
   PetscCall(FSNeighboursBuildCells(&s->nbrs, s->dim, s->nowned + s->halo.nghost, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
   PetscCall(FSNeighboursBuildCandidates(&s->nbrs, s->nowned, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
+  PetscCall(FSSolverWallsUpdate(s));
   PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
   if (s->ts) PetscCall(TSRestartStep(s->ts));
   PetscFunctionReturn(0);
@@ -90,7 +92,10 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
    FSSolverComputeStableDt - the SPH time-step limit for the current state:
      dt = min(CFL h/(c0 + |u|max), CFL_v h^2/nu_max, CFL_f sqrt(h/|g|)),
    nu_max being the largest viscosity any term applied in the integrator's last right-hand side
-   (kept in checkpoints, so that a restarted run takes the same steps).
+   (kept in checkpoints, so that a restarted run takes the same steps). With a structure, dt also
+   resolves its shortest period (dt <= -fs_structure_cfl T_min, explicit integrators being stable
+   and accurate only for omega dt = O(1)). Without particles dt comes from the structure alone
+   (FSSolverStructureDt: -ts_dt if given, else -fs_structure_cfl T_min).
 
    Collective
 */
@@ -101,6 +106,10 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
   PetscReal          loc[2] = {0, PetscMax(s->nu, s->nu_bound)}, g2 = 0;
 
   PetscFunctionBegin;
+  if (s->nglobal_particles == 0) {
+    PetscCall(FSSolverStructureDt(s, dt));
+    PetscFunctionReturn(0);
+  }
   PetscCall(VecGetArrayRead(s->U, &u));
   for (PetscInt p = 0; p < s->nowned; p++) {
     PetscReal v2 = 0;
@@ -114,6 +123,7 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
   if (loc[1] > 0) *dt = PetscMin(*dt, s->cfl_visc * s->h * s->h / loc[1]);
   for (PetscInt d = 0; d < dim; d++) g2 += s->gravity[d] * s->gravity[d];
   if (g2 > 0) *dt = PetscMin(*dt, s->cfl_force * PetscSqrtReal(s->h / PetscSqrtReal(g2)));
+  if (s->structure && s->structure->min_period > 0) *dt = PetscMin(*dt, s->structure_cfl * s->structure->min_period);
   s->dt_stable = *dt;
   PetscFunctionReturn(0);
 }
@@ -202,7 +212,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   adaptive = (PetscBool)!adaptive;
   if (adaptive) {
     PetscCall(TSGetTimeStep(s->ts, &dtts));
-    if (dtts > 0 && s->particle_steps > 0) dt = PetscMin(dt, dtts);
+    if (dtts > 0 && s->steps_taken > 0) dt = PetscMin(dt, dtts);
   }
   if (t + dt > tmax - 1e-12 * tmax) dt = tmax - t;
   PetscCall(TSSetTimeStep(s->ts, dt));
@@ -212,6 +222,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCheck(reason >= 0, PetscObjectComm((PetscObject)s), PETSC_ERR_CONV_FAILED, "The time integrator failed at step %" PetscInt_FMT ": %s", step, TSConvergedReasons[reason]);
   s->particle_steps += s->nglobal_particles;
+  s->steps_taken++;
   PetscCall(FSSolverCheckState(s));
   PetscCall(FSSolverUnpackState(s));
   PetscCall(FSSolverMigrate(s, &changed));

@@ -147,6 +147,7 @@ static PetscErrorCode Create(FSTerm t, PetscBool les)
   t->data               = ctx;
   t->needs              = les ? FS_NEED_STRAIN_RATE : FS_NEED_NONE;
   t->has_power          = PETSC_TRUE;
+  t->renormalized       = PETSC_TRUE; /* divided by gamma_i near walls */
   t->ops.interact       = Interact;
   t->ops.prepare        = Prepare;
   t->ops.field          = Field;

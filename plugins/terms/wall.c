@@ -1,0 +1,105 @@
+/*
+   Wall terms of the boundary-integral method (seed Eq. 14; Calderon-Sanchez et al. 2019; Cercos-Pita
+   2015): the boundary parts of the renormalized operators, summed over the wall segments k that face
+   particle i within the kernel support (normal n_k out of the liquid, length s_k, W_ik the kernel at
+   the segment's midpoint). Like the fluid terms they join, they are divided by gamma_i by the core.
+   The walls are at rest in the tank's frame (u_k = 0).
+
+   wall_continuity:  D rho_i/Dt += -rho_i sum_k (u_k - u_i) . n_k W_ik s_k
+   wall_pressure:    D u_i/Dt   += -1/rho_i sum_k (p_i + p_k) n_k W_ik s_k  ((p_k - p_i) with -fs_pressure_form difference),
+                     the wall pressure extrapolated from i hydrostatically, p_k = p_i + rho_i g . (x_k - x_i);
+                     the liquid's force on wall w: F_w = sum_i sum_{k in w} V_i/gamma_i (p_i + p_k) n_k W_ik s_k
+                     (seed Eq. 29) and its moment about -fs_walls_load_point.
+   wall_viscosity:   on no-slip walls (-fs_walls_noslip), the wall shear stress from the one-sided
+                     normal derivative (u_k - u_i)/d_ik, d_ik the distance from x_i to the segment's line:
+                     D u_i/Dt += nu rho0/rho_i sum_k (u_k - u_i)/max(d_ik, dx/2) W_ik s_k;
+                     free-slip walls carry no shear (the term adds nothing there).
+*/
+#include <flexslosh.h>
+
+static void Continuity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  const PetscInt   dim = P->dim;
+  const PetscReal *ri = &P->rec[nb->i * P->stride];
+  PetscReal        sum = 0;
+  (void)t;
+  for (PetscInt q = 0; q < nb->nw; q++) {
+    const PetscReal *sg = &P->wseg[nb->wk[q] * 9];
+    sum += (ri[dim] * sg[6] + ri[dim + 1] * sg[7]) * nb->wW[q] * sg[8];
+  }
+  rate->drho += ri[2 * dim] * sum;
+}
+
+static void Pressure(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  const PetscInt   dim = P->dim, i = nb->i;
+  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim], pi = P->pressure[i];
+  const PetscReal  Vg = P->vol[i] / P->gamma[i];
+  PetscReal        acc[2] = {0, 0};
+  (void)t;
+  for (PetscInt q = 0; q < nb->nw; q++) {
+    const PetscInt   k  = nb->wk[q];
+    const PetscReal *sg = &P->wseg[k * 9];
+    const PetscReal  pk = pi + rhoi * (P->gravity[0] * (sg[4] - ri[0]) + P->gravity[1] * (sg[5] - ri[1]));
+    const PetscReal  f  = (pi + pk) * nb->wW[q] * sg[8];
+    const PetscReal  fa = (P->pressure_difference || P->pressure_wall_difference) ? (pk - pi) * nb->wW[q] * sg[8] : f;
+    PetscReal       *L  = &P->wallload[6 * P->wsegwall[k]];
+    acc[0] += fa * sg[6];
+    acc[1] += fa * sg[7];
+    /* the liquid's force on the wall and its moment about the load point */
+    L[0] += Vg * f * sg[6];
+    L[1] += Vg * f * sg[7];
+    L[5] += Vg * f * ((sg[4] - P->loadpoint[0]) * sg[7] - (sg[5] - P->loadpoint[1]) * sg[6]);
+  }
+  rate->du[0] -= acc[0] / rhoi;
+  rate->du[1] -= acc[1] / rhoi;
+}
+
+static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  const PetscInt   dim = P->dim, i = nb->i;
+  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim];
+  const PetscReal  c = P->nu * P->rho0 / rhoi, Vg = P->vol[i] / P->gamma[i], dmin = 0.5 * P->dx;
+  PetscReal        acc[2] = {0, 0};
+  (void)t;
+  for (PetscInt q = 0; q < nb->nw; q++) {
+    const PetscInt   k  = nb->wk[q];
+    const PetscReal *sg = &P->wseg[k * 9];
+    PetscReal        d, f, *L;
+    if (!P->noslip[P->wsegwall[k]]) continue;
+    d = (sg[0] - ri[0]) * sg[6] + (sg[1] - ri[1]) * sg[7];
+    f = c * nb->wW[q] * sg[8] / PetscMax(d, dmin);
+    acc[0] -= f * ri[dim];
+    acc[1] -= f * ri[dim + 1];
+    L    = &P->wallload[6 * P->wsegwall[k]];
+    L[0] += Vg * rhoi * f * ri[dim];
+    L[1] += Vg * rhoi * f * ri[dim + 1];
+    L[5] += Vg * rhoi * f * ((sg[4] - P->loadpoint[0]) * ri[dim + 1] - (sg[5] - P->loadpoint[1]) * ri[dim]);
+  }
+  rate->du[0] += acc[0];
+  rate->du[1] += acc[1];
+}
+
+PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm t)
+{
+  PetscFunctionBegin;
+  t->renormalized = PETSC_TRUE;
+  t->ops.interact = Continuity;
+  PetscFunctionReturn(0);
+}
+
+PETSC_EXTERN PetscErrorCode FSTermCreate_WallPressure(FSTerm t)
+{
+  PetscFunctionBegin;
+  t->renormalized = PETSC_TRUE;
+  t->ops.interact = Pressure;
+  PetscFunctionReturn(0);
+}
+
+PETSC_EXTERN PetscErrorCode FSTermCreate_WallViscosity(FSTerm t)
+{
+  PetscFunctionBegin;
+  t->renormalized = PETSC_TRUE;
+  t->ops.interact = Viscosity;
+  PetscFunctionReturn(0);
+}

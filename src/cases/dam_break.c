@@ -1,0 +1,118 @@
+/*
+   Case "dam_break": the 2-D dam break of Martin & Moyce (1952): a water column -fs_dam_width a wide
+   and -fs_dam_height (2a) high at the left end of a tank -fs_dam_tank_length (4a) long and
+   -fs_dam_tank_height (2.5a... default 2a + a) high collapses under gravity.
+   Reference (notes/validation.md): the surge front Z = x_front/a against T = t sqrt(2 g / a).
+   The time series has the front position, the largest x of the particles on the floor (y < a/4),
+   as column front_position. Defaults: a = 1 m, dx = a/40, c0 = 10 sqrt(2 g 2a), rho0 = 1000,
+   nu = 1e-6, g = 9.81 down, final time T = 3.
+*/
+#include "../fsimpl.h"
+#include "../walls/walldata.h"
+
+typedef struct {
+  PetscReal a, height, L, H;
+} DamBreak;
+
+static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
+{
+  DamBreak *db   = (DamBreak *)s->casedata;
+  PetscReal g[3] = {0, -9.81, 0};
+
+  PetscFunctionBegin;
+  PetscOptionsHeadBegin(PetscOptionsObject, "Case dam_break");
+  PetscCall(PetscOptionsReal("-fs_dam_width", "Width a of the water column", "", db->a, &db->a, NULL));
+  db->height = 2 * db->a;
+  db->L      = 4 * db->a;
+  PetscCall(PetscOptionsReal("-fs_dam_height", "Height of the water column (2a)", "", db->height, &db->height, NULL));
+  PetscCall(PetscOptionsReal("-fs_dam_tank_length", "Length of the tank (4a)", "", db->L, &db->L, NULL));
+  db->H = db->height + db->a;
+  PetscCall(PetscOptionsReal("-fs_dam_tank_height", "Height of the tank (column height + a)", "", db->H, &db->H, NULL));
+  PetscOptionsHeadEnd();
+  PetscCheck(db->a > 0 && db->height > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_width %g and -fs_dam_height %g must be positive", (double)db->a, (double)db->height);
+  PetscCheck(db->L > db->a, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_tank_length %g must exceed the column width %g", (double)db->L, (double)db->a);
+  PetscCheck(db->H >= db->height, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_tank_height %g must be at least the column height %g", (double)db->H, (double)db->height);
+  PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 10 * PetscSqrtReal(2 * 9.81 * db->height), 1e-6, g));
+  PetscCall(PetscStrncpy(s->default_terms, "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity", sizeof(s->default_terms)));
+  s->pressure_form = 2; /* difference form near the walls */
+  s->dx         = db->a / 40;
+  s->final_time = 3.0 / PetscSqrtReal(2 * 9.81 / db->a);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SetUp(FSSolver s)
+{
+  DamBreak   *db   = (DamBreak *)s->casedata;
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  FSWalls     w;
+  PetscReal   lo[3], hi[3], *x, *u, *rho, *m, gmag = PetscSqrtReal(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1]);
+  PetscBool   per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+  PetscInt    nx = (PetscInt)(db->a / s->dx + 1e-9), ny = (PetscInt)(db->height / s->dx + 1e-9), n = 0;
+  PetscMPIInt rank, size;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(FSWallsCreate(&w));
+  PetscCall(FSWallsRectangularTank(&w, comm, db->L, db->H));
+  PetscCall(FSWallsCheck(&w, comm));
+  PetscCall(FSWallsDiscretize(&w, s->dx)); /* for the distance of the particles to the walls */
+  for (PetscInt d = 0; d < 2; d++) {
+    lo[d] = w.lo[d] - 4 * s->h;
+    hi[d] = w.hi[d] + 4 * s->h;
+  }
+  PetscCall(FSSolverSetDomain(s, lo, hi, per));
+  PetscCheck(nx >= 2 && ny >= 2, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g is too coarse for a column of %g x %g", (double)s->dx, (double)db->a, (double)db->height);
+  {
+    PetscInt r0 = ny * rank / size, r1 = ny * (rank + 1) / size;
+    PetscCall(PetscMalloc4(2 * nx * (r1 - r0) + 1, &x, 2 * nx * (r1 - r0) + 1, &u, nx * (r1 - r0) + 1, &rho, nx * (r1 - r0) + 1, &m));
+    for (PetscInt b = r0; b < r1; b++)
+      for (PetscInt a = 0; a < nx; a++) {
+        const PetscReal px = (a + 0.5) * s->dx, py = (b + 0.5) * s->dx, pr = s->rho0 * gmag * (db->height - py);
+        x[2 * n]     = px;
+        x[2 * n + 1] = py;
+        u[2 * n]     = 0;
+        u[2 * n + 1] = 0;
+        rho[n]       = s->rho0 + pr / (s->c0 * s->c0);
+        m[n]         = rho[n] * s->dx * s->dx;
+        n++;
+      }
+  }
+  PetscCall(FSSolverSetWalls(s, &w));
+  PetscCall(FSSolverAddParticles(s, n, x, u, rho, m));
+  PetscCall(PetscFree4(x, u, rho, m));
+  PetscFunctionReturn(0);
+}
+
+/* the surge front: the largest x of the particles near the floor */
+static PetscErrorCode Front(FSSolver s, PetscReal t, PetscReal *value)
+{
+  DamBreak          *db = (DamBreak *)s->casedata;
+  const PetscScalar *u;
+  PetscReal          xmax = 0;
+
+  PetscFunctionBegin;
+  (void)t;
+  PetscCall(VecGetArrayRead(s->U, &u));
+  for (PetscInt p = 0; p < s->nowned; p++)
+    if (u[p * s->ustride + 1] < 0.25 * db->a) xmax = PetscMax(xmax, u[p * s->ustride]);
+  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCallMPI(MPI_Allreduce(&xmax, value, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  PetscFunctionReturn(0);
+}
+
+PETSC_EXTERN PetscErrorCode FSCaseCreate_DamBreak(FSSolver s, FSCaseOps *ops)
+{
+  DamBreak *db;
+
+  PetscFunctionBegin;
+  PetscCall(PetscFree(s->casedata));
+  PetscCall(PetscNew(&db));
+  db->a               = 1.0;
+  s->casedata         = db;
+  ops->setfromoptions = SetFromOptions;
+  ops->setup          = SetUp;
+  ops->analytic       = Front;
+  ops->analytic_name  = "front_position";
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,133 @@
+/*
+   Case "tank": liquid at rest in a fixed tank (the seed's tanks, Fig. 4), starting hydrostatic.
+     -fs_tank_shape rectangular|baffled|file
+     rectangular: -fs_tank_length (0.7 m) x -fs_tank_height (0.06 m), the seed's rectangular tank
+     baffled:     -fs_tank_compartments (7) of -fs_tank_compartment_length (0.1 m) separated by baffles
+                  of -fs_tank_baffle_thickness (0.005 m): 0.73 m overall as in the seed; each baffle spans
+                  -fs_tank_baffle_gap (0.005 m) to -fs_tank_baffle_gap + -fs_tank_baffle_height
+                  (0.045 m) above the floor. The seed does not give the baffles' height or openings:
+                  these defaults leave a 5 mm opening below and 10 mm above each baffle.
+     file:        -fs_tank_file <path> in the polyline format of the README.
+   The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5) on a lattice of spacing
+   dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2.
+   Defaults: rho0 = 1000, c0 = 20 m/s and h/dx = 2 (seed), nu = 1e-6, g = 9.81 down, dx = H/30.
+*/
+#include "../fsimpl.h"
+#include "../walls/walldata.h"
+
+typedef struct {
+  char      shape[32], file[PETSC_MAX_PATH_LEN];
+  PetscReal L, H, Lc, t, gap, hb, fill;
+  PetscInt  ncomp;
+} Tank;
+
+static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
+{
+  Tank     *tk   = (Tank *)s->casedata;
+  PetscReal g[3] = {0, -9.81, 0};
+  PetscBool rect, baff, file;
+
+  PetscFunctionBegin;
+  PetscOptionsHeadBegin(PetscOptionsObject, "Case tank");
+  PetscCall(PetscOptionsString("-fs_tank_shape", "Tank shape: rectangular, baffled or file", "", tk->shape, tk->shape, sizeof(tk->shape), NULL));
+  PetscCall(PetscOptionsReal("-fs_tank_length", "Length of the rectangular tank", "", tk->L, &tk->L, NULL));
+  PetscCall(PetscOptionsReal("-fs_tank_height", "Height of the tank", "", tk->H, &tk->H, NULL));
+  PetscCall(PetscOptionsInt("-fs_tank_compartments", "Compartments of the baffled tank", "", tk->ncomp, &tk->ncomp, NULL));
+  PetscCall(PetscOptionsReal("-fs_tank_compartment_length", "Length of a compartment of the baffled tank", "", tk->Lc, &tk->Lc, NULL));
+  PetscCall(PetscOptionsReal("-fs_tank_baffle_thickness", "Thickness of the baffles", "", tk->t, &tk->t, NULL));
+  PetscCall(PetscOptionsReal("-fs_tank_baffle_gap", "Opening between the floor and the baffles (0: baffles stand on the floor)", "", tk->gap, &tk->gap, NULL));
+  PetscCall(PetscOptionsReal("-fs_tank_baffle_height", "Height of the baffles", "", tk->hb, &tk->hb, NULL));
+  PetscCall(PetscOptionsString("-fs_tank_file", "Wall polygons of a tank of any shape (README: file format)", "", tk->file, tk->file, sizeof(tk->file), NULL));
+  PetscCall(PetscOptionsReal("-fs_fill", "Filling level, as a fraction of the tank height", "", tk->fill, &tk->fill, NULL));
+  PetscOptionsHeadEnd();
+  PetscCall(PetscStrcmp(tk->shape, "rectangular", &rect));
+  PetscCall(PetscStrcmp(tk->shape, "baffled", &baff));
+  PetscCall(PetscStrcmp(tk->shape, "file", &file));
+  PetscCheck(rect || baff || file, PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE, "-fs_tank_shape %s is not known: expected rectangular, baffled or file", tk->shape);
+  PetscCheck(!file || tk->file[0], PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "-fs_tank_shape file needs -fs_tank_file <path>");
+  PetscCheck(tk->H > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_height %g must be positive", (double)tk->H);
+  PetscCheck(tk->fill > 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_fill %g is outside the tank: expected a fraction in (0, 1] of the tank height", (double)tk->fill);
+  PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 20.0, 1e-6, g));
+  PetscCall(PetscStrncpy(s->default_terms, "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity", sizeof(s->default_terms)));
+  s->pressure_form = 2; /* difference form near the walls */
+  s->dx         = tk->H / 30;
+  s->final_time = 1.0;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SetUp(FSSolver s)
+{
+  Tank       *tk   = (Tank *)s->casedata;
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  FSWalls     w;
+  PetscReal   lo[3], hi[3], yfill, *x, *u, *rho, *m, gmag;
+  PetscBool   per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}, rect, baff;
+  PetscInt    nx, ny, n = 0;
+  PetscMPIInt rank, size;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(FSWallsCreate(&w));
+  PetscCall(PetscStrcmp(tk->shape, "rectangular", &rect));
+  PetscCall(PetscStrcmp(tk->shape, "baffled", &baff));
+  if (rect) PetscCall(FSWallsRectangularTank(&w, comm, tk->L, tk->H));
+  else if (baff) PetscCall(FSWallsBaffledTank(&w, comm, tk->ncomp, tk->Lc, tk->t, tk->H, tk->gap, tk->hb));
+  else PetscCall(FSWallsLoad(&w, comm, tk->file));
+  PetscCall(FSWallsCheck(&w, comm));
+  PetscCall(FSWallsDiscretize(&w, s->dx)); /* for the distance of the particles to the walls */
+  for (PetscInt d = 0; d < 2; d++) {
+    lo[d] = w.lo[d] - 4 * s->h;
+    hi[d] = w.hi[d] + 4 * s->h;
+  }
+  PetscCall(FSSolverSetDomain(s, lo, hi, per));
+  yfill = w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]);
+  gmag  = PetscSqrtReal(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1]);
+  /* the lattice (i + 1/2) dx from the tank's corner, split over the ranks by rows */
+  nx = (PetscInt)((w.hi[0] - w.lo[0]) / s->dx + 0.5);
+  ny = (PetscInt)((yfill - w.lo[1]) / s->dx + 1e-9);
+  PetscCheck(ny >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_fill %g leaves less than one particle layer at -fs_dx %g", (double)tk->fill, (double)s->dx);
+  {
+    PetscInt r0 = ny * rank / size, r1 = ny * (rank + 1) / size;
+    PetscCall(PetscMalloc4(2 * nx * (r1 - r0) + 1, &x, 2 * nx * (r1 - r0) + 1, &u, nx * (r1 - r0) + 1, &rho, nx * (r1 - r0) + 1, &m));
+    for (PetscInt b = r0; b < r1; b++)
+      for (PetscInt a = 0; a < nx; a++) {
+        PetscReal p[2] = {w.lo[0] + (a + 0.5) * s->dx, w.lo[1] + (b + 0.5) * s->dx}, pr;
+        if (!FSWallsInLiquid(&w, p, 0.499 * s->dx)) continue;
+        pr            = s->rho0 * gmag * (yfill - p[1]);
+        x[2 * n]      = p[0];
+        x[2 * n + 1]  = p[1];
+        u[2 * n]      = 0;
+        u[2 * n + 1]  = 0;
+        rho[n]        = s->rho0 + pr / (s->c0 * s->c0);
+        m[n]          = rho[n] * s->dx * s->dx;
+        n++;
+      }
+  }
+  PetscCall(FSSolverSetWalls(s, &w));
+  PetscCall(FSSolverAddParticles(s, n, x, u, rho, m));
+  PetscCall(PetscFree4(x, u, rho, m));
+  PetscFunctionReturn(0);
+}
+
+PETSC_EXTERN PetscErrorCode FSCaseCreate_Tank(FSSolver s, FSCaseOps *ops)
+{
+  Tank *tk;
+
+  PetscFunctionBegin;
+  PetscCall(PetscFree(s->casedata));
+  PetscCall(PetscNew(&tk));
+  PetscCall(PetscStrncpy(tk->shape, "rectangular", sizeof(tk->shape)));
+  tk->L               = 0.7;
+  tk->H               = 0.06;
+  tk->ncomp           = 7;
+  tk->Lc              = 0.1;
+  tk->t               = 0.005;
+  tk->gap             = 0.005;
+  tk->hb              = 0.045;
+  tk->fill            = 0.5;
+  s->casedata         = tk;
+  ops->setfromoptions = SetFromOptions;
+  ops->setup          = SetUp;
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,408 @@
+/*
+   FSStructure: the structure that carries the tank, and its registry (-fs_structure <name>), as
+   TSRegister does for TS types. Built-in models register in FSStructureRegisterAll; plug-ins call
+   FSStructureRegister from their PetscDLLibraryRegister_<name>() entry point, which runs inside
+   PetscInitialize: the list is created lazily and never reset.
+
+   Inside the solver the structure's DOFs y are the first block of the state's global DOFs (rank 0,
+   after the particles), advanced by the same TS as the liquid. At every right-hand side rank 0
+   broadcasts y to all ranks (a few doubles), so that every rank knows the tank's position and
+   rotation at each stage (the coupling needs them for the fictitious forces); the rate dy/dt is
+   computed on rank 0, with the liquid loads FSSolverSetLoads() gave (zero until the coupling).
+*/
+#include "fsimpl.h"
+
+static PetscFunctionList FSStructureList = NULL;
+
+typedef struct _n_FSStructureInfo {
+  char                           name[64], description[256];
+  struct _n_FSStructureInfo     *next;
+} FSStructureInfo;
+static FSStructureInfo *FSStructureInfos = NULL;
+
+/*
+   FSStructureRegister - adds a structure model to the registry.
+
+   Not collective
+
+   Input Parameters:
++  name        - the name used in -fs_structure
+.  description - one line
+-  create      - the routine that fills the structure's ops and data (options are read later, by ops.setfromoptions)
+
+   Notes: may be called before FSInitializePackage (from a plug-in's entry point). Registering a
+   name twice replaces the earlier routine. "none" is reserved (no structure).
+*/
+PetscErrorCode FSStructureRegister(const char name[], const char description[], FSStructureCreateFn create)
+{
+  FSStructureInfo *info;
+
+  PetscFunctionBegin;
+  PetscCheck(strcmp(name, "none"), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "The structure name \"none\" is reserved (no structure)");
+  PetscCall(PetscFunctionListAdd(&FSStructureList, name, create));
+  for (info = FSStructureInfos; info; info = info->next)
+    if (!strcmp(info->name, name)) break;
+  if (!info) {
+    /* plain calloc: this registry lives until the program ends, beyond PetscFinalize */
+    info = (FSStructureInfo *)calloc(1, sizeof(*info));
+    PetscCheck(info, PETSC_COMM_SELF, PETSC_ERR_MEM, "Out of memory registering structure %s", name);
+    info->next       = FSStructureInfos;
+    FSStructureInfos = info;
+  }
+  PetscCall(PetscStrncpy(info->name, name, sizeof(info->name)));
+  PetscCall(PetscStrncpy(info->description, description ? description : "", sizeof(info->description)));
+  PetscFunctionReturn(0);
+}
+
+/* FSStructureListView - prints every registered structure model with its description (-fs_structure_view). */
+PetscErrorCode FSStructureListView(PetscViewer viewer)
+{
+  PetscInt         n = 0;
+  FSStructureInfo *info;
+
+  PetscFunctionBegin;
+  for (info = FSStructureInfos; info; info = info->next) n++;
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Registered structure models (%" PetscInt_FMT "), select with -fs_structure name (or none):\n", n));
+  for (PetscInt k = n - 1; k >= 0; k--) { /* registration order: the list is stored newest first */
+    PetscInt m = 0;
+    for (info = FSStructureInfos; info && m < k; info = info->next) m++;
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  %-16s %s\n", info->name, info->description));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSStructureFind(const char name[], FSStructureCreateFn *create)
+{
+  PetscFunctionBegin;
+  PetscCall(FSStructureRegisterAll());
+  PetscCall(PetscFunctionListFind(FSStructureList, name, create));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSStructureCreate - creates the structure model registered under name for a solver.
+
+   Collective on the solver
+*/
+PetscErrorCode FSStructureCreate(FSSolver s, const char name[], FSStructure *st)
+{
+  FSStructureCreateFn create;
+  FSStructure         t;
+  MPI_Comm            comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCall(FSStructureFind(name, &create));
+  if (!create) {
+    char known[2048] = "";
+    for (FSStructureInfo *info = FSStructureInfos; info; info = info->next) {
+      PetscCall(PetscStrlcat(known, " ", sizeof(known)));
+      PetscCall(PetscStrlcat(known, info->name, sizeof(known)));
+    }
+    SETERRQ(comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown structure \"%s\" given to -fs_structure: the registered models are none%s (load plug-ins with -dll_append, list with -fs_structure_view)", name, known);
+  }
+  PetscCall(PetscNew(&t));
+  PetscCall(PetscStrncpy(t->name, name, sizeof(t->name)));
+  t->solver = s;
+  t->comm   = comm;
+  PetscCall((*create)(t));
+  *st = t;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSStructureDestroy(FSStructure *st)
+{
+  PetscFunctionBegin;
+  if (!*st) PetscFunctionReturn(0);
+  if ((*st)->ops.destroy) PetscCall((*(*st)->ops.destroy)(*st));
+  PetscCall(PetscFree(*st));
+  PetscFunctionReturn(0);
+}
+
+/* FSStructureGetSolver - the solver a structure belongs to. */
+PetscErrorCode FSStructureGetSolver(FSStructure st, FSSolver *s)
+{
+  PetscFunctionBegin;
+  *s = st->solver;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSStructureAddColumn - adds a column of the model's own to the time series (called from the
+   model's setup; its value comes from ops.columns).
+*/
+PetscErrorCode FSStructureAddColumn(FSStructure st, const char name[])
+{
+  PetscFunctionBegin;
+  PetscCheck(st->ncolumns < FS_STRUCTURE_MAX_COLUMNS, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "Structure %s: more than %d time-series columns", st->name, FS_STRUCTURE_MAX_COLUMNS);
+  PetscCall(PetscStrncpy(st->column[st->ncolumns++], name, sizeof(st->column[0])));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSStructureHelpAll - with -help, lists the options of every registered structure model besides
+   the selected one. Called inside the solver's options block.
+*/
+PetscErrorCode FSStructureHelpAll(FSSolver s, PetscOptionItems *PetscOptionsObject)
+{
+  PetscFunctionBegin;
+  for (FSStructureInfo *info = FSStructureInfos; info; info = info->next) {
+    FSStructure st;
+    if (s->structure && !strcmp(s->structure->name, info->name)) continue;
+    PetscCall(FSStructureCreate(s, info->name, &st));
+    if (st->ops.setfromoptions) PetscCall((*st->ops.setfromoptions)(st, PetscOptionsObject));
+    PetscCall(FSStructureDestroy(&st));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverGetStructure - the run's structure (NULL with -fs_structure none). */
+PetscErrorCode FSSolverGetStructure(FSSolver s, FSStructure *st)
+{
+  PetscFunctionBegin;
+  *st = s->structure;
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverSetDefaultStructure - lets a case choose the default of -fs_structure (from its setfromoptions). */
+PetscErrorCode FSSolverSetDefaultStructure(FSSolver s, const char name[])
+{
+  PetscFunctionBegin;
+  PetscCall(PetscStrncpy(s->structname, name, sizeof(s->structname)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetLoads - the liquid's loads on the tank for the next right-hand sides (the coupling
+   calls it; the structure sees zero loads until then). Loads are read on rank 0.
+*/
+PetscErrorCode FSSolverSetLoads(FSSolver s, const FSLoads *loads)
+{
+  PetscFunctionBegin;
+  s->loads = *loads;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetUpGlobalBlocks - lays out the global DOFs of the state: the structure's, then one
+   dissipated energy per dissipative term. Called from FSSolverSetUp once the structure is set up.
+*/
+PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
+{
+  PetscInt ndiss = 0;
+
+  PetscFunctionBegin;
+  for (PetscInt t = 0; t < s->terms.nterms; t++)
+    if (s->terms.term[t]->has_power) ndiss++;
+  s->ngblocks = 0;
+  s->gstruct  = 0;
+  PetscCall(PetscStrncpy(s->gblock[s->ngblocks].name, "structure", sizeof(s->gblock[0].name)));
+  s->gblock[s->ngblocks].offset = 0;
+  s->gblock[s->ngblocks++].n    = s->structure ? s->structure->ndof : 0;
+  s->gdiss                      = s->gblock[0].n;
+  PetscCall(PetscStrncpy(s->gblock[s->ngblocks].name, "dissipated_energy", sizeof(s->gblock[0].name)));
+  s->gblock[s->ngblocks].offset = s->gdiss;
+  s->gblock[s->ngblocks++].n    = ndiss;
+  s->nglobaldofs                = s->gdiss + ndiss;
+  /* the checkpoint header keeps the global DOFs and two more values (FSSolverWriteCheckpoint) */
+  PetscCheck(s->nglobaldofs + 2 <= FS_MAX_GLOBAL, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "The state has %" PetscInt_FMT " global DOFs (structure %" PetscInt_FMT ", dissipated energies %" PetscInt_FMT "), more than %d: use fewer structure modes", s->nglobaldofs, s->gdiss, ndiss, FS_MAX_GLOBAL - 2);
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverStructureRates - the structure's part of a right-hand side: rank 0 broadcasts the
+   structure's state from the packed state u (its global DOFs) into s->sy on every rank, then
+   computes dy/dt at s->rhs_time with the current loads into f (rank 0).
+
+   Collective
+*/
+PetscErrorCode FSSolverStructureRates(FSSolver s, const PetscReal *u, PetscReal *f)
+{
+  FSStructure st = s->structure;
+  PetscMPIInt rank, size;
+  const PetscInt off = s->nowned * s->ustride + s->gstruct;
+
+  PetscFunctionBegin;
+  if (!st || !st->ndof) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
+  if (!rank) PetscCall(PetscArraycpy(s->sy, u + off, st->ndof));
+  if (size > 1) PetscCallMPI(MPI_Bcast(s->sy, (PetscMPIInt)st->ndof, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  if (!rank) {
+    PetscCall((*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot));
+    if (f) PetscCall(PetscArraycpy(f + off, s->sydot, st->ndof));
+  }
+  PetscCall(PetscLogEventEnd(FS_Structure, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* Rank 0: the structure's state and rate at the current state of the TS (rate with the current loads). */
+static PetscErrorCode FSSolverStructureCurrent(FSSolver s)
+{
+  const PetscScalar *u;
+  PetscReal          t;
+
+  PetscFunctionBegin;
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(VecGetArrayRead(s->U, &u));
+  s->rhs_time = t;
+  PetscCall(FSSolverStructureRates(s, u, NULL));
+  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetTankMotion - the tank's motion at the current state (displacement, velocity and
+   acceleration of its reference point, rotation angle, rate and angular acceleration), the same on
+   every rank (computed on rank 0 and broadcast). Zero without a structure.
+
+   Collective
+*/
+PetscErrorCode FSSolverGetTankMotion(FSSolver s, FSTankMotion *m)
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBegin;
+  PetscCall(PetscMemzero(m, sizeof(*m)));
+  if (!s->structure || !s->structure->ndof) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCall(FSSolverStructureCurrent(s));
+  if (!rank) PetscCall((*s->structure->ops.motion)(s->structure, s->sy, s->sydot, m));
+  PetscCallMPI(MPI_Bcast(m, (PetscMPIInt)(sizeof(*m) / sizeof(PetscReal)), MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetStructureState - the structure's state at the current TS state, on every rank.
+   n (out) is the number of DOFs; y may be NULL to ask for n only.
+
+   Collective
+*/
+PetscErrorCode FSSolverGetStructureState(FSSolver s, PetscInt *n, PetscReal y[])
+{
+  PetscFunctionBegin;
+  *n = s->structure ? s->structure->ndof : 0;
+  if (!*n || !y) PetscFunctionReturn(0);
+  PetscCall(FSSolverStructureCurrent(s));
+  PetscCall(PetscArraycpy(y, s->sy, *n));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverStructureDt - the time step of a run without particles: the -ts_dt given, else
+   -fs_structure_cfl times the shortest period the structure resolves.
+*/
+PetscErrorCode FSSolverStructureDt(FSSolver s, PetscReal *dt)
+{
+  PetscBool set;
+  PetscReal user;
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-ts_dt", &user, &set));
+  if (set) {
+    PetscCheck(user > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-ts_dt %g must be positive", (double)user);
+    *dt = user;
+  } else {
+    PetscCheck(s->structure && s->structure->min_period > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE, "A run without particles takes its time step from the structure, but structure %s gives no period: set -ts_dt", s->structure ? s->structure->name : "none");
+    *dt = s->structure_cfl * s->structure->min_period;
+  }
+  s->dt_stable = *dt;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverStructureColumns - names of the structure's time-series columns: the tank's motion,
+   the applied loads, then the model's own columns. Without a structure, none.
+*/
+PetscErrorCode FSSolverStructureColumns(FSSolver s, PetscInt *n, const char *names[])
+{
+  static const char *motion[] = {"tip_displacement", "tip_velocity", "tip_acceleration", "tank_rotation", "tank_rotation_rate", "tank_angular_acceleration"};
+  static const char *load2[]  = {"load_force_x", "load_force_y", "load_moment_z"};
+  static const char *load3[]  = {"load_force_x", "load_force_y", "load_force_z", "load_moment_x", "load_moment_y", "load_moment_z"};
+  FSStructure        st       = s->structure;
+  PetscInt           k        = 0;
+
+  PetscFunctionBegin;
+  *n = 0;
+  if (!st) PetscFunctionReturn(0);
+  for (PetscInt c = 0; c < 6; c++) names[k++] = motion[c];
+  if (s->dim == 2)
+    for (PetscInt c = 0; c < 3; c++) names[k++] = load2[c];
+  else
+    for (PetscInt c = 0; c < 6; c++) names[k++] = load3[c];
+  for (PetscInt c = 0; c < st->ncolumns; c++) names[k++] = st->column[c];
+  *n = k;
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverStructureValues - the values of those columns at the current state (valid on rank 0). Collective. */
+PetscErrorCode FSSolverStructureValues(FSSolver s, PetscReal vals[])
+{
+  FSStructure  st = s->structure;
+  FSTankMotion m;
+  PetscMPIInt  rank;
+  PetscInt     k = 0;
+  PetscReal    t;
+
+  PetscFunctionBegin;
+  if (!st) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCall(FSSolverStructureCurrent(s));
+  if (rank) PetscFunctionReturn(0);
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &m));
+  vals[k++] = m.disp[1];
+  vals[k++] = m.vel[1];
+  vals[k++] = m.acc[1];
+  vals[k++] = m.angle;
+  vals[k++] = m.rate;
+  vals[k++] = m.angacc;
+  if (s->dim == 2) {
+    vals[k++] = s->loads.force[0];
+    vals[k++] = s->loads.force[1];
+    vals[k++] = s->loads.moment[2];
+  } else {
+    for (PetscInt d = 0; d < 3; d++) vals[k++] = s->loads.force[d];
+    for (PetscInt d = 0; d < 3; d++) vals[k++] = s->loads.moment[d];
+  }
+  if (st->ncolumns) PetscCall((*st->ops.columns)(st, t, s->sy, s->sydot, &vals[k]));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverStructureSnapshot - the model's output at a snapshot time (e.g. the deflected shape). Collective. */
+PetscErrorCode FSSolverStructureSnapshot(FSSolver s)
+{
+  PetscMPIInt rank;
+  PetscReal   t;
+  PetscInt    step;
+
+  PetscFunctionBegin;
+  if (!s->structure || !s->structure->ops.snapshot) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCall(FSSolverStructureCurrent(s));
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  if (!rank) PetscCall((*s->structure->ops.snapshot)(s->structure, s->outdir, t, step, s->sy));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverStructureSummary - the "structure" object of summary.json. Collective. */
+PetscErrorCode FSSolverStructureSummary(FSSolver s, FSJSON js)
+{
+  FSStructure st = s->structure;
+
+  PetscFunctionBegin;
+  PetscCall(FSJSONBeginObject(js, "structure"));
+  PetscCall(FSJSONWriteString(js, "model", st ? st->name : "none"));
+  if (st) {
+    PetscCall(FSJSONWriteInt(js, "ndof", st->ndof));
+    PetscCall(FSJSONWriteReal(js, "min_period", st->min_period));
+    if (st->ndof) {
+      PetscCall(FSSolverStructureCurrent(s));
+      PetscCall(FSJSONWriteRealArray(js, "final_state", st->ndof, s->sy));
+    }
+    if (st->ops.summary) PetscCall((*st->ops.summary)(st, js));
+  }
+  PetscCall(FSJSONEndObject(js));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,278 @@
+/*
+   The walls inside the solver: per time step, the candidate wall segments of every owned particle,
+   the leak check, and the cut of fluid pairs that see each other through a wall (thin baffles);
+   per right-hand side, the Shepard factor gamma_i and the facing segments within the support with
+   their kernel values, which the wall terms use.
+*/
+#include "../fsimpl.h"
+#include "walldata.h"
+
+/* FSSolverSetWalls - gives the solver its walls (the case builds them); the solver owns them after. */
+PetscErrorCode FSSolverSetWalls(FSSolver s, FSWalls *w)
+{
+  PetscFunctionBegin;
+  if (!s->wd) PetscCall(PetscNew(&s->wd));
+  else PetscCall(FSWallsDestroy(&s->wd->walls));
+  s->wd->walls = *w;
+  PetscCall(PetscMemzero(w, sizeof(*w)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverWallsSetUp - discretizes the walls into segments of about dx, reads the wall options,
+   and bins the segments in a static grid.
+
+   Options Database Keys:
++  -fs_walls_noslip <names> - the walls with no-slip conditions (the others are free-slip)
+-  -fs_walls_load_point <x,y> - the point about which the wall moments are taken (default: the origin)
+*/
+PetscErrorCode FSSolverWallsSetUp(FSSolver s)
+{
+  FSWallData *wd = s->wd;
+  FSWalls    *w;
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  char       *names[32];
+  PetscInt    nnames = 32, np = 3;
+  PetscReal   R;
+
+  PetscFunctionBegin;
+  if (!wd) PetscFunctionReturn(0);
+  w = &wd->walls;
+  PetscCheck(s->dim == 2, comm, PETSC_ERR_SUP, "Walls are two-dimensional (polygons): use -fs_dim 2 with a tank case");
+  PetscCall(FSWallsCheck(w, comm));
+  PetscCall(FSWallsDiscretize(w, s->dx));
+  PetscCall(PetscCalloc1(w->nwalls, &wd->noslip));
+  PetscCall(PetscCalloc2(6 * w->nwalls, &wd->load, 6 * w->nwalls, &wd->loadsum));
+  PetscOptionsBegin(comm, NULL, "Walls (boundary integrals)", "FS");
+  PetscCall(PetscOptionsStringArray("-fs_walls_noslip", "Walls with no-slip conditions, by name (the others are free-slip)", "FSSolverWallsSetUp", names, &nnames, NULL));
+  PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken", "FSSolverWallsSetUp", wd->loadpoint, &np, NULL));
+  PetscOptionsEnd();
+  for (PetscInt k = 0; k < nnames; k++) {
+    PetscBool found = PETSC_FALSE;
+    for (PetscInt q = 0; q < w->nwalls; q++)
+      if (!strcmp(names[k], w->name[q])) {
+        wd->noslip[q] = PETSC_TRUE;
+        found         = PETSC_TRUE;
+      }
+    PetscCheck(found, comm, PETSC_ERR_ARG_WRONG, "-fs_walls_noslip names wall \"%s\", which this case does not have", names[k]);
+    PetscCall(PetscFree(names[k]));
+  }
+  /* static grid of segments by midpoint, cells as wide as the candidate radius */
+  R         = s->kernel.support + s->halo_skin * s->h;
+  wd->gcell = R;
+  for (PetscInt d = 0; d < 2; d++) {
+    wd->glo[d] = w->lo[d] - R;
+    wd->gnc[d] = (PetscInt)((w->hi[d] + R - wd->glo[d]) / R) + 1;
+  }
+  PetscCall(PetscCalloc1(wd->gnc[0] * wd->gnc[1] + 1, &wd->gstart));
+  PetscCall(PetscMalloc1(w->nseg, &wd->gseg));
+  for (PetscInt k = 0; k < w->nseg; k++) {
+    const PetscReal *m = &w->seg[k * FS_SEG_STRIDE + 4];
+    wd->gstart[(PetscInt)((m[0] - wd->glo[0]) / R) + wd->gnc[0] * (PetscInt)((m[1] - wd->glo[1]) / R) + 1]++;
+  }
+  for (PetscInt c = 0; c < wd->gnc[0] * wd->gnc[1]; c++) wd->gstart[c + 1] += wd->gstart[c];
+  {
+    PetscInt *fill;
+    PetscCall(PetscMalloc1(wd->gnc[0] * wd->gnc[1], &fill));
+    PetscCall(PetscArraycpy(fill, wd->gstart, wd->gnc[0] * wd->gnc[1]));
+    for (PetscInt k = 0; k < w->nseg; k++) {
+      const PetscReal *m = &w->seg[k * FS_SEG_STRIDE + 4];
+      wd->gseg[fill[(PetscInt)((m[0] - wd->glo[0]) / R) + wd->gnc[0] * (PetscInt)((m[1] - wd->glo[1]) / R)]++] = k;
+    }
+    PetscCall(PetscFree(fill));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* squared distance from x to segment k */
+static inline PetscReal SegDist2(const PetscReal *s, const PetscReal x[])
+{
+  const PetscReal tx = s[2] - s[0], ty = s[3] - s[1];
+  PetscReal       u  = ((x[0] - s[0]) * tx + (x[1] - s[1]) * ty) / (tx * tx + ty * ty), px, py;
+  u  = PetscMax(0.0, PetscMin(1.0, u));
+  px = s[0] + u * tx - x[0];
+  py = s[1] + u * ty - x[1];
+  return px * px + py * py;
+}
+
+/* does the open segment a-b cross segment s (p0-p1)? */
+static inline PetscBool Crosses(const PetscReal a[], const PetscReal b[], const PetscReal *s)
+{
+  const PetscReal *c = s, *d = s + 2;
+  const PetscReal  d1 = (d[0] - c[0]) * (a[1] - c[1]) - (d[1] - c[1]) * (a[0] - c[0]);
+  const PetscReal  d2 = (d[0] - c[0]) * (b[1] - c[1]) - (d[1] - c[1]) * (b[0] - c[0]);
+  const PetscReal  d3 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  const PetscReal  d4 = (b[0] - a[0]) * (d[1] - a[1]) - (b[1] - a[1]) * (d[0] - a[0]);
+  return (PetscBool)(((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)));
+}
+
+/*
+   FSSolverWallsUpdate - once per step, after the candidate fluid neighbours are built: the candidate
+   segments of every owned particle, the leak check (a particle outside the liquid region stops the
+   run, naming the step, time, particle and nearest wall), and the removal of fluid candidate pairs
+   whose connecting segment crosses a wall.
+
+   Collective
+*/
+PetscErrorCode FSSolverWallsUpdate(FSSolver s)
+{
+  FSWallData     *wd = s->wd;
+  FSWalls        *w;
+  const PetscInt  S = s->stride, n = s->nowned;
+  const PetscReal R = s->kernel.support + s->halo_skin * s->h, R2 = R * R;
+  PetscInt        nc = 0, leak = -1, leakwall = -1, nleak;
+  FSNeighbours   *nb = &s->nbrs;
+
+  PetscFunctionBegin;
+  if (!wd) PetscFunctionReturn(0);
+  w = &wd->walls;
+  if (n + 1 > wd->scap) {
+    PetscCall(PetscFree2(wd->cstart, wd->wstart));
+    wd->scap = PetscMax(n + 1, (PetscInt)(1.25 * wd->scap));
+    PetscCall(PetscMalloc2(wd->scap, &wd->cstart, wd->scap, &wd->wstart));
+    PetscCall(PetscFree(wd->gamma));
+    PetscCall(PetscMalloc1(wd->scap, &wd->gamma));
+  }
+  wd->nnear = 0;
+  for (PetscInt i = 0, wp = 0; i < n; i++) {
+    const PetscReal *x = &s->rec[i * S];
+    const PetscInt   os = nb->cstart[i], oe = nb->cstart[i + 1]; /* this particle's fluid candidates, before compaction */
+    PetscInt         cx = (PetscInt)((x[0] - wd->glo[0]) / R), cy = (PetscInt)((x[1] - wd->glo[1]) / R), first = nc;
+    wd->cstart[i] = nc;
+    for (PetscInt b = PetscMax(cy - 1, 0); b <= PetscMin(cy + 1, wd->gnc[1] - 1); b++)
+      for (PetscInt a = PetscMax(cx - 1, 0); a <= PetscMin(cx + 1, wd->gnc[0] - 1); a++) {
+        const PetscInt c = a + wd->gnc[0] * b;
+        for (PetscInt q = wd->gstart[c]; q < wd->gstart[c + 1]; q++) {
+          const PetscInt k = wd->gseg[q];
+          if (SegDist2(&w->seg[k * FS_SEG_STRIDE], x) < R2) {
+            if (nc == wd->ccap) {
+              PetscInt *cand;
+              wd->ccap = PetscMax(1024, 2 * wd->ccap);
+              PetscCall(PetscMalloc1(wd->ccap, &cand));
+              if (nc) PetscCall(PetscArraycpy(cand, wd->cand, nc));
+              PetscCall(PetscFree(wd->cand));
+              wd->cand = cand;
+            }
+            wd->cand[nc++] = k;
+          }
+        }
+      }
+    nb->cstart[i] = wp;
+    if (nc > first) {
+      wd->nnear++;
+      if (leak < 0 && !FSWallsInLiquid(w, x, 0)) {
+        PetscReal best = PETSC_MAX_REAL;
+        leak = i;
+        for (PetscInt q = first; q < nc; q++) {
+          PetscReal d2 = SegDist2(&w->seg[wd->cand[q] * FS_SEG_STRIDE], x);
+          if (d2 < best) {
+            best     = d2;
+            leakwall = w->segwall[wd->cand[q]];
+          }
+        }
+      }
+      /* keep the fluid candidates not seen through a wall */
+      for (PetscInt q = os; q < oe; q++) {
+        const PetscReal *xj  = &s->rec[nb->cand[q] * S];
+        PetscBool        cut = PETSC_FALSE;
+        for (PetscInt r = first; r < nc && !cut; r++) cut = Crosses(x, xj, &w->seg[wd->cand[r] * FS_SEG_STRIDE]);
+        if (!cut) nb->cand[wp++] = nb->cand[q];
+      }
+    } else
+      for (PetscInt q = os; q < oe; q++) nb->cand[wp++] = nb->cand[q];
+    if (i == n - 1) {
+      nb->cstart[n] = wp;
+      nb->ncand     = wp;
+    }
+  }
+  wd->cstart[n] = nc;
+  nleak         = leak >= 0 ? 1 : 0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nleak, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)s)));
+  if (leak >= 0) {
+    PetscInt  step = 0, *id;
+    PetscReal t    = 0;
+    if (s->ts) {
+      PetscCall(TSGetTime(s->ts, &t));
+      PetscCall(TSGetStepNumber(s->ts, &step));
+    }
+    PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
+    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[flexslosh] leak: particle %" PetscInt_FMT " crossed wall \"%s\" at step %" PetscInt_FMT ", time %g: it is at (%g, %g), outside the liquid region\n", id[leak], w->name[leakwall], step, (double)t, (double)s->rec[leak * S], (double)s->rec[leak * S + 1]));
+    PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
+  }
+  PetscCheck(!nleak, PetscObjectComm((PetscObject)s), PETSC_ERR_CONV_FAILED, "Particles crossed a wall on %" PetscInt_FMT " rank(s) (the particle, wall, step and time are named above): reduce -fs_cfl or refine -fs_dx", nleak);
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverWallsPrepare - at every right-hand side: gamma_i of every owned particle near a wall (1
+   elsewhere) and its facing segments within the support with W at their midpoints.
+*/
+PetscErrorCode FSSolverWallsPrepare(FSSolver s)
+{
+  FSWallData     *wd = s->wd;
+  FSWalls        *w;
+  const PetscInt  S = s->stride, n = s->nowned;
+  const PetscReal R2 = s->kernel.support2, h = s->h;
+  PetscInt        nw = 0;
+
+  PetscFunctionBegin;
+  if (!wd) PetscFunctionReturn(0);
+  w = &wd->walls;
+  if (wd->cstart[n] > wd->wcap) {
+    PetscCall(PetscFree2(wd->wnbr, wd->wW));
+    wd->wcap = PetscMax(wd->cstart[n], 2 * wd->wcap);
+    PetscCall(PetscMalloc2(wd->wcap, &wd->wnbr, wd->wcap, &wd->wW));
+  }
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *x = &s->rec[i * S];
+    PetscReal        g = 1;
+    wd->wstart[i]      = nw;
+    for (PetscInt q = wd->cstart[i]; q < wd->cstart[i + 1]; q++) {
+      const PetscInt   k  = wd->cand[q];
+      const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
+      const PetscReal  d  = (sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7];
+      const PetscReal  mx = sg[4] - x[0], my = sg[5] - x[1], r2 = mx * mx + my * my;
+      if (d <= 0) continue; /* faces away: hidden */
+      g += FSShepardSegment(h, x, sg);
+      if (r2 < R2) {
+        wd->wnbr[nw] = k;
+        wd->wW[nw]   = FSKernelW(&s->kernel, PetscSqrtReal(r2));
+        nw++;
+      }
+    }
+    wd->gamma[i] = g;
+  }
+  wd->wstart[n] = nw;
+  PetscCall(PetscArrayzero(wd->load, 6 * w->nwalls));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverWallsGetLoads - the loads of the liquid on each wall (force 3, moment 3), summed over the ranks. Collective. */
+PetscErrorCode FSSolverWallsGetLoads(FSSolver s, const PetscReal **loads)
+{
+  PetscFunctionBegin;
+  *loads = NULL;
+  if (!s->wd) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Allreduce(s->wd->load, s->wd->loadsum, (PetscMPIInt)(6 * s->wd->walls.nwalls), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
+  *loads = s->wd->loadsum;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSSolverWallsDestroy(FSSolver s)
+{
+  FSWallData *wd = s->wd;
+
+  PetscFunctionBegin;
+  if (!wd) PetscFunctionReturn(0);
+  PetscCall(FSWallsDestroy(&wd->walls));
+  PetscCall(PetscFree(wd->noslip));
+  PetscCall(PetscFree2(wd->load, wd->loadsum));
+  PetscCall(PetscFree(wd->gstart));
+  PetscCall(PetscFree(wd->gseg));
+  PetscCall(PetscFree2(wd->cstart, wd->wstart));
+  PetscCall(PetscFree(wd->cand));
+  PetscCall(PetscFree2(wd->wnbr, wd->wW));
+  PetscCall(PetscFree(wd->gamma));
+  PetscCall(PetscFree(s->wd));
+  PetscFunctionReturn(0);
+}
