@@ -67,13 +67,12 @@ typedef struct {
   /* physical constants */
   PetscReal rho0, c0, h, dx, nu, gravity[3], background_pressure;
   PetscReal umax; /* largest particle speed at the start of the step */
-  PetscBool pressure_difference;      /* pressure gradient in the (p_j - p_i) form everywhere (-fs_pressure_form difference) */
-  PetscBool pressure_wall_difference; /* ... only for the particles whose kernel meets a wall (-fs_pressure_form wall) */
   /* walls (boundary integrals); nwalls = 0 without walls */
   PetscInt         nwalls;
-  const PetscReal *gamma;    /* Shepard factor gamma_i of the owned particles (NULL without walls: 1) */
+  const PetscReal *gamma;    /* Shepard factor gamma of the owned and ghost particles (NULL without walls: 1) */
   const PetscReal *wseg;     /* wall segments, 9 reals each: p0 (2), p1 (2), midpoint (2), normal out of the liquid (2), length */
   const PetscInt  *wsegwall; /* the wall each segment belongs to */
+  const PetscReal *wpressure; /* per segment: the wall pressure interpolated from the liquid */
   const PetscBool *noslip;   /* per wall: no-slip (else free-slip) */
   PetscReal       *wallload; /* per wall: force (3) and moment about the load point (3) of the liquid on the wall, this rank's share, accumulated by the wall terms */
   PetscReal        loadpoint[3];

@@ -71,6 +71,7 @@ typedef struct {
 PETSC_INTERN PetscErrorCode FSHaloBuild(FSHalo *, MPI_Comm, const FSDecomp *, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width);
 PETSC_INTERN PetscErrorCode FSHaloRefresh(FSHalo *, PetscInt dim, PetscInt nowned, PetscReal rec[]);
 PETSC_INTERN PetscErrorCode FSHaloRefreshAux(FSHalo *, PetscInt nowned, PetscReal aux[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshScalar(FSHalo *, PetscReal a[]);
 PETSC_INTERN PetscErrorCode FSHaloDestroy(FSHalo *);
 
 /* Cell-linked list (counting sort) and the full neighbour list of owned particles (CSR). */
@@ -129,7 +130,6 @@ struct _p_FSSolver {
   /* options */
   char      casename[64];
   char      default_terms[1024]; /* the case's default for -fs_terms */
-  PetscInt  pressure_form;         /* -fs_pressure_form: 0 sum, 1 difference, 2 wall (difference near walls; the default with walls) */
   char      outdir[PETSC_MAX_PATH_LEN];
   char      restart[PETSC_MAX_PATH_LEN];
   PetscInt  dim;

@@ -216,6 +216,15 @@ PetscErrorCode FSHaloRefreshAux(FSHalo *hl, PetscInt nowned, PetscReal aux[])
   PetscFunctionReturn(0);
 }
 
+/* FSHaloRefreshScalar - copies one real per particle (e.g. the Shepard factor) from the owners to the ghosts. */
+PetscErrorCode FSHaloRefreshScalar(FSHalo *hl, PetscReal a[])
+{
+  PetscFunctionBegin;
+  PetscCall(PetscSFBcastBegin(hl->sf, MPIU_REAL, a, a, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(hl->sf, MPIU_REAL, a, a, MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FSHaloDestroy(FSHalo *hl)
 {
   PetscFunctionBegin;

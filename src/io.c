@@ -92,8 +92,6 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   P.h      = s->h;
   P.nu     = s->nu;
   P.dx     = s->dx;
-  P.pressure_difference      = (PetscBool)(s->pressure_form == 1);
-  P.pressure_wall_difference = (PetscBool)(s->pressure_form == 2);
   P.umax   = s->umax;
   for (PetscInt t2 = 0; t2 < s->terms.nterms && !has; t2++) {
     FSTerm term = s->terms.term[t2];

@@ -193,8 +193,6 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   P.dx     = s->dx;
   P.umax   = s->umax;
   P.background_pressure = s->background_pressure;
-  P.pressure_difference      = (PetscBool)(s->pressure_form == 1);
-  P.pressure_wall_difference = (PetscBool)(s->pressure_form == 2);
   P.nwalls   = 0;
   P.gamma    = NULL;
   P.wallload = NULL;
@@ -204,6 +202,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     P.gamma    = s->wd->gamma;
     P.wseg     = s->wd->walls.seg;
     P.wsegwall = s->wd->walls.segwall;
+    P.wpressure = s->wd->wp;
     P.noslip   = s->wd->noslip;
     P.wallload = s->wd->load;
     for (PetscInt d = 0; d < 3; d++) P.loadpoint[d] = s->wd->loadpoint[d];

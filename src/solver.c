@@ -134,10 +134,6 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
     PetscCheck(ng == s->dim, comm, PETSC_ERR_ARG_SIZ, "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng, s->dim);
     for (PetscInt d = 0; d < 3; d++) s->gravity[d] = d < ng ? g[d] : 0;
   }
-  {
-    const char *forms[] = {"sum", "difference", "wall"};
-    PetscCall(PetscOptionsEList("-fs_pressure_form", "Pressure gradient: sum (p_i + p_j, seed Eq. 4, conserves momentum), difference (p_j - p_i, exact for uniform pressure) or wall (difference only where the kernel meets a wall; the default of the cases with walls)", "FSSolverSetFromOptions", forms, 3, forms[s->pressure_form], &s->pressure_form, NULL));
-  }
   PetscCall(PetscOptionsReal("-fs_background_pressure", "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b", "FSSolverSetFromOptions", s->background_pressure, &s->background_pressure, NULL));
   PetscCall(PetscOptionsString("-fs_terms", "Physics terms, comma separated (list with -fs_terms_view)", "FSSolverSetFromOptions", terms, terms, sizeof(terms), NULL));
   PetscCall(PetscOptionsBool("-fs_terms_view", "List the registered physics terms", "FSTermListView", s->terms_view, &s->terms_view, NULL));

@@ -7,6 +7,8 @@
    The seed's Eqs. 11-12 add alpha inside a_i as well as in alpha_ij; we count the laminar part once
    (Antuono et al. 2021) so that the laminar term alone gives the exact viscous decay.
    Dissipation power (seed Eq. 38): P_alpha = sum_i m_i u_i . (D u_i/Dt)_alpha.
+   With walls the pair sum carries (1/gamma_i + 1/gamma_j)/2, the renormalization that keeps the term
+   dissipative (its power is a sum of squares) where gamma varies.
    Options: -fs_viscosity_K, -fs_les_c (C_alpha, the Smagorinsky constant, 0.12).
 */
 #include <flexslosh.h>
@@ -37,6 +39,7 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
       if (aj <= 0) continue;
       for (PetscInt d = 0; d < dim; d++) pi += (rj[dim + d] - ri[dim + d]) * dx[d];
       pi *= 2.0 * ai * aj / (ai + aj) * nb->rinv2[k] * P->vol[j];
+      if (P->gamma) pi *= 0.5 * (1.0 / P->gamma[i] + 1.0 / P->gamma[j]);
       for (PetscInt d = 0; d < dim; d++) acc[d] += pi * g[d];
     }
     f = P->h * P->c0 * P->rho0 / rhoi;
@@ -47,6 +50,7 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
       PetscReal        pi = 0;
       for (PetscInt d = 0; d < dim; d++) pi += (rj[dim + d] - ri[dim + d]) * dx[d];
       pi *= nb->rinv2[k] * P->vol[j];
+      if (P->gamma) pi *= 0.5 * (1.0 / P->gamma[i] + 1.0 / P->gamma[j]);
       for (PetscInt d = 0; d < dim; d++) acc[d] += pi * g[d];
     }
     f = ctx->K * P->nu * P->rho0 / rhoi;
@@ -147,7 +151,6 @@ static PetscErrorCode Create(FSTerm t, PetscBool les)
   t->data               = ctx;
   t->needs              = les ? FS_NEED_STRAIN_RATE : FS_NEED_NONE;
   t->has_power          = PETSC_TRUE;
-  t->renormalized       = PETSC_TRUE; /* divided by gamma_i near walls */
   t->ops.interact       = Interact;
   t->ops.prepare        = Prepare;
   t->ops.field          = Field;

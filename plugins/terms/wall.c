@@ -6,10 +6,11 @@
    The walls are at rest in the tank's frame (u_k = 0).
 
    wall_continuity:  D rho_i/Dt += -rho_i sum_k (u_k - u_i) . n_k W_ik s_k
-   wall_pressure:    D u_i/Dt   += -1/rho_i sum_k (p_i + p_k) n_k W_ik s_k  ((p_k - p_i) with -fs_pressure_form difference),
-                     the wall pressure extrapolated from i hydrostatically, p_k = p_i + rho_i g . (x_k - x_i);
-                     the liquid's force on wall w: F_w = sum_i sum_{k in w} V_i/gamma_i (p_i + p_k) n_k W_ik s_k
-                     (seed Eq. 29) and its moment about -fs_walls_load_point.
+   wall_pressure:    D u_i/Dt   += -1/rho_i sum_k (p_i + p_k) n_k W_ik s_k, the wall pressure p_k
+                     interpolated from the liquid near the segment (Shepard sum over all ranks with the
+                     hydrostatic correction rho_j g . (x_k - x_j)); the liquid's force on wall w:
+                     F_w = sum_i V_i/gamma_i sum_{k in w} (p_i + p_k) n_k W_ik s_k (seed Eq. 29), and its
+                     moment about -fs_walls_load_point.
    wall_viscosity:   on no-slip walls (-fs_walls_noslip), the wall shear stress from the one-sided
                      normal derivative (u_k - u_i)/d_ik, d_ik the distance from x_i to the segment's line:
                      D u_i/Dt += nu rho0/rho_i sum_k (u_k - u_i)/max(d_ik, dx/2) W_ik s_k;
@@ -33,20 +34,17 @@ static void Continuity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb
 static void Pressure(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
 {
   const PetscInt   dim = P->dim, i = nb->i;
-  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim], pi = P->pressure[i];
-  const PetscReal  Vg = P->vol[i] / P->gamma[i];
+  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim], pi = P->pressure[i], Vg = P->vol[i] / P->gamma[i];
   PetscReal        acc[2] = {0, 0};
   (void)t;
   for (PetscInt q = 0; q < nb->nw; q++) {
     const PetscInt   k  = nb->wk[q];
     const PetscReal *sg = &P->wseg[k * 9];
-    const PetscReal  pk = pi + rhoi * (P->gravity[0] * (sg[4] - ri[0]) + P->gravity[1] * (sg[5] - ri[1]));
-    const PetscReal  f  = (pi + pk) * nb->wW[q] * sg[8];
-    const PetscReal  fa = (P->pressure_difference || P->pressure_wall_difference) ? (pk - pi) * nb->wW[q] * sg[8] : f;
+    const PetscReal  f  = (pi + P->wpressure[k]) * nb->wW[q] * sg[8];
     PetscReal       *L  = &P->wallload[6 * P->wsegwall[k]];
-    acc[0] += fa * sg[6];
-    acc[1] += fa * sg[7];
-    /* the liquid's force on the wall and its moment about the load point */
+    acc[0] += f * sg[6];
+    acc[1] += f * sg[7];
+    /* the liquid's force on the wall (seed Eq. 29) and its moment about the load point */
     L[0] += Vg * f * sg[6];
     L[1] += Vg * f * sg[7];
     L[5] += Vg * f * ((sg[4] - P->loadpoint[0]) * sg[7] - (sg[5] - P->loadpoint[1]) * sg[6]);

@@ -49,7 +49,6 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCheck(tk->fill > 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_fill %g is outside the tank: expected a fraction in (0, 1] of the tank height", (double)tk->fill);
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 20.0, 1e-6, g));
   PetscCall(PetscStrncpy(s->default_terms, "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity", sizeof(s->default_terms)));
-  s->pressure_form = 2; /* difference form near the walls */
   s->dx         = tk->H / 30;
   s->final_time = 1.0;
   PetscFunctionReturn(0);

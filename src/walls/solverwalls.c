@@ -130,8 +130,6 @@ PetscErrorCode FSSolverWallsUpdate(FSSolver s)
     PetscCall(PetscFree2(wd->cstart, wd->wstart));
     wd->scap = PetscMax(n + 1, (PetscInt)(1.25 * wd->scap));
     PetscCall(PetscMalloc2(wd->scap, &wd->cstart, wd->scap, &wd->wstart));
-    PetscCall(PetscFree(wd->gamma));
-    PetscCall(PetscMalloc1(wd->scap, &wd->gamma));
   }
   wd->nnear = 0;
   for (PetscInt i = 0, wp = 0; i < n; i++) {
@@ -218,6 +216,11 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
   PetscFunctionBegin;
   if (!wd) PetscFunctionReturn(0);
   w = &wd->walls;
+  if (s->reccap > wd->gcap) { /* gamma of the owned and ghost particles */
+    PetscCall(PetscFree(wd->gamma));
+    wd->gcap = s->reccap;
+    PetscCall(PetscMalloc1(wd->gcap, &wd->gamma));
+  }
   if (wd->cstart[n] > wd->wcap) {
     PetscCall(PetscFree2(wd->wnbr, wd->wW));
     wd->wcap = PetscMax(wd->cstart[n], 2 * wd->wcap);
@@ -244,6 +247,29 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
   }
   wd->wstart[n] = nw;
   PetscCall(PetscArrayzero(wd->load, 6 * w->nwalls));
+  /* wall pressure: p_k = sum_i (p_i + rho_i g.(x_k - x_i)) W_ik V_i / sum_i W_ik V_i over the liquid near
+     segment k (all ranks), so that a particle pressed against a wall meets a wall pressure set by its
+     neighbours as well as by itself */
+  if (!wd->wp) PetscCall(PetscMalloc1(3 * w->nseg + 1, &wd->wp));
+  PetscCall(PetscArrayzero(wd->wp, 3 * w->nseg));
+  {
+    PetscReal *num = wd->wp + w->nseg, *den = num + w->nseg;
+    for (PetscInt i = 0; i < n; i++) {
+      const PetscReal *x = &s->rec[i * S], rho = x[2 * s->dim];
+      for (PetscInt q = wd->wstart[i]; q < wd->wstart[i + 1]; q++) {
+        const PetscInt   k  = wd->wnbr[q];
+        const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
+        const PetscReal  wv = wd->wW[q] * s->vol[i];
+        num[k] += (s->pressure[i] + rho * (s->gravity[0] * (sg[4] - x[0]) + s->gravity[1] * (sg[5] - x[1]))) * wv;
+        den[k] += wv;
+      }
+    }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * w->nseg), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
+    for (PetscInt k = 0; k < w->nseg; k++) wd->wp[k] = den[k] > 0 ? num[k] / den[k] : 0;
+  }
+  /* the ghosts' gamma, for the symmetric (dissipative) viscous terms */
+  for (PetscInt g = 0; g < s->halo.nghost; g++) wd->gamma[n + g] = 1;
+  PetscCall(FSHaloRefreshScalar(&s->halo, wd->gamma));
   PetscFunctionReturn(0);
 }
 
@@ -273,6 +299,7 @@ PetscErrorCode FSSolverWallsDestroy(FSSolver s)
   PetscCall(PetscFree(wd->cand));
   PetscCall(PetscFree2(wd->wnbr, wd->wW));
   PetscCall(PetscFree(wd->gamma));
+  PetscCall(PetscFree(wd->wp));
   PetscCall(PetscFree(s->wd));
   PetscFunctionReturn(0);
 }

@@ -16,6 +16,8 @@ struct _n_FSWallData {
   /* per right-hand side: facing segments within the support, with W at their midpoints */
   PetscInt  *wstart, *wnbr, wcap, wscap;
   PetscReal *wW, *gamma;
+  PetscInt   gcap;           /* capacity of gamma (owned and ghosts) */
+  PetscReal *wp;             /* per segment: wall pressure interpolated from the liquid; then 2*nseg work */
   PetscReal *load;           /* nwalls * 6: force (3), moment (3): this rank's share of the last RHS */
   PetscReal *loadsum;        /* the same summed over the ranks (FSSolverWallsGetLoads) */
 };
