@@ -38,6 +38,7 @@ test: build
 	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q tests/python
 
 bench: build
+	$(BUILD)/bench_terms -fs_dx 0.005 -reps 20
 	$(PYTHON) bench/bench_taylor_green.py
 
 clean:
