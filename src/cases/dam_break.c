@@ -8,7 +8,7 @@
    nu = 1e-6, g = 9.81 down, final time T = 3.
 */
 #include "../fsimpl.h"
-#include "../walls/walldata.h"
+#include "liquid.h"
 
 typedef struct {
   PetscReal a, height, L, H;
@@ -41,45 +41,14 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
 
 static PetscErrorCode SetUp(FSSolver s)
 {
-  DamBreak   *db   = (DamBreak *)s->casedata;
-  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  FSWalls     w;
-  PetscReal   lo[3], hi[3], *x, *u, *rho, *m, gmag = PetscSqrtReal(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1]);
-  PetscBool   per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
-  PetscInt    nx = (PetscInt)(db->a / s->dx + 1e-9), ny = (PetscInt)(db->height / s->dx + 1e-9), n = 0;
-  PetscMPIInt rank, size;
+  DamBreak *db   = (DamBreak *)s->casedata;
+  MPI_Comm  comm = PetscObjectComm((PetscObject)s);
+  FSWalls   w;
 
   PetscFunctionBegin;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, comm, db->L, db->H));
-  PetscCall(FSWallsCheck(&w, comm));
-  PetscCall(FSWallsDiscretize(&w, s->dx)); /* for the distance of the particles to the walls */
-  for (PetscInt d = 0; d < 2; d++) {
-    lo[d] = w.lo[d] - 4 * s->h;
-    hi[d] = w.hi[d] + 4 * s->h;
-  }
-  PetscCall(FSSolverSetDomain(s, lo, hi, per));
-  PetscCheck(nx >= 2 && ny >= 2, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g is too coarse for a column of %g x %g", (double)s->dx, (double)db->a, (double)db->height);
-  {
-    PetscInt r0 = ny * rank / size, r1 = ny * (rank + 1) / size;
-    PetscCall(PetscMalloc4(2 * nx * (r1 - r0) + 1, &x, 2 * nx * (r1 - r0) + 1, &u, nx * (r1 - r0) + 1, &rho, nx * (r1 - r0) + 1, &m));
-    for (PetscInt b = r0; b < r1; b++)
-      for (PetscInt a = 0; a < nx; a++) {
-        const PetscReal px = (a + 0.5) * s->dx, py = (b + 0.5) * s->dx, pr = s->rho0 * gmag * (db->height - py);
-        x[2 * n]     = px;
-        x[2 * n + 1] = py;
-        u[2 * n]     = 0;
-        u[2 * n + 1] = 0;
-        rho[n]       = s->rho0 + pr / (s->c0 * s->c0);
-        m[n]         = rho[n] * s->dx * s->dx;
-        n++;
-      }
-  }
-  PetscCall(FSSolverSetWalls(s, &w));
-  PetscCall(FSSolverAddParticles(s, n, x, u, rho, m));
-  PetscCall(PetscFree4(x, u, rho, m));
+  PetscCall(FSCaseFillLiquid(s, &w, 0, db->a, 0, db->height, "the water column"));
   PetscFunctionReturn(0);
 }
 

@@ -13,7 +13,7 @@
    Defaults: rho0 = 1000, c0 = 20 m/s and h/dx = 2 (seed), nu = 1e-6, g = 9.81 down, dx = H/30.
 */
 #include "../fsimpl.h"
-#include "../walls/walldata.h"
+#include "liquid.h"
 
 typedef struct {
   char      shape[32], file[PETSC_MAX_PATH_LEN];
@@ -56,56 +56,19 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
 
 static PetscErrorCode SetUp(FSSolver s)
 {
-  Tank       *tk   = (Tank *)s->casedata;
-  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  FSWalls     w;
-  PetscReal   lo[3], hi[3], yfill, *x, *u, *rho, *m, gmag;
-  PetscBool   per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}, rect, baff;
-  PetscInt    nx, ny, n = 0;
-  PetscMPIInt rank, size;
+  Tank     *tk   = (Tank *)s->casedata;
+  MPI_Comm  comm = PetscObjectComm((PetscObject)s);
+  FSWalls   w;
+  PetscBool rect, baff;
 
   PetscFunctionBegin;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(FSWallsCreate(&w));
   PetscCall(PetscStrcmp(tk->shape, "rectangular", &rect));
   PetscCall(PetscStrcmp(tk->shape, "baffled", &baff));
   if (rect) PetscCall(FSWallsRectangularTank(&w, comm, tk->L, tk->H));
   else if (baff) PetscCall(FSWallsBaffledTank(&w, comm, tk->ncomp, tk->Lc, tk->t, tk->H, tk->gap, tk->hb));
   else PetscCall(FSWallsLoad(&w, comm, tk->file));
-  PetscCall(FSWallsCheck(&w, comm));
-  PetscCall(FSWallsDiscretize(&w, s->dx)); /* for the distance of the particles to the walls */
-  for (PetscInt d = 0; d < 2; d++) {
-    lo[d] = w.lo[d] - 4 * s->h;
-    hi[d] = w.hi[d] + 4 * s->h;
-  }
-  PetscCall(FSSolverSetDomain(s, lo, hi, per));
-  yfill = w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]);
-  gmag  = PetscSqrtReal(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1]);
-  /* the lattice (i + 1/2) dx from the tank's corner, split over the ranks by rows */
-  nx = (PetscInt)((w.hi[0] - w.lo[0]) / s->dx + 0.5);
-  ny = (PetscInt)((yfill - w.lo[1]) / s->dx + 1e-9);
-  PetscCheck(ny >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_fill %g leaves less than one particle layer at -fs_dx %g", (double)tk->fill, (double)s->dx);
-  {
-    PetscInt r0 = ny * rank / size, r1 = ny * (rank + 1) / size;
-    PetscCall(PetscMalloc4(2 * nx * (r1 - r0) + 1, &x, 2 * nx * (r1 - r0) + 1, &u, nx * (r1 - r0) + 1, &rho, nx * (r1 - r0) + 1, &m));
-    for (PetscInt b = r0; b < r1; b++)
-      for (PetscInt a = 0; a < nx; a++) {
-        PetscReal p[2] = {w.lo[0] + (a + 0.5) * s->dx, w.lo[1] + (b + 0.5) * s->dx}, pr;
-        if (!FSWallsInLiquid(&w, p, 0.499 * s->dx)) continue;
-        pr            = s->rho0 * gmag * (yfill - p[1]);
-        x[2 * n]      = p[0];
-        x[2 * n + 1]  = p[1];
-        u[2 * n]      = 0;
-        u[2 * n + 1]  = 0;
-        rho[n]        = s->rho0 + pr / (s->c0 * s->c0);
-        m[n]          = rho[n] * s->dx * s->dx;
-        n++;
-      }
-  }
-  PetscCall(FSSolverSetWalls(s, &w));
-  PetscCall(FSSolverAddParticles(s, n, x, u, rho, m));
-  PetscCall(PetscFree4(x, u, rho, m));
+  PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
   PetscFunctionReturn(0);
 }
 
