@@ -48,6 +48,7 @@ static PetscErrorCode SetUp(FSSolver s)
   PetscFunctionBegin;
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, comm, db->L, db->H));
+  PetscCall(FSWallsCheck(&w, comm));
   PetscCall(FSCaseFillLiquid(s, &w, 0, db->a, 0, db->height, "the water column"));
   PetscFunctionReturn(0);
 }

@@ -4,7 +4,7 @@
 #include "liquid.h"
 
 /*
-   FSCaseFillLiquid - gives the solver its walls and a domain box around them (4h margin), and fills
+   FSCaseFillLiquid - gives the solver its walls (checked with FSWallsCheck) and a domain box around them (4h margin), and fills
    the liquid region of the walls inside [x0, x1] x [y0, ysurf] with particles on the lattice
    (i + 1/2) dx from (x0, y0), at least dx/2 from every wall, at rest with the hydrostatic density
    rho = rho0 + rho0 |g| (ysurf - y) / c0^2 and mass rho dx^2. The rows of the lattice are split
@@ -24,7 +24,6 @@ PetscErrorCode FSCaseFillLiquid(FSSolver s, FSWalls *w, PetscReal x0, PetscReal 
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCheck(nx >= 1 && ny >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fs_dx %g leaves no particle in the liquid region %g x %g", what, (double)s->dx, (double)(x1 - x0), (double)(ysurf - y0));
-  PetscCall(FSWallsCheck(w, comm));
   PetscCall(FSWallsDiscretize(w, s->dx)); /* for the distance of the particles to the walls */
   for (PetscInt d = 0; d < 2; d++) {
     lo[d] = w->lo[d] - 4 * s->h;

@@ -68,6 +68,7 @@ static PetscErrorCode SetUp(FSSolver s)
   if (rect) PetscCall(FSWallsRectangularTank(&w, comm, tk->L, tk->H));
   else if (baff) PetscCall(FSWallsBaffledTank(&w, comm, tk->ncomp, tk->Lc, tk->t, tk->H, tk->gap, tk->hb));
   else PetscCall(FSWallsLoad(&w, comm, tk->file));
+  PetscCall(FSWallsCheck(&w, comm)); /* sets the bounding box used below */
   PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
   PetscFunctionReturn(0);
 }
