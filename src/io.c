@@ -79,6 +79,7 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
   PetscCall(VecRestoreArrayRead(s->U, &u));
   PetscCall(VecDestroy(&F));
+  PetscCall(PetscMemzero(&P, sizeof(P)));
   P.dim    = dim;
   P.nowned = n;
   P.nghost = s->halo.nghost;

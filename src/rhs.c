@@ -178,6 +178,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     s->pressure[k] = s->c0 * s->c0 * (rk[2 * dim] - s->rho0) + s->background_pressure;
   }
 
+  PetscCall(PetscMemzero(&P, sizeof(P)));
   P.dim    = dim;
   P.nowned = n;
   P.nghost = s->halo.nghost;
