@@ -225,6 +225,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   s->steps_taken++;
   PetscCall(FSSolverCheckState(s));
   PetscCall(FSSolverUnpackState(s));
+  PetscCall(FSSolverWallsBounce(s));
   PetscCall(FSSolverMigrate(s, &changed));
   if (step % s->sort_interval == 0) PetscCall(FSSolverSortByCell(s));
   PetscCall(FSSolverResize(s, changed));

@@ -42,9 +42,13 @@ PetscErrorCode FSSolverWallsSetUp(FSSolver s)
   PetscCall(FSWallsCheck(w, comm));
   PetscCall(FSWallsDiscretize(w, s->dx));
   PetscCall(PetscCalloc1(w->nwalls, &wd->noslip));
+  wd->bounce_distance = 0.1;
+  wd->restitution     = 1.0;
   PetscCall(PetscCalloc2(6 * w->nwalls, &wd->load, 6 * w->nwalls, &wd->loadsum));
   PetscOptionsBegin(comm, NULL, "Walls (boundary integrals)", "FS");
   PetscCall(PetscOptionsStringArray("-fs_walls_noslip", "Walls with no-slip conditions, by name (the others are free-slip)", "FSSolverWallsSetUp", names, &nnames, NULL));
+  PetscCall(PetscOptionsReal("-fs_walls_bounce_distance", "Particles closer to a wall than this (in dx) and moving towards it bounce back (0: never)", "FSSolverWallsBounce", wd->bounce_distance, &wd->bounce_distance, NULL));
+  PetscCall(PetscOptionsReal("-fs_walls_bounce_restitution", "Fraction of the normal velocity kept by a bounce (1: elastic)", "FSSolverWallsBounce", wd->restitution, &wd->restitution, NULL));
   PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken", "FSSolverWallsSetUp", wd->loadpoint, &np, NULL));
   PetscOptionsEnd();
   for (PetscInt k = 0; k < nnames; k++) {
@@ -270,6 +274,57 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
   /* the ghosts' gamma, for the symmetric (dissipative) viscous terms */
   for (PetscInt g = 0; g < s->halo.nghost; g++) wd->gamma[n + g] = 1;
   PetscCall(FSHaloRefreshScalar(&s->halo, wd->gamma));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverWallsBounce - after each step, a particle closer to a wall than -fs_walls_bounce_distance
+   (in units of dx, 0.1 by default) and moving towards it is put back at that distance and its normal
+   velocity reversed, scaled by -fs_walls_bounce_restitution (1: elastic). The boundary integrals push
+   particles away from walls in proportion to the pressure, which vanishes at free surfaces and under
+   lids: this keeps such particles from crossing (the "elastic bounce" of AQUAgpusph's boundary
+   integrals). The count of bounces is kept for the summary.
+
+   Not collective
+*/
+PetscErrorCode FSSolverWallsBounce(FSSolver s)
+{
+  FSWallData *wd = s->wd;
+  FSWalls    *w;
+  PetscReal  *x, *v, dmin;
+  PetscInt    n;
+
+  PetscFunctionBegin;
+  if (!wd || wd->bounce_distance <= 0) PetscFunctionReturn(0);
+  w    = &wd->walls;
+  dmin = wd->bounce_distance * s->dx;
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  for (PetscInt i = 0; i < n; i++) {
+    PetscReal      *xi = &x[2 * i], *vi = &v[2 * i];
+    const PetscInt  cx = (PetscInt)((xi[0] - wd->glo[0]) / wd->gcell), cy = (PetscInt)((xi[1] - wd->glo[1]) / wd->gcell);
+    if (cx < 0 || cy < 0 || cx >= wd->gnc[0] || cy >= wd->gnc[1]) continue;
+    for (PetscInt b = PetscMax(cy - 1, 0); b <= PetscMin(cy + 1, wd->gnc[1] - 1); b++)
+      for (PetscInt a = PetscMax(cx - 1, 0); a <= PetscMin(cx + 1, wd->gnc[0] - 1); a++) {
+        const PetscInt c = a + wd->gnc[0] * b;
+        for (PetscInt q = wd->gstart[c]; q < wd->gstart[c + 1]; q++) {
+          const PetscReal *sg = &w->seg[wd->gseg[q] * FS_SEG_STRIDE];
+          const PetscReal  d  = (sg[0] - xi[0]) * sg[6] + (sg[1] - xi[1]) * sg[7]; /* distance to the segment's line, > 0 on the liquid side */
+          const PetscReal  t  = ((xi[0] - sg[0]) * (sg[2] - sg[0]) + (xi[1] - sg[1]) * (sg[3] - sg[1])) / (sg[8] * sg[8]);
+          const PetscReal  un = vi[0] * sg[6] + vi[1] * sg[7];
+          if (d < dmin && d > -dmin && t >= 0 && t <= 1 && un > 0) {
+            xi[0] -= (dmin - d) * sg[6];
+            xi[1] -= (dmin - d) * sg[7];
+            vi[0] -= (1 + wd->restitution) * un * sg[6];
+            vi[1] -= (1 + wd->restitution) * un * sg[7];
+            wd->nbounce++;
+          }
+        }
+      }
+  }
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscFunctionReturn(0);
 }
 

@@ -17,6 +17,8 @@ struct _n_FSWallData {
   PetscInt  *wstart, *wnbr, wcap, wscap;
   PetscReal *wW, *gamma;
   PetscInt   gcap;           /* capacity of gamma (owned and ghosts) */
+  PetscReal  bounce_distance, restitution; /* elastic bounce near walls (FSSolverWallsBounce) */
+  PetscInt64 nbounce;
   PetscReal *wp;             /* per segment: wall pressure interpolated from the liquid; then 2*nseg work */
   PetscReal *load;           /* nwalls * 6: force (3), moment (3): this rank's share of the last RHS */
   PetscReal *loadsum;        /* the same summed over the ranks (FSSolverWallsGetLoads) */
@@ -27,5 +29,6 @@ PETSC_INTERN PetscErrorCode FSSolverSetWalls(FSSolver, FSWalls *);
 PETSC_INTERN PetscErrorCode FSSolverWallsSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWallsUpdate(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWallsPrepare(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverWallsBounce(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWallsGetLoads(FSSolver, const PetscReal **);
 PETSC_INTERN PetscErrorCode FSSolverWallsDestroy(FSSolver);
