@@ -20,7 +20,6 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
 PETSC_EXTERN PetscErrorCode FSTermCreate_Continuity(FSTerm t)
 {
   PetscFunctionBegin;
-  t->renormalized = PETSC_TRUE; /* divided by gamma_i near walls */
   t->ops.interact = Interact;
   PetscFunctionReturn(0);
 }

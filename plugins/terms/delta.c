@@ -103,7 +103,6 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_Delta(FSTerm t)
   t->data                 = ctx;
   t->needs                = FS_NEED_DENSITY_GRADIENT | FS_NEED_STRAIN_RATE;
   t->has_power            = PETSC_TRUE;
-  t->renormalized         = PETSC_TRUE; /* divided by gamma_i near walls */
   t->ops.interact         = Interact;
   t->ops.prepare          = Prepare;
   t->ops.setfromoptions   = SetFromOptions;

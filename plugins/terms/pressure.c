@@ -4,6 +4,11 @@
    with the linear equation of state p = c0^2 (rho - rho0) + p_b (seed Eq. 2; p_b is -fs_background_pressure,
    0 by default). With walls the core divides it by gamma_i and term wall_pressure adds the boundary part
    (seed Eq. 14).
+   Renormalization near walls: the gradient (this term, wall_pressure) is divided by gamma_i, the
+   divergence of the continuity equation (continuity, delta, wall_continuity) is not. Dividing both
+   by gamma_i with the geometric gamma makes the scheme create energy under gravity: in a hydrostatic
+   tank the velocities grow to tenths of m/s within a second; with the divergence left as it is they
+   stay at about 0.03 sqrt(g H) (tests/python/test_walls.py).
 */
 #include <flexslosh.h>
 

@@ -81,7 +81,6 @@ static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb,
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm t)
 {
   PetscFunctionBegin;
-  t->renormalized = PETSC_TRUE;
   t->ops.interact = Continuity;
   PetscFunctionReturn(0);
 }

@@ -73,3 +73,25 @@ def test_bad_tank_options(tmp_path, args, expect):
     msg = petsc_error_message(proc.stdout)
     for e in expect:
         assert e in msg, msg
+
+
+def test_hydrostatic_tank_stays_quiet(tmp_path):
+    """Regression guard of the wall scheme (not yet the issue's validation): liquid at rest in a
+    0.201 m x 0.06 m tank, 3 cm deep, dx = 3 mm, delta-LES-SPH with boundary integrals, for
+    t sqrt(g/H) = 10. With both the gradient and the divergence divided by gamma the velocities grew
+    to 0.3 m/s; now they stay below 0.05 sqrt(gH) (the issue asks for a few 1e-3: not there yet)."""
+    from conftest import read_series
+
+    out = tmp_path / "hs"
+    run_flexslosh(["-fs_case", "tank", "-fs_tank_length", 0.201, "-fs_dx", 0.003, "-ts_max_time", 0.55,
+                   "-fs_output_interval", 0, "-fs_output_dir", out], cwd=tmp_path, timeout=300)
+    s = read_series(out)
+    H, g = 0.03, 9.81
+    assert s["time"][-1] == pytest.approx(0.55)
+    assert s["max_velocity"].max() < 0.05 * np.sqrt(g * H), s["max_velocity"].max()
+    assert np.abs(s["mass"] / s["mass"][0] - 1).max() < 1e-13
+    snap = last_snapshot(out)
+    x, p = snap["position"], snap["pressure"]
+    deep = x[:, 1] < 0.02
+    err = (p[deep] - 1000 * g * (H - x[deep, 1])) / (1000 * g * H)
+    assert abs(err.mean()) < 0.02, err.mean()
