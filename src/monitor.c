@@ -3,8 +3,10 @@
    particle snapshots at the output interval, checkpoints, the progress line and the summary.
 */
 #include "fsimpl.h"
+#include "walls/walldata.h"
 
-#define FS_MAX_COLUMNS (32 + FS_MAX_TERMS + FS_STRUCTURE_MAX_COLUMNS)
+#define FS_MAX_WALL_COLUMNS 16 /* walls whose loads go into the time series */
+#define FS_MAX_COLUMNS      (32 + FS_MAX_TERMS + FS_STRUCTURE_MAX_COLUMNS + 3 * FS_MAX_WALL_COLUMNS)
 
 /* Global diagnostics of the current state. vals: kinetic energy, mass, momentum (3), then max |u|. */
 static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscReal *umax)
@@ -65,6 +67,15 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
     PetscCall(VecRestoreArrayRead(s->U, &u));
   } else k += s->nglobaldofs - s->gdiss;
   if (s->caseops.analytic) PetscCall((*s->caseops.analytic)(s, t, &vals[k++]));
+  if (s->wd) { /* the liquid's loads on each wall, from the step's last right-hand side */
+    const PetscReal *L;
+    PetscCall(FSSolverWallsGetLoads(s, &L));
+    for (PetscInt w = 0; w < PetscMin(s->wd->walls.nwalls, FS_MAX_WALL_COLUMNS); w++) {
+      vals[k++] = L[6 * w];
+      vals[k++] = L[6 * w + 1];
+      vals[k++] = L[6 * w + 5];
+    }
+  }
   if (s->structure) { /* the structure's motion, loads and the model's own columns */
     const char *names[FS_MAX_COLUMNS];
     PetscInt    nc;
@@ -84,7 +95,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   const char *names[FS_MAX_COLUMNS];
-  char        namebuf[FS_MAX_TERMS][80], path[PETSC_MAX_PATH_LEN];
+  char        namebuf[FS_MAX_TERMS][80], wallbuf[3 * FS_MAX_WALL_COLUMNS][80], path[PETSC_MAX_PATH_LEN];
   PetscInt    k = 0, step;
   PetscReal   t;
   static const char *mom[] = {"momentum_x", "momentum_y", "momentum_z"};
@@ -119,6 +130,14 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
       names[k++] = namebuf[q++];
     }
   if (s->caseops.analytic) names[k++] = s->caseops.analytic_name;
+  if (s->wd) {
+    static const char *part[] = {"force_x", "force_y", "moment"};
+    for (PetscInt w = 0; w < PetscMin(s->wd->walls.nwalls, FS_MAX_WALL_COLUMNS); w++)
+      for (PetscInt c = 0; c < 3; c++) {
+        PetscCall(PetscSNPrintf(wallbuf[3 * w + c], sizeof(wallbuf[0]), "wall_%s_%s", s->wd->walls.name[w], part[c]));
+        names[k++] = wallbuf[3 * w + c];
+      }
+  }
   {
     PetscInt nc;
     PetscCall(FSSolverStructureColumns(s, &nc, &names[k]));

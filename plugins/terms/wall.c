@@ -8,9 +8,10 @@
    wall_continuity:  D rho_i/Dt += -rho_i sum_k (u_k - u_i) . n_k W_ik s_k
    wall_pressure:    D u_i/Dt   += -1/rho_i sum_k (p_i + p_k) n_k W_ik s_k, the wall pressure p_k
                      interpolated from the liquid near the segment (Shepard sum over all ranks with the
-                     hydrostatic correction rho_j g . (x_k - x_j)); the liquid's force on wall w:
-                     F_w = sum_i V_i/gamma_i sum_{k in w} (p_i + p_k) n_k W_ik s_k (seed Eq. 29), and its
-                     moment about -fs_walls_load_point.
+                     hydrostatic correction rho_j g . (x_k - x_j)). The liquid's pressure force on each
+                     wall is the integral of that wall pressure, F_w = sum_{k in w} p_k s_k n_k (the
+                     continuous form of seed Eq. 29, exact for a liquid at rest), computed by the core
+                     with the wall pressures, and its moment about -fs_walls_load_point.
    wall_viscosity:   on no-slip walls (-fs_walls_noslip), the wall shear stress from the one-sided
                      normal derivative (u_k - u_i)/d_ik, d_ik the distance from x_i to the segment's line:
                      D u_i/Dt += nu rho0/rho_i sum_k (u_k - u_i)/max(d_ik, dx/2) W_ik s_k;
@@ -34,20 +35,15 @@ static void Continuity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb
 static void Pressure(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
 {
   const PetscInt   dim = P->dim, i = nb->i;
-  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim], pi = P->pressure[i], Vg = P->vol[i] / P->gamma[i];
+  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim], pi = P->pressure[i];
   PetscReal        acc[2] = {0, 0};
   (void)t;
   for (PetscInt q = 0; q < nb->nw; q++) {
     const PetscInt   k  = nb->wk[q];
     const PetscReal *sg = &P->wseg[k * 9];
     const PetscReal  f  = (pi + P->wpressure[k]) * nb->wW[q] * sg[8];
-    PetscReal       *L  = &P->wallload[6 * P->wsegwall[k]];
     acc[0] += f * sg[6];
     acc[1] += f * sg[7];
-    /* the liquid's force on the wall (seed Eq. 29) and its moment about the load point */
-    L[0] += Vg * f * sg[6];
-    L[1] += Vg * f * sg[7];
-    L[5] += Vg * f * ((sg[4] - P->loadpoint[0]) * sg[7] - (sg[5] - P->loadpoint[1]) * sg[6]);
   }
   rate->du[0] -= acc[0] / rhoi;
   rate->du[1] -= acc[1] / rhoi;
@@ -57,7 +53,7 @@ static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb,
 {
   const PetscInt   dim = P->dim, i = nb->i;
   const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim];
-  const PetscReal  c = P->nu * P->rho0 / rhoi, Vg = P->vol[i] / P->gamma[i], dmin = 0.5 * P->dx;
+  const PetscReal  c = P->nu * P->rho0 / rhoi, Vi = P->vol[i], dmin = 0.5 * P->dx;
   PetscReal        acc[2] = {0, 0};
   (void)t;
   for (PetscInt q = 0; q < nb->nw; q++) {
@@ -70,9 +66,9 @@ static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb,
     acc[0] -= f * ri[dim];
     acc[1] -= f * ri[dim + 1];
     L    = &P->wallload[6 * P->wsegwall[k]];
-    L[0] += Vg * rhoi * f * ri[dim];
-    L[1] += Vg * rhoi * f * ri[dim + 1];
-    L[5] += Vg * rhoi * f * ((sg[4] - P->loadpoint[0]) * ri[dim + 1] - (sg[5] - P->loadpoint[1]) * ri[dim]);
+    L[0] += Vi * rhoi * f * ri[dim];
+    L[1] += Vi * rhoi * f * ri[dim + 1];
+    L[5] += Vi * rhoi * f * ((sg[4] - P->loadpoint[0]) * ri[dim + 1] - (sg[5] - P->loadpoint[1]) * ri[dim]);
   }
   rate->du[0] += acc[0];
   rate->du[1] += acc[1];

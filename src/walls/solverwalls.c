@@ -271,6 +271,20 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * w->nseg), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
     for (PetscInt k = 0; k < w->nseg; k++) wd->wp[k] = den[k] > 0 ? num[k] / den[k] : 0;
   }
+  /* the pressure loads on the walls, the integral of p_k n_k over the segments (rank 0's share: every
+     rank knows every wall pressure) */
+  {
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+    if (!rank)
+      for (PetscInt k = 0; k < w->nseg; k++) {
+        const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE], f = wd->wp[k] * sg[8];
+        PetscReal       *L  = &wd->load[6 * w->segwall[k]];
+        L[0] += f * sg[6];
+        L[1] += f * sg[7];
+        L[5] += f * ((sg[4] - wd->loadpoint[0]) * sg[7] - (sg[5] - wd->loadpoint[1]) * sg[6]);
+      }
+  }
   /* the ghosts' gamma, for the symmetric (dissipative) viscous terms */
   for (PetscInt g = 0; g < s->halo.nghost; g++) wd->gamma[n + g] = 1;
   PetscCall(FSHaloRefreshScalar(&s->halo, wd->gamma));

@@ -95,3 +95,9 @@ def test_hydrostatic_tank_stays_quiet(tmp_path):
     deep = x[:, 1] < 0.02
     err = (p[deep] - 1000 * g * (H - x[deep, 1])) / (1000 * g * H)
     assert abs(err.mean()) < 0.02, err.mean()
+    # the liquid's load on the tank: on average its weight, pointing down, with its moment about the origin
+    weight = s["mass"][0] * g
+    fy, fx, mz = s["wall_tank_force_y"][1:], s["wall_tank_force_x"][1:], s["wall_tank_moment"][1:]
+    assert -fy.mean() == pytest.approx(weight, rel=0.01)
+    assert abs(fx.mean()) < 1e-6 * weight
+    assert mz.mean() == pytest.approx(-weight * 0.201 / 2, rel=0.01)
