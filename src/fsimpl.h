@@ -70,7 +70,7 @@ typedef struct {
 
 PETSC_INTERN PetscErrorCode FSHaloBuild(FSHalo *, MPI_Comm, const FSDecomp *, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width);
 PETSC_INTERN PetscErrorCode FSHaloRefresh(FSHalo *, PetscInt dim, PetscInt nowned, PetscReal rec[]);
-PETSC_INTERN PetscErrorCode FSHaloRefreshAux(FSHalo *, PetscInt nowned, PetscReal aux[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshAux(FSHalo *, PetscReal aux[]);
 PETSC_INTERN PetscErrorCode FSHaloRefreshScalar(FSHalo *, PetscReal a[]);
 PETSC_INTERN PetscErrorCode FSHaloDestroy(FSHalo *);
 
@@ -231,6 +231,7 @@ PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverGetParticles(FSSolver, FSParticles *);
 PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool count);
 PETSC_INTERN PetscErrorCode FSTermCreate(FSSolver, const char name[], FSTerm *);
 PETSC_INTERN PetscErrorCode FSTermDestroy(FSTerm *);

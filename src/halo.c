@@ -207,10 +207,9 @@ PetscErrorCode FSHaloRefresh(FSHalo *hl, PetscInt dim, PetscInt nowned, PetscRea
 }
 
 /* FSHaloRefreshAux - copies the owners' derived quantities (density gradient, ||D||) to the ghosts. */
-PetscErrorCode FSHaloRefreshAux(FSHalo *hl, PetscInt nowned, PetscReal aux[])
+PetscErrorCode FSHaloRefreshAux(FSHalo *hl, PetscReal aux[])
 {
   PetscFunctionBegin;
-  (void)nowned;
   PetscCall(PetscSFBcastBegin(hl->sf, hl->auxtype, aux, aux, MPI_REPLACE));
   PetscCall(PetscSFBcastEnd(hl->sf, hl->auxtype, aux, aux, MPI_REPLACE));
   PetscFunctionReturn(0);

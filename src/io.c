@@ -3,6 +3,7 @@
    from a checkpoint, and the run summary. The file formats live in src/output/.
 */
 #include "fsimpl.h"
+#include "walls/walldata.h"
 #include <sys/resource.h>
 
 static PetscErrorCode FSSolverEnsureField(FSSolver s, PetscInt n)
@@ -70,7 +71,7 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
       vel[k * dim + d] = u[k * US + dim + d];
     }
     rho[k] = u[k * US + 2 * dim];
-    p[k]   = s->c0 * s->c0 * (rho[k] - s->rho0) + s->background_pressure;
+    p[k]   = s->pressure[k]; /* the equation of state, as the right-hand side just evaluated it */
     nD[k]  = s->terms.needs ? s->aux[k * A + dim] : 0;
     nut[k] = 0;
     rk[k]  = rank;
@@ -79,21 +80,7 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
   PetscCall(VecRestoreArrayRead(s->U, &u));
   PetscCall(VecDestroy(&F));
-  PetscCall(PetscMemzero(&P, sizeof(P)));
-  P.dim    = dim;
-  P.nowned = n;
-  P.nghost = s->halo.nghost;
-  P.stride = s->stride;
-  P.rec    = s->rec;
-  P.aux    = s->aux;
-  P.vol    = s->vol;
-  P.pressure = s->pressure;
-  P.rho0   = s->rho0;
-  P.c0     = s->c0;
-  P.h      = s->h;
-  P.nu     = s->nu;
-  P.dx     = s->dx;
-  P.umax   = s->umax;
+  PetscCall(FSSolverGetParticles(s, &P));
   for (PetscInt t2 = 0; t2 < s->terms.nterms && !has; t2++) {
     FSTerm term = s->terms.term[t2];
     if (term->ops.field) PetscCall((*term->ops.field)(term, "turbulent_viscosity", &P, nut, &has));
@@ -262,6 +249,11 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSJSONWriteReal(js, "peak_memory_bytes", memsum));
   PetscCall(FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->nglobal_particles, 1)));
   PetscCall(FSJSONWriteInt(js, "migrations", s->nmigrations));
+  if (s->wd) { /* particles bounced off walls (FSSolverWallsBounce): a measure of how hard the walls are pressed */
+    PetscInt64 nb = s->wd->nbounce;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nb, 1, MPIU_INT64, MPI_SUM, comm));
+    PetscCall(FSJSONWriteInt(js, "wall_bounces", nb));
+  }
   PetscCall(FSSolverStructureSummary(s, js));
   PetscCall(FSJSONBeginObject(js, "terms"));
   for (PetscInt k = 0; k < s->terms.nterms; k++) PetscCall(FSJSONWriteBool(js, s->terms.term[k]->name, PETSC_TRUE));

@@ -178,42 +178,13 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     s->pressure[k] = s->c0 * s->c0 * (rk[2 * dim] - s->rho0) + s->background_pressure;
   }
 
-  PetscCall(PetscMemzero(&P, sizeof(P)));
-  P.dim    = dim;
-  P.nowned = n;
-  P.nghost = s->halo.nghost;
-  P.stride = S;
-  P.rec    = s->rec;
-  P.aux    = s->aux;
-  P.vol    = s->vol;
-  P.pressure = s->pressure;
-  P.rho0   = s->rho0;
-  P.c0     = s->c0;
-  P.h      = s->h;
-  P.nu     = s->nu;
-  P.dx     = s->dx;
-  P.umax   = s->umax;
-  P.background_pressure = s->background_pressure;
-  P.nwalls   = 0;
-  P.gamma    = NULL;
-  P.wallload = NULL;
-  if (s->wd) {
-    PetscCall(FSSolverWallsPrepare(s));
-    P.nwalls   = s->wd->walls.nwalls;
-    P.gamma    = s->wd->gamma;
-    P.wseg     = s->wd->walls.seg;
-    P.wsegwall = s->wd->walls.segwall;
-    P.wpressure = s->wd->wp;
-    P.noslip   = s->wd->noslip;
-    P.wallload = s->wd->load;
-    for (PetscInt d = 0; d < 3; d++) P.loadpoint[d] = s->wd->loadpoint[d];
-  }
-  for (PetscInt d = 0; d < 3; d++) P.gravity[d] = s->gravity[d];
+  if (s->wd) PetscCall(FSSolverWallsPrepare(s));
+  PetscCall(FSSolverGetParticles(s, &P));
 
   if (s->terms.needs) {
     PetscCall(FSSolverFirstPass(s));
     PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
-    PetscCall(FSHaloRefreshAux(&s->halo, n, s->aux));
+    PetscCall(FSHaloRefreshAux(&s->halo, s->aux));
     PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
     if (count) s->pair_visits += s->nbrs.npairs;
   }
@@ -290,6 +261,43 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
       for (PetscInt k = 0; k < npower; k++) f[n * US + s->gdiss + k] = power[k];
   }
   PetscCall(PetscLogEventEnd(FS_RHS, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetParticles - the view of the particles and parameters the terms work on, pointing into
+   the solver's work arrays as the last right-hand side left them.
+*/
+PetscErrorCode FSSolverGetParticles(FSSolver s, FSParticles *P)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscMemzero(P, sizeof(*P)));
+  P->dim                 = s->dim;
+  P->nowned              = s->nowned;
+  P->nghost              = s->halo.nghost;
+  P->stride              = s->stride;
+  P->rec                 = s->rec;
+  P->aux                 = s->aux;
+  P->vol                 = s->vol;
+  P->pressure            = s->pressure;
+  P->rho0                = s->rho0;
+  P->c0                  = s->c0;
+  P->h                   = s->h;
+  P->nu                  = s->nu;
+  P->dx                  = s->dx;
+  P->umax                = s->umax;
+  P->background_pressure = s->background_pressure;
+  for (PetscInt d = 0; d < 3; d++) P->gravity[d] = s->gravity[d];
+  if (s->wd) {
+    P->nwalls    = s->wd->walls.nwalls;
+    P->gamma     = s->wd->gamma;
+    P->wseg      = s->wd->walls.seg;
+    P->wsegwall  = s->wd->walls.segwall;
+    P->wpressure = s->wd->wp;
+    P->noslip    = s->wd->noslip;
+    P->wallload  = s->wd->load;
+    for (PetscInt d = 0; d < 3; d++) P->loadpoint[d] = s->wd->loadpoint[d];
+  }
   PetscFunctionReturn(0);
 }
 

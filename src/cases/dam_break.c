@@ -33,7 +33,7 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCheck(db->L > db->a, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_tank_length %g must exceed the column width %g", (double)db->L, (double)db->a);
   PetscCheck(db->H >= db->height, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_tank_height %g must be at least the column height %g", (double)db->H, (double)db->height);
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 10 * PetscSqrtReal(2 * 9.81 * db->height), 1e-6, g));
-  PetscCall(PetscStrncpy(s->default_terms, "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity", sizeof(s->default_terms)));
+  PetscCall(PetscStrncpy(s->default_terms, FS_WALL_CASE_TERMS, sizeof(s->default_terms)));
   s->dx         = db->a / 40;
   s->final_time = 3.0 / PetscSqrtReal(2 * 9.81 / db->a);
   PetscFunctionReturn(0);

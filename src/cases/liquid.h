@@ -1,3 +1,6 @@
 #pragma once
 #include "../walls/walls.h"
+
+/* the default -fs_terms of the cases with walls: the seed's delta-LES-SPH with boundary integrals */
+#define FS_WALL_CASE_TERMS "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity"
 PETSC_INTERN PetscErrorCode FSCaseFillLiquid(FSSolver, FSWalls *, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf, const char what[]);

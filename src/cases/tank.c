@@ -48,7 +48,7 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCheck(tk->H > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_height %g must be positive", (double)tk->H);
   PetscCheck(tk->fill > 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_fill %g is outside the tank: expected a fraction in (0, 1] of the tank height", (double)tk->fill);
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 20.0, 1e-6, g));
-  PetscCall(PetscStrncpy(s->default_terms, "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity", sizeof(s->default_terms)));
+  PetscCall(PetscStrncpy(s->default_terms, FS_WALL_CASE_TERMS, sizeof(s->default_terms)));
   s->dx         = tk->H / 30;
   s->final_time = 1.0;
   PetscFunctionReturn(0);

@@ -345,15 +345,7 @@ PetscErrorCode FSWallsDiscretize(FSWalls *w, PetscReal dx)
 PetscReal FSWallsDistance(const FSWalls *w, const PetscReal x[])
 {
   PetscReal best = PETSC_MAX_REAL;
-  for (PetscInt k = 0; k < w->nseg; k++) {
-    const PetscReal *s = &w->seg[k * FS_SEG_STRIDE];
-    const PetscReal  tx = s[2] - s[0], ty = s[3] - s[1], L2 = tx * tx + ty * ty;
-    PetscReal        u = ((x[0] - s[0]) * tx + (x[1] - s[1]) * ty) / L2, px, py;
-    u    = PetscMax(0.0, PetscMin(1.0, u));
-    px   = s[0] + u * tx - x[0];
-    py   = s[1] + u * ty - x[1];
-    best = PetscMin(best, px * px + py * py);
-  }
+  for (PetscInt k = 0; k < w->nseg; k++) best = PetscMin(best, FSSegmentDistance2(&w->seg[k * FS_SEG_STRIDE], x));
   return PetscSqrtReal(best);
 }
 

@@ -88,17 +88,6 @@ PetscErrorCode FSSolverWallsSetUp(FSSolver s)
   PetscFunctionReturn(0);
 }
 
-/* squared distance from x to segment k */
-static inline PetscReal SegDist2(const PetscReal *s, const PetscReal x[])
-{
-  const PetscReal tx = s[2] - s[0], ty = s[3] - s[1];
-  PetscReal       u  = ((x[0] - s[0]) * tx + (x[1] - s[1]) * ty) / (tx * tx + ty * ty), px, py;
-  u  = PetscMax(0.0, PetscMin(1.0, u));
-  px = s[0] + u * tx - x[0];
-  py = s[1] + u * ty - x[1];
-  return px * px + py * py;
-}
-
 /* does the open segment a-b cross segment s (p0-p1)? */
 static inline PetscBool Crosses(const PetscReal a[], const PetscReal b[], const PetscReal *s)
 {
@@ -135,7 +124,6 @@ PetscErrorCode FSSolverWallsUpdate(FSSolver s)
     wd->scap = PetscMax(n + 1, (PetscInt)(1.25 * wd->scap));
     PetscCall(PetscMalloc2(wd->scap, &wd->cstart, wd->scap, &wd->wstart));
   }
-  wd->nnear = 0;
   for (PetscInt i = 0, wp = 0; i < n; i++) {
     const PetscReal *x = &s->rec[i * S];
     const PetscInt   os = nb->cstart[i], oe = nb->cstart[i + 1]; /* this particle's fluid candidates, before compaction */
@@ -146,7 +134,7 @@ PetscErrorCode FSSolverWallsUpdate(FSSolver s)
         const PetscInt c = a + wd->gnc[0] * b;
         for (PetscInt q = wd->gstart[c]; q < wd->gstart[c + 1]; q++) {
           const PetscInt k = wd->gseg[q];
-          if (SegDist2(&w->seg[k * FS_SEG_STRIDE], x) < R2) {
+          if (FSSegmentDistance2(&w->seg[k * FS_SEG_STRIDE], x) < R2) {
             if (nc == wd->ccap) {
               PetscInt *cand;
               wd->ccap = PetscMax(1024, 2 * wd->ccap);
@@ -161,12 +149,11 @@ PetscErrorCode FSSolverWallsUpdate(FSSolver s)
       }
     nb->cstart[i] = wp;
     if (nc > first) {
-      wd->nnear++;
       if (leak < 0 && !FSWallsInLiquid(w, x, 0)) {
         PetscReal best = PETSC_MAX_REAL;
         leak = i;
         for (PetscInt q = first; q < nc; q++) {
-          PetscReal d2 = SegDist2(&w->seg[wd->cand[q] * FS_SEG_STRIDE], x);
+          PetscReal d2 = FSSegmentDistance2(&w->seg[wd->cand[q] * FS_SEG_STRIDE], x);
           if (d2 < best) {
             best     = d2;
             leakwall = w->segwall[wd->cand[q]];

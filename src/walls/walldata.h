@@ -12,7 +12,6 @@ struct _n_FSWallData {
   PetscInt   gnc[2], *gstart, *gseg;
   /* per step: candidate segments of each owned particle (CSR) */
   PetscInt  *cstart, *cand, ccap, scap;
-  PetscInt   nnear;          /* owned particles with candidate segments */
   /* per right-hand side: facing segments within the support, with W at their midpoints */
   PetscInt  *wstart, *wnbr, wcap, wscap;
   PetscReal *wW, *gamma;

@@ -28,6 +28,17 @@ typedef struct {
 
 #define FS_SEG_STRIDE 9
 
+/* Squared distance from x to the segment seg (p0, p1 first). */
+static inline PetscReal FSSegmentDistance2(const PetscReal seg[], const PetscReal x[])
+{
+  const PetscReal tx = seg[2] - seg[0], ty = seg[3] - seg[1];
+  PetscReal       u  = ((x[0] - seg[0]) * tx + (x[1] - seg[1]) * ty) / (tx * tx + ty * ty), px, py;
+  u  = PetscMax(0.0, PetscMin(1.0, u));
+  px = seg[0] + u * tx - x[0];
+  py = seg[1] + u * ty - x[1];
+  return px * px + py * py;
+}
+
 PETSC_INTERN PetscErrorCode FSWallsCreate(FSWalls *);
 PETSC_INTERN PetscErrorCode FSWallsDestroy(FSWalls *);
 PETSC_INTERN PetscErrorCode FSWallsAddPolygon(FSWalls *, MPI_Comm, const char name[], PetscInt n, const PetscReal xy[], const char where[]);
