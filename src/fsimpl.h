@@ -12,6 +12,21 @@
 #include "output/fsoutput.h"
 
 #define FS_MAX_TERMS 32
+
+/* A registration table (src/registry.c): creation routines by name, with descriptions. */
+typedef struct _n_FSRegistryEntry {
+  char                       name[64], description[256];
+  struct _n_FSRegistryEntry *next;
+} FSRegistryEntry;
+typedef struct {
+  PetscFunctionList list;
+  FSRegistryEntry  *first; /* registration order */
+} FSRegistry;
+
+PETSC_INTERN PetscErrorCode FSRegistryAdd(FSRegistry *, const char[], const char[], void (*)(void));
+PETSC_INTERN PetscErrorCode FSRegistryFind(FSRegistry *, const char[], void (**)(void));
+PETSC_INTERN PetscErrorCode FSRegistryView(FSRegistry *, PetscViewer, const char[], const char[]);
+PETSC_INTERN PetscErrorCode FSRegistryNames(FSRegistry *, char[], size_t);
 #define FS_MAX_GLOBAL 64
 
 /* Wendland C2 kernel with support 2h, dimension 2 or 3. */

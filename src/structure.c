@@ -12,13 +12,7 @@
 */
 #include "fsimpl.h"
 
-static PetscFunctionList FSStructureList = NULL;
-
-typedef struct _n_FSStructureInfo {
-  char                           name[64], description[256];
-  struct _n_FSStructureInfo     *next;
-} FSStructureInfo;
-static FSStructureInfo *FSStructureInfos = NULL;
+static FSRegistry FSStructures; /* src/registry.c */
 
 /*
    FSStructureRegister - adds a structure model to the registry.
@@ -35,39 +29,17 @@ static FSStructureInfo *FSStructureInfos = NULL;
 */
 PetscErrorCode FSStructureRegister(const char name[], const char description[], FSStructureCreateFn create)
 {
-  FSStructureInfo *info;
-
   PetscFunctionBegin;
   PetscCheck(strcmp(name, "none"), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "The structure name \"none\" is reserved (no structure)");
-  PetscCall(PetscFunctionListAdd(&FSStructureList, name, create));
-  for (info = FSStructureInfos; info; info = info->next)
-    if (!strcmp(info->name, name)) break;
-  if (!info) {
-    /* plain calloc: this registry lives until the program ends, beyond PetscFinalize */
-    info = (FSStructureInfo *)calloc(1, sizeof(*info));
-    PetscCheck(info, PETSC_COMM_SELF, PETSC_ERR_MEM, "Out of memory registering structure %s", name);
-    info->next       = FSStructureInfos;
-    FSStructureInfos = info;
-  }
-  PetscCall(PetscStrncpy(info->name, name, sizeof(info->name)));
-  PetscCall(PetscStrncpy(info->description, description ? description : "", sizeof(info->description)));
+  PetscCall(FSRegistryAdd(&FSStructures, name, description, (void (*)(void))create));
   PetscFunctionReturn(0);
 }
 
 /* FSStructureListView - prints every registered structure model with its description (-fs_structure_view). */
 PetscErrorCode FSStructureListView(PetscViewer viewer)
 {
-  PetscInt         n = 0;
-  FSStructureInfo *info;
-
   PetscFunctionBegin;
-  for (info = FSStructureInfos; info; info = info->next) n++;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Registered structure models (%" PetscInt_FMT "), select with -fs_structure name (or none):\n", n));
-  for (PetscInt k = n - 1; k >= 0; k--) { /* registration order: the list is stored newest first */
-    PetscInt m = 0;
-    for (info = FSStructureInfos; info && m < k; info = info->next) m++;
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  %-16s %s\n", info->name, info->description));
-  }
+  PetscCall(FSRegistryView(&FSStructures, viewer, "structure models", "select with -fs_structure name (or none)"));
   PetscFunctionReturn(0);
 }
 
@@ -75,7 +47,7 @@ PetscErrorCode FSStructureFind(const char name[], FSStructureCreateFn *create)
 {
   PetscFunctionBegin;
   PetscCall(FSStructureRegisterAll());
-  PetscCall(PetscFunctionListFind(FSStructureList, name, create));
+  PetscCall(FSRegistryFind(&FSStructures, name, (void (**)(void))create));
   PetscFunctionReturn(0);
 }
 
@@ -93,11 +65,8 @@ PetscErrorCode FSStructureCreate(FSSolver s, const char name[], FSStructure *st)
   PetscFunctionBegin;
   PetscCall(FSStructureFind(name, &create));
   if (!create) {
-    char known[2048] = "";
-    for (FSStructureInfo *info = FSStructureInfos; info; info = info->next) {
-      PetscCall(PetscStrlcat(known, " ", sizeof(known)));
-      PetscCall(PetscStrlcat(known, info->name, sizeof(known)));
-    }
+    char known[2048];
+    PetscCall(FSRegistryNames(&FSStructures, known, sizeof(known)));
     SETERRQ(comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown structure \"%s\" given to -fs_structure: the registered models are none%s (load plug-ins with -dll_append, list with -fs_structure_view)", name, known);
   }
   PetscCall(PetscNew(&t));
@@ -145,7 +114,7 @@ PetscErrorCode FSStructureAddColumn(FSStructure st, const char name[])
 PetscErrorCode FSStructureHelpAll(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
   PetscFunctionBegin;
-  for (FSStructureInfo *info = FSStructureInfos; info; info = info->next) {
+  for (FSRegistryEntry *info = FSStructures.first; info; info = info->next) {
     FSStructure st;
     if (s->structure && !strcmp(s->structure->name, info->name)) continue;
     PetscCall(FSStructureCreate(s, info->name, &st));

@@ -1,18 +1,11 @@
 /*
-   The registry of physics terms (as TSRegister does for TS types). Built-in terms register in
-   FSTermRegisterAll; plug-ins call FSTermRegister from their PetscDLLibraryRegister_<name>()
-   entry point, which runs inside PetscInitialize: the list is therefore created lazily and
-   never reset while the program runs.
+   The registry of physics terms (as TSRegister does for TS types; the table is src/registry.c).
+   Built-in terms register in FSTermRegisterAll; plug-ins call FSTermRegister from their
+   PetscDLLibraryRegister_<name>() entry point.
 */
 #include "fsimpl.h"
 
-static PetscFunctionList FSTermList = NULL;
-
-typedef struct _n_FSTermInfo {
-  char                   name[64], description[256];
-  struct _n_FSTermInfo  *next;
-} FSTermInfo;
-static FSTermInfo *FSTermInfos = NULL;
+static FSRegistry FSTerms; /* src/registry.c */
 
 /*
    FSTermRegister - adds a physics term to the registry.
@@ -29,39 +22,16 @@ static FSTermInfo *FSTermInfos = NULL;
 */
 PetscErrorCode FSTermRegister(const char name[], const char description[], FSTermCreateFn create)
 {
-  FSTermInfo *info;
-
   PetscFunctionBegin;
-  PetscCall(PetscFunctionListAdd(&FSTermList, name, create));
-  for (info = FSTermInfos; info; info = info->next)
-    if (!strcmp(info->name, name)) break;
-  if (!info) {
-    /* plain calloc: this registry lives until the program ends, beyond PetscFinalize */
-    info = (FSTermInfo *)calloc(1, sizeof(*info));
-    PetscCheck(info, PETSC_COMM_SELF, PETSC_ERR_MEM, "Out of memory registering term %s", name);
-    info->next  = FSTermInfos;
-    FSTermInfos = info;
-  }
-  PetscCall(PetscStrncpy(info->name, name, sizeof(info->name)));
-  PetscCall(PetscStrncpy(info->description, description ? description : "", sizeof(info->description)));
+  PetscCall(FSRegistryAdd(&FSTerms, name, description, (void (*)(void))create));
   PetscFunctionReturn(0);
 }
 
 /* FSTermListView - prints every registered term with its description. */
 PetscErrorCode FSTermListView(PetscViewer viewer)
 {
-  PetscInt n = 0;
-  FSTermInfo *info;
-
   PetscFunctionBegin;
-  for (info = FSTermInfos; info; info = info->next) n++;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Registered physics terms (%" PetscInt_FMT "), select with -fs_terms name1,name2,...:\n", n));
-  /* print in registration order: the list is stored newest first */
-  for (PetscInt k = n - 1; k >= 0; k--) {
-    PetscInt m = 0;
-    for (info = FSTermInfos; info && m < k; info = info->next) m++;
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  %-16s %s\n", info->name, info->description));
-  }
+  PetscCall(FSRegistryView(&FSTerms, viewer, "physics terms", "select with -fs_terms name1,name2,..."));
   PetscFunctionReturn(0);
 }
 
@@ -76,14 +46,10 @@ PetscErrorCode FSTermCreate(FSSolver s, const char name[], FSTerm *term)
   FSTerm         t;
 
   PetscFunctionBegin;
-  PetscCall(PetscFunctionListFind(FSTermList, name, &create));
+  PetscCall(FSRegistryFind(&FSTerms, name, (void (**)(void)) & create));
   if (!create) {
-    char        known[2048] = "";
-    FSTermInfo *info;
-    for (info = FSTermInfos; info; info = info->next) {
-      PetscCall(PetscStrlcat(known, " ", sizeof(known)));
-      PetscCall(PetscStrlcat(known, info->name, sizeof(known)));
-    }
+    char known[2048];
+    PetscCall(FSRegistryNames(&FSTerms, known, sizeof(known)));
     SETERRQ(PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown physics term \"%s\" in -fs_terms: the registered terms are%s (load plug-ins with -dll_append, list with -fs_terms_view)", name, known);
   }
   PetscCall(PetscNew(&t));
@@ -118,7 +84,7 @@ PetscErrorCode FSTermGetSolver(FSTerm t, FSSolver *s)
 PetscErrorCode FSTermHelpAll(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
   PetscFunctionBegin;
-  for (FSTermInfo *info = FSTermInfos; info; info = info->next) {
+  for (FSRegistryEntry *info = FSTerms.first; info; info = info->next) {
     PetscBool selected = PETSC_FALSE;
     FSTerm    t;
     for (PetscInt k = 0; k < s->terms.nterms; k++)
