@@ -149,7 +149,8 @@ struct _p_FSSolver {
   char      restart[PETSC_MAX_PATH_LEN];
   PetscInt  dim;
   PetscReal dx, h_over_dx, h, rho0, c0, nu, gravity[3], background_pressure;
-  PetscReal cfl, cfl_visc, cfl_force;
+  PetscReal cfl, cfl_visc, cfl_force, relax_time;
+  PetscBool cfl_set; /* -fs_cfl given (else chosen by integrator) */
   PetscReal halo_skin;        /* extra halo width, in units of h */
   PetscReal max_density_variation;
   PetscReal output_interval;

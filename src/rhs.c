@@ -243,6 +243,11 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     f[i * US + 2 * dim] = rate.drho;
   }
   PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
+  if (s->rhs_time < s->relax_time) { /* start-up relaxation: du/dt -= zeta(t) u, zeta fading smoothly to 0 */
+    const PetscReal zeta = 10.0 / s->relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->rhs_time / s->relax_time));
+    for (PetscInt i = 0; i < n; i++)
+      for (PetscInt d = 0; d < dim; d++) f[i * US + dim + d] -= zeta * s->rec[i * S + dim + d];
+  }
   if (count) {
     s->pair_visits += s->nbrs.npairs;
     s->nrhs++;

@@ -37,6 +37,49 @@ static PetscReal IntegratePhi(PetscReal h, PetscReal d, PetscReal a, PetscReal b
   return sum * half;
 }
 
+/* Wendland C2 in 2-D, W(r) = 7/(4 pi h^2) (1 - q/2)^4 (2q + 1), q = r/h <= 2 */
+static inline PetscReal Wendland(PetscReal h, PetscReal r)
+{
+  const PetscReal q = r / h, a = 1 - 0.5 * q;
+  return q >= 2 ? 0 : 7.0 / (4.0 * PETSC_PI * h * h) * a * a * a * a * (2 * q + 1);
+}
+
+/* int_{a}^{b} W(sqrt(d^2 + s^2)) ds by 8-point Gauss-Legendre (a, b on one side of 0, within the support) */
+static PetscReal IntegrateW(PetscReal h, PetscReal d, PetscReal a, PetscReal b)
+{
+  PetscReal sum = 0, mid = 0.5 * (a + b), half = 0.5 * (b - a);
+  if (half <= 0) return 0;
+  for (PetscInt g = 0; g < 8; g++) {
+    const PetscReal s = mid + half * GaussX[g];
+    sum += GaussW[g] * Wendland(h, PetscSqrtReal(d * d + s * s));
+  }
+  return sum * half;
+}
+
+/*
+   FSKernelSegmentIntegral - int_k W(|y - x|) dS over the part of segment k within the support of x,
+   for a segment that faces x (0 otherwise). The boundary terms' kernel weight: with it the wall
+   part of grad gamma, -sum_k n_k int_k W dS, is the exact gradient of the geometric gamma, so the
+   wall terms balance the particle sums the way gamma does (a midpoint rule W(x_k) s_k would not).
+*/
+PetscReal FSKernelSegmentIntegral(PetscReal h, const PetscReal x[], const PetscReal seg[])
+{
+  const PetscReal *p0 = seg, *p1 = seg + 2, *n = seg + 6, len = seg[8];
+  const PetscReal  t[2] = {(p1[0] - p0[0]) / len, (p1[1] - p0[1]) / len};
+  const PetscReal  d    = (p0[0] - x[0]) * n[0] + (p0[1] - x[1]) * n[1];
+  const PetscReal  s0   = (x[0] - p0[0]) * t[0] + (x[1] - p0[1]) * t[1];
+  const PetscReal  R    = 2 * h;
+  PetscReal        a, b, half;
+
+  if (d <= 0 || d >= R) return 0;
+  half = PetscSqrtReal(R * R - d * d);
+  a    = PetscMax(0.0, s0 - half) - s0;
+  b    = PetscMin(len, s0 + half) - s0;
+  if (b <= a) return 0;
+  if (a < 0 && b > 0) return IntegrateW(h, d, a, 0) + IntegrateW(h, d, 0, b);
+  return IntegrateW(h, d, a, b);
+}
+
 /*
    FSShepardSegment - the contribution gamma_k of one segment to gamma(x) - 1 (zero if the segment
    does not face x or lies beyond the support 2h).
@@ -64,27 +107,20 @@ PetscReal FSShepardSegment(PetscReal h, const PetscReal x[], const PetscReal seg
 }
 
 /*
-   FSWallsShepard - gamma(x) and grad gamma(x) = -sum_k W(|y_k - x|) n_k s_k (midpoint rule per
-   segment) from all segments (a reference implementation for tests and set-up; the solver uses
-   its per-particle lists of nearby segments).
+   FSWallsShepard - gamma(x) and grad gamma(x) = -sum_k n_k int_k W dS from all segments (a reference
+   implementation for tests and set-up; the solver uses its per-particle lists of nearby segments).
 */
 PetscErrorCode FSWallsShepard(const FSWalls *w, PetscReal h, const PetscReal x[], PetscReal *gamma, PetscReal grad[])
 {
-  const PetscReal wnorm = 7.0 / (4.0 * PETSC_PI * h * h);
-
   PetscFunctionBegin;
   *gamma  = 1;
   grad[0] = grad[1] = 0;
   for (PetscInt k = 0; k < w->nseg; k++) {
     const PetscReal *seg = &w->seg[k * FS_SEG_STRIDE];
-    const PetscReal  dxm = seg[4] - x[0], dym = seg[5] - x[1], r = PetscSqrtReal(dxm * dxm + dym * dym);
-    const PetscReal  d   = (seg[0] - x[0]) * seg[6] + (seg[1] - x[1]) * seg[7];
+    const PetscReal  wi  = FSKernelSegmentIntegral(h, x, seg);
     *gamma += FSShepardSegment(h, x, seg);
-    if (d > 0 && r < 2 * h) {
-      const PetscReal q = r / h, a = 1 - 0.5 * q, W = wnorm * a * a * a * a * (2 * q + 1);
-      grad[0] -= W * seg[6] * seg[8];
-      grad[1] -= W * seg[7] * seg[8];
-    }
+    grad[0] -= wi * seg[6];
+    grad[1] -= wi * seg[7];
   }
   PetscFunctionReturn(0);
 }

@@ -194,14 +194,14 @@ PetscErrorCode FSSolverWallsUpdate(FSSolver s)
 
 /*
    FSSolverWallsPrepare - at every right-hand side: gamma_i of every owned particle near a wall (1
-   elsewhere) and its facing segments within the support with W at their midpoints.
+   elsewhere) and its facing segments within the support with their mean kernel values (int_k W dS / s_k).
 */
 PetscErrorCode FSSolverWallsPrepare(FSSolver s)
 {
   FSWallData     *wd = s->wd;
   FSWalls        *w;
   const PetscInt  S = s->stride, n = s->nowned;
-  const PetscReal R2 = s->kernel.support2, h = s->h;
+  const PetscReal h = s->h;
   PetscInt        nw = 0;
 
   PetscFunctionBegin;
@@ -225,12 +225,13 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
       const PetscInt   k  = wd->cand[q];
       const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
       const PetscReal  d  = (sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7];
-      const PetscReal  mx = sg[4] - x[0], my = sg[5] - x[1], r2 = mx * mx + my * my;
+      PetscReal        wi;
       if (d <= 0) continue; /* faces away: hidden */
       g += FSShepardSegment(h, x, sg);
-      if (r2 < R2) {
+      wi = FSKernelSegmentIntegral(h, x, sg);
+      if (wi > 0) {
         wd->wnbr[nw] = k;
-        wd->wW[nw]   = FSKernelW(&s->kernel, PetscSqrtReal(r2));
+        wd->wW[nw]   = wi / sg[8]; /* the segment's mean kernel value: wW s_k = int_k W dS */
         nw++;
       }
     }
