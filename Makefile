@@ -40,6 +40,7 @@ test: build
 bench: build
 	$(BUILD)/bench_terms -fs_dx 0.005 -reps 20
 	$(PYTHON) bench/bench_taylor_green.py
+	$(PYTHON) bench/bench_dam_break.py
 
 clean:
 	rm -rf $(BUILD)

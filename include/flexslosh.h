@@ -119,6 +119,7 @@ struct _p_FSTerm {
   FSTermOps  ops;
   PetscInt   needs;      /* FSNeed flags */
   PetscBool  renormalized; /* the core divides the term's rates by the Shepard factor gamma_i (boundary integrals) */
+  PetscBool  wall;       /* acts through the wall segments only (nb->nw, nb->wk, nb->wW): evaluated in the wall pass, over the particles near walls */
   PetscBool  has_power;  /* the term dissipates: it accumulates power */
   PetscReal  power;      /* dissipation power of the last right-hand side, this rank's share (seed Eq. 38) */
   PetscReal  max_viscosity; /* largest kinematic viscosity the term applies (time-step limit), set in prepare */

@@ -266,7 +266,7 @@ PETSC_INTERN PetscErrorCode FSSolverStructureSummary(FSSolver, FSJSON);
 
 /* log events */
 PETSC_EXTERN PetscLogEvent FS_Structure;
-PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_Migrate, FS_Output, FS_RHS;
+PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls, FS_Migrate, FS_Output, FS_RHS;
 
 /* field names in the swarm */
 #define FS_FIELD_POSITION "position"

@@ -78,6 +78,8 @@ PetscErrorCode FSInitializePackage(void)
   PetscCall(PetscLogEventRegister("FSHalo", FSSOLVER_CLASSID, &FS_Halo));
   PetscCall(PetscLogEventRegister("FSFirstPass", FSSOLVER_CLASSID, &FS_FirstPass));
   PetscCall(PetscLogEventRegister("FSPairPass", FSSOLVER_CLASSID, &FS_PairPass));
+  PetscCall(PetscLogEventRegister("FSWallPass", FSSOLVER_CLASSID, &FS_WallPass));
+  PetscCall(PetscLogEventRegister("FSWalls", FSSOLVER_CLASSID, &FS_Walls));
   PetscCall(PetscLogEventRegister("FSMigrate", FSSOLVER_CLASSID, &FS_Migrate));
   PetscCall(PetscLogEventRegister("FSOutput", FSSOLVER_CLASSID, &FS_Output));
   PetscCall(PetscLogEventRegister("FSStructure", FSSOLVER_CLASSID, &FS_Structure));

@@ -9,7 +9,7 @@
 #include "walls/walldata.h"
 
 PetscLogEvent FS_Structure;
-PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_Migrate, FS_Output, FS_RHS;
+PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls, FS_Migrate, FS_Output, FS_RHS;
 
 /* Fills the neighbourhood scratch of particle i: x_j - x_i, r^2, grad_i W. Returns the count. */
 static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
@@ -136,6 +136,44 @@ static PetscErrorCode FSSolverFirstPass(FSSolver s)
 }
 
 /*
+   FSSolverWallPass - the terms that act through the wall segments (boundary integrals), over the
+   owned particles that have segments within their support, added to the rates f of the pair pass;
+   the renormalized ones divided by gamma_i.
+*/
+static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscReal *f)
+{
+  const PetscInt dim = s->dim, US = s->ustride, n = s->nowned;
+  FSWallData    *wd  = s->wd;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_WallPass, 0, 0, 0, 0));
+  for (PetscInt i = 0; i < n; i++) {
+    FSNeighbourhood nb;
+    FSRate          rn = {0, {0, 0, 0}, {0, 0, 0}}, ru = {0, {0, 0, 0}, {0, 0, 0}};
+    PetscReal       ig;
+    if (wd->wstart[i + 1] == wd->wstart[i]) continue;
+    PetscCall(PetscMemzero(&nb, sizeof(nb)));
+    nb.i  = i;
+    nb.nw = wd->wstart[i + 1] - wd->wstart[i];
+    nb.wk = wd->wnbr + wd->wstart[i];
+    nb.wW = wd->wW + wd->wstart[i];
+    for (PetscInt t = 0; t < s->terms.nterms; t++) {
+      FSTerm term = s->terms.term[t];
+      if (!term->wall || !term->ops.interact) continue;
+      term->ops.interact(term, P, &nb, term->renormalized ? &rn : &ru);
+    }
+    ig = 1.0 / wd->gamma[i];
+    for (PetscInt d = 0; d < dim; d++) {
+      f[i * US + d] += rn.dx[d] * ig + ru.dx[d];
+      f[i * US + dim + d] += rn.du[d] * ig + ru.du[d];
+    }
+    f[i * US + 2 * dim] += rn.drho * ig + ru.drho;
+  }
+  PetscCall(PetscLogEventEnd(FS_WallPass, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverEvaluateRates - the rates (dx/dt, du/dt, drho/dt) of the owned particles for the packed
    state u, into f (same layout); the global DOFs' rates (the structure's, at time s->rhs_time,
    and the dissipated energies) on rank 0.
@@ -178,7 +216,11 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     s->pressure[k] = s->c0 * s->c0 * (rk[2 * dim] - s->rho0) + s->background_pressure;
   }
 
-  if (s->wd) PetscCall(FSSolverWallsPrepare(s));
+  if (s->wd) {
+    PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
+    PetscCall(FSSolverWallsPrepare(s));
+    PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
+  }
   PetscCall(FSSolverGetParticles(s, &P));
 
   if (s->terms.needs) {
@@ -210,15 +252,12 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     nb.rinv2 = ri2;
     nb.gradW = gw;
     nb.nw    = 0;
-    if (s->wd) {
-      nb.nw = s->wd->wstart[i + 1] - s->wd->wstart[i];
-      nb.wk = s->wd->wnbr + s->wd->wstart[i];
-      nb.wW = s->wd->wW + s->wd->wstart[i];
-    }
+    nb.wk    = NULL;
+    nb.wW    = NULL;
     /* renormalized terms (boundary integrals) first: their sum is divided by gamma_i */
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
-      if (!term->renormalized) continue;
+      if (!term->renormalized || term->wall) continue;
       if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
       if (term->ops.source) term->ops.source(term, &P, i, &rate);
     }
@@ -232,7 +271,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     }
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
-      if (term->renormalized) continue;
+      if (term->renormalized || term->wall) continue;
       if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
       if (term->ops.source) term->ops.source(term, &P, i, &rate);
     }
@@ -243,6 +282,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     f[i * US + 2 * dim] = rate.drho;
   }
   PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
+  if (s->wd) PetscCall(FSSolverWallPass(s, &P, f));
   if (s->rhs_time < s->relax_time) { /* start-up relaxation: du/dt -= zeta(t) u, zeta fading smoothly to 0 */
     const PetscReal zeta = 10.0 / s->relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->rhs_time / s->relax_time));
     for (PetscInt i = 0; i < n; i++)

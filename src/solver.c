@@ -85,7 +85,7 @@ PetscErrorCode FSSolverSetDefaultPhysics(FSSolver s, PetscReal rho0, PetscReal c
 .  -fs_structure <none|msd|modal>  - the structure carrying the tank (-fs_structure_view lists the models)
 .  -fs_structure_cfl <0.02>        - without particles: time step as a fraction of the shortest period the structure resolves (or -ts_dt)
 .  -fs_cfl, -fs_cfl_viscous, -fs_cfl_force - time-step limits: CFL h/(c0+|u|max), CFL_v h^2/nu, CFL_f sqrt(h/|g|)
-                                     (CFL 0.4; the wall cases use 1.5 with the default RK4)
+                                     (CFL 0.4; the wall cases use 1.0 with the default RK4)
 .  -fs_relax_time <0>              - start-up relaxation: the velocities are damped until this time
 .  -fs_output_dir <dir>            - output directory (default output/<case>)
 .  -fs_output_interval <t>         - simulated time between particle snapshots (0: first and last only)
@@ -143,7 +143,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscCall(PetscOptionsBool("-fs_structure_view", "List the registered structure models", "FSStructureListView", s->structure_view, &s->structure_view, NULL));
   PetscCall(PetscOptionsReal("-fs_structure_cfl", "Without particles: time step as a fraction of the shortest period the structure resolves (-ts_dt overrides)", "FSSolverStructureDt", s->structure_cfl, &s->structure_cfl, NULL));
   PetscCheck(s->structure_cfl > 0 && s->structure_cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_structure_cfl %g is out of range: expected (0, 1]", (double)s->structure_cfl);
-  PetscCall(PetscOptionsReal("-fs_cfl", "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.5 with RK4)", "FSSolverComputeStableDt", s->cfl, &s->cfl, &s->cfl_set));
+  PetscCall(PetscOptionsReal("-fs_cfl", "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)", "FSSolverComputeStableDt", s->cfl, &s->cfl, &s->cfl_set));
   PetscCheck(!s->cfl_set || (s->cfl > 0 && s->cfl <= 2), comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl %g is out of range: expected (0, 2]", (double)s->cfl);
   PetscCall(PetscOptionsReal("-fs_relax_time", "Start-up relaxation: damp the particle velocities until this time (0: none)", "FSSolverEvaluateRates", s->relax_time, &s->relax_time, NULL));
   PetscCheck(s->relax_time >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_relax_time %g must be non-negative", (double)s->relax_time);

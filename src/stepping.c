@@ -82,7 +82,9 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
   PetscCall(FSNeighboursBuildCells(&s->nbrs, s->dim, s->nowned + s->halo.nghost, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
   PetscCall(FSNeighboursBuildCandidates(&s->nbrs, s->nowned, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
+  PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
   PetscCall(FSSolverWallsUpdate(s));
+  PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
   PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
   if (s->ts) PetscCall(TSRestartStep(s->ts));
   PetscFunctionReturn(0);
@@ -121,6 +123,7 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
   s->umax = PetscSqrtReal(loc[0]);
   *dt     = s->cfl * s->h / (s->c0 + s->umax);
   if (loc[1] > 0) *dt = PetscMin(*dt, s->cfl_visc * s->h * s->h / loc[1]);
+  if (s->umax > 0) *dt = PetscMin(*dt, 0.4 * s->halo_skin * s->h / s->umax); /* no particle outruns its candidate lists */
   for (PetscInt d = 0; d < dim; d++) g2 += s->gravity[d] * s->gravity[d];
   if (g2 > 0) *dt = PetscMin(*dt, s->cfl_force * PetscSqrtReal(s->h / PetscSqrtReal(g2)));
   if (s->structure && s->structure->min_period > 0) *dt = PetscMin(*dt, s->structure_cfl * s->structure->min_period);

@@ -16,6 +16,11 @@
                      normal derivative (u_k - u_i)/d_ik, d_ik the distance from x_i to the segment's line:
                      D u_i/Dt += nu rho0/rho_i sum_k (u_k - u_i)/max(d_ik, dx/2) W_ik s_k;
                      free-slip walls carry no shear (the term adds nothing there).
+   Their powers, the rates of change of the liquid's kinetic (m_i u_i . D u_i/Dt, with the core's
+   1/gamma_i) and compressibility (V_i p_i/rho_i D rho_i/Dt) energies through the walls, make the
+   wall power P_s of the energy budget (seed Eq. 39): the sum of the dissipated_wall_* columns.
+   The wall pressure term does no net work on a liquid at rest; it exchanges energy with the fluid
+   pressure term where gamma < 1.
 */
 #include <flexslosh.h>
 
@@ -30,6 +35,7 @@ static void Continuity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb
     sum += (ri[dim] * sg[6] + ri[dim + 1] * sg[7]) * nb->wW[q] * sg[8];
   }
   rate->drho += ri[2 * dim] * sum;
+  t->power += P->vol[nb->i] * P->pressure[nb->i] * sum;
 }
 
 static void Pressure(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
@@ -47,6 +53,7 @@ static void Pressure(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
   }
   rate->du[0] -= acc[0] / rhoi;
   rate->du[1] -= acc[1] / rhoi;
+  t->power -= P->vol[i] / P->gamma[i] * (ri[dim] * acc[0] + ri[dim + 1] * acc[1]);
 }
 
 static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
@@ -72,11 +79,14 @@ static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb,
   }
   rate->du[0] += acc[0];
   rate->du[1] += acc[1];
+  t->power += ri[2 * dim + 1] / P->gamma[i] * (ri[dim] * acc[0] + ri[dim + 1] * acc[1]);
 }
 
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm t)
 {
   PetscFunctionBegin;
+  t->wall         = PETSC_TRUE;
+  t->has_power    = PETSC_TRUE;
   t->ops.interact = Continuity;
   PetscFunctionReturn(0);
 }
@@ -85,6 +95,8 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_WallPressure(FSTerm t)
 {
   PetscFunctionBegin;
   t->renormalized = PETSC_TRUE;
+  t->wall         = PETSC_TRUE;
+  t->has_power    = PETSC_TRUE;
   t->ops.interact = Pressure;
   PetscFunctionReturn(0);
 }
@@ -93,6 +105,8 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_WallViscosity(FSTerm t)
 {
   PetscFunctionBegin;
   t->renormalized = PETSC_TRUE;
+  t->wall         = PETSC_TRUE;
+  t->has_power    = PETSC_TRUE;
   t->ops.interact = Viscosity;
   PetscFunctionReturn(0);
 }

@@ -6,9 +6,13 @@
 /*
    FSCaseFillLiquid - gives the solver its walls (checked with FSWallsCheck) and a domain box around them (4h margin), and fills
    the liquid region of the walls inside [x0, x1] x [y0, ysurf] with particles on the lattice
-   (i + 1/2) dx from (x0, y0), at least dx/2 from every wall, at rest with the hydrostatic density
-   rho = rho0 + rho0 |g| (ysurf - y) / c0^2 and mass rho dx^2. The rows of the lattice are split
-   over the ranks, so ids do not depend on the number of ranks. The walls are moved into the solver.
+   x0 + (i + 1/2) dx_x, y0 + (j + 1/2) dx_y, at rest with the hydrostatic density
+   rho = rho0 + rho0 |g| (ysurf - y) / c0^2 and mass rho dx_x dx_y. The lattice fits the box: dx_x and
+   dx_y are the spacings closest to dx that divide its sides, so the liquid ends half a spacing from
+   the walls at both ends and its surface is at ysurf (a lattice that left a gap at one wall would
+   start the liquid sloshing). Points closer to a wall than half a spacing (baffles, other shapes)
+   are left out. The rows of the lattice are split over the ranks, so ids do not depend on the number
+   of ranks. The walls are moved into the solver.
 
    Collective
 */
@@ -17,13 +21,16 @@ PetscErrorCode FSCaseFillLiquid(FSSolver s, FSWalls *w, PetscReal x0, PetscReal 
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   PetscReal   lo[3], hi[3], *x, *u, *rho, *m, gmag = PetscSqrtReal(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1]);
   PetscBool   per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
-  PetscInt    nx = (PetscInt)((x1 - x0) / s->dx + 0.5), ny = (PetscInt)((ysurf - y0) / s->dx + 1e-9), n = 0, r0, r1;
+  PetscInt    nx = (PetscInt)((x1 - x0) / s->dx + 0.5), ny = (PetscInt)((ysurf - y0) / s->dx + 0.5), n = 0, r0, r1;
+  PetscReal   hx, hy;
   PetscMPIInt rank, size;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCheck(nx >= 1 && ny >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fs_dx %g leaves no particle in the liquid region %g x %g", what, (double)s->dx, (double)(x1 - x0), (double)(ysurf - y0));
+  hx = (x1 - x0) / nx;
+  hy = (ysurf - y0) / ny;
   PetscCall(FSWallsDiscretize(w, s->dx)); /* for the distance of the particles to the walls */
   for (PetscInt d = 0; d < 2; d++) {
     lo[d] = w->lo[d] - 4 * s->h;
@@ -35,14 +42,14 @@ PetscErrorCode FSCaseFillLiquid(FSSolver s, FSWalls *w, PetscReal x0, PetscReal 
   PetscCall(PetscMalloc4(2 * nx * (r1 - r0) + 1, &x, 2 * nx * (r1 - r0) + 1, &u, nx * (r1 - r0) + 1, &rho, nx * (r1 - r0) + 1, &m));
   for (PetscInt b = r0; b < r1; b++)
     for (PetscInt a = 0; a < nx; a++) {
-      const PetscReal p[2] = {x0 + (a + 0.5) * s->dx, y0 + (b + 0.5) * s->dx};
-      if (!FSWallsInLiquid(w, p, 0.499 * s->dx)) continue;
+      const PetscReal p[2] = {x0 + (a + 0.5) * hx, y0 + (b + 0.5) * hy};
+      if (!FSWallsInLiquid(w, p, 0.499 * PetscMin(hx, hy))) continue;
       x[2 * n]     = p[0];
       x[2 * n + 1] = p[1];
       u[2 * n]     = 0;
       u[2 * n + 1] = 0;
       rho[n]       = s->rho0 + s->rho0 * gmag * (ysurf - p[1]) / (s->c0 * s->c0);
-      m[n]         = rho[n] * s->dx * s->dx;
+      m[n]         = rho[n] * hx * hy;
       n++;
     }
   PetscCall(FSSolverSetWalls(s, w));

@@ -3,7 +3,7 @@ import re
 
 import pytest
 
-from conftest import REPO_ROOT, TG, read_summary, snapshot_files
+from conftest import REPO_ROOT, TG, read_summary, run_flexslosh, snapshot_files
 
 SOLVER_C = REPO_ROOT / "src" / "solver.c"
 
@@ -153,3 +153,11 @@ def test_summary_json(run, tmp_path):
     assert "-fs_dx 0.05" in s["options"] and "-ts_max_steps 4" in s["options"]
     # output interval 0: the first and the last snapshot only
     assert len(snapshot_files(out)) == 2
+
+
+@pytest.mark.parametrize("opts", sorted(p.name for p in (REPO_ROOT / "cases").glob("*.opts")))
+def test_case_files_run(tmp_path, opts):
+    """Every case file in cases/ sets up and takes a few steps as written (its resolution included)."""
+    run_flexslosh(["-options_file", REPO_ROOT / "cases" / opts, "-ts_max_steps", 3, "-fs_output_interval", 0,
+                   "-fs_output_dir", tmp_path / "o"], cwd=tmp_path, timeout=300)
+    assert (tmp_path / "o" / "summary.json").exists()
