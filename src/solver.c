@@ -358,6 +358,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   if (s->geometry_view) {
     PetscCall(FSSolverGeometryView(s, s->outdir));
     PetscCall(FSSolverMonitorBegin(s)); /* the particles at step 0: snapshot_000000.h5 in particles.xdmf */
+    if (s->write_output && !s->restart[0] && s->nglobal_particles) PetscCall(PetscPrintf(comm, "Geometry view: the particles at step 0 are in %s/particles.xdmf\n", s->outdir));
   }
   PetscFunctionReturn(0);
 }

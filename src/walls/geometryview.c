@@ -255,7 +255,7 @@ PetscErrorCode FSSolverGeometryView(FSSolver s, const char dir[])
   PetscCallMPI(MPI_Bcast(&img.width, 1, MPIU_INT, 0, comm));
   PetscCallMPI(MPI_Bcast(&img.height, 1, MPIU_INT, 0, comm));
   PetscCall(PetscPrintf(comm, "Geometry view: %s (%" PetscInt_FMT " x %" PetscInt_FMT " pixels, %" PetscInt_FMT " particles in blue", path, img.width, img.height, ntot));
-  if (w) PetscCall(PetscPrintf(comm, ", %" PetscInt_FMT " walls with ticks on the side away from the liquid", w->nwalls));
+  if (w) PetscCall(PetscPrintf(comm, ", %" PetscInt_FMT " wall(s) with ticks on the side away from the liquid", w->nwalls));
   PetscCall(PetscPrintf(comm, ")\n"));
   if (rank == 0) PetscCall(FSImageDestroy(&img));
   PetscCall(PetscFree2(counts, displs));
@@ -264,7 +264,7 @@ PetscErrorCode FSSolverGeometryView(FSSolver s, const char dir[])
   /* the walls for ParaView */
   if (w) {
     PetscCall(FSGeometryWriteWalls(s, w, dir));
-    PetscCall(PetscPrintf(comm, "Geometry view: %s/walls.xdmf (+ walls.h5): %" PetscInt_FMT " segments of %" PetscInt_FMT " walls (", dir, w->nseg, w->nwalls));
+    PetscCall(PetscPrintf(comm, "Geometry view: %s/walls.xdmf (+ walls.h5): %" PetscInt_FMT " segments of %" PetscInt_FMT " wall(s) (", dir, w->nseg, w->nwalls));
     for (PetscInt q = 0; q < w->nwalls; q++) PetscCall(PetscPrintf(comm, "%s%" PetscInt_FMT " %s", q ? ", " : "", q, w->name[q]));
     PetscCall(PetscPrintf(comm, "), to open in ParaView with the XDMF Reader next to particles.xdmf\n"));
   } else PetscCall(PetscPrintf(comm, "Geometry view: this case has no walls (no walls.xdmf)\n"));
