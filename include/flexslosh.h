@@ -39,6 +39,7 @@ PETSC_EXTERN PetscErrorCode FSSolverSetUp(FSSolver);
 PETSC_EXTERN PetscErrorCode FSSolverStep(FSSolver);
 PETSC_EXTERN PetscErrorCode FSSolverSolve(FSSolver);
 PETSC_EXTERN PetscErrorCode FSSolverView(FSSolver, PetscViewer);
+PETSC_EXTERN PetscErrorCode FSSolverGeometryView(FSSolver, const char[]);
 PETSC_EXTERN PetscErrorCode FSSolverDestroy(FSSolver *);
 PETSC_EXTERN PetscErrorCode FSSolverGetTS(FSSolver, TS *);
 PETSC_EXTERN PetscErrorCode FSSolverGetSwarm(FSSolver, DM *);

@@ -158,6 +158,7 @@ struct _p_FSSolver {
   PetscBool progress, write_output;
   PetscReal progress_interval;
   PetscBool terms_view, setupcalled;
+  PetscBool geometry_view;    /* -fs_geometry_view: write the set-up's picture and walls, then stop */
   PetscInt  sort_interval;
 
   /* case */

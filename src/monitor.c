@@ -115,6 +115,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->pair_visits    = 0;
   /* snapshots at multiples of the interval, also after a restart */
   s->next_output = s->output_interval > 0 ? (PetscFloorReal(t / s->output_interval + 1e-9) + 1) * s->output_interval : PETSC_MAX_REAL;
+  s->last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
   if (!s->write_output) PetscFunctionReturn(0);
   PetscCall(FSMakeDirectory(comm, s->outdir, "-fs_output_dir"));
   names[k++] = "time";
@@ -190,7 +191,7 @@ PetscErrorCode FSSolverMonitorEnd(FSSolver s)
   PetscFunctionBegin;
   if (!s->monitoring) PetscFunctionReturn(0);
   PetscCall(TSGetTime(s->ts, &t));
-  if (s->write_output && (s->output_interval == 0 || s->last_snapshot_time < t)) PetscCall(FSSolverWriteSnapshot(s));
+  if (s->write_output && s->last_snapshot_time < t) PetscCall(FSSolverWriteSnapshot(s)); /* unless one was written at t */
   if (s->write_output) PetscCall(FSSolverWriteSummary(s));
   PetscFunctionReturn(0);
 }

@@ -91,6 +91,7 @@ PetscErrorCode FSSolverSetDefaultPhysics(FSSolver s, PetscReal rho0, PetscReal c
 .  -fs_output_interval <t>         - simulated time between particle snapshots (0: first and last only)
 .  -fs_checkpoint_interval <n>     - steps between checkpoints (0: none)
 .  -fs_restart <file>              - continue from a checkpoint
+.  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) and stop after set-up
 -  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
 */
 PetscErrorCode FSSolverSetFromOptions(FSSolver s)
@@ -168,6 +169,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscCall(PetscOptionsInt("-fs_checkpoint_interval", "Steps between checkpoints (0: none)", "FSSolverWriteCheckpoint", s->checkpoint_interval, &s->checkpoint_interval, NULL));
   PetscCheck(s->checkpoint_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->checkpoint_interval);
   PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint", s->restart, s->restart, sizeof(s->restart), NULL));
+  PetscCall(PetscOptionsBool("-fs_geometry_view", "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 snapshot), then stop without time stepping", "FSSolverGeometryView", s->geometry_view, &s->geometry_view, NULL));
   PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor", s->progress, &s->progress, NULL));
   PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor", s->progress_interval, &s->progress_interval, NULL));
 
@@ -290,6 +292,10 @@ PetscErrorCode FSSolverGetTime(FSSolver s, PetscReal *t, PetscInt *step)
    FSSolverSetUp - builds the case (domain, particles), the decomposition, the halo and the TS.
 
    Collective
+
+   Options Database Key:
+.  -fs_geometry_view - then write the set-up's picture and walls (FSSolverGeometryView()) and the
+                       particles at step 0 to the output directory
 */
 PetscErrorCode FSSolverSetUp(FSSolver s)
 {
@@ -349,6 +355,11 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscCall(TSSetTimeStep(s->ts, dt));
   }
   s->setupcalled = PETSC_TRUE;
+  if (s->geometry_view) {
+    PetscCall(FSSolverGeometryView(s, s->outdir));
+    PetscCall(FSSolverMonitorBegin(s)); /* the particles at step 0: snapshot_000000.h5 in particles.xdmf */
+    if (s->write_output && !s->restart[0] && s->nglobal_particles) PetscCall(PetscPrintf(comm, "Geometry view: the particles at step 0 are in %s/particles.xdmf\n", s->outdir));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -242,6 +242,10 @@ PetscErrorCode FSSolverStep(FSSolver s)
    output the options ask for.
 
    Collective
+
+   Options Database Key:
+.  -fs_geometry_view - take no step: the set-up's files are written (FSSolverGeometryView()) and the
+                       run stops, so the set-up can be checked before running
 */
 PetscErrorCode FSSolverSolve(FSSolver s)
 {
@@ -251,7 +255,8 @@ PetscErrorCode FSSolverSolve(FSSolver s)
   PetscFunctionBegin;
   PetscCall(FSSolverSetUp(s));
   PetscCall(FSSolverMonitorBegin(s));
-  for (;;) {
+  if (s->geometry_view) PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s), "-fs_geometry_view: stopping after set-up; run again without it to compute\n"));
+  while (!s->geometry_view) { /* -fs_geometry_view: no time stepping */
     PetscCall(TSGetTime(s->ts, &t));
     PetscCall(TSGetMaxTime(s->ts, &tmax));
     PetscCall(TSGetStepNumber(s->ts, &step));
