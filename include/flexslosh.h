@@ -71,6 +71,7 @@ typedef struct {
   /* walls (boundary integrals); nwalls = 0 without walls */
   PetscInt         nwalls;
   const PetscReal *gamma;    /* Shepard factor gamma of the owned and ghost particles (NULL without walls: 1) */
+  const PetscReal *invgamma; /* 1/gamma, the same particles (NULL without walls) */
   const PetscReal *wseg;     /* wall segments, 9 reals each: p0 (2), p1 (2), midpoint (2), normal out of the liquid (2), length */
   const PetscInt  *wsegwall; /* the wall each segment belongs to */
   const PetscReal *wpressure; /* per segment: the wall pressure interpolated from the liquid */

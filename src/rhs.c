@@ -162,7 +162,7 @@ static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscRe
       if (!term->wall || !term->ops.interact) continue;
       term->ops.interact(term, P, &nb, term->renormalized ? &rn : &ru);
     }
-    ig = 1.0 / wd->gamma[i];
+    ig = wd->invgamma[i];
     for (PetscInt d = 0; d < dim; d++) {
       f[i * US + d] += rn.dx[d] * ig + ru.dx[d];
       f[i * US + dim + d] += rn.du[d] * ig + ru.du[d];
@@ -262,7 +262,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
       if (term->ops.source) term->ops.source(term, &P, i, &rate);
     }
     if (s->wd) {
-      const PetscReal ig = 1.0 / s->wd->gamma[i];
+      const PetscReal ig = s->wd->invgamma[i];
       rate.drho *= ig;
       for (PetscInt d = 0; d < dim; d++) {
         rate.du[d] *= ig;
@@ -336,6 +336,7 @@ PetscErrorCode FSSolverGetParticles(FSSolver s, FSParticles *P)
   if (s->wd) {
     P->nwalls    = s->wd->walls.nwalls;
     P->gamma     = s->wd->gamma;
+    P->invgamma  = s->wd->invgamma;
     P->wseg      = s->wd->walls.seg;
     P->wsegwall  = s->wd->walls.segwall;
     P->wpressure = s->wd->wp;

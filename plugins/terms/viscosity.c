@@ -39,7 +39,7 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
       if (aj <= 0) continue;
       for (PetscInt d = 0; d < dim; d++) pi += (rj[dim + d] - ri[dim + d]) * dx[d];
       pi *= 2.0 * ai * aj / (ai + aj) * nb->rinv2[k] * P->vol[j];
-      if (P->gamma) pi *= 0.5 * (1.0 / P->gamma[i] + 1.0 / P->gamma[j]);
+      if (P->invgamma) pi *= 0.5 * (P->invgamma[i] + P->invgamma[j]);
       for (PetscInt d = 0; d < dim; d++) acc[d] += pi * g[d];
     }
     f = P->h * P->c0 * P->rho0 / rhoi;
@@ -50,7 +50,7 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
       PetscReal        pi = 0;
       for (PetscInt d = 0; d < dim; d++) pi += (rj[dim + d] - ri[dim + d]) * dx[d];
       pi *= nb->rinv2[k] * P->vol[j];
-      if (P->gamma) pi *= 0.5 * (1.0 / P->gamma[i] + 1.0 / P->gamma[j]);
+      if (P->invgamma) pi *= 0.5 * (P->invgamma[i] + P->invgamma[j]);
       for (PetscInt d = 0; d < dim; d++) acc[d] += pi * g[d];
     }
     f = ctx->K * P->nu * P->rho0 / rhoi;

@@ -53,7 +53,7 @@ static void Pressure(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
   }
   rate->du[0] -= acc[0] / rhoi;
   rate->du[1] -= acc[1] / rhoi;
-  t->power -= P->vol[i] / P->gamma[i] * (ri[dim] * acc[0] + ri[dim + 1] * acc[1]);
+  t->power -= P->vol[i] * P->invgamma[i] * (ri[dim] * acc[0] + ri[dim + 1] * acc[1]);
 }
 
 static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
@@ -79,7 +79,7 @@ static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb,
   }
   rate->du[0] += acc[0];
   rate->du[1] += acc[1];
-  t->power += ri[2 * dim + 1] / P->gamma[i] * (ri[dim] * acc[0] + ri[dim + 1] * acc[1]);
+  t->power += ri[2 * dim + 1] * P->invgamma[i] * (ri[dim] * acc[0] + ri[dim + 1] * acc[1]);
 }
 
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm t)

@@ -208,9 +208,9 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
   if (!wd) PetscFunctionReturn(0);
   w = &wd->walls;
   if (s->reccap > wd->gcap) { /* gamma of the owned and ghost particles */
-    PetscCall(PetscFree(wd->gamma));
+    PetscCall(PetscFree2(wd->gamma, wd->invgamma));
     wd->gcap = s->reccap;
-    PetscCall(PetscMalloc1(wd->gcap, &wd->gamma));
+    PetscCall(PetscMalloc2(wd->gcap, &wd->gamma, wd->gcap, &wd->invgamma));
   }
   if (wd->cstart[n] > wd->wcap) {
     PetscCall(PetscFree2(wd->wnbr, wd->wW));
@@ -276,6 +276,7 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
   /* the ghosts' gamma, for the symmetric (dissipative) viscous terms */
   for (PetscInt g = 0; g < s->halo.nghost; g++) wd->gamma[n + g] = 1;
   PetscCall(FSHaloRefreshScalar(&s->halo, wd->gamma));
+  for (PetscInt k = 0; k < n + s->halo.nghost; k++) wd->invgamma[k] = 1.0 / wd->gamma[k];
   PetscFunctionReturn(0);
 }
 
@@ -355,7 +356,7 @@ PetscErrorCode FSSolverWallsDestroy(FSSolver s)
   PetscCall(PetscFree2(wd->cstart, wd->wstart));
   PetscCall(PetscFree(wd->cand));
   PetscCall(PetscFree2(wd->wnbr, wd->wW));
-  PetscCall(PetscFree(wd->gamma));
+  PetscCall(PetscFree2(wd->gamma, wd->invgamma));
   PetscCall(PetscFree(wd->wp));
   PetscCall(PetscFree(s->wd));
   PetscFunctionReturn(0);

@@ -14,7 +14,7 @@ struct _n_FSWallData {
   PetscInt  *cstart, *cand, ccap, scap;
   /* per right-hand side: facing segments within the support, with W at their midpoints */
   PetscInt  *wstart, *wnbr, wcap, wscap;
-  PetscReal *wW, *gamma;
+  PetscReal *wW, *gamma, *invgamma; /* gamma and 1/gamma of the owned and ghost particles */
   PetscInt   gcap;           /* capacity of gamma (owned and ghosts) */
   PetscReal  bounce_distance, restitution; /* elastic bounce near walls (FSSolverWallsBounce) */
   PetscInt64 nbounce;
