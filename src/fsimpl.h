@@ -196,6 +196,14 @@ struct _p_FSSolver {
   PetscReal   structure_cfl;  /* dt = structure_cfl * shortest period, when there are no particles */
   FSLoads     loads;          /* liquid loads on the tank (the coupling fills them; zero until then) */
   PetscReal  *sy, *sydot;     /* the structure's state and rate at the last right-hand side, every rank */
+  /* the coupling (src/coupling.c) */
+  PetscBool    coupled;       /* liquid and structure coupled */
+  PetscReal    tank_width;    /* across the 2-D plane: loads per unit width times this */
+  PetscReal    tank_ref[2];   /* the tank's point on the beam, in the tank frame */
+  PetscReal    liquid_mass;   /* of the whole tank (2-D mass times width) */
+  FSLoads      static_loads;  /* of the liquid at rest in the undeflected tank, subtracted */
+  FSTankMotion motion;        /* the tank's motion at the last right-hand side, every rank */
+  PetscReal    ext_power;     /* P_ext of the last right-hand side, this rank's share */
   PetscReal   rhs_time;       /* time of the right-hand side being evaluated */
   PetscInt    steps_taken;    /* steps taken since set-up (this process) */
 
@@ -259,6 +267,10 @@ PETSC_INTERN PetscErrorCode FSCaseHelpAll(FSSolver, PetscOptionItems *);
 /* the structure inside the solver (src/structure.c) */
 PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, const PetscReal *u, PetscReal *f);
+PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
+PETSC_INTERN PetscErrorCode FSSolverCouplingSetUp(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, const PetscReal *u, PetscReal *f);
+PETSC_INTERN PetscErrorCode FSSolverCouplingInertia(FSSolver, PetscReal *f, PetscReal *power);
 PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);

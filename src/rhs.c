@@ -294,7 +294,10 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   }
 
   /* the structure's DOFs (first block of the global DOFs, rank 0) */
-  PetscCall(FSSolverStructureRates(s, u, f));
+  if (s->coupled) { /* loads of this stage to the structure, the tank's motion back to the liquid */
+    PetscCall(FSSolverCouplingRates(s, u, f));
+    PetscCall(FSSolverCouplingInertia(s, f, &s->ext_power));
+  } else PetscCall(FSSolverStructureRates(s, u, f));
   /* dissipation powers: the rates of the dissipated energies (the next block), rank 0 */
   for (PetscInt t = 0; t < s->terms.nterms; t++)
     if (s->terms.term[t]->has_power) power[npower++] = s->terms.term[t]->power;

@@ -337,6 +337,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscCheck(!st->ncolumns || st->ops.columns, comm, PETSC_ERR_PLIB, "Structure %s adds time-series columns but has no columns routine", st->name);
     PetscCall(PetscCalloc2(st->ndof + 1, &s->sy, st->ndof + 1, &s->sydot));
   }
+  PetscCall(FSSolverCouplingSetUp(s));
   PetscCall(FSSolverSetUpGlobalBlocks(s));
   if (s->structure && s->structure->ndof && s->structure->ops.initial) PetscCall((*s->structure->ops.initial)(s->structure, &s->global0[s->gstruct]));
   if (s->restart[0]) PetscCall(FSSolverLoadCheckpoint(s));

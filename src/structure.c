@@ -177,6 +177,19 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
   PetscFunctionReturn(0);
 }
 
+/* FSSolverStructureBroadcastState - the structure's state from the packed state u (rank 0) into s->sy on every rank. Collective. */
+PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
+{
+  PetscMPIInt rank, size;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
+  if (!rank) PetscCall(PetscArraycpy(s->sy, u + s->nowned * s->ustride + s->gstruct, s->structure->ndof));
+  if (size > 1) PetscCallMPI(MPI_Bcast(s->sy, (PetscMPIInt)s->structure->ndof, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverStructureRates - the structure's part of a right-hand side: rank 0 broadcasts the
    structure's state from the packed state u (its global DOFs) into s->sy on every rank, then
@@ -187,16 +200,14 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
 PetscErrorCode FSSolverStructureRates(FSSolver s, const PetscReal *u, PetscReal *f)
 {
   FSStructure st = s->structure;
-  PetscMPIInt rank, size;
+  PetscMPIInt rank;
   const PetscInt off = s->nowned * s->ustride + s->gstruct;
 
   PetscFunctionBegin;
   if (!st || !st->ndof) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
-  if (!rank) PetscCall(PetscArraycpy(s->sy, u + off, st->ndof));
-  if (size > 1) PetscCallMPI(MPI_Bcast(s->sy, (PetscMPIInt)st->ndof, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  PetscCall(FSSolverStructureBroadcastState(s, u));
   if (!rank) {
     PetscCall((*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot));
     if (f) PetscCall(PetscArraycpy(f + off, s->sydot, st->ndof));

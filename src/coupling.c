@@ -1,0 +1,162 @@
+/*
+   The coupling of the liquid and the structure (seed sections II.C-II.D): the liquid is solved in the
+   tank's frame, where the walls are at rest; the structure's rigid motion of the tank enters the
+   liquid as inertial accelerations, and the liquid's loads on the walls (the integral of the wall
+   pressure and the wall shear, seed Eq. 29) drive the structure. Both happen inside every right-hand
+   side, so the one TS advances the coupled system with the integrator's own order:
+
+     1. the structure's state y at this stage (rank 0, broadcast) gives the tank's rotation theta;
+     2. the liquid's loads at this stage (they depend on the particles only) are summed over the walls
+        and ranks, taken about the tank's reference point, turned into the global axes, scaled by
+        the tank's width (the liquid is 2-D: loads per unit width), and their value for the liquid
+        at rest in the undeflected tank is subtracted (the structure's deflections are measured from
+        its static equilibrium under gravity, liquid included);
+     3. the structure's rate dy/dt under those loads gives the tank's acceleration A, angular rate
+        omega and angular acceleration alpha at this stage;
+     4. every particle gets, in the tank frame with r = x - x_ref,
+          a = R(-theta) g - g - R(-theta) A - alpha e_z x r - 2 omega e_z x u + omega^2 r
+        (the gravity term adds g itself), whose power sum_i m_i u_i . a is the work of the tank on
+        the liquid, P_ext.
+   Explicit and stable while the liquid is light against the structure (here a few per cent of the
+   moving mass): the loads at a stage use the liquid's state, not its acceleration, so the liquid's
+   added mass is carried by the loads one stage late. A liquid as heavy as the structure would need
+   the added mass moved to the structure's side (or an implicit coupling).
+
+   Options Database Keys:
++  -fs_coupling <bool>               - couple the liquid and the structure (default: when both exist)
+.  -fs_tank_width <w>                - the tank's width across the 2-D plane (0.1 m): loads per unit width times w
+-  -fs_tank_reference <x,y>          - the tank's point on the beam, in the tank's frame (default: the middle of the floor)
+*/
+#include "fsimpl.h"
+#include "walls/walldata.h"
+
+/*
+   FSSolverCouplingSetUp - decides whether the liquid and the structure are coupled, reads the
+   coupling options and computes the loads of the liquid at rest (weight and its moment about the
+   reference point), which the structure does not see. After the walls, particles and structure are set up.
+
+   Collective
+*/
+PetscErrorCode FSSolverCouplingSetUp(FSSolver s)
+{
+  MPI_Comm     comm = PetscObjectComm((PetscObject)s);
+  PetscBool    want = PETSC_TRUE, set;
+  PetscReal    ref[2], loc[3] = {0, 0, 0}, glob[3];
+  PetscInt     nref = 2, n;
+  PetscReal   *x, *m;
+  FSWallData  *wd = s->wd;
+
+  PetscFunctionBegin;
+  s->coupled = PETSC_FALSE;
+  if (!s->structure || !s->structure->ndof || !wd || !s->nglobal_particles) PetscFunctionReturn(0);
+  ref[0]         = 0.5 * (wd->walls.lo[0] + wd->walls.hi[0]);
+  ref[1]         = wd->walls.lo[1];
+  s->tank_width  = 0.1;
+  PetscOptionsBegin(comm, NULL, "Coupling of the liquid and the structure", "FS");
+  PetscCall(PetscOptionsBool("-fs_coupling", "Couple the liquid and the structure (loads to the structure, tank motion to the liquid)", "FSSolverCouplingSetUp", want, &want, NULL));
+  PetscCall(PetscOptionsReal("-fs_tank_width", "Width of the tank across the 2-D plane: the liquid's loads per unit width times this", "FSSolverCouplingSetUp", s->tank_width, &s->tank_width, NULL));
+  PetscCall(PetscOptionsRealArray("-fs_tank_reference", "The tank's point on the beam, in the tank's frame (default: the middle of the floor)", "FSSolverCouplingSetUp", ref, &nref, &set));
+  PetscOptionsEnd();
+  PetscCheck(!set || nref == 2, comm, PETSC_ERR_ARG_SIZ, "-fs_tank_reference takes two values x,y; got %" PetscInt_FMT, nref);
+  PetscCheck(s->tank_width > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_width %g must be positive", (double)s->tank_width);
+  if (!want) PetscFunctionReturn(0);
+  s->coupled     = PETSC_TRUE;
+  s->tank_ref[0] = ref[0];
+  s->tank_ref[1] = ref[1];
+  /* the liquid at rest: its weight and the weight's moment about the reference point, per unit width */
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  for (PetscInt p = 0; p < n; p++) {
+    loc[0] += m[p];
+    loc[1] += m[p] * (x[2 * p] - ref[0]);
+    loc[2] += m[p] * (x[2 * p + 1] - ref[1]);
+  }
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCallMPI(MPI_Allreduce(loc, glob, 3, MPIU_REAL, MPI_SUM, comm));
+  s->liquid_mass          = glob[0] * s->tank_width;
+  s->static_loads.force[0] = glob[0] * s->gravity[0] * s->tank_width;
+  s->static_loads.force[1] = glob[0] * s->gravity[1] * s->tank_width;
+  s->static_loads.moment[2] = (glob[1] * s->gravity[1] - glob[2] * s->gravity[0]) * s->tank_width;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverCouplingRates - the structure's part of a right-hand side when coupled (steps 1-3 above):
+   the loads of this stage to the structure, its rate into f (rank 0), and the tank's motion at this
+   stage on every rank (s->motion).
+
+   Collective
+*/
+PetscErrorCode FSSolverCouplingRates(FSSolver s, const PetscReal *u, PetscReal *f)
+{
+  FSStructure     st = s->structure;
+  MPI_Comm        comm = PetscObjectComm((PetscObject)s);
+  const PetscReal *L;
+  PetscReal       F[2] = {0, 0}, M = 0, c, sn;
+  FSTankMotion    mo;
+  PetscMPIInt     rank;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(FSSolverStructureBroadcastState(s, u));
+  /* theta from the state alone (the motion routine reads the rate only for velocities and accelerations) */
+  if (!rank) {
+    PetscCall(PetscArrayzero(s->sydot, st->ndof));
+    PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &mo));
+  }
+  PetscCallMPI(MPI_Bcast(&mo.angle, 1, MPIU_REAL, 0, comm));
+  /* the liquid's loads at this stage, all walls, about the reference point, in the global axes */
+  PetscCall(FSSolverWallsGetLoads(s, &L));
+  for (PetscInt w = 0; w < s->wd->walls.nwalls; w++) {
+    F[0] += L[6 * w];
+    F[1] += L[6 * w + 1];
+    M += L[6 * w + 5];
+  }
+  M += (s->wd->loadpoint[0] - s->tank_ref[0]) * F[1] - (s->wd->loadpoint[1] - s->tank_ref[1]) * F[0];
+  c  = PetscCosReal(mo.angle);
+  sn = PetscSinReal(mo.angle);
+  PetscCall(PetscMemzero(&s->loads, sizeof(s->loads)));
+  s->loads.force[0]  = (c * F[0] - sn * F[1]) * s->tank_width - s->static_loads.force[0];
+  s->loads.force[1]  = (sn * F[0] + c * F[1]) * s->tank_width - s->static_loads.force[1];
+  s->loads.moment[2] = M * s->tank_width - s->static_loads.moment[2];
+  /* the structure's rate under them, and the tank's motion at this stage */
+  PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
+  if (!rank) {
+    PetscCall((*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot));
+    if (f) PetscCall(PetscArraycpy(f + s->nowned * s->ustride + s->gstruct, s->sydot, st->ndof));
+    PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &s->motion));
+  }
+  PetscCallMPI(MPI_Bcast(&s->motion, (PetscMPIInt)(sizeof(s->motion) / sizeof(PetscReal)), MPIU_REAL, 0, comm));
+  PetscCall(PetscLogEventEnd(FS_Structure, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverCouplingInertia - step 4: the inertial accelerations of the tank's frame added to the
+   owned particles' rates f; returns their power sum_i m_i u_i . a on this rank (P_ext).
+*/
+PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *power)
+{
+  const PetscInt     S = s->stride, US = s->ustride, n = s->nowned;
+  const FSTankMotion *mo = &s->motion;
+  const PetscReal    c = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle), w = mo->rate, al = mo->angacc;
+  /* the uniform part: R(-theta) (g - A) - g */
+  const PetscReal    b0 = c * (s->gravity[0] - mo->acc[0]) + sn * (s->gravity[1] - mo->acc[1]) - s->gravity[0];
+  const PetscReal    b1 = -sn * (s->gravity[0] - mo->acc[0]) + c * (s->gravity[1] - mo->acc[1]) - s->gravity[1];
+  PetscReal          pw = 0;
+
+  PetscFunctionBegin;
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *ri = &s->rec[i * S];
+    const PetscReal  rx = ri[0] - s->tank_ref[0], ry = ri[1] - s->tank_ref[1], ux = ri[2], uy = ri[3];
+    const PetscReal  ax = b0 + al * ry + 2 * w * uy + w * w * rx;
+    const PetscReal  ay = b1 - al * rx - 2 * w * ux + w * w * ry;
+    f[i * US + 2] += ax;
+    f[i * US + 3] += ay;
+    pw += ri[5] * (ux * ax + uy * ay);
+  }
+  *power = pw;
+  PetscFunctionReturn(0);
+}
