@@ -15,6 +15,9 @@
      E_k(t) = (rho0 g A^2 L / 8) (1 + cos 2 omega t) exp(-4 nu k^2 t)
    oscillates at 2 omega and decays, with free-slip walls, at 4 nu k^2 (the amplitude at 2 nu k^2,
    whatever the depth: the dissipation of the potential flow is 8 nu k^2 times its kinetic energy).
+   This is the leading order in nu: the exact linear viscous mode (Lamb's relation at finite depth with
+   a free-slip floor, tests/python/test_standing_wave.py) decays slower by a relative O((nu k^2/omega)^1/2),
+   at 0.941 x 4 nu k^2 for the defaults.
    With eps = 2A/h this is the reference's (eps^2 g L h^2 / 32) (1 + cos 2 omega t) exp(-4 nu k^2 t).
    The time series has this E_k(t) as column kinetic_energy_linear, scaled to the particles' own initial
    kinetic energy (which differs from rho0 g A^2 L / 4 by O(dx^2) and the hydrostatic rho/rho0 - 1).
