@@ -8,6 +8,7 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_Shear(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_Beam(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_Tank(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_DamBreak(FSSolver, FSCaseOps *);
+PETSC_EXTERN PetscErrorCode FSCaseCreate_StandingWave(FSSolver, FSCaseOps *);
 
 /*
    FSCaseRegister - adds a case (a set-up routine) to the registry.
@@ -35,6 +36,7 @@ PetscErrorCode FSCaseRegisterAll(void)
   PetscCall(FSCaseRegister("taylor_green", "Taylor-Green vortices in a periodic box (2-D, or extruded in 3-D); exact viscous decay", FSCaseCreate_TaylorGreen));
   PetscCall(FSCaseRegister("tank", "liquid at rest in a fixed tank: rectangular, baffled (the seed's) or from a file; hydrostatic start (walls under development, not yet validated: issue 3)", FSCaseCreate_Tank));
   PetscCall(FSCaseRegister("dam_break", "2-D dam break (Martin & Moyce 1952): a column a wide and 2a high collapses in a tank (walls under development, not yet validated: issue 3)", FSCaseCreate_DamBreak));
+  PetscCall(FSCaseRegister("standing_wave", "linear standing wave (sloshing mode) in a rectangular tank with free-slip walls; linear theory's period and viscous decay", FSCaseCreate_StandingWave));
   PetscCall(FSCaseRegister("beam", "the dry structure alone, no liquid: free decay, static load (-fs_structure msd|modal, -fs_beam_*)", FSCaseCreate_Beam));
   PetscCall(FSCaseRegister("shear", "periodic shear flow u = U sin(2 pi y/L) in 2-D or 3-D; exact viscous decay", FSCaseCreate_Shear));
   PetscFunctionReturn(0);

@@ -1,4 +1,4 @@
-/* Set-up shared by the cases with walls: a body of liquid at rest on a lattice, hydrostatic. */
+/* Set-up shared by the cases with walls: a body of liquid on a lattice, hydrostatic, at rest or with a given velocity field. */
 #include "../fsimpl.h"
 #include "../walls/walldata.h"
 #include "liquid.h"
@@ -13,10 +13,32 @@
    start the liquid sloshing). Points closer to a wall than half a spacing (baffles, other shapes)
    are left out. The rows of the lattice are split over the ranks, so ids do not depend on the number
    of ranks. The walls are moved into the solver.
+   what names the liquid region in the error messages.
 
    Collective
+
+   Level: developer
+
+.seealso: FSCaseFillLiquidWithVelocity()
 */
 PetscErrorCode FSCaseFillLiquid(FSSolver s, FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf, const char what[])
+{
+  PetscFunctionBegin;
+  PetscCall(FSCaseFillLiquidWithVelocity(s, w, x0, x1, y0, ysurf, what, NULL, NULL));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCaseFillLiquidWithVelocity - FSCaseFillLiquid, with the particles' initial velocity given by
+   velocity(x, u, ctx) at each particle's position x (NULL: at rest). The density stays hydrostatic.
+
+   Collective
+
+   Level: developer
+
+.seealso: FSCaseFillLiquid()
+*/
+PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf, const char what[], FSCaseVelocityFn velocity, void *ctx)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   PetscReal   lo[3], hi[3], *x, *u, *rho, *m, gmag = PetscSqrtReal(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1]);
@@ -48,6 +70,7 @@ PetscErrorCode FSCaseFillLiquid(FSSolver s, FSWalls *w, PetscReal x0, PetscReal 
       x[2 * n + 1] = p[1];
       u[2 * n]     = 0;
       u[2 * n + 1] = 0;
+      if (velocity) PetscCall((*velocity)(p, &u[2 * n], ctx));
       rho[n]       = s->rho0 + s->rho0 * gmag * (ysurf - p[1]) / (s->c0 * s->c0);
       m[n]         = rho[n] * hx * hy;
       n++;
