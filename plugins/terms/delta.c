@@ -5,12 +5,17 @@
      delta_ij = 2 delta_i delta_j / (delta_i + delta_j),  delta_i = (C_delta L_LES)^2 ||D||_i / (c0 h),  L_LES = 2h.
    Its dissipation power (seed Eq. 38, with the sign that closes the budget of Eq. 40) is
      P_delta = sum_i V_i p_i / rho_i (D rho_i/Dt)_delta.
-   Options: -fs_delta_c (C_delta, 1.5), -fs_delta_constant (a fixed delta instead of the LES one: classic delta-SPH).
+   Options: -fs_delta_c (C_delta, 1.5), -fs_delta_constant (a fixed delta instead of the LES one: classic delta-SPH),
+   -fs_delta_min (a floor under the LES delta_i: delta_LES vanishes in a liquid at rest, where it then leaves
+   odd-even density modes undamped), -fs_delta_hydrostatic (the density difference corrected by the hydrostatic
+   one, rho0 g . (x_j - x_i) / c0^2, instead of the renormalized gradients; Antuono et al. 2012, Fourtakas
+   et al. 2019).
 */
 #include <flexslosh.h>
 
 typedef struct {
-  PetscReal  C, fixed;
+  PetscReal  C, fixed, dmin;
+  PetscBool  hydrostatic;
   PetscReal *delta;
   PetscInt   cap;
 } Delta;
@@ -21,7 +26,9 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
   const PetscInt   dim = P->dim, S = P->stride, i = nb->i;
   const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *gi = &P->aux[i * (dim + 1)];
   const PetscReal  di = ctx->delta[i];
-  PetscReal        sum = 0;
+  PetscReal        sum = 0, gh[3] = {0, 0, 0};
+  if (ctx->hydrostatic)
+    for (PetscInt d = 0; d < dim; d++) gh[d] = P->rho0 * P->gravity[d] / (P->c0 * P->c0);
   for (PetscInt k = 0; k < nb->n; k++) {
     const PetscInt   j = nb->j[k];
     const PetscReal *rj = &P->rec[j * S], *gj = &P->aux[j * (dim + 1)], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
@@ -29,7 +36,7 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
     PetscReal        corr = 0, proj = 0, Dij;
     if (dsum <= 0) continue;
     for (PetscInt d = 0; d < dim; d++) {
-      corr += (gi[d] + gj[d]) * dx[d];
+      corr += (ctx->hydrostatic ? 2.0 * gh[d] : gi[d] + gj[d]) * dx[d];
       proj += dx[d] * g[d];
     }
     Dij = 2.0 * ((rj[2 * dim] - rhoi) - 0.5 * corr) * nb->rinv2[k];
@@ -55,7 +62,7 @@ static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)
   if (ctx->fixed > 0)
     for (PetscInt k = 0; k < n; k++) ctx->delta[k] = ctx->fixed;
   else
-    for (PetscInt k = 0; k < n; k++) ctx->delta[k] = coef * P->aux[k * (dim + 1) + dim];
+    for (PetscInt k = 0; k < n; k++) ctx->delta[k] = PetscMax(coef * P->aux[k * (dim + 1) + dim], ctx->dmin);
   PetscFunctionReturn(0);
 }
 
@@ -67,9 +74,12 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
   PetscOptionsHeadBegin(PetscOptionsObject, "Term delta: delta-LES diffusive term in the continuity equation");
   PetscCall(PetscOptionsReal("-fs_delta_c", "C_delta of the delta-LES model (seed Eq. 8)", "", ctx->C, &ctx->C, NULL));
   PetscCall(PetscOptionsReal("-fs_delta_constant", "A constant delta (classic delta-SPH, e.g. 0.1) instead of the LES one; 0 = LES", "", ctx->fixed, &ctx->fixed, NULL));
+  PetscCall(PetscOptionsReal("-fs_delta_min", "Floor under the delta-LES delta_i (damps the density modes of a liquid at rest); 0 = none", "", ctx->dmin, &ctx->dmin, NULL));
+  PetscCall(PetscOptionsBool("-fs_delta_hydrostatic", "Correct the density difference by the hydrostatic one rho0 g.(x_j - x_i)/c0^2 instead of the renormalized gradients", "", ctx->hydrostatic, &ctx->hydrostatic, NULL));
   PetscOptionsHeadEnd();
   PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_c %g must be non-negative", (double)ctx->C);
   PetscCheck(ctx->fixed >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_constant %g must be non-negative", (double)ctx->fixed);
+  PetscCheck(ctx->dmin >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_min %g must be non-negative", (double)ctx->dmin);
   PetscFunctionReturn(0);
 }
 
@@ -79,7 +89,8 @@ static PetscErrorCode View(FSTerm t, PetscViewer v)
 
   PetscFunctionBegin;
   if (ctx->fixed > 0) PetscCall(PetscViewerASCIIPrintf(v, "delta: constant delta = %g\n", (double)ctx->fixed));
-  else PetscCall(PetscViewerASCIIPrintf(v, "delta: delta-LES, C_delta = %g, L_LES = 2h\n", (double)ctx->C));
+  else PetscCall(PetscViewerASCIIPrintf(v, "delta: delta-LES, C_delta = %g, L_LES = 2h, delta_i >= %g\n", (double)ctx->C, (double)ctx->dmin));
+  PetscCall(PetscViewerASCIIPrintf(v, "delta: density differences corrected by the %s\n", ctx->hydrostatic ? "hydrostatic density difference" : "renormalized density gradients"));
   PetscFunctionReturn(0);
 }
 
