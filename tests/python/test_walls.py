@@ -76,14 +76,17 @@ def test_bad_tank_options(tmp_path, args, expect):
 
 
 def test_hydrostatic_tank_stays_quiet(tmp_path):
-    """Regression guard of the wall scheme (not yet the issue's validation): liquid at rest in a
-    0.201 m x 0.06 m tank, 3 cm deep, dx = 3 mm, delta-LES-SPH with boundary integrals, for
-    t sqrt(g/H) = 10. With both the gradient and the divergence divided by gamma the velocities grew
-    to 0.3 m/s; now they stay below 0.05 sqrt(gH) (the issue asks for a few 1e-3: not there yet)."""
+    """Liquid at rest in a 0.201 m x 0.06 m tank, 3 cm deep, dx = 3 mm, delta-LES-SPH with boundary
+    integrals, a delta floor of 0.1 with the hydrostatic correction (as cases/hydrostatic.opts), a
+    start-up relaxation of 0.1 s, to t sqrt(g/H) = 10. The pressure profile (row means below 0.8 H) is
+    within 1.5 % of rho0 g (H - y) (measured: 1.0 % at the floor, 0.1-0.8 % above), the particles' rms
+    error within 1 % (0.6 %); the vertical wall load is the weight within 1.5 % (-1.0 %); the velocities
+    stay below 0.05 sqrt(gH) (0.02; the validation's few 1e-3 is not reached: README, Walls)."""
     from conftest import read_series
 
     out = tmp_path / "hs"
     run_flexslosh(["-fs_case", "tank", "-fs_tank_length", 0.201, "-fs_dx", 0.003, "-ts_max_time", 0.55,
+                   "-fs_relax_time", 0.1, "-fs_delta_min", 0.1, "-fs_delta_hydrostatic",
                    "-fs_output_interval", 0, "-fs_output_dir", out], cwd=tmp_path, timeout=300)
     s = read_series(out)
     H, g = 0.03, 9.81
@@ -92,15 +95,18 @@ def test_hydrostatic_tank_stays_quiet(tmp_path):
     assert np.abs(s["mass"] / s["mass"][0] - 1).max() < 1e-13
     snap = last_snapshot(out)
     x, p = snap["position"], snap["pressure"]
-    deep = x[:, 1] < 0.02
-    err = (p[deep] - 1000 * g * (H - x[deep, 1])) / (1000 * g * H)
-    assert abs(err.mean()) < 0.02, err.mean()
+    err = (p - 1000 * g * (H - x[:, 1])) / (1000 * g * H)
+    deep = x[:, 1] < 0.8 * H
+    assert np.sqrt((err[deep] ** 2).mean()) < 0.01
+    for y0 in np.arange(0, 0.8 * H - 1e-9, 0.003):
+        row = (x[:, 1] >= y0) & (x[:, 1] < y0 + 0.003)
+        assert abs(err[row].mean()) < 0.015, (y0, err[row].mean())
     # the liquid's load on the tank: on average its weight, pointing down, with its moment about the origin
     weight = s["mass"][0] * g
     fy, fx, mz = s["wall_tank_force_y"][1:], s["wall_tank_force_x"][1:], s["wall_tank_moment"][1:]
-    assert -fy.mean() == pytest.approx(weight, rel=0.01)
+    assert -fy.mean() == pytest.approx(weight, rel=0.015)
     assert abs(fx.mean()) < 1e-6 * weight
-    assert mz.mean() == pytest.approx(-weight * 0.201 / 2, rel=0.01)
+    assert mz.mean() == pytest.approx(-weight * 0.201 / 2, rel=0.015)
 
 
 # Martin & Moyce (1952), column a wide and 2a high: T = t sqrt(2g/a), Z = x_front/a (notes/validation.md)
