@@ -37,6 +37,7 @@ PetscErrorCode FSBeamParamsDefault(FSBeamParams *p)
 .  -fs_beam_tank_position <L>        - where the tank is attached, x in (0, L]
 .  -fs_beam_tank_mass <0>            - tank mass (with its supports), at the tank position
 .  -fs_beam_ballast_mass <0>         - ballast or solid mass in the tank
+.  -fs_beam_payload_mass <0>         - liquid + ballast: the ballast makes up the difference (fill-level sweeps at equal mass)
 .  -fs_beam_tank_inertia <0>         - rotary inertia of tank + ballast about z at the tank position (kg m^2)
 .  -fs_beam_damping <0.015>          - damping ratio xi, in [0, 1)
 .  -fs_beam_preload <0>              - initial deflection at the tank position (static shape, released from rest)
@@ -64,6 +65,8 @@ PetscErrorCode FSBeamParamsSetFromOptions(FSBeamParams *p, MPI_Comm comm, PetscO
   PetscCheck(p->tank_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_tank_mass %g must be non-negative", (double)p->tank_mass);
   PetscCall(PetscOptionsReal("-fs_beam_ballast_mass", "Ballast or solid mass in the tank (kg)", "FSBeamParamsSetFromOptions", p->ballast_mass, &p->ballast_mass, NULL));
   PetscCheck(p->ballast_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_ballast_mass %g must be non-negative", (double)p->ballast_mass);
+  PetscCall(PetscOptionsReal("-fs_beam_payload_mass", "Mass of the liquid and the ballast together (kg): the ballast makes up the difference to the liquid (0: -fs_beam_ballast_mass as given)", "FSBeamParamsSetFromOptions", p->payload_mass, &p->payload_mass, NULL));
+  PetscCheck(p->payload_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_payload_mass %g must be non-negative", (double)p->payload_mass);
   PetscCall(PetscOptionsReal("-fs_beam_tank_inertia", "Rotary inertia of tank and ballast about z at the tank position (kg m^2)", "FSBeamParamsSetFromOptions", p->tank_inertia, &p->tank_inertia, NULL));
   PetscCheck(p->tank_inertia >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_tank_inertia %g must be non-negative", (double)p->tank_inertia);
   PetscCall(PetscOptionsReal("-fs_beam_damping", "Damping ratio xi (fraction of critical)", "FSBeamParamsSetFromOptions", p->xi, &p->xi, NULL));
@@ -77,11 +80,26 @@ PetscErrorCode FSBeamParamsSetFromOptions(FSBeamParams *p, MPI_Comm comm, PetscO
   PetscFunctionReturn(0);
 }
 
+/*
+   FSBeamParamsResolvePayload - with -fs_beam_payload_mass, the ballast is the payload minus the
+   liquid's mass (of the whole tank; 0 without a coupled liquid), so that runs at different fill
+   levels, and the solid-mass run, carry the same mass.
+*/
+PetscErrorCode FSBeamParamsResolvePayload(FSBeamParams *p, MPI_Comm comm, PetscReal liquid_mass)
+{
+  PetscFunctionBegin;
+  if (p->payload_mass <= 0) PetscFunctionReturn(0);
+  PetscCheck(p->payload_mass >= liquid_mass, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_payload_mass %g kg is less than the liquid's mass %g kg: raise it or lower the fill", (double)p->payload_mass, (double)liquid_mass);
+  p->ballast_mass = p->payload_mass - liquid_mass;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FSBeamParamsView(const FSBeamParams *p, PetscViewer viewer)
 {
   PetscFunctionBegin;
   PetscCall(PetscViewerASCIIPrintf(viewer, "beam: E = %g Pa, I = %g m^4, L = %g m, %g kg/m (%g kg); EI = %g N m^2\n", (double)p->E, (double)p->Iz, (double)p->L, (double)p->mlin, (double)(p->mlin * p->L), (double)(p->E * p->Iz)));
   PetscCall(PetscViewerASCIIPrintf(viewer, "tank at x = %g m: tank %g kg, ballast %g kg, rotary inertia %g kg m^2; damping %g\n", (double)p->a, (double)p->tank_mass, (double)p->ballast_mass, (double)p->tank_inertia, (double)p->xi));
+  if (p->payload_mass > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "payload (liquid + ballast) %g kg\n", (double)p->payload_mass));
   if (p->preload != 0 || p->force != 0) PetscCall(PetscViewerASCIIPrintf(viewer, "preload %g m at the tank; force %g N at x = %g m\n", (double)p->preload, (double)p->force, (double)p->force_position));
   PetscFunctionReturn(0);
 }

@@ -15,6 +15,7 @@ typedef struct {
   PetscReal E, Iz, L, mlin;                     /* Young's modulus, second moment of area, length, mass per unit length */
   PetscReal a;                                  /* the tank's reference point (attachment) */
   PetscReal tank_mass, ballast_mass, tank_inertia; /* rigid payload at x = a: masses, rotary inertia about z at a */
+  PetscReal payload_mass; /* liquid + ballast (0: the ballast as given) */
   PetscReal xi;                                 /* damping ratio (every mode unless a model says otherwise) */
   PetscReal preload;                            /* initial deflection at x = a, static shape, released from rest */
   PetscReal force, force_position;              /* constant external point force along y (e.g. the weight of added masses), and where */
@@ -48,3 +49,4 @@ PETSC_INTERN PetscErrorCode FSBeamFEStatic(const FSBeamFE *, PetscReal x, PetscR
 PETSC_INTERN PetscErrorCode FSBeamFEModes(const FSBeamFE *, PetscInt n, const char prefix[], PetscReal omega[], PetscReal phi[]);
 /* y^T M z for DOF vectors. */
 PETSC_INTERN PetscErrorCode FSBeamFEMassProduct(const FSBeamFE *, const PetscReal y[], const PetscReal z[], PetscReal *);
+PETSC_INTERN PetscErrorCode FSBeamParamsResolvePayload(FSBeamParams *, MPI_Comm, PetscReal liquid_mass);

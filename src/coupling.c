@@ -33,7 +33,8 @@
 /*
    FSSolverCouplingSetUp - decides whether the liquid and the structure are coupled, reads the
    coupling options and computes the loads of the liquid at rest (weight and its moment about the
-   reference point), which the structure does not see. After the walls, particles and structure are set up.
+   reference point), which the structure does not see. After the walls and particles, before the
+   structure's set-up (its payload may depend on the liquid's mass).
 
    Collective
 */
@@ -48,7 +49,7 @@ PetscErrorCode FSSolverCouplingSetUp(FSSolver s)
 
   PetscFunctionBegin;
   s->coupled = PETSC_FALSE;
-  if (!s->structure || !s->structure->ndof || !wd || !s->nglobal_particles) PetscFunctionReturn(0);
+  if (!s->structure || !wd || !s->nglobal_particles) PetscFunctionReturn(0);
   ref[0]         = 0.5 * (wd->walls.lo[0] + wd->walls.hi[0]);
   ref[1]         = wd->walls.lo[1];
   s->tank_width  = 0.1;
@@ -159,4 +160,28 @@ PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *powe
   }
   *power = pw;
   PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverBodyAcceleration - the body acceleration a particle at x feels in the tank's frame (gravity
+   plus the frame's inertial accelerations, without the Coriolis part), from the tank's motion of the
+   last right-hand side: g without a coupling. The walls' hydrostatic extrapolation of the pressure
+   uses it: in a tank accelerating at several g, g alone would extrapolate the wrong way.
+*/
+void FSSolverBodyAcceleration(FSSolver s, const PetscReal x[], PetscReal a[])
+{
+  const FSTankMotion *mo = &s->motion;
+  PetscReal           c, sn, rx, ry;
+
+  if (!s->coupled) {
+    a[0] = s->gravity[0];
+    a[1] = s->gravity[1];
+    return;
+  }
+  c    = PetscCosReal(mo->angle);
+  sn   = PetscSinReal(mo->angle);
+  rx   = x[0] - s->tank_ref[0];
+  ry   = x[1] - s->tank_ref[1];
+  a[0] = c * (s->gravity[0] - mo->acc[0]) + sn * (s->gravity[1] - mo->acc[1]) + mo->angacc * ry + mo->rate * mo->rate * rx;
+  a[1] = -sn * (s->gravity[0] - mo->acc[0]) + c * (s->gravity[1] - mo->acc[1]) - mo->angacc * rx + mo->rate * mo->rate * ry;
 }

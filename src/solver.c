@@ -327,7 +327,9 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscCall(FSDecompBalance(&s->decomp, comm, n, x, width));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
 
-  /* the structure, then the global DOFs: the structure's state, one dissipated energy per dissipative term */
+  /* the coupling (the liquid's mass, which the structure's payload may need), the structure, then the
+     global DOFs: the structure's state, one dissipated energy per dissipative term */
+  PetscCall(FSSolverCouplingSetUp(s));
   if (s->structure) {
     FSStructure st = s->structure;
     PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
@@ -337,7 +339,6 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscCheck(!st->ncolumns || st->ops.columns, comm, PETSC_ERR_PLIB, "Structure %s adds time-series columns but has no columns routine", st->name);
     PetscCall(PetscCalloc2(st->ndof + 1, &s->sy, st->ndof + 1, &s->sydot));
   }
-  PetscCall(FSSolverCouplingSetUp(s));
   PetscCall(FSSolverSetUpGlobalBlocks(s));
   if (s->structure && s->structure->ndof && s->structure->ops.initial) PetscCall((*s->structure->ops.initial)(s->structure, &s->global0[s->gstruct]));
   if (s->restart[0]) PetscCall(FSSolverLoadCheckpoint(s));

@@ -71,6 +71,7 @@ static PetscErrorCode SetUp(FSStructure st)
   char                name[32];
 
   PetscFunctionBegin;
+  PetscCall(FSBeamParamsResolvePayload(&p->beam, st->comm, st->solver->liquid_mass));
   PetscCall(FSBeamFECreate(b, p->ne, &p->fe));
   N = p->fe.N;
   PetscCall(PetscMalloc4(n, &p->omega, n * N, &p->phi, n, &p->mass, n, &p->xi));

@@ -43,6 +43,7 @@ static PetscErrorCode SetUp(FSStructure st)
   const FSBeamParams *b = &p->beam;
 
   PetscFunctionBegin;
+  PetscCall(FSBeamParamsResolvePayload(&p->beam, st->comm, st->solver->liquid_mass));
   p->m = p->mass_given > 0 ? p->mass_given : p->beam_fraction * b->mlin * b->L + b->tank_mass + b->ballast_mass;
   PetscCheck(p->m > 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "Structure msd: the moving mass %g must be positive: set -fs_msd_mass or the parts (-fs_beam_mass_per_length, -fs_beam_tank_mass, -fs_beam_ballast_mass)", (double)p->m);
   p->K           = p->stiffness_given > 0 ? p->stiffness_given : 3 * b->E * b->Iz / (b->a * b->a * b->a);

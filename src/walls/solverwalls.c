@@ -241,7 +241,8 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
   PetscCall(PetscArrayzero(wd->load, 6 * w->nwalls));
   /* wall pressure: p_k = sum_i (p_i + rho_i g.(x_k - x_i)) W_ik V_i / sum_i W_ik V_i over the liquid near
      segment k (all ranks), so that a particle pressed against a wall meets a wall pressure set by its
-     neighbours as well as by itself */
+     neighbours as well as by itself; g is the body acceleration in the tank's frame (with a coupling, the
+     tank's motion of the last right-hand side) */
   if (!wd->wp) PetscCall(PetscMalloc1(3 * w->nseg + 1, &wd->wp));
   PetscCall(PetscArrayzero(wd->wp, 3 * w->nseg));
   {
@@ -252,7 +253,10 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
         const PetscInt   k  = wd->wnbr[q];
         const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
         const PetscReal  wv = wd->wW[q] * s->vol[i];
-        num[k] += (s->pressure[i] + rho * (s->gravity[0] * (sg[4] - x[0]) + s->gravity[1] * (sg[5] - x[1]))) * wv;
+        const PetscReal  mid[2] = {0.5 * (sg[4] + x[0]), 0.5 * (sg[5] + x[1])};
+        PetscReal        g[2];
+        FSSolverBodyAcceleration(s, mid, g);
+        num[k] += (s->pressure[i] + rho * (g[0] * (sg[4] - x[0]) + g[1] * (sg[5] - x[1]))) * wv;
         den[k] += wv;
       }
     }
