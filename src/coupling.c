@@ -84,31 +84,54 @@ PetscErrorCode FSSolverCouplingSetUp(FSSolver s)
 }
 
 /*
-   FSSolverCouplingRates - the structure's part of a right-hand side when coupled (steps 1-3 above):
-   the loads of this stage to the structure, its rate into f (rank 0), and the tank's motion at this
-   stage on every rank (s->motion).
+   FSSolverCouplingPredict - at the start of a right-hand side: the structure's state of this stage on
+   every rank, and the tank's motion it gives with the liquid at rest (its dynamic loads left out),
+   s->predicted. The walls extrapolate the pressure hydrostatically with the body acceleration of
+   that motion (FSSolverBodyAcceleration): it depends on this stage's state alone, so runs stay
+   reproducible (restarts, output intervals), and it misses only the liquid's share of the tank's
+   acceleration.
+
+   Collective
+*/
+PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
+{
+  FSStructure st   = s->structure;
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  PetscMPIInt rank;
+  FSLoads     none;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(FSSolverStructureBroadcastState(s, u));
+  PetscCall(PetscMemzero(&none, sizeof(none)));
+  if (!rank) {
+    PetscCall((*st->ops.rhs)(st, s->rhs_time, s->sy, &none, s->sydot));
+    PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &s->predicted));
+  }
+  PetscCallMPI(MPI_Bcast(&s->predicted, (PetscMPIInt)(sizeof(s->predicted) / sizeof(PetscReal)), MPIU_REAL, 0, comm));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverCouplingRates - the structure's part of a right-hand side when coupled (steps 1-3 above,
+   after FSSolverCouplingPredict): the loads of this stage to the structure, its rate into f (rank 0),
+   and the tank's motion at this stage on every rank (s->motion).
 
    Collective
 */
 PetscErrorCode FSSolverCouplingRates(FSSolver s, const PetscReal *u, PetscReal *f)
 {
-  FSStructure     st = s->structure;
-  MPI_Comm        comm = PetscObjectComm((PetscObject)s);
+  FSStructure      st   = s->structure;
+  MPI_Comm         comm = PetscObjectComm((PetscObject)s);
   const PetscReal *L;
-  PetscReal       F[2] = {0, 0}, M = 0, c, sn;
-  FSTankMotion    mo;
-  PetscMPIInt     rank;
+  PetscReal        F[2] = {0, 0}, M = 0, c, sn;
+  PetscMPIInt      rank;
 
   PetscFunctionBegin;
+  (void)u;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(FSSolverStructureBroadcastState(s, u));
-  /* theta from the state alone (the motion routine reads the rate only for velocities and accelerations) */
-  if (!rank) {
-    PetscCall(PetscArrayzero(s->sydot, st->ndof));
-    PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &mo));
-  }
-  PetscCallMPI(MPI_Bcast(&mo.angle, 1, MPIU_REAL, 0, comm));
-  /* the liquid's loads at this stage, all walls, about the reference point, in the global axes */
+  /* the liquid's loads at this stage, all walls, about the reference point, in the global axes
+     (theta depends on the state alone: the predicted motion has it) */
   PetscCall(FSSolverWallsGetLoads(s, &L));
   for (PetscInt w = 0; w < s->wd->walls.nwalls; w++) {
     F[0] += L[6 * w];
@@ -116,8 +139,8 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, const PetscReal *u, PetscReal *
     M += L[6 * w + 5];
   }
   M += (s->wd->loadpoint[0] - s->tank_ref[0]) * F[1] - (s->wd->loadpoint[1] - s->tank_ref[1]) * F[0];
-  c  = PetscCosReal(mo.angle);
-  sn = PetscSinReal(mo.angle);
+  c  = PetscCosReal(s->predicted.angle);
+  sn = PetscSinReal(s->predicted.angle);
   PetscCall(PetscMemzero(&s->loads, sizeof(s->loads)));
   s->loads.force[0]  = (c * F[0] - sn * F[1]) * s->tank_width - s->static_loads.force[0];
   s->loads.force[1]  = (sn * F[0] + c * F[1]) * s->tank_width - s->static_loads.force[1];
@@ -164,13 +187,13 @@ PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *powe
 
 /*
    FSSolverBodyAcceleration - the body acceleration a particle at x feels in the tank's frame (gravity
-   plus the frame's inertial accelerations, without the Coriolis part), from the tank's motion of the
-   last right-hand side: g without a coupling. The walls' hydrostatic extrapolation of the pressure
+   plus the frame's inertial accelerations, without the Coriolis part), from the predicted motion of
+   this stage (FSSolverCouplingPredict): g without a coupling. The walls' hydrostatic extrapolation of the pressure
    uses it: in a tank accelerating at several g, g alone would extrapolate the wrong way.
 */
 void FSSolverBodyAcceleration(FSSolver s, const PetscReal x[], PetscReal a[])
 {
-  const FSTankMotion *mo = &s->motion;
+  const FSTankMotion *mo = &s->predicted;
   PetscReal           c, sn, rx, ry;
 
   if (!s->coupled) {

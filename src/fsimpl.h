@@ -203,6 +203,7 @@ struct _p_FSSolver {
   PetscReal    liquid_mass;   /* of the whole tank (2-D mass times width) */
   FSLoads      static_loads;  /* of the liquid at rest in the undeflected tank, subtracted */
   FSTankMotion motion;        /* the tank's motion at the last right-hand side, every rank */
+  FSTankMotion predicted;     /* the same with the liquid at rest (FSSolverCouplingPredict) */
   PetscReal    ext_power;     /* P_ext of the last right-hand side, this rank's share */
   PetscReal   rhs_time;       /* time of the right-hand side being evaluated */
   PetscInt    steps_taken;    /* steps taken since set-up (this process) */
@@ -269,6 +270,7 @@ PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, const PetscReal *u, PetscReal *f);
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverCouplingSetUp(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, const PetscReal *u, PetscReal *f);
 PETSC_INTERN PetscErrorCode FSSolverCouplingInertia(FSSolver, PetscReal *f, PetscReal *power);
 PETSC_INTERN void           FSSolverBodyAcceleration(FSSolver, const PetscReal x[], PetscReal a[]);

@@ -216,6 +216,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     s->pressure[k] = s->c0 * s->c0 * (rk[2 * dim] - s->rho0) + s->background_pressure;
   }
 
+  if (s->coupled) PetscCall(FSSolverCouplingPredict(s, u));
   if (s->wd) {
     PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
     PetscCall(FSSolverWallsPrepare(s));
