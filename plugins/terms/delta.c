@@ -63,6 +63,13 @@ static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)
     for (PetscInt k = 0; k < n; k++) ctx->delta[k] = ctx->fixed;
   else
     for (PetscInt k = 0; k < n; k++) ctx->delta[k] = PetscMax(coef * P->aux[k * (dim + 1) + dim], ctx->dmin);
+  /* the term diffuses the density with diffusivity delta_i h c0: the time step must resolve it like a
+     viscosity (in a slam the strain rate, hence delta-LES, jumps by orders of magnitude) */
+  {
+    PetscReal dmax = 0;
+    for (PetscInt k = 0; k < P->nowned; k++) dmax = PetscMax(dmax, ctx->delta[k]);
+    t->max_viscosity = dmax * P->h * P->c0;
+  }
   PetscFunctionReturn(0);
 }
 
