@@ -195,6 +195,9 @@ typedef struct {
   PetscErrorCode (*columns)(FSStructure, PetscReal t, const PetscReal y[], const PetscReal ydot[], PetscReal vals[]);
   /* output at a snapshot time (rank 0; e.g. the deflected shape), into the directory given */
   PetscErrorCode (*snapshot)(FSStructure, const char dir[], PetscReal t, PetscInt step, const PetscReal y[]);
+  /* optional: the energies at state y (rank 0): E[0] kinetic, E[1] potential (elastic, with the potential
+     of constant applied forces such as -fs_beam_force), E[2] the damping power (dissipated, >= 0) */
+  PetscErrorCode (*energy)(FSStructure, const PetscReal y[], PetscReal E[3]);
   /* the model's members of summary.json (rank 0 writes; called on every rank) */
   PetscErrorCode (*summary)(FSStructure, struct _n_FSJSON *);
   PetscErrorCode (*view)(FSStructure, PetscViewer);

@@ -139,8 +139,11 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, const PetscReal *u, PetscReal *
     M += L[6 * w + 5];
   }
   M += (s->wd->loadpoint[0] - s->tank_ref[0]) * F[1] - (s->wd->loadpoint[1] - s->tank_ref[1]) * F[0];
-  c  = PetscCosReal(s->predicted.angle);
-  sn = PetscSinReal(s->predicted.angle);
+  c               = PetscCosReal(s->predicted.angle);
+  sn              = PetscSinReal(s->predicted.angle);
+  s->tank_load[0] = F[0]; /* in the tank's frame, per unit width, about the reference point: for the energy budget */
+  s->tank_load[1] = F[1];
+  s->tank_load[2] = M;
   PetscCall(PetscMemzero(&s->loads, sizeof(s->loads)));
   s->loads.force[0]  = (c * F[0] - sn * F[1]) * s->tank_width - s->static_loads.force[0];
   s->loads.force[1]  = (sn * F[0] + c * F[1]) * s->tank_width - s->static_loads.force[1];
@@ -159,9 +162,13 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, const PetscReal *u, PetscReal *
 
 /*
    FSSolverCouplingInertia - step 4: the inertial accelerations of the tank's frame added to the
-   owned particles' rates f; returns their power sum_i m_i u_i . a on this rank (P_ext).
+   owned particles' rates f; returns their power sum_i m_i u_i . a on this rank (P_ext), and this rank's
+   share of the force (2) and moment about the reference point (1) of the rates f had before, less
+   gravity: sum_i m_i (f_i - g), the force of the walls on the liquid (internal forces cancel, up to the
+   renormalization near walls), whose reaction the structure should receive (the energy budget's
+   coupling power, src/energy.c).
 */
-PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *power)
+PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *power, PetscReal reaction[3])
 {
   const PetscInt     S = s->stride, US = s->ustride, n = s->nowned;
   const FSTankMotion *mo = &s->motion;
@@ -169,7 +176,7 @@ PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *powe
   /* the uniform part: R(-theta) (g - A) - g */
   const PetscReal    b0 = c * (s->gravity[0] - mo->acc[0]) + sn * (s->gravity[1] - mo->acc[1]) - s->gravity[0];
   const PetscReal    b1 = -sn * (s->gravity[0] - mo->acc[0]) + c * (s->gravity[1] - mo->acc[1]) - s->gravity[1];
-  PetscReal          pw = 0;
+  PetscReal          pw = 0, R[3] = {0, 0, 0};
 
   PetscFunctionBegin;
   for (PetscInt i = 0; i < n; i++) {
@@ -177,11 +184,16 @@ PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *powe
     const PetscReal  rx = ri[0] - s->tank_ref[0], ry = ri[1] - s->tank_ref[1], ux = ri[2], uy = ri[3];
     const PetscReal  ax = b0 + al * ry + 2 * w * uy + w * w * rx;
     const PetscReal  ay = b1 - al * rx - 2 * w * ux + w * w * ry;
+    const PetscReal  fx = ri[5] * (f[i * US + 2] - s->gravity[0]), fy = ri[5] * (f[i * US + 3] - s->gravity[1]);
+    R[0] += fx;
+    R[1] += fy;
+    R[2] += rx * fy - ry * fx;
     f[i * US + 2] += ax;
     f[i * US + 3] += ay;
     pw += ri[5] * (ux * ax + uy * ay);
   }
   *power = pw;
+  for (PetscInt c = 0; c < 3; c++) reaction[c] = R[c];
   PetscFunctionReturn(0);
 }
 

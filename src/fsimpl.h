@@ -123,12 +123,26 @@ typedef struct {
 } FSTermSet;
 
 /* The global DOFs of the state (on rank 0, after the particles) are a short list of blocks:
-   the structure's DOFs first, then one dissipated energy per dissipative term. */
+   the structure's DOFs first, then one dissipated energy per term with a power, then the energy
+   budget's own integrals and constants (FS_ENERGY_*, src/energy.c). */
 #define FS_MAX_GLOBAL_BLOCKS 4
 typedef struct {
   char     name[32];
   PetscInt offset, n;
 } FSGlobalBlock;
+
+/* The energy block of the global DOFs: the time integrals of P_ext, of the start-up relaxation's
+   power, of the structure's damping power (negative: energy lost) and of the coupling's power (the work
+   of the difference between the loads the structure receives and the reaction of the walls' forces on
+   the particles: energy the coupling creates), the energy changes of the wall bounces (liquid, whole
+   system; changed between steps, not by the integrator), and the liquid's and the whole
+   system's energies at the start of the run (rate zero: kept through restarts by the checkpoints). */
+enum { FS_ENERGY_WORK_EXT, FS_ENERGY_WORK_RELAX, FS_ENERGY_WORK_DAMPING, FS_ENERGY_WORK_COUPLING, FS_ENERGY_WORK_BOUNCE, FS_ENERGY_WORK_BOUNCE_TOTAL, FS_ENERGY_LIQUID0, FS_ENERGY_TOTAL0, FS_ENERGY_NDOF };
+PETSC_INTERN PetscErrorCode FSSolverEnergyColumns(FSSolver, PetscInt *, const char *[]);
+PETSC_INTERN PetscErrorCode FSSolverEnergyValues(FSSolver, PetscReal[]);
+PETSC_INTERN PetscErrorCode FSSolverEnergyInitial(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverEnergyJumpBegin(FSSolver, PetscReal[2]);
+PETSC_INTERN PetscErrorCode FSSolverEnergyJumpEnd(FSSolver, const PetscReal[2]);
 
 PETSC_INTERN PetscErrorCode FSStructureCreate(FSSolver, const char name[], FSStructure *);
 PETSC_INTERN PetscErrorCode FSStructureDestroy(FSStructure *);
@@ -205,6 +219,8 @@ struct _p_FSSolver {
   FSTankMotion motion;        /* the tank's motion at the last right-hand side, every rank */
   FSTankMotion predicted;     /* the same with the liquid at rest (FSSolverCouplingPredict) */
   PetscReal    ext_power;     /* P_ext of the last right-hand side, this rank's share */
+  PetscReal    tank_load[3];  /* the liquid's loads of the last right-hand side in the tank's frame, per unit width: force (2), moment about tank_ref */
+  PetscReal    relax_power;   /* power of the start-up relaxation of the last right-hand side, this rank's share */
   PetscReal   rhs_time;       /* time of the right-hand side being evaluated */
   PetscInt    steps_taken;    /* steps taken since set-up (this process) */
 
@@ -213,7 +229,8 @@ struct _p_FSSolver {
   Vec       U;
   FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
   PetscInt  ngblocks;
-  PetscInt  gstruct, gdiss; /* offsets of the structure's DOFs and of the dissipated energies */
+  PetscInt  gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
+  PetscInt  ndiss;          /* dissipated energies: one per term with a power */
   PetscInt  nglobaldofs;
   PetscReal global0[FS_MAX_GLOBAL];
   PetscInt  ustride; /* 2*dim+1 */
@@ -226,6 +243,7 @@ struct _p_FSSolver {
   /* monitors and output */
   FSSnapshotWriter snapshots;
   FSTimeSeries     series;
+  FSTimeSeries     energyseries;  /* energy.csv */
   PetscReal        next_output;
   PetscLogDouble   wall_start, wall_last_progress;
   PetscInt         step0;
@@ -272,7 +290,7 @@ PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const Pets
 PETSC_INTERN PetscErrorCode FSSolverCouplingSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, const PetscReal *u, PetscReal *f);
-PETSC_INTERN PetscErrorCode FSSolverCouplingInertia(FSSolver, PetscReal *f, PetscReal *power);
+PETSC_INTERN PetscErrorCode FSSolverCouplingInertia(FSSolver, PetscReal *f, PetscReal *power, PetscReal reaction[3]);
 PETSC_INTERN void           FSSolverBodyAcceleration(FSSolver, const PetscReal x[], PetscReal a[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);

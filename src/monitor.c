@@ -1,5 +1,6 @@
 /*
-   Monitors: the per-step time series (energy, mass, momentum, extremes, dissipated energies),
+   Monitors: the per-step time series (energy, mass, momentum, extremes, dissipated energies), the
+   energy budget (energy.csv, src/energy.c),
    particle snapshots at the output interval, checkpoints, the progress line and the summary.
 */
 #include "fsimpl.h"
@@ -60,12 +61,12 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   for (PetscInt d = 0; d < s->dim; d++) vals[k++] = sums[2 + d];
   vals[k++] = umax;
   vals[k++] = s->max_variation;
-  if (!rank && s->nglobaldofs > s->gdiss) { /* the dissipated energies */
+  if (!rank && s->ndiss) { /* the dissipated energies */
     const PetscScalar *u;
     PetscCall(VecGetArrayRead(s->U, &u));
-    for (PetscInt g = s->gdiss; g < s->nglobaldofs; g++) vals[k++] = u[s->nowned * s->ustride + g];
+    for (PetscInt g = s->gdiss; g < s->gdiss + s->ndiss; g++) vals[k++] = u[s->nowned * s->ustride + g];
     PetscCall(VecRestoreArrayRead(s->U, &u));
-  } else k += s->nglobaldofs - s->gdiss;
+  } else k += s->ndiss;
   if (s->caseops.analytic) PetscCall((*s->caseops.analytic)(s, t, &vals[k++]));
   if (s->wd) { /* the liquid's loads on each wall, from the step's last right-hand side */
     const PetscReal *L;
@@ -84,6 +85,10 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
     k += nc;
   }
   PetscCall(FSTimeSeriesAppend(s->series, step, vals));
+  if (s->energyseries) { /* energy.csv: the energy budget (src/energy.c) */
+    PetscCall(FSSolverEnergyValues(s, vals));
+    PetscCall(FSTimeSeriesAppend(s->energyseries, step, vals));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -116,6 +121,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   /* snapshots at multiples of the interval, also after a restart */
   s->next_output = s->output_interval > 0 ? (PetscFloorReal(t / s->output_interval + 1e-9) + 1) * s->output_interval : PETSC_MAX_REAL;
   s->last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
+  if (!s->restart[0]) PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
   if (!s->write_output) PetscFunctionReturn(0);
   PetscCall(FSMakeDirectory(comm, s->outdir, "-fs_output_dir"));
   names[k++] = "time";
@@ -146,6 +152,9 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   }
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/timeseries.csv", s->outdir));
   PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->restart[0] ? step : -1, &s->series));
+  PetscCall(FSSolverEnergyColumns(s, &k, names));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/energy.csv", s->outdir));
+  PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->restart[0] ? step : -1, &s->energyseries));
   PetscCall(FSSnapshotWriterCreate(comm, s->outdir, s->restart[0] ? t : -1.0, &s->snapshots));
   PetscCall(FSSolverCheckState(s));
   PetscCall(FSSolverAppendSeries(s)); /* on restart, the series was cut just before this row */

@@ -185,7 +185,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
 {
   const PetscInt dim = s->dim, S = s->stride, US = s->ustride, n = s->nowned;
   FSParticles    P;
-  PetscReal     *dx, *r2, *gw, *ri2, power[FS_MAX_TERMS];
+  PetscReal     *dx, *r2, *gw, *ri2, power[FS_MAX_TERMS + 5], reaction[3] = {0, 0, 0};
   PetscInt       maxn = 0, npower = 0;
 
   PetscFunctionBegin;
@@ -284,10 +284,15 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   }
   PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
   if (s->wd) PetscCall(FSSolverWallPass(s, &P, f));
+  s->relax_power = 0;
   if (s->rhs_time < s->relax_time) { /* start-up relaxation: du/dt -= zeta(t) u, zeta fading smoothly to 0 */
     const PetscReal zeta = 10.0 / s->relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->rhs_time / s->relax_time));
     for (PetscInt i = 0; i < n; i++)
-      for (PetscInt d = 0; d < dim; d++) f[i * US + dim + d] -= zeta * s->rec[i * S + dim + d];
+      for (PetscInt d = 0; d < dim; d++) {
+        const PetscReal ud = s->rec[i * S + dim + d];
+        f[i * US + dim + d] -= zeta * ud;
+        s->relax_power -= zeta * s->rec[i * S + 2 * dim + 1] * ud * ud;
+      }
   }
   if (count) {
     s->pair_visits += s->nbrs.npairs;
@@ -295,19 +300,39 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   }
 
   /* the structure's DOFs (first block of the global DOFs, rank 0) */
+  s->ext_power = 0;
   if (s->coupled) { /* loads of this stage to the structure, the tank's motion back to the liquid */
     PetscCall(FSSolverCouplingRates(s, u, f));
-    PetscCall(FSSolverCouplingInertia(s, f, &s->ext_power));
+    PetscCall(FSSolverCouplingInertia(s, f, &s->ext_power, reaction));
   } else PetscCall(FSSolverStructureRates(s, u, f));
-  /* dissipation powers: the rates of the dissipated energies (the next block), rank 0 */
+  /* powers: the rates of the dissipated energies (the next block) and of the energy block's integrals, rank 0 */
   for (PetscInt t = 0; t < s->terms.nterms; t++)
     if (s->terms.term[t]->has_power) power[npower++] = s->terms.term[t]->power;
-  if (npower) {
+  power[npower]     = s->ext_power;
+  power[npower + 1] = s->relax_power;
+  for (PetscInt c = 0; c < 3; c++) power[npower + 2 + c] = reaction[c];
+  {
     PetscMPIInt rank;
+    PetscReal  *fe = f + n * US + s->genergy;
     PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-    PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)npower, MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
-    if (!rank)
+    PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
+    if (!rank) {
+      FSStructure st = s->structure;
+      PetscReal   E[3] = {0, 0, 0};
       for (PetscInt k = 0; k < npower; k++) f[n * US + s->gdiss + k] = power[k];
+      for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) fe[e] = 0; /* the constants and the bounces' jumps */
+      if (st && st->ndof && st->ops.energy) PetscCall((*st->ops.energy)(st, s->sy, E));
+      fe[FS_ENERGY_WORK_EXT]     = power[npower];
+      fe[FS_ENERGY_WORK_RELAX]   = power[npower + 1];
+      fe[FS_ENERGY_WORK_DAMPING] = -E[2];
+      if (s->coupled) { /* w [(F_walls + F_L) . R(-theta) V_ref + omega (M_walls + M_L)] */
+        const FSTankMotion *mo = &s->motion;
+        const PetscReal     c = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
+        const PetscReal     vx = c * mo->vel[0] + sn * mo->vel[1], vy = -sn * mo->vel[0] + c * mo->vel[1];
+        const PetscReal    *R = &power[npower + 2], *L = s->tank_load;
+        fe[FS_ENERGY_WORK_COUPLING] = s->tank_width * ((R[0] + L[0]) * vx + (R[1] + L[1]) * vy + mo->rate * (R[2] + L[2]));
+      }
+    }
   }
   PetscCall(PetscLogEventEnd(FS_RHS, 0, 0, 0, 0));
   PetscFunctionReturn(0);

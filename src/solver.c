@@ -427,6 +427,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   if (s->casedata) PetscCall(PetscFree(s->casedata));
   PetscCall(FSSnapshotWriterDestroy(&s->snapshots));
   PetscCall(FSTimeSeriesDestroy(&s->series));
+  PetscCall(FSTimeSeriesDestroy(&s->energyseries));
   PetscCall(TSDestroy(&s->ts));
   PetscCall(VecDestroy(&s->U));
   PetscCall(VecDestroy(&s->Uprev));

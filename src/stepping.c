@@ -203,9 +203,12 @@ PetscErrorCode FSSolverStep(FSSolver s)
   TSAdapt           adapt;
   TSConvergedReason reason;
   PetscInt          step;
+  PetscReal         ejump[2];
+  PetscBool         bounce;
 
   PetscFunctionBegin;
   PetscCall(FSSolverSetUp(s));
+  bounce = (PetscBool)(s->wd && s->wd->bounce_distance > 0 && s->nglobal_particles > 0);
   PetscCall(PetscLogEventBegin(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverComputeStableDt(s, &dt));
   PetscCall(TSGetTime(s->ts, &t));
@@ -227,11 +230,13 @@ PetscErrorCode FSSolverStep(FSSolver s)
   s->particle_steps += s->nglobal_particles;
   s->steps_taken++;
   PetscCall(FSSolverCheckState(s));
+  if (bounce) PetscCall(FSSolverEnergyJumpBegin(s, ejump)); /* the bounces' energy changes, for the energy budget */
   PetscCall(FSSolverUnpackState(s));
   PetscCall(FSSolverWallsBounce(s));
   PetscCall(FSSolverMigrate(s, &changed));
   if (step % s->sort_interval == 0) PetscCall(FSSolverSortByCell(s));
   PetscCall(FSSolverResize(s, changed));
+  if (bounce) PetscCall(FSSolverEnergyJumpEnd(s, ejump));
   PetscCall(PetscLogEventEnd(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverMonitor(s));
   PetscFunctionReturn(0);

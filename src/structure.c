@@ -153,7 +153,8 @@ PetscErrorCode FSSolverSetLoads(FSSolver s, const FSLoads *loads)
 
 /*
    FSSolverSetUpGlobalBlocks - lays out the global DOFs of the state: the structure's, then one
-   dissipated energy per dissipative term. Called from FSSolverSetUp once the structure is set up.
+   dissipated energy per term with a power, then the energy block (FS_ENERGY_*). Called from
+   FSSolverSetUp once the structure is set up.
 */
 PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
 {
@@ -168,12 +169,17 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
   s->gblock[s->ngblocks].offset = 0;
   s->gblock[s->ngblocks++].n    = s->structure ? s->structure->ndof : 0;
   s->gdiss                      = s->gblock[0].n;
+  s->ndiss                      = ndiss;
   PetscCall(PetscStrncpy(s->gblock[s->ngblocks].name, "dissipated_energy", sizeof(s->gblock[0].name)));
   s->gblock[s->ngblocks].offset = s->gdiss;
   s->gblock[s->ngblocks++].n    = ndiss;
-  s->nglobaldofs                = s->gdiss + ndiss;
+  s->genergy                    = s->gdiss + ndiss;
+  PetscCall(PetscStrncpy(s->gblock[s->ngblocks].name, "energy_budget", sizeof(s->gblock[0].name)));
+  s->gblock[s->ngblocks].offset = s->genergy;
+  s->gblock[s->ngblocks++].n    = FS_ENERGY_NDOF;
+  s->nglobaldofs                = s->genergy + FS_ENERGY_NDOF;
   /* the checkpoint header keeps the global DOFs and two more values (FSSolverWriteCheckpoint) */
-  PetscCheck(s->nglobaldofs + 2 <= FS_MAX_GLOBAL, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "The state has %" PetscInt_FMT " global DOFs (structure %" PetscInt_FMT ", dissipated energies %" PetscInt_FMT "), more than %d: use fewer structure modes", s->nglobaldofs, s->gdiss, ndiss, FS_MAX_GLOBAL - 2);
+  PetscCheck(s->nglobaldofs + 2 <= FS_MAX_GLOBAL, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "The state has %" PetscInt_FMT " global DOFs (structure %" PetscInt_FMT ", dissipated energies %" PetscInt_FMT ", energy budget %d), more than %d: use fewer structure modes", s->nglobaldofs, s->gdiss, ndiss, (int)FS_ENERGY_NDOF, FS_MAX_GLOBAL - 2);
   PetscFunctionReturn(0);
 }
 

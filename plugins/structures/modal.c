@@ -165,6 +165,26 @@ static PetscErrorCode Motion(FSStructure st, const PetscReal y[], const PetscRea
   PetscFunctionReturn(0);
 }
 
+/*
+   Energies, sums over the modes (orthogonal in mass and stiffness): 1/2 m_i q_i'^2, 1/2 m_i omega_i^2 q_i^2 -
+   phi_i(x_p) F_p q_i (the point force's potential), damping power 2 xi_i omega_i m_i q_i'^2.
+*/
+static PetscErrorCode Energy(FSStructure st, const PetscReal y[], PetscReal E[3])
+{
+  Modal         *p = (Modal *)st->data;
+  const PetscInt n = p->nmodes;
+
+  PetscFunctionBegin;
+  E[0] = E[1] = E[2] = 0;
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal w = p->omega[i], m = p->mass[i], q = y[i], v = y[n + i];
+    E[0] += 0.5 * m * v * v;
+    E[1] += 0.5 * m * w * w * q * q - p->wp[i] * p->beam.force * q;
+    E[2] += 2 * p->xi[i] * w * m * v * v;
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Columns(FSStructure st, PetscReal t, const PetscReal y[], const PetscReal ydot[], PetscReal vals[])
 {
   Modal *p = (Modal *)st->data;
@@ -281,6 +301,7 @@ PETSC_EXTERN PetscErrorCode FSStructureCreate_Modal(FSStructure st)
   st->ops.initial        = Initial;
   st->ops.rhs            = RHS;
   st->ops.motion         = Motion;
+  st->ops.energy         = Energy;
   st->ops.columns        = Columns;
   st->ops.snapshot       = Snapshot;
   st->ops.view           = View;

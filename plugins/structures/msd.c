@@ -85,6 +85,18 @@ static PetscErrorCode Motion(FSStructure st, const PetscReal y[], const PetscRea
   PetscFunctionReturn(0);
 }
 
+/* Energies: 1/2 m w'^2, 1/2 K w^2 - F_p w (the point force's potential), damping power c w'^2. */
+static PetscErrorCode Energy(FSStructure st, const PetscReal y[], PetscReal E[3])
+{
+  MSD *p = (MSD *)st->data;
+
+  PetscFunctionBegin;
+  E[0] = 0.5 * p->m * y[1] * y[1];
+  E[1] = 0.5 * p->K * y[0] * y[0] - p->force_eq * y[0];
+  E[2] = p->c * y[1] * y[1];
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode View(FSStructure st, PetscViewer viewer)
 {
   MSD *p = (MSD *)st->data;
@@ -131,6 +143,7 @@ PETSC_EXTERN PetscErrorCode FSStructureCreate_MSD(FSStructure st)
   st->ops.initial       = Initial;
   st->ops.rhs           = RHS;
   st->ops.motion        = Motion;
+  st->ops.energy        = Energy;
   st->ops.view          = View;
   st->ops.summary       = Summary;
   st->ops.destroy       = Destroy;

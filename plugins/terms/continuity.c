@@ -1,4 +1,10 @@
-/* Term "continuity": the SPH continuity equation, D rho_i/Dt = -rho_i sum_j (u_j - u_i) . grad_i W_ij V_j (seed Eq. 4). */
+/*
+   Term "continuity": the SPH continuity equation, D rho_i/Dt = -rho_i sum_j (u_j - u_i) . grad_i W_ij V_j (seed Eq. 4).
+   Its power, the rate of change of the compressibility energy it causes, V_i p_i/rho_i (D rho_i/Dt), is
+   exactly minus the power of term pressure without walls (the pair exchanges kinetic and compressibility
+   energy); near walls the pressure gradient is renormalized by gamma_i and this divergence is not, so the
+   sum of the two powers is the boundaries' share of the energy budget (counted in P_wall, src/energy.c).
+*/
 #include <flexslosh.h>
 
 static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
@@ -6,7 +12,6 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
   const PetscInt   dim = P->dim, S = P->stride;
   const PetscReal *ri = &P->rec[nb->i * S], rhoi = ri[2 * dim];
   PetscReal        sum = 0;
-  (void)t;
   for (PetscInt k = 0; k < nb->n; k++) {
     const PetscInt   j  = nb->j[k];
     const PetscReal *rj = &P->rec[j * S], *g = &nb->gradW[k * dim];
@@ -15,11 +20,13 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
     sum += dot * P->vol[j];
   }
   rate->drho -= rhoi * sum;
+  t->power -= P->vol[nb->i] * P->pressure[nb->i] * sum;
 }
 
 PETSC_EXTERN PetscErrorCode FSTermCreate_Continuity(FSTerm t)
 {
   PetscFunctionBegin;
+  t->has_power    = PETSC_TRUE; /* exchanged with term pressure: see above */
   t->ops.interact = Interact;
   PetscFunctionReturn(0);
 }

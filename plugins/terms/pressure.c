@@ -9,6 +9,8 @@
    by gamma_i with the geometric gamma makes the scheme create energy under gravity: in a hydrostatic
    tank the velocities grow to tenths of m/s within a second; with the divergence left as it is they
    stay at about 0.03 sqrt(g H) (tests/python/test_walls.py).
+   Power: m_i u_i . (D u_i/Dt), with the core's 1/gamma_i; without walls it is exactly minus the power of
+   term continuity, with walls their sum is the boundaries' share of the energy budget (src/energy.c).
 */
 #include <flexslosh.h>
 
@@ -16,20 +18,24 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
 {
   const PetscInt   dim = P->dim, S = P->stride, i = nb->i;
   const PetscReal *p = P->pressure, *V = P->vol, pi = p[i], rhoi = P->rec[i * S + 2 * dim];
-  PetscReal        acc[3] = {0, 0, 0};
-  (void)t;
+  PetscReal        acc[3] = {0, 0, 0}, pw = 0;
   for (PetscInt k = 0; k < nb->n; k++) {
     const PetscInt   j = nb->j[k];
     const PetscReal *g = &nb->gradW[k * dim], f = (pi + p[j]) * V[j];
     for (PetscInt d = 0; d < dim; d++) acc[d] += f * g[d];
   }
-  for (PetscInt d = 0; d < dim; d++) rate->du[d] -= acc[d] / rhoi;
+  for (PetscInt d = 0; d < dim; d++) {
+    rate->du[d] -= acc[d] / rhoi;
+    pw += P->rec[i * S + dim + d] * acc[d];
+  }
+  t->power -= V[i] * (P->invgamma ? P->invgamma[i] : 1.0) * pw;
 }
 
 PETSC_EXTERN PetscErrorCode FSTermCreate_Pressure(FSTerm t)
 {
   PetscFunctionBegin;
   t->renormalized = PETSC_TRUE; /* divided by gamma_i near walls */
+  t->has_power    = PETSC_TRUE; /* exchanged with term continuity */
   t->ops.interact = Interact;
   PetscFunctionReturn(0);
 }
