@@ -10,13 +10,12 @@ terms (PETSc -log_view with flexslosh's events), and the surge front at the end.
     /usr/bin/python3 bench/bench_dam_break.py [--dx 0.01] [--time 0.1] [--ranks 1,2]
 """
 import argparse
-import json
 import os
-import re
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from benchutil import run_logged
 
 ROOT = Path(__file__).resolve().parents[1]
 EVENTS = ["FSStep", "FSRHS", "FSNeighbours", "FSHalo", "FSWalls", "FSWallPass", "FSFirstPass", "FSPairPass",
@@ -27,18 +26,8 @@ SHARES = [("neighbour search", "FSNeighbours"), ("halo exchange", "FSHalo"), ("w
 
 
 def run(exe, nranks, dx, tfinal, outdir, extra):
-    args = [str(exe), "-fs_case", "dam_break", "-fs_dx", repr(dx), "-ts_max_time", repr(tfinal),
-            "-fs_output_interval", "0", "-fs_output_dir", str(outdir), "-fs_progress", "0", "-log_view"] + extra
-    if nranks > 1:
-        args = ["mpirun", "--oversubscribe", "--bind-to", "core", "-n", str(nranks)] + args
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    out = subprocess.run(args, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=True).stdout
-    summary = json.load(open(Path(outdir) / "summary.json"))
-    times = {}
-    for ev in EVENTS:
-        m = re.search(r"^%s\s+\d+\s+\S+\s+(\S+)" % ev, out, re.M)
-        if m:
-            times[ev] = float(m.group(1))
+    args = ["-fs_case", "dam_break", "-fs_dx", repr(dx), "-ts_max_time", repr(tfinal), "-fs_output_interval", "0"] + extra
+    summary, times = run_logged(exe, nranks, args, outdir, EVENTS)
     front = None
     with open(Path(outdir) / "timeseries.csv") as f:
         head = f.readline().strip().split(",")

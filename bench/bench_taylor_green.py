@@ -8,33 +8,21 @@ and where the time goes (from -log_view events).
     /usr/bin/python3 bench/bench_taylor_green.py [--n 316] [--steps 20] [--ranks 1,2]
 """
 import argparse
-import json
 import os
-import re
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from benchutil import run_logged
 
 ROOT = Path(__file__).resolve().parents[1]
 EVENTS = ["FSStep", "FSRHS", "FSNeighbours", "FSHalo", "FSFirstPass", "FSPairPass", "FSMigrate", "FSOutput", "TSStep"]
 
 
 def run(exe, nranks, n, steps, terms, outdir):
-    args = [str(exe), "-fs_case", "taylor_green", "-fs_dx", repr(1.0 / n), "-ts_max_steps", str(steps),
-            "-ts_max_time", "100", "-fs_terms", terms, "-fs_output_interval", "0", "-fs_output_dir", str(outdir),
-            "-fs_progress", "0", "-log_view"]
-    if nranks > 1:
-        args = ["mpirun", "--oversubscribe", "--bind-to", "core", "-n", str(nranks)] + args
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    out = subprocess.run(args, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, check=True).stdout
-    summary = json.load(open(Path(outdir) / "summary.json"))
-    times = {}
-    for ev in EVENTS:
-        m = re.search(r"^%s\s+\d+\s+\S+\s+(\S+)" % ev, out, re.M)
-        if m:
-            times[ev] = float(m.group(1))
-    return summary, times
+    args = ["-fs_case", "taylor_green", "-fs_dx", repr(1.0 / n), "-ts_max_steps", str(steps), "-ts_max_time", "100",
+            "-fs_terms", terms, "-fs_output_interval", "0"]
+    return run_logged(exe, nranks, args, outdir, EVENTS)
 
 
 def main():

@@ -25,18 +25,6 @@ static inline PetscReal PhiOverR2(PetscReal h, PetscReal r)
 static const PetscReal GaussX[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498, 0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
 static const PetscReal GaussW[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066531250488, 0.3626837833783620, 0.3626837833783620, 0.3137066531250488, 0.2223810344533745, 0.1012285362903763};
 
-/* int_{a}^{b} Phi(sqrt(d^2 + s^2)) / (d^2 + s^2) ds by 8-point Gauss-Legendre (a, b on one side of 0) */
-static PetscReal IntegratePhi(PetscReal h, PetscReal d, PetscReal a, PetscReal b)
-{
-  PetscReal sum = 0, mid = 0.5 * (a + b), half = 0.5 * (b - a);
-  if (half <= 0) return 0;
-  for (PetscInt g = 0; g < 8; g++) {
-    const PetscReal s = mid + half * GaussX[g];
-    sum += GaussW[g] * PhiOverR2(h, PetscSqrtReal(d * d + s * s));
-  }
-  return sum * half;
-}
-
 /* Wendland C2 in 2-D, W(r) = 7/(4 pi h^2) (1 - q/2)^4 (2q + 1), q = r/h <= 2 */
 static inline PetscReal Wendland(PetscReal h, PetscReal r)
 {
@@ -44,14 +32,14 @@ static inline PetscReal Wendland(PetscReal h, PetscReal r)
   return q >= 2 ? 0 : 7.0 / (4.0 * PETSC_PI * h * h) * a * a * a * a * (2 * q + 1);
 }
 
-/* int_{a}^{b} W(sqrt(d^2 + s^2)) ds by 8-point Gauss-Legendre (a, b on one side of 0, within the support) */
-static PetscReal IntegrateW(PetscReal h, PetscReal d, PetscReal a, PetscReal b)
+/* int_{a}^{b} f(h, sqrt(d^2 + s^2)) ds by 8-point Gauss-Legendre (a, b on one side of 0, where f is smooth) */
+static PetscReal IntegrateAlong(PetscReal (*f)(PetscReal, PetscReal), PetscReal h, PetscReal d, PetscReal a, PetscReal b)
 {
   PetscReal sum = 0, mid = 0.5 * (a + b), half = 0.5 * (b - a);
   if (half <= 0) return 0;
   for (PetscInt g = 0; g < 8; g++) {
     const PetscReal s = mid + half * GaussX[g];
-    sum += GaussW[g] * Wendland(h, PetscSqrtReal(d * d + s * s));
+    sum += GaussW[g] * f(h, PetscSqrtReal(d * d + s * s));
   }
   return sum * half;
 }
@@ -76,8 +64,8 @@ PetscReal FSKernelSegmentIntegral(PetscReal h, const PetscReal x[], const PetscR
   a    = PetscMax(0.0, s0 - half) - s0;
   b    = PetscMin(len, s0 + half) - s0;
   if (b <= a) return 0;
-  if (a < 0 && b > 0) return IntegrateW(h, d, a, 0) + IntegrateW(h, d, 0, b);
-  return IntegrateW(h, d, a, b);
+  if (a < 0 && b > 0) return IntegrateAlong(Wendland, h, d, a, 0) + IntegrateAlong(Wendland, h, d, 0, b);
+  return IntegrateAlong(Wendland, h, d, a, b);
 }
 
 /*
@@ -100,8 +88,8 @@ PetscReal FSShepardSegment(PetscReal h, const PetscReal x[], const PetscReal seg
   a    = PetscMax(0.0, s0 - half) - s0; /* the part of the segment within the support, relative to the foot */
   b    = PetscMin(len, s0 + half) - s0;
   if (b <= a) return 0;
-  if (a < 0 && b > 0) phi = IntegratePhi(h, d, a, 0) + IntegratePhi(h, d, 0, b);
-  else phi = IntegratePhi(h, d, a, b);
+  if (a < 0 && b > 0) phi = IntegrateAlong(PhiOverR2, h, d, a, 0) + IntegrateAlong(PhiOverR2, h, d, 0, b);
+  else phi = IntegrateAlong(PhiOverR2, h, d, a, b);
   ang = PetscAtan2Real(b, d) - PetscAtan2Real(a, d); /* int d/(d^2+s^2) ds */
   return (d * phi - ang) / (2 * PETSC_PI);
 }
