@@ -12,18 +12,25 @@
 */
 #include <flexslosh.h>
 
-static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+/* the pair sum for a compile-time dimension (see FS_ALWAYS_INLINE) */
+FS_ALWAYS_INLINE void InteractDim(const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate, const PetscInt dim)
 {
-  const PetscInt   dim = P->dim, S = P->stride, i = nb->i;
+  const PetscInt   S = P->stride, i = nb->i;
   const PetscReal *p = P->pressure, *V = P->vol, pi = p[i], rhoi = P->rec[i * S + 2 * dim];
   PetscReal        acc[3] = {0, 0, 0};
-  (void)t;
   for (PetscInt k = 0; k < nb->n; k++) {
     const PetscInt   j = nb->j[k];
     const PetscReal *g = &nb->gradW[k * dim], f = (pi + p[j]) * V[j];
     for (PetscInt d = 0; d < dim; d++) acc[d] += f * g[d];
   }
   for (PetscInt d = 0; d < dim; d++) rate->du[d] -= acc[d] / rhoi;
+}
+
+static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  (void)t;
+  if (P->dim == 2) InteractDim(P, nb, rate, 2);
+  else InteractDim(P, nb, rate, 3);
 }
 
 PETSC_EXTERN PetscErrorCode FSTermCreate_Pressure(FSTerm t)
