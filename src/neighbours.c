@@ -155,6 +155,18 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
 }
 
 /*
+   FSNeighboursReserveList - makes room in the neighbour list (nbr, F) for every candidate pair, the most
+   it can hold. For the builders of the list: FSNeighboursBuildList, and the first pass of the right-hand
+   side (src/rhs.c), which picks the neighbours from the candidates itself while it visits them.
+*/
+PetscErrorCode FSNeighboursReserveList(FSNeighbours *nb)
+{
+  PetscFunctionBegin;
+  if (nb->ncand > nb->pcap) PetscCall(FSNeighboursGrow(nb, nb->ncand));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSNeighboursBuildList - the neighbours j != i within the kernel support of each owned particle i
    at the current positions, picked from the candidates, with F(r_ij) such that grad_i W = F (x_i - x_j).
    Needs FSNeighboursBuildCandidates at the start of the step.
@@ -166,7 +178,7 @@ PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *k, PetscI
   PetscInt        np  = 0;
 
   PetscFunctionBegin;
-  if (nb->ncand > nb->pcap) PetscCall(FSNeighboursGrow(nb, nb->ncand));
+  PetscCall(FSNeighboursReserveList(nb));
   for (PetscInt i = 0; i < nowned; i++) {
     const PetscReal *xi = &rec[i * stride];
     nb->start[i]        = np;
