@@ -24,7 +24,6 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
       dx[2 * k]     = a;
       dx[2 * k + 1] = c;
       r2[k]         = a * a + c * c;
-      if (ri2) ri2[k] = 1.0 / r2[k];
       gw[2 * k]     = -F[k] * a;
       gw[2 * k + 1] = -F[k] * c;
     }
@@ -36,12 +35,14 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
       dx[3 * k + 1] = c;
       dx[3 * k + 2] = e;
       r2[k]         = a * a + c * c + e * e;
-      if (ri2) ri2[k] = 1.0 / r2[k];
       gw[3 * k]     = -F[k] * a;
       gw[3 * k + 1] = -F[k] * c;
       gw[3 * k + 2] = -F[k] * e;
     }
   }
+  /* the inverses in a loop of their own, which the compiler vectorizes */
+  if (ri2)
+    for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
   return n;
 }
 
