@@ -99,6 +99,15 @@ typedef struct {
   PetscReal drho, du[3], dx[3];
 } FSRate;
 
+/* For the terms' hot loops: a body written once for a compile-time dimension (called with the literal 2
+   or 3) is inlined into each branch, so that its loops over d < dim unroll and the accumulators stay in
+   registers instead of going through memory as they do with the run-time dimension. */
+#if PetscHasAttribute(always_inline)
+  #define FS_ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+  #define FS_ALWAYS_INLINE static inline
+#endif
+
 typedef struct {
   /* per owned particle, with its neighbours (hot: keep it free of PETSc calls) */
   void (*interact)(FSTerm, const FSParticles *, const FSNeighbourhood *, FSRate *);

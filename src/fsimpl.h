@@ -112,6 +112,7 @@ typedef struct {
 
 PETSC_INTERN PetscErrorCode FSNeighboursBuildCells(FSNeighbours *, PetscInt dim, PetscInt n, const PetscReal rec[], PetscInt stride, PetscReal cellsize);
 PETSC_INTERN PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal radius);
+PETSC_INTERN PetscErrorCode FSNeighboursReserveList(FSNeighbours *);
 PETSC_INTERN PetscErrorCode FSNeighboursBuildList(FSNeighbours *, const FSKernel *, PetscInt nowned, const PetscReal rec[], PetscInt stride);
 PETSC_INTERN PetscErrorCode FSNeighboursDestroy(FSNeighbours *);
 

@@ -136,16 +136,26 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
         const PetscInt row = nx * (cy + ny * cz);
         const PetscInt c0 = row + PetscMax(ci[0] - 1, 0), c1 = row + PetscMin(ci[0] + 1, nx - 1);
         /* the cells of one row are contiguous in the sorted order */
-        for (PetscInt q = nb->cellstart[c0]; q < nb->cellstart[c1 + 1]; q++) {
-          const PetscInt   j  = nb->order[q];
-          const PetscReal *xj = &rec[j * stride];
-          PetscReal        r2 = 0;
-          for (PetscInt d = 0; d < dim; d++) r2 += (xi[d] - xj[d]) * (xi[d] - xj[d]);
-          if (r2 < R2 && j != i) {
-            if (nc == nb->ccandcap) PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nc + room * 16));
-            nb->cand[nc++] = j;
+        const PetscInt q0 = nb->cellstart[c0], q1 = nb->cellstart[c1 + 1];
+        if (nc + (q1 - q0) > nb->ccandcap) PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nc + (q1 - q0) + room * 16));
+        /* without branches (whether a particle is within the radius is as good as random): each one is
+           written at the end of the list, which moves on only for those within */
+        if (dim == 2)
+          for (PetscInt q = q0; q < q1; q++) {
+            const PetscInt   j  = nb->order[q];
+            const PetscReal *xj = &rec[j * stride];
+            const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]);
+            nb->cand[nc] = j;
+            nc += (r2 < R2) & (j != i);
           }
-        }
+        else
+          for (PetscInt q = q0; q < q1; q++) {
+            const PetscInt   j  = nb->order[q];
+            const PetscReal *xj = &rec[j * stride];
+            const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]) + (xi[2] - xj[2]) * (xi[2] - xj[2]);
+            nb->cand[nc] = j;
+            nc += (r2 < R2) & (j != i);
+          }
       }
     }
   }
@@ -155,44 +165,55 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
 }
 
 /*
+   FSNeighboursReserveList - makes room in the neighbour list (nbr, F) for every candidate pair, the most
+   it can hold. For the builders of the list: FSNeighboursBuildList, and the first pass of the right-hand
+   side (src/rhs.c), which picks the neighbours from the candidates itself while it visits them.
+*/
+PetscErrorCode FSNeighboursReserveList(FSNeighbours *nb)
+{
+  PetscFunctionBegin;
+  if (nb->ncand > nb->pcap) PetscCall(FSNeighboursGrow(nb, nb->ncand));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSNeighboursBuildList - the neighbours j != i within the kernel support of each owned particle i
    at the current positions, picked from the candidates, with F(r_ij) such that grad_i W = F (x_i - x_j).
    Needs FSNeighboursBuildCandidates at the start of the step.
 */
-PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *k, PetscInt nowned, const PetscReal rec[], PetscInt stride)
+PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *kern, PetscInt nowned, const PetscReal rec[], PetscInt stride)
 {
   const PetscInt  dim = nb->dim;
-  const PetscReal R2  = k->support2;
+  const PetscReal R2  = kern->support2;
   PetscInt        np  = 0;
 
   PetscFunctionBegin;
-  if (nb->ncand > nb->pcap) PetscCall(FSNeighboursGrow(nb, nb->ncand));
+  PetscCall(FSNeighboursReserveList(nb));
   for (PetscInt i = 0; i < nowned; i++) {
     const PetscReal *xi = &rec[i * stride];
+    const PetscInt   b0 = np;
     nb->start[i]        = np;
+    /* without branches, as in FSNeighboursBuildCandidates; F holds r^2 until the loop after */
     if (dim == 2) {
       for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
         const PetscInt   j  = nb->cand[q];
         const PetscReal *xj = &rec[j * stride];
         const PetscReal  a = xi[0] - xj[0], b = xi[1] - xj[1], r2 = a * a + b * b;
-        if (r2 < R2) {
-          nb->nbr[np] = j;
-          nb->F[np]   = FSKernelF(k, PetscSqrtReal(r2));
-          np++;
-        }
+        nb->nbr[np] = j;
+        nb->F[np]   = r2;
+        np += r2 < R2;
       }
     } else {
       for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
         const PetscInt   j  = nb->cand[q];
         const PetscReal *xj = &rec[j * stride];
         const PetscReal  a = xi[0] - xj[0], b = xi[1] - xj[1], c = xi[2] - xj[2], r2 = a * a + b * b + c * c;
-        if (r2 < R2) {
-          nb->nbr[np] = j;
-          nb->F[np]   = FSKernelF(k, PetscSqrtReal(r2));
-          np++;
-        }
+        nb->nbr[np] = j;
+        nb->F[np]   = r2;
+        np += r2 < R2;
       }
     }
+    for (PetscInt k = b0; k < np; k++) nb->F[k] = FSKernelF(kern, PetscSqrtReal(nb->F[k]));
   }
   nb->start[nowned] = np;
   nb->npairs        = np;

@@ -24,7 +24,6 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
       dx[2 * k]     = a;
       dx[2 * k + 1] = c;
       r2[k]         = a * a + c * c;
-      if (ri2) ri2[k] = 1.0 / r2[k];
       gw[2 * k]     = -F[k] * a;
       gw[2 * k + 1] = -F[k] * c;
     }
@@ -36,12 +35,14 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
       dx[3 * k + 1] = c;
       dx[3 * k + 2] = e;
       r2[k]         = a * a + c * c + e * e;
-      if (ri2) ri2[k] = 1.0 / r2[k];
       gw[3 * k]     = -F[k] * a;
       gw[3 * k + 1] = -F[k] * c;
       gw[3 * k + 2] = -F[k] * e;
     }
   }
+  /* the inverses in a loop of their own, which the compiler vectorizes */
+  if (ri2)
+    for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
   return n;
 }
 
@@ -85,25 +86,61 @@ static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscRe
      <grad rho>^L_i = L_i^T sum_j (rho_j - rho_i) grad_i W_ij V_j
      (grad u)_i = [sum_j (u_j - u_i) (x) grad_i W_ij V_j] L_i,  D_i = sym(grad u)_i,  ||D||_i = sqrt(2 D:D)
    Results go to aux[i*(dim+1)]: the density gradient, then ||D||.
+   build: the pass also builds the right-hand side's neighbour list (what FSNeighboursBuildList does): it
+   visits the candidates, keeps those within the support and uses them on the spot, which saves a
+   separate traversal of the candidates and their positions. The list, its F(r) and the sums are the
+   same as with the list built first. The body is written for a compile-time dimension (FS_ALWAYS_INLINE)
+   so that the small dim x dim loops unroll and the sums stay in registers.
 */
-static PetscErrorCode FSSolverFirstPass(FSSolver s)
+FS_ALWAYS_INLINE void FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const PetscBool build)
 {
-  const PetscInt dim = s->dim, S = s->stride, A = s->auxstride;
-  PetscReal     *dx = s->scratch, *r2, *gw;
+  FSNeighbours    *nb  = &s->nbrs;
+  const PetscInt   S   = s->stride, A = s->auxstride, n = s->nowned;
+  const PetscReal *rec = s->rec, *vol = s->vol, R2 = s->kernel.support2;
+  PetscReal       *dx  = s->scratch; /* x_j - x_i of the neighbours of i */
+  PetscInt         np  = 0;
 
-  PetscFunctionBegin;
-  PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
-  r2 = dx + dim * s->scratchcap;
-  gw = r2 + s->scratchcap;
-  for (PetscInt i = 0; i < s->nowned; i++) {
-    const PetscInt   n = FSFillNeighbourhood(s, i, dx, r2, gw, NULL);
-    const PetscInt  *nbr = s->nbrs.nbr + s->nbrs.start[i];
-    const PetscReal *ri = &s->rec[i * S];
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *ri = &rec[i * S];
     PetscReal        M[9] = {0}, Minv[9], G[3] = {0, 0, 0}, Au[9] = {0}, J[9] = {0}, nrm = 0;
     PetscReal       *out = &s->aux[i * A];
-    for (PetscInt k = 0; k < n; k++) {
-      const PetscReal *rj = &s->rec[nbr[k] * S], *g = &gw[k * dim], *d = &dx[k * dim];
-      const PetscReal  Vj = s->vol[nbr[k]], drho = (rj[2 * dim] - ri[2 * dim]) * Vj;
+    PetscInt         b0, m;
+    if (build) {
+      /* the candidates within the support, without branches (whether a candidate is inside is as
+         good as random, and mispredicted branches cost more than the stores): every candidate is
+         written at the end of the list and the end moves on only for those inside. F holds r^2
+         until the next loop. */
+      b0 = nb->start[i] = np;
+      for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
+        const PetscInt   j  = nb->cand[q];
+        const PetscReal *rj = &rec[j * S];
+        PetscReal        r2 = 0;
+        for (PetscInt a = 0; a < dim; a++) {
+          const PetscReal d = rj[a] - ri[a];
+          dx[(np - b0) * dim + a] = d;
+          r2 += d * d;
+        }
+        nb->nbr[np] = j;
+        nb->F[np]   = r2;
+        np += r2 < R2;
+      }
+      m = np - b0;
+      /* F(r) of the pairs kept (a loop the compiler vectorizes: square roots and divisions in pairs) */
+      for (PetscInt k = b0; k < np; k++) nb->F[k] = FSKernelF(&s->kernel, PetscSqrtReal(nb->F[k]));
+    } else {
+      b0 = nb->start[i];
+      m  = nb->start[i + 1] - b0;
+      for (PetscInt k = 0; k < m; k++) {
+        const PetscReal *rj = &rec[nb->nbr[b0 + k] * S];
+        for (PetscInt a = 0; a < dim; a++) dx[k * dim + a] = rj[a] - ri[a];
+      }
+    }
+    for (PetscInt k = 0; k < m; k++) {
+      const PetscInt   j  = nb->nbr[b0 + k];
+      const PetscReal *rj = &rec[j * S], *d = &dx[k * dim], F = nb->F[b0 + k];
+      const PetscReal  Vj = vol[j], drho = (rj[2 * dim] - ri[2 * dim]) * Vj;
+      PetscReal        g[3];
+      for (PetscInt a = 0; a < dim; a++) g[a] = -F * d[a];
       for (PetscInt a = 0; a < dim; a++) {
         const PetscReal du = (rj[dim + a] - ri[dim + a]) * Vj, dd = d[a] * Vj;
         G[a] += drho * g[a];
@@ -130,6 +167,24 @@ static PetscErrorCode FSSolverFirstPass(FSSolver s)
         nrm += Dab * Dab;
       }
     out[dim] = PetscSqrtReal(2.0 * nrm);
+  }
+  if (build) {
+    nb->start[n] = np;
+    nb->npairs   = np;
+  }
+}
+
+static PetscErrorCode FSSolverFirstPass(FSSolver s, PetscBool build)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
+  if (build) PetscCall(FSNeighboursReserveList(&s->nbrs));
+  if (s->dim == 2) {
+    if (build) FSSolverFirstPassDim(s, 2, PETSC_TRUE);
+    else FSSolverFirstPassDim(s, 2, PETSC_FALSE);
+  } else {
+    if (build) FSSolverFirstPassDim(s, 3, PETSC_TRUE);
+    else FSSolverFirstPassDim(s, 3, PETSC_FALSE);
   }
   PetscCall(PetscLogEventEnd(FS_FirstPass, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -196,10 +251,15 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   PetscCall(FSHaloRefresh(&s->halo, dim, n, s->rec));
   PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
 
-  PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
-  PetscCall(FSNeighboursBuildList(&s->nbrs, &s->kernel, n, s->rec, S));
-  PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
-  for (PetscInt i = 0; i < n; i++) maxn = PetscMax(maxn, s->nbrs.start[i + 1] - s->nbrs.start[i]);
+  /* the neighbour list of this right-hand side: built by the first pass when there is one (it visits
+     the candidates anyway), else here */
+  if (!s->terms.needs) {
+    PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
+    PetscCall(FSNeighboursBuildList(&s->nbrs, &s->kernel, n, s->rec, S));
+    PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
+  }
+  /* the scratch holds one particle's neighbours: the candidates bound their number */
+  for (PetscInt i = 0; i < n; i++) maxn = PetscMax(maxn, s->nbrs.cstart[i + 1] - s->nbrs.cstart[i]);
   if (maxn > s->scratchcap) {
     PetscCall(PetscFree(s->scratch));
     s->scratchcap = PetscMax(maxn, 2 * s->scratchcap);
@@ -225,7 +285,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   PetscCall(FSSolverGetParticles(s, &P));
 
   if (s->terms.needs) {
-    PetscCall(FSSolverFirstPass(s));
+    PetscCall(FSSolverFirstPass(s, PETSC_TRUE));
     PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
     PetscCall(FSHaloRefreshAux(&s->halo, s->aux));
     PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));

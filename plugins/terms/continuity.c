@@ -7,20 +7,27 @@
 */
 #include <flexslosh.h>
 
-static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+/* the pair sum for a compile-time dimension (see FS_ALWAYS_INLINE); returns the term's power */
+FS_ALWAYS_INLINE PetscReal InteractDim(const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate, const PetscInt dim)
 {
-  const PetscInt   dim = P->dim, S = P->stride;
-  const PetscReal *ri = &P->rec[nb->i * S], rhoi = ri[2 * dim];
+  const PetscInt   S  = P->stride;
+  const PetscReal *ri = &P->rec[nb->i * S], rhoi = ri[2 * dim], *V = P->vol;
   PetscReal        sum = 0;
   for (PetscInt k = 0; k < nb->n; k++) {
     const PetscInt   j  = nb->j[k];
     const PetscReal *rj = &P->rec[j * S], *g = &nb->gradW[k * dim];
     PetscReal        dot = 0;
     for (PetscInt d = 0; d < dim; d++) dot += (rj[dim + d] - ri[dim + d]) * g[d];
-    sum += dot * P->vol[j];
+    sum += dot * V[j];
   }
   rate->drho -= rhoi * sum;
-  t->power -= P->vol[nb->i] * P->pressure[nb->i] * sum;
+  return -P->vol[nb->i] * P->pressure[nb->i] * sum;
+}
+
+static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  if (P->dim == 2) t->power += InteractDim(P, nb, rate, 2);
+  else t->power += InteractDim(P, nb, rate, 3);
 }
 
 PETSC_EXTERN PetscErrorCode FSTermCreate_Continuity(FSTerm t)

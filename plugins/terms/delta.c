@@ -20,31 +20,45 @@ typedef struct {
   PetscInt   cap;
 } Delta;
 
-static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+/* The pair sum for a compile-time dimension and correction (hydro: the hydrostatic one), so that each
+   variant is a branch-free loop (see FS_ALWAYS_INLINE). */
+FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate, const PetscInt dim, const PetscBool hydro)
 {
   Delta           *ctx = (Delta *)t->data;
-  const PetscInt   dim = P->dim, S = P->stride, i = nb->i;
-  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *gi = &P->aux[i * (dim + 1)];
-  const PetscReal  di = ctx->delta[i];
+  const PetscInt   S = P->stride, i = nb->i;
+  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *gi = &P->aux[i * (dim + 1)], *delta = ctx->delta, *V = P->vol;
+  const PetscReal  di = delta[i];
   PetscReal        sum = 0, gh[3] = {0, 0, 0};
-  if (ctx->hydrostatic)
+  if (hydro)
     for (PetscInt d = 0; d < dim; d++) gh[d] = P->rho0 * P->gravity[d] / (P->c0 * P->c0);
   for (PetscInt k = 0; k < nb->n; k++) {
     const PetscInt   j = nb->j[k];
     const PetscReal *rj = &P->rec[j * S], *gj = &P->aux[j * (dim + 1)], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
-    const PetscReal  dj = ctx->delta[j], dsum = di + dj;
+    const PetscReal  dj = delta[j], dsum = di + dj;
     PetscReal        corr = 0, proj = 0, Dij;
     if (dsum <= 0) continue;
     for (PetscInt d = 0; d < dim; d++) {
-      corr += (ctx->hydrostatic ? 2.0 * gh[d] : gi[d] + gj[d]) * dx[d];
+      corr += (hydro ? 2.0 * gh[d] : gi[d] + gj[d]) * dx[d];
       proj += dx[d] * g[d];
     }
     Dij = 2.0 * ((rj[2 * dim] - rhoi) - 0.5 * corr) * nb->rinv2[k];
-    sum += (2.0 * di * dj / dsum) * Dij * proj * P->vol[j];
+    sum += (2.0 * di * dj / dsum) * Dij * proj * V[j];
   }
   sum *= P->h * P->c0;
   rate->drho += sum;
-  t->power += P->vol[i] * P->pressure[i] / rhoi * sum;
+  t->power += V[i] * P->pressure[i] / rhoi * sum;
+}
+
+static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  const PetscBool hydro = ((Delta *)t->data)->hydrostatic;
+  if (P->dim == 2) {
+    if (hydro) InteractDim(t, P, nb, rate, 2, PETSC_TRUE);
+    else InteractDim(t, P, nb, rate, 2, PETSC_FALSE);
+  } else {
+    if (hydro) InteractDim(t, P, nb, rate, 3, PETSC_TRUE);
+    else InteractDim(t, P, nb, rate, 3, PETSC_FALSE);
+  }
 }
 
 static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)

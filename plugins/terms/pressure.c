@@ -14,9 +14,10 @@
 */
 #include <flexslosh.h>
 
-static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+/* the pair sum for a compile-time dimension (see FS_ALWAYS_INLINE); returns the term's power */
+FS_ALWAYS_INLINE PetscReal InteractDim(const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate, const PetscInt dim)
 {
-  const PetscInt   dim = P->dim, S = P->stride, i = nb->i;
+  const PetscInt   S = P->stride, i = nb->i;
   const PetscReal *p = P->pressure, *V = P->vol, pi = p[i], rhoi = P->rec[i * S + 2 * dim];
   PetscReal        acc[3] = {0, 0, 0}, pw = 0;
   for (PetscInt k = 0; k < nb->n; k++) {
@@ -28,7 +29,13 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
     rate->du[d] -= acc[d] / rhoi;
     pw += P->rec[i * S + dim + d] * acc[d];
   }
-  t->power -= V[i] * (P->invgamma ? P->invgamma[i] : 1.0) * pw;
+  return -V[i] * (P->invgamma ? P->invgamma[i] : 1.0) * pw;
+}
+
+static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  if (P->dim == 2) t->power += InteractDim(P, nb, rate, 2);
+  else t->power += InteractDim(P, nb, rate, 3);
 }
 
 PETSC_EXTERN PetscErrorCode FSTermCreate_Pressure(FSTerm t)

@@ -20,26 +20,28 @@ typedef struct {
   PetscInt   cap;
 } Viscosity;
 
-static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+/* The pair sums for a compile-time dimension, model (les) and presence of walls (gam: the pair factor
+   (1/gamma_i + 1/gamma_j)/2), so that each of the eight variants is a branch-free loop (see FS_ALWAYS_INLINE). */
+FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate, const PetscInt dim, const PetscBool les, const PetscBool gam)
 {
   Viscosity       *ctx = (Viscosity *)t->data;
-  const PetscInt   dim = P->dim, S = P->stride, i = nb->i;
-  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim];
+  const PetscInt   S = P->stride, i = nb->i;
+  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *V = P->vol, *ig = P->invgamma;
   PetscReal        acc[3] = {0, 0, 0}, f, pw = 0;
-  if (ctx->les) {
-    const PetscReal ai = ctx->a[i];
+  if (les) {
+    const PetscReal  ai = ctx->a[i], *a = ctx->a;
     if (ai <= 0) { /* a_i = 0 makes every alpha_ij zero */
       return;
     }
     for (PetscInt k = 0; k < nb->n; k++) {
       const PetscInt   j = nb->j[k];
       const PetscReal *rj = &P->rec[j * S], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
-      const PetscReal  aj = ctx->a[j];
+      const PetscReal  aj = a[j];
       PetscReal        pi = 0;
       if (aj <= 0) continue;
       for (PetscInt d = 0; d < dim; d++) pi += (rj[dim + d] - ri[dim + d]) * dx[d];
-      pi *= 2.0 * ai * aj / (ai + aj) * nb->rinv2[k] * P->vol[j];
-      if (P->invgamma) pi *= 0.5 * (P->invgamma[i] + P->invgamma[j]);
+      pi *= 2.0 * ai * aj / (ai + aj) * nb->rinv2[k] * V[j];
+      if (gam) pi *= 0.5 * (ig[i] + ig[j]);
       for (PetscInt d = 0; d < dim; d++) acc[d] += pi * g[d];
     }
     f = P->h * P->c0 * P->rho0 / rhoi;
@@ -49,8 +51,8 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
       const PetscReal *rj = &P->rec[j * S], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
       PetscReal        pi = 0;
       for (PetscInt d = 0; d < dim; d++) pi += (rj[dim + d] - ri[dim + d]) * dx[d];
-      pi *= nb->rinv2[k] * P->vol[j];
-      if (P->invgamma) pi *= 0.5 * (P->invgamma[i] + P->invgamma[j]);
+      pi *= nb->rinv2[k] * V[j];
+      if (gam) pi *= 0.5 * (ig[i] + ig[j]);
       for (PetscInt d = 0; d < dim; d++) acc[d] += pi * g[d];
     }
     f = ctx->K * P->nu * P->rho0 / rhoi;
@@ -60,6 +62,28 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
     pw += ri[dim + d] * f * acc[d];
   }
   t->power += ri[2 * dim + 1] * pw;
+}
+
+static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+{
+  const PetscBool les = ((Viscosity *)t->data)->les, gam = P->invgamma ? PETSC_TRUE : PETSC_FALSE;
+  if (P->dim == 2) {
+    if (les) {
+      if (gam) InteractDim(t, P, nb, rate, 2, PETSC_TRUE, PETSC_TRUE);
+      else InteractDim(t, P, nb, rate, 2, PETSC_TRUE, PETSC_FALSE);
+    } else {
+      if (gam) InteractDim(t, P, nb, rate, 2, PETSC_FALSE, PETSC_TRUE);
+      else InteractDim(t, P, nb, rate, 2, PETSC_FALSE, PETSC_FALSE);
+    }
+  } else {
+    if (les) {
+      if (gam) InteractDim(t, P, nb, rate, 3, PETSC_TRUE, PETSC_TRUE);
+      else InteractDim(t, P, nb, rate, 3, PETSC_TRUE, PETSC_FALSE);
+    } else {
+      if (gam) InteractDim(t, P, nb, rate, 3, PETSC_FALSE, PETSC_TRUE);
+      else InteractDim(t, P, nb, rate, 3, PETSC_FALSE, PETSC_FALSE);
+    }
+  }
 }
 
 static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)
