@@ -32,66 +32,68 @@ static inline PetscReal Wendland(PetscReal h, PetscReal r)
   return q >= 2 ? 0 : 7.0 / (4.0 * PETSC_PI * h * h) * a * a * a * a * (2 * q + 1);
 }
 
-/* int_{a}^{b} f(h, sqrt(d^2 + s^2)) ds by 8-point Gauss-Legendre (a, b on one side of 0, where f is smooth) */
-static PetscReal IntegrateAlong(PetscReal (*f)(PetscReal, PetscReal), PetscReal h, PetscReal d, PetscReal a, PetscReal b)
+/* int_{a}^{b} of Phi(r)/r^2 and of W(r), r = sqrt(d^2 + s^2), by 8-point Gauss-Legendre (a, b on one
+   side of 0, within the support, where both are smooth), added to sums[0] and sums[1] */
+static void IntegrateAlong(PetscReal h, PetscReal d, PetscReal a, PetscReal b, PetscReal sums[2])
 {
-  PetscReal sum = 0, mid = 0.5 * (a + b), half = 0.5 * (b - a);
-  if (half <= 0) return 0;
+  PetscReal phi = 0, w = 0, mid = 0.5 * (a + b), half = 0.5 * (b - a);
+  if (half <= 0) return;
   for (PetscInt g = 0; g < 8; g++) {
-    const PetscReal s = mid + half * GaussX[g];
-    sum += GaussW[g] * f(h, PetscSqrtReal(d * d + s * s));
+    const PetscReal s = mid + half * GaussX[g], r = PetscSqrtReal(d * d + s * s);
+    phi += GaussW[g] * PhiOverR2(h, r);
+    w += GaussW[g] * Wendland(h, r);
   }
-  return sum * half;
+  sums[0] += phi * half;
+  sums[1] += w * half;
 }
 
 /*
-   FSKernelSegmentIntegral - int_k W(|y - x|) dS over the part of segment k within the support of x,
-   for a segment that faces x (0 otherwise). The boundary terms' kernel weight: with it the wall
-   part of grad gamma, -sum_k n_k int_k W dS, is the exact gradient of the geometric gamma, so the
-   wall terms balance the particle sums the way gamma does (a midpoint rule W(x_k) s_k would not).
-*/
-PetscReal FSKernelSegmentIntegral(PetscReal h, const PetscReal x[], const PetscReal seg[])
-{
-  const PetscReal *p0 = seg, *p1 = seg + 2, *n = seg + 6, len = seg[8];
-  const PetscReal  t[2] = {(p1[0] - p0[0]) / len, (p1[1] - p0[1]) / len};
-  const PetscReal  d    = (p0[0] - x[0]) * n[0] + (p0[1] - x[1]) * n[1];
-  const PetscReal  s0   = (x[0] - p0[0]) * t[0] + (x[1] - p0[1]) * t[1];
-  const PetscReal  R    = 2 * h;
-  PetscReal        a, b, half;
-
-  if (d <= 0 || d >= R) return 0;
-  half = PetscSqrtReal(R * R - d * d);
-  a    = PetscMax(0.0, s0 - half) - s0;
-  b    = PetscMin(len, s0 + half) - s0;
-  if (b <= a) return 0;
-  if (a < 0 && b > 0) return IntegrateAlong(Wendland, h, d, a, 0) + IntegrateAlong(Wendland, h, d, 0, b);
-  return IntegrateAlong(Wendland, h, d, a, b);
-}
-
-/*
-   FSShepardSegment - the contribution gamma_k of one segment to gamma(x) - 1 (zero if the segment
-   does not face x or lies beyond the support 2h).
+   FSSegmentIntegrals - for a segment that faces x (else both 0): its contribution gamma_k to
+   gamma(x) - 1, and int_k W(|y - x|) dS over its part within the support of x. The latter is the
+   boundary terms' kernel weight: with it the wall part of grad gamma, -sum_k n_k int_k W dS, is the
+   exact gradient of the geometric gamma, so the wall terms balance the particle sums the way gamma
+   does (a midpoint rule W(x_k) s_k would not). Both from one set of quadrature points.
 
    seg holds p0 (2), p1 (2), midpoint (2), normal (2), length.
 */
-PetscReal FSShepardSegment(PetscReal h, const PetscReal x[], const PetscReal seg[])
+void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscReal *gammak, PetscReal *wint)
 {
   const PetscReal *p0 = seg, *p1 = seg + 2, *n = seg + 6, len = seg[8];
   const PetscReal  t[2] = {(p1[0] - p0[0]) / len, (p1[1] - p0[1]) / len};
   const PetscReal  d    = (p0[0] - x[0]) * n[0] + (p0[1] - x[1]) * n[1]; /* > 0: x on the liquid side */
   const PetscReal  s0   = (x[0] - p0[0]) * t[0] + (x[1] - p0[1]) * t[1]; /* foot of the perpendicular along the segment */
   const PetscReal  R    = 2 * h;
-  PetscReal        a, b, half, phi = 0, ang;
+  PetscReal        a, b, half, sums[2] = {0, 0}, ang;
 
-  if (d <= 0 || d >= R) return 0;
+  *gammak = *wint = 0;
+  if (d <= 0 || d >= R) return;
   half = PetscSqrtReal(R * R - d * d);
   a    = PetscMax(0.0, s0 - half) - s0; /* the part of the segment within the support, relative to the foot */
   b    = PetscMin(len, s0 + half) - s0;
-  if (b <= a) return 0;
-  if (a < 0 && b > 0) phi = IntegrateAlong(PhiOverR2, h, d, a, 0) + IntegrateAlong(PhiOverR2, h, d, 0, b);
-  else phi = IntegrateAlong(PhiOverR2, h, d, a, b);
-  ang = PetscAtan2Real(b, d) - PetscAtan2Real(a, d); /* int d/(d^2+s^2) ds */
-  return (d * phi - ang) / (2 * PETSC_PI);
+  if (b <= a) return;
+  if (a < 0 && b > 0) {
+    IntegrateAlong(h, d, a, 0, sums);
+    IntegrateAlong(h, d, 0, b, sums);
+  } else IntegrateAlong(h, d, a, b, sums);
+  ang     = PetscAtan2Real(b, d) - PetscAtan2Real(a, d); /* int d/(d^2+s^2) ds */
+  *gammak = (d * sums[0] - ang) / (2 * PETSC_PI);
+  *wint   = sums[1];
+}
+
+/* FSShepardSegment - the contribution gamma_k of one segment to gamma(x) - 1 (see FSSegmentIntegrals). */
+PetscReal FSShepardSegment(PetscReal h, const PetscReal x[], const PetscReal seg[])
+{
+  PetscReal g, w;
+  FSSegmentIntegrals(h, x, seg, &g, &w);
+  return g;
+}
+
+/* FSKernelSegmentIntegral - int_k W dS over the part of segment k within the support of x (see FSSegmentIntegrals). */
+PetscReal FSKernelSegmentIntegral(PetscReal h, const PetscReal x[], const PetscReal seg[])
+{
+  PetscReal g, w;
+  FSSegmentIntegrals(h, x, seg, &g, &w);
+  return w;
 }
 
 /*

@@ -225,10 +225,10 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
       const PetscInt   k  = wd->cand[q];
       const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
       const PetscReal  d  = (sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7];
-      PetscReal        wi;
+      PetscReal        gk, wi;
       if (d <= 0) continue; /* faces away: hidden */
-      g += FSShepardSegment(h, x, sg);
-      wi = FSKernelSegmentIntegral(h, x, sg);
+      FSSegmentIntegrals(h, x, sg, &gk, &wi);
+      g += gk;
       if (wi > 0) {
         wd->wnbr[nw] = k;
         wd->wW[nw]   = wi / sg[8]; /* the segment's mean kernel value: wW s_k = int_k W dS */
