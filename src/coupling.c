@@ -6,8 +6,9 @@
    side, so the one TS advances the coupled system with the integrator's own order:
 
      1. the structure's state y at this stage (rank 0, broadcast) gives the tank's rotation theta;
-     2. the liquid's loads at this stage (they depend on the particles only) are summed over the walls
-        and ranks, taken about the tank's reference point, turned into the global axes, scaled by
+     2. the liquid's loads at this stage (they depend on the particles only): minus the force and moment
+        all terms but gravity put on the particles (by default; Newton's third law, so the coupled system
+        conserves momentum and energy), or the wall-pressure integral; taken about the tank's reference point, turned into the global axes, scaled by
         the tank's width (the liquid is 2-D: loads per unit width), and their value for the liquid
         at rest in the undeflected tank is subtracted (the structure's deflections are measured from
         its static equilibrium under gravity, liquid included);
@@ -24,6 +25,7 @@
 
    Options Database Keys:
 +  -fs_coupling <bool>               - couple the liquid and the structure (default: when both exist)
+.  -fs_coupling_loads <reaction|walls> - the loads the structure receives: the reaction of the terms' forces on the liquid (default), or the wall-pressure integral
 .  -fs_tank_width <w>                - the tank's width across the 2-D plane (0.1 m): loads per unit width times w
 -  -fs_tank_reference <x,y>          - the tank's point on the beam, in the tank's frame (default: the middle of the floor)
 */
@@ -43,7 +45,8 @@ PetscErrorCode FSSolverCouplingSetUp(FSSolver s)
   MPI_Comm     comm = PetscObjectComm((PetscObject)s);
   PetscBool    want = PETSC_TRUE, set;
   PetscReal    ref[2], loc[3] = {0, 0, 0}, glob[3];
-  PetscInt     nref = 2, n;
+  PetscInt     nref = 2, n, lt = 0;
+  const char  *loadtypes[] = {"reaction", "walls"};
   PetscReal   *x, *m;
   FSWallData  *wd = s->wd;
 
@@ -55,6 +58,8 @@ PetscErrorCode FSSolverCouplingSetUp(FSSolver s)
   s->tank_width  = 0.1;
   PetscOptionsBegin(comm, NULL, "Coupling of the liquid and the structure", "FS");
   PetscCall(PetscOptionsBool("-fs_coupling", "Couple the liquid and the structure (loads to the structure, tank motion to the liquid)", "FSSolverCouplingSetUp", want, &want, NULL));
+  PetscCall(PetscOptionsEList("-fs_coupling_loads", "The liquid's loads the structure receives: reaction (minus the force and moment of all terms but gravity on the particles: Newton's third law) or walls (the integral of the wall pressure and shear)", "FSSolverCouplingSetUp", loadtypes, 2, loadtypes[s->loads_from_walls ? 1 : 0], &lt, NULL));
+  s->loads_from_walls = lt == 1 ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(PetscOptionsReal("-fs_tank_width", "Width of the tank across the 2-D plane: the liquid's loads per unit width times this", "FSSolverCouplingSetUp", s->tank_width, &s->tank_width, NULL));
   PetscCall(PetscOptionsRealArray("-fs_tank_reference", "The tank's point on the beam, in the tank's frame (default: the middle of the floor)", "FSSolverCouplingSetUp", ref, &nref, &set));
   PetscOptionsEnd();
@@ -132,13 +137,19 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, const PetscReal *u, PetscReal *
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   /* the liquid's loads at this stage, all walls, about the reference point, in the global axes
      (theta depends on the state alone: the predicted motion has it) */
-  PetscCall(FSSolverWallsGetLoads(s, &L));
-  for (PetscInt w = 0; w < s->wd->walls.nwalls; w++) {
-    F[0] += L[6 * w];
-    F[1] += L[6 * w + 1];
-    M += L[6 * w + 5];
+  PetscCall(FSSolverWallsGetLoads(s, &L)); /* every rank takes part: the time series reports them */
+  if (s->loads_from_walls) {
+    for (PetscInt w = 0; w < s->wd->walls.nwalls; w++) {
+      F[0] += L[6 * w];
+      F[1] += L[6 * w + 1];
+      M += L[6 * w + 5];
+    }
+    M += (s->wd->loadpoint[0] - s->tank_ref[0]) * F[1] - (s->wd->loadpoint[1] - s->tank_ref[1]) * F[0];
+  } else {
+    F[0] = -s->reaction[0];
+    F[1] = -s->reaction[1];
+    M    = -s->reaction[2];
   }
-  M += (s->wd->loadpoint[0] - s->tank_ref[0]) * F[1] - (s->wd->loadpoint[1] - s->tank_ref[1]) * F[0];
   c               = PetscCosReal(s->predicted.angle);
   sn              = PetscSinReal(s->predicted.angle);
   s->tank_load[0] = F[0]; /* in the tank's frame, per unit width, about the reference point: for the energy budget */
@@ -161,14 +172,39 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, const PetscReal *u, PetscReal *
 }
 
 /*
-   FSSolverCouplingInertia - step 4: the inertial accelerations of the tank's frame added to the
-   owned particles' rates f; returns their power sum_i m_i u_i . a on this rank (P_ext), and this rank's
-   share of the force (2) and moment about the reference point (1) of the rates f had before, less
-   gravity: sum_i m_i (f_i - g), the force of the walls on the liquid (internal forces cancel, up to the
-   renormalization near walls), whose reaction the structure should receive (the energy budget's
-   coupling power, src/energy.c).
+   FSSolverCouplingReaction - after the terms, before the inertial accelerations and the relaxation:
+   the force (2) and moment about the reference point (1) that all terms but gravity put on the
+   particles, sum_i m_i (f_i - g) and sum_i r_i x m_i (f_i - g), per unit width in the tank's frame:
+   this rank's share in local[], the sum over the ranks in s->reaction. Internal forces cancel (up to
+   the renormalization near walls, which the walls take): it is the walls' force on the liquid, whose
+   reaction the structure receives with -fs_coupling_loads reaction, so that the coupled system keeps
+   Newton's third law and the energy the loads give the structure is what the liquid loses.
+
+   Collective
 */
-PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *power, PetscReal reaction[3])
+PetscErrorCode FSSolverCouplingReaction(FSSolver s, const PetscReal *f, PetscReal local[3])
+{
+  const PetscInt S = s->stride, US = s->ustride, n = s->nowned;
+
+  PetscFunctionBegin;
+  local[0] = local[1] = local[2] = 0;
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *ri = &s->rec[i * S];
+    const PetscReal  rx = ri[0] - s->tank_ref[0], ry = ri[1] - s->tank_ref[1];
+    const PetscReal  fx = ri[5] * (f[i * US + 2] - s->gravity[0]), fy = ri[5] * (f[i * US + 3] - s->gravity[1]);
+    local[0] += fx;
+    local[1] += fy;
+    local[2] += rx * fy - ry * fx;
+  }
+  PetscCallMPI(MPI_Allreduce(local, s->reaction, 3, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverCouplingInertia - step 4: the inertial accelerations of the tank's frame added to the
+   owned particles' rates f; returns their power sum_i m_i u_i . a on this rank (P_ext).
+*/
+PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *power)
 {
   const PetscInt     S = s->stride, US = s->ustride, n = s->nowned;
   const FSTankMotion *mo = &s->motion;
@@ -176,7 +212,7 @@ PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *powe
   /* the uniform part: R(-theta) (g - A) - g */
   const PetscReal    b0 = c * (s->gravity[0] - mo->acc[0]) + sn * (s->gravity[1] - mo->acc[1]) - s->gravity[0];
   const PetscReal    b1 = -sn * (s->gravity[0] - mo->acc[0]) + c * (s->gravity[1] - mo->acc[1]) - s->gravity[1];
-  PetscReal          pw = 0, R[3] = {0, 0, 0};
+  PetscReal          pw = 0;
 
   PetscFunctionBegin;
   for (PetscInt i = 0; i < n; i++) {
@@ -184,16 +220,11 @@ PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *powe
     const PetscReal  rx = ri[0] - s->tank_ref[0], ry = ri[1] - s->tank_ref[1], ux = ri[2], uy = ri[3];
     const PetscReal  ax = b0 + al * ry + 2 * w * uy + w * w * rx;
     const PetscReal  ay = b1 - al * rx - 2 * w * ux + w * w * ry;
-    const PetscReal  fx = ri[5] * (f[i * US + 2] - s->gravity[0]), fy = ri[5] * (f[i * US + 3] - s->gravity[1]);
-    R[0] += fx;
-    R[1] += fy;
-    R[2] += rx * fy - ry * fx;
     f[i * US + 2] += ax;
     f[i * US + 3] += ay;
     pw += ri[5] * (ux * ax + uy * ay);
   }
   *power = pw;
-  for (PetscInt c = 0; c < 3; c++) reaction[c] = R[c];
   PetscFunctionReturn(0);
 }
 

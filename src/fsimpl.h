@@ -220,6 +220,8 @@ struct _p_FSSolver {
   FSTankMotion motion;        /* the tank's motion at the last right-hand side, every rank */
   FSTankMotion predicted;     /* the same with the liquid at rest (FSSolverCouplingPredict) */
   PetscReal    ext_power;     /* P_ext of the last right-hand side, this rank's share */
+  PetscReal    reaction[3];   /* force (2) and moment of all terms but gravity on the liquid, tank frame, per unit width, all ranks */
+  PetscBool    loads_from_walls; /* -fs_coupling_loads walls */
   PetscReal    tank_load[3];  /* the liquid's loads of the last right-hand side in the tank's frame, per unit width: force (2), moment about tank_ref */
   PetscReal    relax_power;   /* power of the start-up relaxation of the last right-hand side, this rank's share */
   PetscReal   rhs_time;       /* time of the right-hand side being evaluated */
@@ -291,7 +293,8 @@ PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const Pets
 PETSC_INTERN PetscErrorCode FSSolverCouplingSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, const PetscReal *u, PetscReal *f);
-PETSC_INTERN PetscErrorCode FSSolverCouplingInertia(FSSolver, PetscReal *f, PetscReal *power, PetscReal reaction[3]);
+PETSC_INTERN PetscErrorCode FSSolverCouplingInertia(FSSolver, PetscReal *f, PetscReal *power);
+PETSC_INTERN PetscErrorCode FSSolverCouplingReaction(FSSolver, const PetscReal *f, PetscReal local[3]);
 PETSC_INTERN void           FSSolverBodyAcceleration(FSSolver, const PetscReal x[], PetscReal a[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);

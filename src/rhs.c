@@ -344,6 +344,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   }
   PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
   if (s->wd) PetscCall(FSSolverWallPass(s, &P, f));
+  if (s->coupled) PetscCall(FSSolverCouplingReaction(s, f, reaction));
   s->relax_power = 0;
   if (s->rhs_time < s->relax_time) { /* start-up relaxation: du/dt -= zeta(t) u, zeta fading smoothly to 0 */
     const PetscReal zeta = 10.0 / s->relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->rhs_time / s->relax_time));
@@ -363,7 +364,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   s->ext_power = 0;
   if (s->coupled) { /* loads of this stage to the structure, the tank's motion back to the liquid */
     PetscCall(FSSolverCouplingRates(s, u, f));
-    PetscCall(FSSolverCouplingInertia(s, f, &s->ext_power, reaction));
+    PetscCall(FSSolverCouplingInertia(s, f, &s->ext_power));
   } else PetscCall(FSSolverStructureRates(s, u, f));
   /* powers: the rates of the dissipated energies (the next block) and of the energy block's integrals, rank 0 */
   for (PetscInt t = 0; t < s->terms.nterms; t++)
