@@ -36,10 +36,10 @@
    F_L, M_L the loads the structure receives (the wall-pressure integral and the wall shear, in the tank's
    frame, about x_ref, per unit width) and F_walls, M_walls = sum_i m_i (f_i - g) (x r) the force and
    moment that all terms but gravity put on the particles (the walls' force on the liquid: internal
-   forces cancel, except where gamma_i renormalizes them). With loads that were the exact reaction
-   P_coupling would vanish; it is the energy the explicit coupling creates or destroys and is not
-   small (a few per cent of the structure's energy in a free decay), while residual_total is the
-   quadrature error only. work_bounce_total is the bounces' share (in the absolute frame a bounce is an
+   forces cancel, except where gamma_i renormalizes them). With the default loads, the exact reaction
+   (-fs_coupling_loads reaction), P_coupling vanishes; with the wall-pressure integral (walls) it is the
+   energy the coupling creates or destroys (a few per cent of the structure's energy in a free decay),
+   while residual_total is the quadrature error only. work_bounce_total is the bounces' share (in the absolute frame a bounce is an
    impulse from the tank that the structure does not receive). Without coupling, w = 1, E_liquid_abs = E_liquid and L_s = 0: the sum of
    the two separate budgets.
 */
