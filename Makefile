@@ -41,6 +41,7 @@ bench: build
 	$(BUILD)/bench_terms -fs_dx 0.005 -reps 20
 	$(PYTHON) bench/bench_taylor_green.py
 	$(PYTHON) bench/bench_dam_break.py
+	$(PYTHON) bench/bench_coupled.py
 
 clean:
 	rm -rf $(BUILD)

@@ -303,7 +303,7 @@ PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureSummary(FSSolver, FSJSON);
 
 /* log events */
-PETSC_EXTERN PetscLogEvent FS_Structure;
+PETSC_EXTERN PetscLogEvent FS_Structure, FS_Coupling;
 PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls, FS_Migrate, FS_Output, FS_RHS;
 
 /* field names in the swarm */

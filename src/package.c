@@ -83,6 +83,7 @@ PetscErrorCode FSInitializePackage(void)
   PetscCall(PetscLogEventRegister("FSMigrate", FSSOLVER_CLASSID, &FS_Migrate));
   PetscCall(PetscLogEventRegister("FSOutput", FSSOLVER_CLASSID, &FS_Output));
   PetscCall(PetscLogEventRegister("FSStructure", FSSOLVER_CLASSID, &FS_Structure));
+  PetscCall(PetscLogEventRegister("FSCoupling", FSSOLVER_CLASSID, &FS_Coupling));
   PetscCall(FSTermRegisterAll());
   PetscCall(FSStructureRegisterAll());
   PetscCall(FSCaseRegisterAll());

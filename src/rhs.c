@@ -8,7 +8,7 @@
 #include "fsimpl.h"
 #include "walls/walldata.h"
 
-PetscLogEvent FS_Structure;
+PetscLogEvent FS_Structure, FS_Coupling;
 PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls, FS_Migrate, FS_Output, FS_RHS;
 
 /* Fills the neighbourhood scratch of particle i: x_j - x_i, r^2, grad_i W. Returns the count. */
@@ -276,7 +276,11 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     s->pressure[k] = s->c0 * s->c0 * (rk[2 * dim] - s->rho0) + s->background_pressure;
   }
 
-  if (s->coupled) PetscCall(FSSolverCouplingPredict(s, u));
+  if (s->coupled) {
+    PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
+    PetscCall(FSSolverCouplingPredict(s, u));
+    PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
+  }
   if (s->wd) {
     PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
     PetscCall(FSSolverWallsPrepare(s));
@@ -344,7 +348,11 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   }
   PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
   if (s->wd) PetscCall(FSSolverWallPass(s, &P, f));
-  if (s->coupled) PetscCall(FSSolverCouplingReaction(s, f, reaction));
+  if (s->coupled) {
+    PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
+    PetscCall(FSSolverCouplingReaction(s, f, reaction));
+    PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
+  }
   s->relax_power = 0;
   if (s->rhs_time < s->relax_time) { /* start-up relaxation: du/dt -= zeta(t) u, zeta fading smoothly to 0 */
     const PetscReal zeta = 10.0 / s->relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->rhs_time / s->relax_time));
@@ -363,8 +371,10 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   /* the structure's DOFs (first block of the global DOFs, rank 0) */
   s->ext_power = 0;
   if (s->coupled) { /* loads of this stage to the structure, the tank's motion back to the liquid */
+    PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSSolverCouplingRates(s, u, f));
     PetscCall(FSSolverCouplingInertia(s, f, &s->ext_power));
+    PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   } else PetscCall(FSSolverStructureRates(s, u, f));
   /* powers: the rates of the dissipated energies (the next block) and of the energy block's integrals, rank 0 */
   for (PetscInt t = 0; t < s->terms.nterms; t++)
