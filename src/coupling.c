@@ -32,6 +32,20 @@
 #include "fsimpl.h"
 #include "walls/walldata.h"
 
+/* the tank frame's body acceleration field (gravity and the frame's inertia but Coriolis) of a motion */
+static void FrameField(FSSolver s, const FSTankMotion *mo, FSFrameField *ff)
+{
+  const PetscReal c = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
+  const PetscReal gx = s->gravity[0] - mo->acc[0], gy = s->gravity[1] - mo->acc[1];
+
+  ff->b[0]   = c * gx + sn * gy;
+  ff->b[1]   = -sn * gx + c * gy;
+  ff->omega  = mo->rate;
+  ff->alpha  = mo->angacc;
+  ff->ref[0] = s->tank_ref[0];
+  ff->ref[1] = s->tank_ref[1];
+}
+
 /*
    FSSolverCouplingSetUp - decides whether the liquid and the structure are coupled, reads the
    coupling options and computes the loads of the liquid at rest (weight and its moment about the
@@ -52,6 +66,9 @@ PetscErrorCode FSSolverCouplingSetUp(FSSolver s)
 
   PetscFunctionBegin;
   s->coupled = PETSC_FALSE;
+  PetscCall(PetscMemzero(&s->body, sizeof(s->body))); /* without a coupling the frame's body acceleration is g */
+  s->body.b[0] = s->gravity[0];
+  s->body.b[1] = s->gravity[1];
   if (!s->structure || !wd || !s->nglobal_particles) PetscFunctionReturn(0);
   ref[0]         = 0.5 * (wd->walls.lo[0] + wd->walls.hi[0]);
   ref[1]         = wd->walls.lo[1];
@@ -91,8 +108,8 @@ PetscErrorCode FSSolverCouplingSetUp(FSSolver s)
 /*
    FSSolverCouplingPredict - at the start of a right-hand side: the structure's state of this stage on
    every rank, and the tank's motion it gives with the liquid at rest (its dynamic loads left out),
-   s->predicted. The walls extrapolate the pressure hydrostatically with the body acceleration of
-   that motion (FSSolverBodyAcceleration): it depends on this stage's state alone, so runs stay
+   the body acceleration field s->body of the tank's frame it gives, and the tank's angle (it depends
+   on the state alone). The walls extrapolate the pressure hydrostatically with that field: it depends on this stage's state alone, so runs stay
    reproducible (restarts, output intervals), and it misses only the liquid's share of the tank's
    acceleration.
 
@@ -102,8 +119,9 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
 {
   FSStructure st   = s->structure;
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  PetscMPIInt rank;
-  FSLoads     none;
+  PetscMPIInt  rank;
+  FSLoads      none;
+  FSTankMotion predicted;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -111,9 +129,11 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
   PetscCall(PetscMemzero(&none, sizeof(none)));
   if (!rank) {
     PetscCall((*st->ops.rhs)(st, s->rhs_time, s->sy, &none, s->sydot));
-    PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &s->predicted));
+    PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &predicted));
   }
-  PetscCallMPI(MPI_Bcast(&s->predicted, (PetscMPIInt)(sizeof(s->predicted) / sizeof(PetscReal)), MPIU_REAL, 0, comm));
+  PetscCallMPI(MPI_Bcast(&predicted, (PetscMPIInt)(sizeof(predicted) / sizeof(PetscReal)), MPIU_REAL, 0, comm));
+  s->angle = predicted.angle;
+  FrameField(s, &predicted, &s->body);
   PetscFunctionReturn(0);
 }
 
@@ -124,21 +144,20 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
 
    Collective
 */
-PetscErrorCode FSSolverCouplingRates(FSSolver s, const PetscReal *u, PetscReal *f)
+PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
 {
-  FSStructure      st   = s->structure;
-  MPI_Comm         comm = PetscObjectComm((PetscObject)s);
-  const PetscReal *L;
-  PetscReal        F[2] = {0, 0}, M = 0, c, sn;
-  PetscMPIInt      rank;
+  FSStructure st   = s->structure;
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  PetscReal   F[2] = {0, 0}, M = 0;
+  const PetscReal c = PetscCosReal(s->angle), sn = PetscSinReal(s->angle);
+  PetscMPIInt rank;
 
   PetscFunctionBegin;
-  (void)u;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  /* the liquid's loads at this stage, all walls, about the reference point, in the global axes
-     (theta depends on the state alone: the predicted motion has it) */
-  PetscCall(FSSolverWallsGetLoads(s, &L)); /* every rank takes part: the time series reports them */
+  /* the liquid's loads at this stage, about the reference point, in the global axes */
   if (s->loads_from_walls) {
+    const PetscReal *L;
+    PetscCall(FSSolverWallsGetLoads(s, &L));
     for (PetscInt w = 0; w < s->wd->walls.nwalls; w++) {
       F[0] += L[6 * w];
       F[1] += L[6 * w + 1];
@@ -150,8 +169,6 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, const PetscReal *u, PetscReal *
     F[1] = -s->reaction[1];
     M    = -s->reaction[2];
   }
-  c               = PetscCosReal(s->predicted.angle);
-  sn              = PetscSinReal(s->predicted.angle);
   s->tank_load[0] = F[0]; /* in the tank's frame, per unit width, about the reference point: for the energy budget */
   s->tank_load[1] = F[1];
   s->tank_load[2] = M;
@@ -159,15 +176,10 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, const PetscReal *u, PetscReal *
   s->loads.force[0]  = (c * F[0] - sn * F[1]) * s->tank_width - s->static_loads.force[0];
   s->loads.force[1]  = (sn * F[0] + c * F[1]) * s->tank_width - s->static_loads.force[1];
   s->loads.moment[2] = M * s->tank_width - s->static_loads.moment[2];
-  /* the structure's rate under them, and the tank's motion at this stage */
-  PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
-  if (!rank) {
-    PetscCall((*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot));
-    if (f) PetscCall(PetscArraycpy(f + s->nowned * s->ustride + s->gstruct, s->sydot, st->ndof));
-    PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &s->motion));
-  }
+  /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
+  PetscCall(FSSolverStructureRates(s, NULL, f));
+  if (!rank) PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &s->motion));
   PetscCallMPI(MPI_Bcast(&s->motion, (PetscMPIInt)(sizeof(s->motion) / sizeof(PetscReal)), MPIU_REAL, 0, comm));
-  PetscCall(PetscLogEventEnd(FS_Structure, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -206,48 +218,24 @@ PetscErrorCode FSSolverCouplingReaction(FSSolver s, const PetscReal *f, PetscRea
 */
 PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *power)
 {
-  const PetscInt     S = s->stride, US = s->ustride, n = s->nowned;
-  const FSTankMotion *mo = &s->motion;
-  const PetscReal    c = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle), w = mo->rate, al = mo->angacc;
-  /* the uniform part: R(-theta) (g - A) - g */
-  const PetscReal    b0 = c * (s->gravity[0] - mo->acc[0]) + sn * (s->gravity[1] - mo->acc[1]) - s->gravity[0];
-  const PetscReal    b1 = -sn * (s->gravity[0] - mo->acc[0]) + c * (s->gravity[1] - mo->acc[1]) - s->gravity[1];
-  PetscReal          pw = 0;
+  const PetscInt S = s->stride, US = s->ustride, n = s->nowned;
+  FSFrameField   ff;
+  PetscReal      pw = 0;
 
   PetscFunctionBegin;
+  FrameField(s, &s->motion, &ff);
+  ff.b[0] -= s->gravity[0]; /* the gravity term adds g itself */
+  ff.b[1] -= s->gravity[1];
   for (PetscInt i = 0; i < n; i++) {
     const PetscReal *ri = &s->rec[i * S];
-    const PetscReal  rx = ri[0] - s->tank_ref[0], ry = ri[1] - s->tank_ref[1], ux = ri[2], uy = ri[3];
-    const PetscReal  ax = b0 + al * ry + 2 * w * uy + w * w * rx;
-    const PetscReal  ay = b1 - al * rx - 2 * w * ux + w * w * ry;
+    const PetscReal  ux = ri[2], uy = ri[3];
+    PetscReal        a[2];
+    FSFrameFieldEval(&ff, ri, a);
+    const PetscReal ax = a[0] + 2 * ff.omega * uy, ay = a[1] - 2 * ff.omega * ux; /* with Coriolis */
     f[i * US + 2] += ax;
     f[i * US + 3] += ay;
     pw += ri[5] * (ux * ax + uy * ay);
   }
   *power = pw;
   PetscFunctionReturn(0);
-}
-
-/*
-   FSSolverBodyAcceleration - the body acceleration a particle at x feels in the tank's frame (gravity
-   plus the frame's inertial accelerations, without the Coriolis part), from the predicted motion of
-   this stage (FSSolverCouplingPredict): g without a coupling. The walls' hydrostatic extrapolation of the pressure
-   uses it: in a tank accelerating at several g, g alone would extrapolate the wrong way.
-*/
-void FSSolverBodyAcceleration(FSSolver s, const PetscReal x[], PetscReal a[])
-{
-  const FSTankMotion *mo = &s->predicted;
-  PetscReal           c, sn, rx, ry;
-
-  if (!s->coupled) {
-    a[0] = s->gravity[0];
-    a[1] = s->gravity[1];
-    return;
-  }
-  c    = PetscCosReal(mo->angle);
-  sn   = PetscSinReal(mo->angle);
-  rx   = x[0] - s->tank_ref[0];
-  ry   = x[1] - s->tank_ref[1];
-  a[0] = c * (s->gravity[0] - mo->acc[0]) + sn * (s->gravity[1] - mo->acc[1]) + mo->angacc * ry + mo->rate * mo->rate * rx;
-  a[1] = -sn * (s->gravity[0] - mo->acc[0]) + c * (s->gravity[1] - mo->acc[1]) - mo->angacc * rx + mo->rate * mo->rate * ry;
 }

@@ -50,6 +50,19 @@ static inline PetscReal FSKernelF(const FSKernel *k, PetscReal r)
   return k->fnorm * a * a * a;
 }
 
+/* The body acceleration a particle at x feels in the tank's frame without the Coriolis part:
+   a(x) = b + alpha (r_y, -r_x) + omega^2 (r_x, r_y), r = x - ref, b = R(-theta) (g - A) (coupling.c). */
+typedef struct {
+  PetscReal b[2], omega, alpha, ref[2];
+} FSFrameField;
+
+static inline void FSFrameFieldEval(const FSFrameField *ff, const PetscReal x[], PetscReal a[])
+{
+  const PetscReal rx = x[0] - ff->ref[0], ry = x[1] - ff->ref[1], w2 = ff->omega * ff->omega;
+  a[0] = ff->b[0] + ff->alpha * ry + w2 * rx;
+  a[1] = ff->b[1] - ff->alpha * rx + w2 * ry;
+}
+
 /* Orthogonal process grid over the domain box: rank (i,j,k) owns
    [cut[d][i_d], cut[d][i_d+1]) in every direction d. */
 typedef struct {
@@ -218,7 +231,8 @@ struct _p_FSSolver {
   PetscReal    liquid_mass;   /* of the whole tank (2-D mass times width) */
   FSLoads      static_loads;  /* of the liquid at rest in the undeflected tank, subtracted */
   FSTankMotion motion;        /* the tank's motion at the last right-hand side, every rank */
-  FSTankMotion predicted;     /* the same with the liquid at rest (FSSolverCouplingPredict) */
+  PetscReal    angle;         /* the tank's angle at this stage (from the structure's state) */
+  FSFrameField body;          /* the body acceleration field of the tank's frame predicted for this stage (FSSolverCouplingPredict; g without a coupling) */
   PetscReal    ext_power;     /* P_ext of the last right-hand side, this rank's share */
   PetscReal    reaction[3];   /* force (2) and moment of all terms but gravity on the liquid, tank frame, per unit width, all ranks */
   PetscBool    loads_from_walls; /* -fs_coupling_loads walls */
@@ -292,10 +306,9 @@ PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, const PetscReal *u,
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverCouplingSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
-PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, const PetscReal *u, PetscReal *f);
+PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, PetscReal *f);
 PETSC_INTERN PetscErrorCode FSSolverCouplingInertia(FSSolver, PetscReal *f, PetscReal *power);
 PETSC_INTERN PetscErrorCode FSSolverCouplingReaction(FSSolver, const PetscReal *f, PetscReal local[3]);
-PETSC_INTERN void           FSSolverBodyAcceleration(FSSolver, const PetscReal x[], PetscReal a[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);

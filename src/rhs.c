@@ -372,7 +372,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   s->ext_power = 0;
   if (s->coupled) { /* loads of this stage to the structure, the tank's motion back to the liquid */
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
-    PetscCall(FSSolverCouplingRates(s, u, f));
+    PetscCall(FSSolverCouplingRates(s, f));
     PetscCall(FSSolverCouplingInertia(s, f, &s->ext_power));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   } else PetscCall(FSSolverStructureRates(s, u, f));

@@ -202,7 +202,9 @@ PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
    computes dy/dt at s->rhs_time with the current loads into f (rank 0).
 
    Collective
-*/
+   u may be NULL when s->sy already holds this stage's state on every rank (the coupling broadcast it).
+
+   */
 PetscErrorCode FSSolverStructureRates(FSSolver s, const PetscReal *u, PetscReal *f)
 {
   FSStructure st = s->structure;
@@ -213,7 +215,7 @@ PetscErrorCode FSSolverStructureRates(FSSolver s, const PetscReal *u, PetscReal 
   if (!st || !st->ndof) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-  PetscCall(FSSolverStructureBroadcastState(s, u));
+  if (u) PetscCall(FSSolverStructureBroadcastState(s, u));
   if (!rank) {
     PetscCall((*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot));
     if (f) PetscCall(PetscArraycpy(f + off, s->sydot, st->ndof));

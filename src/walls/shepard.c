@@ -80,22 +80,6 @@ void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[],
   *wint   = sums[1];
 }
 
-/* FSShepardSegment - the contribution gamma_k of one segment to gamma(x) - 1 (see FSSegmentIntegrals). */
-PetscReal FSShepardSegment(PetscReal h, const PetscReal x[], const PetscReal seg[])
-{
-  PetscReal g, w;
-  FSSegmentIntegrals(h, x, seg, &g, &w);
-  return g;
-}
-
-/* FSKernelSegmentIntegral - int_k W dS over the part of segment k within the support of x (see FSSegmentIntegrals). */
-PetscReal FSKernelSegmentIntegral(PetscReal h, const PetscReal x[], const PetscReal seg[])
-{
-  PetscReal g, w;
-  FSSegmentIntegrals(h, x, seg, &g, &w);
-  return w;
-}
-
 /*
    FSWallsShepard - gamma(x) and grad gamma(x) = -sum_k n_k int_k W dS from all segments (a reference
    implementation for tests and set-up; the solver uses its per-particle lists of nearby segments).
@@ -107,8 +91,9 @@ PetscErrorCode FSWallsShepard(const FSWalls *w, PetscReal h, const PetscReal x[]
   grad[0] = grad[1] = 0;
   for (PetscInt k = 0; k < w->nseg; k++) {
     const PetscReal *seg = &w->seg[k * FS_SEG_STRIDE];
-    const PetscReal  wi  = FSKernelSegmentIntegral(h, x, seg);
-    *gamma += FSShepardSegment(h, x, seg);
+    PetscReal        gk, wi;
+    FSSegmentIntegrals(h, x, seg, &gk, &wi);
+    *gamma += gk;
     grad[0] -= wi * seg[6];
     grad[1] -= wi * seg[7];
   }

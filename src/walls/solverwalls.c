@@ -241,8 +241,8 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
   PetscCall(PetscArrayzero(wd->load, 6 * w->nwalls));
   /* wall pressure: p_k = sum_i (p_i + rho_i g.(x_k - x_i)) W_ik V_i / sum_i W_ik V_i over the liquid near
      segment k (all ranks), so that a particle pressed against a wall meets a wall pressure set by its
-     neighbours as well as by itself; g is the body acceleration in the tank's frame (with a coupling, the
-     tank's motion of the last right-hand side) */
+     neighbours as well as by itself; g is the body acceleration of the tank's frame (s->body: gravity,
+     and with a coupling the motion predicted for this stage) */
   if (!wd->wp) PetscCall(PetscMalloc1(3 * w->nseg + 1, &wd->wp));
   PetscCall(PetscArrayzero(wd->wp, 3 * w->nseg));
   {
@@ -255,7 +255,7 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
         const PetscReal  wv = wd->wW[q] * s->vol[i];
         const PetscReal  mid[2] = {0.5 * (sg[4] + x[0]), 0.5 * (sg[5] + x[1])};
         PetscReal        g[2];
-        FSSolverBodyAcceleration(s, mid, g);
+        FSFrameFieldEval(&s->body, mid, g);
         num[k] += (s->pressure[i] + rho * (g[0] * (sg[4] - x[0]) + g[1] * (sg[5] - x[1]))) * wv;
         den[k] += wv;
       }
