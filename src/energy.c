@@ -68,6 +68,18 @@ static inline PetscReal FSCompressibilityEnergy(PetscReal rho, PetscReal rho0, P
   return c0 * c0 * (log1p(x) - x / (1 + x)) + pb * x / rho;
 }
 
+/* A particle's kinetic and potential energy in the absolute frame (2-D, coupled), its tank-frame
+   position x and velocity v carried by the tank's motion mo (c, sn: cos and sin of its angle). */
+static inline void AbsoluteEnergy(FSSolver s, const FSTankMotion *mo, PetscReal c, PetscReal sn, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal *kin, PetscReal *pot)
+{
+  const PetscReal rx = x[0] - s->tank_ref[0], ry = x[1] - s->tank_ref[1];
+  const PetscReal wx = v[0] - mo->rate * ry, wy = v[1] + mo->rate * rx; /* u + omega e_z x r */
+  const PetscReal Vx = mo->vel[0] + c * wx - sn * wy, Vy = mo->vel[1] + sn * wx + c * wy;
+  const PetscReal Xx = s->tank_ref[0] + mo->disp[0] + c * rx - sn * ry, Xy = s->tank_ref[1] + mo->disp[1] + sn * rx + c * ry;
+  *kin = 0.5 * m * (Vx * Vx + Vy * Vy);
+  *pot = -m * (s->gravity[0] * Xx + s->gravity[1] * Xy);
+}
+
 /*
    The energies of the current state: the liquid's (every rank) and the structure's (rank 0):
    liq[FS_E_*], st[0..2] structure kinetic, potential, L_s . (d, theta). Collective.
@@ -99,12 +111,10 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
     loc[FS_E_POT] -= m * gx;
     loc[FS_E_COMP] += m * FSCompressibilityEnergy(rho, s->rho0, s->c0, s->background_pressure);
     if (s->coupled && dim == 2) { /* the absolute frame */
-      const PetscReal rx = x[0] - s->tank_ref[0], ry = x[1] - s->tank_ref[1];
-      const PetscReal wx = v[0] - mo.rate * ry, wy = v[1] + mo.rate * rx; /* u + omega e_z x r */
-      const PetscReal Vx = mo.vel[0] + c * wx - sn * wy, Vy = mo.vel[1] + sn * wx + c * wy;
-      const PetscReal Xx = s->tank_ref[0] + mo.disp[0] + c * rx - sn * ry, Xy = s->tank_ref[1] + mo.disp[1] + sn * rx + c * ry;
-      loc[FS_E_KIN_ABS] += 0.5 * m * (Vx * Vx + Vy * Vy);
-      loc[FS_E_POT_ABS] -= m * (g[0] * Xx + g[1] * Xy);
+      PetscReal kin, pot;
+      AbsoluteEnergy(s, &mo, c, sn, x, v, m, &kin, &pot);
+      loc[FS_E_KIN_ABS] += kin;
+      loc[FS_E_POT_ABS] += pot;
     }
   }
   PetscCall(VecRestoreArrayRead(s->U, &u));
@@ -138,32 +148,48 @@ static PetscErrorCode FSSolverEnergyTotals(FSSolver s, PetscReal e[2])
 }
 
 /*
-   FSSolverEnergyJumpBegin - the energies before the changes made to the particles between steps (the
-   wall bounces, FSSolverWallsBounce), from the state vector; FSSolverEnergyJumpEnd, after them and the
-   repacking, adds the differences to the energy block (work_bounce, work_bounce_total).
-
-   Collective
+   FSSolverEnergyJumpFrame - the tank's motion of the current state, for FSEnergyParticle: the changes
+   made to particles between steps (the wall bounces, FSSolverWallsBounce) are booked particle by
+   particle, without passes over all particles. Collective (a Bcast when coupled).
 */
-PetscErrorCode FSSolverEnergyJumpBegin(FSSolver s, PetscReal e[2])
+PetscErrorCode FSSolverEnergyJumpFrame(FSSolver s, FSEnergyFrame *fr)
 {
   PetscFunctionBegin;
-  PetscCall(FSSolverEnergyTotals(s, e));
+  PetscCall(FSSolverGetTankMotion(s, &fr->mo));
+  fr->c  = PetscCosReal(fr->mo.angle);
+  fr->sn = PetscSinReal(fr->mo.angle);
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FSSolverEnergyJumpEnd(FSSolver s, const PetscReal e0[2])
+/* FSEnergyParticle - one 2-D particle's mechanical energy in the tank's frame (e[0]) and in the absolute
+   frame (e[1], the tank's frame without a coupling); compressibility does not change in a bounce. */
+void FSEnergyParticle(FSSolver s, const FSEnergyFrame *fr, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal e[2])
 {
-  PetscReal   e[2];
+  e[0] = 0.5 * m * (v[0] * v[0] + v[1] * v[1]) - m * (s->gravity[0] * x[0] + s->gravity[1] * x[1]);
+  if (s->coupled) {
+    PetscReal kin, pot;
+    AbsoluteEnergy(s, &fr->mo, fr->c, fr->sn, x, v, m, &kin, &pot);
+    e[1] = kin + pot;
+  } else e[1] = e[0];
+}
+
+/* FSSolverEnergyAddJump - adds this rank's energy changes de (liquid, whole system) of the changes
+   between steps to the energy block (work_bounce, work_bounce_total), summed over the ranks. After the
+   repacking of the state. Collective. */
+PetscErrorCode FSSolverEnergyAddJump(FSSolver s, const PetscReal de[2])
+{
+  PetscReal   sum[2];
   PetscMPIInt rank;
 
   PetscFunctionBegin;
-  PetscCall(FSSolverEnergyTotals(s, e));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCallMPI(MPI_Reduce(de, sum, 2, MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
   if (!rank) {
-    PetscScalar *u;
+    const PetscReal w = s->coupled ? s->tank_width : 1.0; /* the liquid's energies are per unit width */
+    PetscScalar    *u;
     PetscCall(VecGetArray(s->U, &u));
-    u[s->nowned * s->ustride + s->genergy + FS_ENERGY_WORK_BOUNCE] += e[0] - e0[0];
-    u[s->nowned * s->ustride + s->genergy + FS_ENERGY_WORK_BOUNCE_TOTAL] += e[1] - e0[1];
+    u[s->nowned * s->ustride + s->genergy + FS_ENERGY_WORK_BOUNCE] += sum[0];
+    u[s->nowned * s->ustride + s->genergy + FS_ENERGY_WORK_BOUNCE_TOTAL] += w * sum[1];
     PetscCall(VecRestoreArray(s->U, &u));
   }
   PetscFunctionReturn(0);
@@ -177,7 +203,7 @@ PetscErrorCode FSSolverEnergyJumpEnd(FSSolver s, const PetscReal e0[2])
 */
 PetscErrorCode FSSolverEnergyInitial(FSSolver s)
 {
-  PetscReal   e[2];
+  PetscReal   e[2] = {0, 0};
   PetscMPIInt rank;
 
   PetscFunctionBegin;

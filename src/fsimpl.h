@@ -155,8 +155,13 @@ enum { FS_ENERGY_WORK_EXT, FS_ENERGY_WORK_RELAX, FS_ENERGY_WORK_DAMPING, FS_ENER
 PETSC_INTERN PetscErrorCode FSSolverEnergyColumns(FSSolver, PetscInt *, const char *[]);
 PETSC_INTERN PetscErrorCode FSSolverEnergyValues(FSSolver, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverEnergyInitial(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverEnergyJumpBegin(FSSolver, PetscReal[2]);
-PETSC_INTERN PetscErrorCode FSSolverEnergyJumpEnd(FSSolver, const PetscReal[2]);
+typedef struct {
+  FSTankMotion mo;
+  PetscReal    c, sn;
+} FSEnergyFrame;
+PETSC_INTERN PetscErrorCode FSSolverEnergyJumpFrame(FSSolver, FSEnergyFrame *);
+PETSC_INTERN void           FSEnergyParticle(FSSolver, const FSEnergyFrame *, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal e[2]);
+PETSC_INTERN PetscErrorCode FSSolverEnergyAddJump(FSSolver, const PetscReal[2]);
 
 PETSC_INTERN PetscErrorCode FSStructureCreate(FSSolver, const char name[], FSStructure *);
 PETSC_INTERN PetscErrorCode FSStructureDestroy(FSStructure *);

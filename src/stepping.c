@@ -230,13 +230,12 @@ PetscErrorCode FSSolverStep(FSSolver s)
   s->particle_steps += s->nglobal_particles;
   s->steps_taken++;
   PetscCall(FSSolverCheckState(s));
-  if (bounce) PetscCall(FSSolverEnergyJumpBegin(s, ejump)); /* the bounces' energy changes, for the energy budget */
   PetscCall(FSSolverUnpackState(s));
-  PetscCall(FSSolverWallsBounce(s));
+  PetscCall(FSSolverWallsBounce(s, ejump)); /* with the bounces' energy changes, for the energy budget */
   PetscCall(FSSolverMigrate(s, &changed));
   if (step % s->sort_interval == 0) PetscCall(FSSolverSortByCell(s));
   PetscCall(FSSolverResize(s, changed));
-  if (bounce) PetscCall(FSSolverEnergyJumpEnd(s, ejump));
+  if (bounce) PetscCall(FSSolverEnergyAddJump(s, ejump));
   PetscCall(PetscLogEventEnd(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverMonitor(s));
   PetscFunctionReturn(0);

@@ -290,24 +290,29 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
    velocity reversed, scaled by -fs_walls_bounce_restitution (1: elastic). The boundary integrals push
    particles away from walls in proportion to the pressure, which vanishes at free surfaces and under
    lids: this keeps such particles from crossing (the "elastic bounce" of AQUAgpusph's boundary
-   integrals). The count of bounces is kept for the summary.
+   integrals). The count of bounces is kept for the summary; de returns this rank's change of the
+   liquid's mechanical energy (tank frame, absolute frame) for the energy budget (FSSolverEnergyAddJump).
 
    Not collective
 */
-PetscErrorCode FSSolverWallsBounce(FSSolver s)
+PetscErrorCode FSSolverWallsBounce(FSSolver s, PetscReal de[2])
 {
-  FSWallData *wd = s->wd;
-  FSWalls    *w;
-  PetscReal  *x, *v, dmin;
-  PetscInt    n;
+  FSWallData   *wd = s->wd;
+  FSWalls      *w;
+  PetscReal    *x, *v, *m, dmin;
+  PetscInt      n;
+  FSEnergyFrame fr;
 
   PetscFunctionBegin;
+  de[0] = de[1] = 0;
   if (!wd || wd->bounce_distance <= 0) PetscFunctionReturn(0);
   w    = &wd->walls;
   dmin = wd->bounce_distance * s->dx;
+  PetscCall(FSSolverEnergyJumpFrame(s, &fr));
   PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   for (PetscInt i = 0; i < n; i++) {
     PetscReal      *xi = &x[2 * i], *vi = &v[2 * i];
     const PetscInt  cx = (PetscInt)((xi[0] - wd->glo[0]) / wd->gcell), cy = (PetscInt)((xi[1] - wd->glo[1]) / wd->gcell);
@@ -321,15 +326,21 @@ PetscErrorCode FSSolverWallsBounce(FSSolver s)
           const PetscReal  t  = ((xi[0] - sg[0]) * (sg[2] - sg[0]) + (xi[1] - sg[1]) * (sg[3] - sg[1])) / (sg[8] * sg[8]);
           const PetscReal  un = vi[0] * sg[6] + vi[1] * sg[7];
           if (d < dmin && d > -dmin && t >= 0 && t <= 1 && un > 0) {
+            PetscReal e0[2], e1[2];
+            FSEnergyParticle(s, &fr, xi, vi, m[i], e0);
             xi[0] -= (dmin - d) * sg[6];
             xi[1] -= (dmin - d) * sg[7];
             vi[0] -= (1 + wd->restitution) * un * sg[6];
             vi[1] -= (1 + wd->restitution) * un * sg[7];
+            FSEnergyParticle(s, &fr, xi, vi, m[i], e1);
+            de[0] += e1[0] - e0[0];
+            de[1] += e1[1] - e0[1];
             wd->nbounce++;
           }
         }
       }
   }
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscFunctionReturn(0);

@@ -28,6 +28,6 @@ PETSC_INTERN PetscErrorCode FSSolverSetWalls(FSSolver, FSWalls *);
 PETSC_INTERN PetscErrorCode FSSolverWallsSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWallsUpdate(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWallsPrepare(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverWallsBounce(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverWallsBounce(FSSolver, PetscReal de[2]);
 PETSC_INTERN PetscErrorCode FSSolverWallsGetLoads(FSSolver, const PetscReal **);
 PETSC_INTERN PetscErrorCode FSSolverWallsDestroy(FSSolver);
