@@ -177,7 +177,7 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
   s->loads.force[1]  = (sn * F[0] + c * F[1]) * s->tank_width - s->static_loads.force[1];
   s->loads.moment[2] = M * s->tank_width - s->static_loads.moment[2];
   /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
-  PetscCall(FSSolverStructureRates(s, NULL, f));
+  PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f));
   if (!rank) PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &s->motion));
   PetscCallMPI(MPI_Bcast(&s->motion, (PetscMPIInt)(sizeof(s->motion) / sizeof(PetscReal)), MPIU_REAL, 0, comm));
   PetscFunctionReturn(0);

@@ -307,7 +307,7 @@ PETSC_INTERN PetscErrorCode FSCaseHelpAll(FSSolver, PetscOptionItems *);
 
 /* the structure inside the solver (src/structure.c) */
 PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, const PetscReal *u, PetscReal *f);
+PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast, const PetscReal *u, PetscReal *f);
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverCouplingSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);

@@ -202,10 +202,11 @@ PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
    computes dy/dt at s->rhs_time with the current loads into f (rank 0).
 
    Collective
-   u may be NULL when s->sy already holds this stage's state on every rank (the coupling broadcast it).
-
-   */
-PetscErrorCode FSSolverStructureRates(FSSolver s, const PetscReal *u, PetscReal *f)
+   With broadcast PETSC_FALSE s->sy already holds this stage's state on every rank (the coupling
+   broadcast it) and u is not read. The flag is explicit: u itself cannot say it, since a rank that
+   owns no entries of the state gets a NULL array from VecGetArrayRead().
+*/
+PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const PetscReal *u, PetscReal *f)
 {
   FSStructure st = s->structure;
   PetscMPIInt rank;
@@ -215,7 +216,7 @@ PetscErrorCode FSSolverStructureRates(FSSolver s, const PetscReal *u, PetscReal 
   if (!st || !st->ndof) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-  if (u) PetscCall(FSSolverStructureBroadcastState(s, u));
+  if (broadcast) PetscCall(FSSolverStructureBroadcastState(s, u));
   if (!rank) {
     PetscCall((*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot));
     if (f) PetscCall(PetscArraycpy(f + off, s->sydot, st->ndof));
@@ -234,7 +235,7 @@ static PetscErrorCode FSSolverStructureCurrent(FSSolver s)
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(VecGetArrayRead(s->U, &u));
   s->rhs_time = t;
-  PetscCall(FSSolverStructureRates(s, u, NULL));
+  PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, NULL));
   PetscCall(VecRestoreArrayRead(s->U, &u));
   PetscFunctionReturn(0);
 }
