@@ -1,6 +1,7 @@
 # Thin wrapper around CMake for the two commands of the README.
 #   make demo   install dependencies, build, run the default case, say where the results are
 #   make test   install dependencies, build, run the C tests (ctest) and the Python tests (pytest)
+# `make build` also makes the Python package in python/ importable by $(PYTHON) (scripts/install-python.sh).
 BUILD   ?= build
 JOBS    ?= 2
 PYTHON  ?= /usr/bin/python3
@@ -18,6 +19,7 @@ deps:
 build: deps
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(BUILD) -j $(JOBS)
+	@PYTHON=$(PYTHON) bash scripts/install-python.sh
 
 demo: build
 	$(BUILD)/flexslosh -options_file cases/taylor_green.opts -fs_output_dir output/demo

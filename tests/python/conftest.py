@@ -26,6 +26,11 @@ import pytest
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 
+# the Python package of this checkout (make build also installs a .pth pointing at it)
+import sys  # noqa: E402
+
+sys.path.insert(0, str(REPO_ROOT / "python"))
+
 MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1"}
 
 # The Taylor-Green run most tests start from (2500 particles, about 0.05 s per step on one core).
