@@ -106,6 +106,20 @@ def _plain_log_ticks(axis: Any) -> None:
     axis.set_minor_formatter(NullFormatter())
 
 
+def _finish(fig: Any, ax: Any, ylabel: str, title: str, path: PathLike, xlabel: str = "t (s)",
+            zero_line: bool = True, legend: str = "upper right") -> Path:
+    """Labels, legend and grid of a one-axes figure, then writes it (see _save)."""
+    if zero_line:
+        ax.axhline(0, color="0.6", lw=0.5)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.legend(loc=legend, fontsize="small")
+    ax.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
 def _time(run: Run, table: str = "timeseries") -> np.ndarray:
     return run.column("time", table)
 
@@ -129,14 +143,7 @@ def tip_acceleration(run: Run, path: PathLike, label: Optional[str] = None) -> P
     fig = _figure(8, 4)
     ax = fig.add_subplot()
     ax.plot(t, a, lw=0.9, color=_styles([run])[0]["color"], label=label or run.name)
-    ax.axhline(0, color="0.6", lw=0.5)
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("tip acceleration (g)")
-    ax.set_title("Tip acceleration (seed Figs. 5, 8)")
-    ax.legend(loc="upper right")
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    return _save(fig, path)
+    return _finish(fig, ax, "tip acceleration (g)", "Tip acceleration (seed Figs. 5, 8)", path)
 
 
 def normalized_motion(runs: Sequence[Run], labels: Optional[Sequence[str]], path: PathLike) -> Path:
@@ -161,14 +168,8 @@ def normalized_motion(runs: Sequence[Run], labels: Optional[Sequence[str]], path
         if len(x) == 0 or x[0] == 0:
             raise ValueError(f"{run.directory / 'timeseries.csv'}: tip_displacement starts at 0, cannot normalize by x(t=0)")
         ax.plot(_time(run), x / x[0], lw=1.0, label=label, **style)
-    ax.axhline(0, color="0.6", lw=0.5)
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("$x / x_0$ (tip displacement, $x_0 = x(t=0)$)")
-    ax.set_title("Non-dimensional motion of the tip (seed Fig. 9)")
-    ax.legend(loc="upper right")
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    return _save(fig, path)
+    return _finish(fig, ax, "$x / x_0$ (tip displacement, $x_0 = x(t=0)$)",
+                   "Non-dimensional motion of the tip (seed Fig. 9)", path)
 
 
 def acceleration_envelope(runs: Sequence[Run], labels: Optional[Sequence[str]], path: PathLike) -> Path:
@@ -201,14 +202,9 @@ def acceleration_envelope(runs: Sequence[Run], labels: Optional[Sequence[str]], 
         ax.semilogy(env.time, env.amplitude, marker="o", ms=3, lw=1.0,
                     label=f"{label}: $\\zeta$ = {100 * env.zeta:.2f} % (slope of ln envelope)", **style)
         ax.semilogy(env.time, env(env.time), color=style["color"], lw=0.7, linestyle=":")
-    ax.set_xlabel("t (s)")
     _plain_log_ticks(ax.yaxis)
-    ax.set_ylabel("|tip acceleration| peaks (g)")
-    ax.set_title("Envelope of the tip acceleration (seed Fig. 10)")
-    ax.legend(loc="upper right", fontsize="small")
-    ax.grid(alpha=0.3, which="both")
-    fig.tight_layout()
-    return _save(fig, path)
+    return _finish(fig, ax, "|tip acceleration| peaks (g)", "Envelope of the tip acceleration (seed Fig. 10)", path,
+                   zero_line=False)
 
 
 def energy_balance(run: Run) -> dict[str, np.ndarray]:
@@ -266,14 +262,8 @@ def energy_terms(run: Run, path: PathLike) -> Path:
     if np.any(e["other"]):
         ax.plot(t, e["other"], color="tab:orange", lw=0.8, label="relaxation + bounces")
     ax.plot(t, e["residual"], color="0.4", lw=0.8, linestyle="--", label="residual")
-    ax.axhline(0, color="0.6", lw=0.5)
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel(f"energy of the liquid ({unit})")
-    ax.set_title("Energy of the liquid in the tank's frame (seed Fig. 11)")
-    ax.legend(loc="best", fontsize="small")
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    return _save(fig, path)
+    return _finish(fig, ax, f"energy of the liquid ({unit})", "Energy of the liquid in the tank's frame (seed Fig. 11)",
+                   path, legend="best")
 
 
 def damping_vs_amplitude(runs: Sequence[Run], labels: Optional[Sequence[str]], path: PathLike) -> Path:
@@ -312,13 +302,8 @@ def damping_vs_amplitude(runs: Sequence[Run], labels: Optional[Sequence[str]], p
         ax.axhline(100 * xi, color="0.4", lw=0.8, linestyle=":", label=f"structural damping {100 * xi:g} %")
     ax.set_xscale("log")
     _plain_log_ticks(ax.xaxis)
-    ax.set_xlabel("cycle amplitude $A_i$ (tip displacement, mm)")
-    ax.set_ylabel("damping ratio $\\zeta_i$ (%)")
-    ax.set_title("Damping per cycle against amplitude")
-    ax.legend(loc="best", fontsize="small")
-    ax.grid(alpha=0.3, which="both")
-    fig.tight_layout()
-    return _save(fig, path)
+    return _finish(fig, ax, "damping ratio $\\zeta_i$ (%)", "Damping per cycle against amplitude", path,
+                   xlabel="cycle amplitude $A_i$ (tip displacement, mm)", zero_line=False, legend="best")
 
 
 def _field_values(snap: dict[str, np.ndarray], field: str, path: Path) -> np.ndarray:
