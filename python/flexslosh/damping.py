@@ -6,7 +6,8 @@ decay), the positive peaks A_i give the logarithmic decrement of each cycle
     delta_i = ln(A_i / A_{i+1}),    zeta_i = delta_i / sqrt(4 pi^2 + delta_i^2),
 
 reported against the cycle's amplitude (the decay of a sloshing tank depends on the amplitude, so one
-number for the whole run says little; notes/validation.md).
+number for the whole run says little; notes/validation.md). fit_envelope gives the one number of the
+seed's Fig. 10 anyway: the slope of ln|peak| against time, zeta = -slope / omega.
 """
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Peaks", "CycleDamping", "find_peaks", "damping_per_cycle", "write_damping_csv"]
+__all__ = ["Peaks", "CycleDamping", "Envelope", "find_peaks", "damping_per_cycle", "fit_envelope", "write_damping_csv"]
 
 
 @dataclass
@@ -174,6 +175,60 @@ def damping_per_cycle(t: np.ndarray, y: np.ndarray, offset: float = 0.0, hystere
     delta = np.log(ap[:-1] / ap[1:])
     zeta = delta / np.sqrt(4 * np.pi**2 + delta**2)
     return CycleDamping(tp[:-1], ap[:-1], np.diff(tp), delta, zeta)
+
+
+@dataclass
+class Envelope:
+    """The exponential fitted to the peaks of |y - offset| (seed Fig. 10).
+
+    For a linear damped oscillation the envelope is exp(-zeta omega t), so the slope of ln(envelope)
+    against time gives zeta = -slope / omega, omega = 2 pi / period.
+
+    Attributes:
+        time: time of each peak (maxima and minima).
+        amplitude: |peak - offset|.
+        slope: least-squares slope of ln(amplitude) against time (1/s).
+        intercept: the fit's ln(amplitude) at t = 0.
+        period: the mean period, twice the mean time between successive peaks.
+        zeta: -slope * period / (2 pi).
+    """
+
+    time: np.ndarray
+    amplitude: np.ndarray
+    slope: float
+    intercept: float
+    period: float
+    zeta: float
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        """The fitted envelope exp(intercept + slope t)."""
+        return np.exp(self.intercept + self.slope * np.asarray(t, dtype=float))
+
+
+def fit_envelope(t: np.ndarray, y: np.ndarray, offset: float = 0.0, hysteresis: float = 0.05) -> Envelope:
+    """Fits an exponential to the peaks of |y - offset| (one per lobe, see find_peaks).
+
+    Args:
+        t: sample times (increasing).
+        y: samples of the oscillation (e.g. the tip acceleration).
+        offset: the equilibrium about which y oscillates.
+        hysteresis: see find_peaks.
+
+    Returns:
+        The peaks and the fit.
+
+    Raises:
+        ValueError: fewer than two peaks (less than a half cycle recorded).
+    """
+    pk = find_peaks(t, y, offset, hysteresis)
+    amp = np.abs(pk.value)
+    keep = amp > 0
+    tp, amp = pk.time[keep], amp[keep]
+    if len(amp) < 2:
+        raise ValueError(f"fit_envelope: {len(amp)} peak(s) found, at least two are needed")
+    slope, intercept = np.polyfit(tp, np.log(amp), 1)
+    period = 2.0 * float(np.mean(np.diff(tp)))
+    return Envelope(tp, amp, float(slope), float(intercept), period, float(-slope * period / (2 * np.pi)))
 
 
 def write_damping_csv(path: str, cycles: CycleDamping) -> None:
