@@ -14,7 +14,7 @@
 #include <flexslosh.h>
 
 typedef struct {
-  PetscReal  C, fixed, dmin;
+  PetscReal  C, fixed, dmin, dmax;
   PetscBool  hydrostatic;
   PetscReal *delta;
   PetscInt   cap;
@@ -77,6 +77,8 @@ static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)
     for (PetscInt k = 0; k < n; k++) ctx->delta[k] = ctx->fixed;
   else
     for (PetscInt k = 0; k < n; k++) ctx->delta[k] = PetscMax(coef * P->aux[k * (dim + 1) + dim], ctx->dmin);
+  if (ctx->dmax > 0)
+    for (PetscInt k = 0; k < n; k++) ctx->delta[k] = PetscMin(ctx->delta[k], ctx->dmax);
   /* the term diffuses the density with diffusivity delta_i h c0: the time step must resolve it like a
      viscosity (in a slam the strain rate, hence delta-LES, jumps by orders of magnitude) */
   {
@@ -96,11 +98,14 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
   PetscCall(PetscOptionsReal("-fs_delta_c", "C_delta of the delta-LES model (seed Eq. 8)", "", ctx->C, &ctx->C, NULL));
   PetscCall(PetscOptionsReal("-fs_delta_constant", "A constant delta (classic delta-SPH, e.g. 0.1) instead of the LES one; 0 = LES", "", ctx->fixed, &ctx->fixed, NULL));
   PetscCall(PetscOptionsReal("-fs_delta_min", "Floor under the delta-LES delta_i (damps the density modes of a liquid at rest); 0 = none", "", ctx->dmin, &ctx->dmin, NULL));
+  PetscCall(PetscOptionsReal("-fs_delta_max", "Cap on the delta-LES delta_i (its diffusivity delta_i h c0 bounds the time step); 0 = none", "", ctx->dmax, &ctx->dmax, NULL));
   PetscCall(PetscOptionsBool("-fs_delta_hydrostatic", "Correct the density difference by the hydrostatic one rho0 g.(x_j - x_i)/c0^2 instead of the renormalized gradients", "", ctx->hydrostatic, &ctx->hydrostatic, NULL));
   PetscOptionsHeadEnd();
   PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_c %g must be non-negative", (double)ctx->C);
   PetscCheck(ctx->fixed >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_constant %g must be non-negative", (double)ctx->fixed);
   PetscCheck(ctx->dmin >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_min %g must be non-negative", (double)ctx->dmin);
+  PetscCheck(ctx->dmax >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_max %g must be non-negative (0: no cap)", (double)ctx->dmax);
+  PetscCheck(ctx->dmax == 0 || ctx->dmax >= ctx->dmin, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_max %g is below -fs_delta_min %g: expected a cap above the floor", (double)ctx->dmax, (double)ctx->dmin);
   PetscFunctionReturn(0);
 }
 

@@ -134,7 +134,7 @@ def find_peaks(t: np.ndarray, y: np.ndarray, offset: float = 0.0, hysteresis: fl
     # median one with their neighbours (which have the same sign) until none is left
     bounds = starts + [len(z)]
     while len(starts) > 3:
-        lengths = np.diff(bounds)
+        lengths = np.diff(np.append(t[bounds[:-1]], t[-1]))  # durations: steps need not be uniform
         n = int(np.argmin(lengths[1:-1])) + 1  # the end lobes may be cut by the record
         if lengths[n] >= 0.3 * np.median(lengths):
             break
