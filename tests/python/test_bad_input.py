@@ -20,6 +20,8 @@ BAD = {
     "gravity_1_value_in_2d": (["-fs_gravity", "-9.81"], ["-fs_gravity", r"has 1 values", r"expected 2"]),
     "gravity_2_values_in_3d": (["-fs_dim", "3", "-fs_gravity", "0,-9.81"], ["-fs_gravity", r"has 2 values", r"expected 3"]),
     "cfl_too_large": (["-fs_cfl", "3"], [r"-fs_cfl 3\b", "range"]),
+    "delta_max_negative": (["-fs_delta_max", "-1"], [r"-fs_delta_max -1\b", "non-negative"]),
+    "delta_max_below_min": (["-fs_delta_min", "0.2", "-fs_delta_max", "0.1"], [r"-fs_delta_max 0.1\b", r"below -fs_delta_min 0.2\b"]),
 }
 
 
