@@ -31,6 +31,7 @@ PETSC_EXTERN PetscClassId FSSOLVER_CLASSID;
 PETSC_EXTERN PetscErrorCode FSInitializePackage(void);
 PETSC_EXTERN PetscErrorCode FSFinalizePackage(void);
 PETSC_EXTERN PetscErrorCode FSCheckPlugins(MPI_Comm);
+PETSC_EXTERN PetscErrorCode FSErrorHandler(MPI_Comm, int, const char *, const char *, PetscErrorCode, PetscErrorType, const char *, void *);
 
 /* ---------- solver ---------- */
 PETSC_EXTERN PetscErrorCode FSSolverCreate(MPI_Comm, FSSolver *);
@@ -46,6 +47,14 @@ PETSC_EXTERN PetscErrorCode FSSolverGetSwarm(FSSolver, DM *);
 PETSC_EXTERN PetscErrorCode FSSolverGetTime(FSSolver, PetscReal *, PetscInt *);
 PETSC_EXTERN PetscErrorCode FSSolverGetDimension(FSSolver, PetscInt *);
 PETSC_EXTERN PetscErrorCode FSSolverGetLocalSize(FSSolver, PetscInt *);
+
+/* ---------- the state, for drivers (the Python package) ---------- */
+#define FS_ENERGY_MAX_COLUMNS 32
+PETSC_EXTERN PetscErrorCode FSSolverGetField(FSSolver, const char[], PetscInt *, PetscInt *, const PetscReal *[]);
+PETSC_EXTERN PetscErrorCode FSSolverRestoreField(FSSolver, const char[], PetscInt *, PetscInt *, const PetscReal *[]);
+PETSC_EXTERN PetscErrorCode FSSolverGetWallLoads(FSSolver, PetscInt *, const char *[], const PetscReal *[]);
+PETSC_EXTERN PetscErrorCode FSSolverGetEnergy(FSSolver, PetscInt *, const char *[], PetscReal[]);
+PETSC_EXTERN PetscErrorCode FSSolverGetLiquidMass(FSSolver, PetscReal *);
 
 /* ---------- terms ---------- */
 /* What a term needs the core to compute in the first pass over neighbour pairs. */
@@ -239,3 +248,4 @@ PETSC_EXTERN PetscErrorCode FSSolverSetLoads(FSSolver, const FSLoads *);
 PETSC_EXTERN PetscErrorCode FSSolverGetTankMotion(FSSolver, FSTankMotion *);
 PETSC_EXTERN PetscErrorCode FSSolverGetStructureState(FSSolver, PetscInt *, PetscReal[]);
 PETSC_EXTERN PetscErrorCode FSSolverSetDefaultStructure(FSSolver, const char[]);
+
