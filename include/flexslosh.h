@@ -249,3 +249,25 @@ PETSC_EXTERN PetscErrorCode FSSolverGetTankMotion(FSSolver, FSTankMotion *);
 PETSC_EXTERN PetscErrorCode FSSolverGetStructureState(FSSolver, PetscInt *, PetscReal[]);
 PETSC_EXTERN PetscErrorCode FSSolverSetDefaultStructure(FSSolver, const char[]);
 
+/*
+   A structure model whose operations are function pointers given at registration, for models written
+   outside C (the Python package registers its classes so) or built at run time. impl is the model
+   instance create returns for each FSStructure (ctx itself without create). A callback returns 0, or
+   non-zero after FSStructureCallbacksSetError() with its message (or after a PETSc error of its own).
+   ndof and min_period (the shortest period the model resolves, 0 if none) come from setup, which may
+   also add time-series columns with FSStructureAddColumn(). Which rank calls which: create, setup,
+   initial and destroy on every rank; rhs, motion, columns and energy on rank 0 only.
+*/
+typedef struct {
+  PetscErrorCode (*create)(void *ctx, FSStructure, void **impl);                                  /* optional */
+  PetscErrorCode (*setup)(void *impl, FSStructure, PetscInt *ndof, PetscReal *min_period);       /* required */
+  PetscErrorCode (*initial)(void *impl, PetscInt ndof, PetscReal y[]);                            /* optional (else y = 0) */
+  PetscErrorCode (*rhs)(void *impl, PetscReal t, PetscInt ndof, const PetscReal y[], const FSLoads *, PetscReal ydot[]); /* required */
+  PetscErrorCode (*motion)(void *impl, PetscInt ndof, const PetscReal y[], const PetscReal ydot[], FSTankMotion *);       /* required */
+  PetscErrorCode (*columns)(void *impl, PetscReal t, PetscInt ndof, const PetscReal y[], const PetscReal ydot[], PetscInt ncolumns, PetscReal vals[]); /* with columns */
+  PetscErrorCode (*energy)(void *impl, PetscInt ndof, const PetscReal y[], PetscReal E[3]);      /* optional, as FSStructureOps.energy */
+  PetscErrorCode (*destroy)(void *impl);                                                          /* optional */
+} FSStructureCallbacks;
+
+PETSC_EXTERN PetscErrorCode FSStructureRegisterCallbacks(const char[], const char[], const FSStructureCallbacks *, void *);
+PETSC_EXTERN PetscErrorCode FSStructureCallbacksSetError(const char[]);
