@@ -6,15 +6,17 @@ directory into numpy arrays and makes the seed paper's figures.
 Modules:
     damping   peaks of a decaying oscillation and the damping ratio per cycle
     solver    Solver: one run of the C core, its TS and DMSwarm as petsc4py objects, fields as numpy
+    structure Structure: structure models in Python, registered with register_structure
 
-petsc4py (and MPI) are initialized on first use of Solver, not on import.
+petsc4py (and MPI) are initialized on first use of Solver or register_structure, not on import.
 """
 from __future__ import annotations
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__", "damping", "solver", "Solver"]
+__all__ = ["__version__", "damping", "solver", "structure", "Solver", "Structure", "TankMotion", "register_structure"]
 
 from . import damping  # noqa: E402  (light: numpy only)
-from . import solver  # noqa: E402  (light: numpy and ctypes; petsc4py is imported on first use)
+from . import solver, structure  # noqa: E402  (light: numpy and ctypes; petsc4py is imported on first use)
 from .solver import Solver  # noqa: E402
+from .structure import Structure, TankMotion, register_structure  # noqa: E402
