@@ -7,6 +7,7 @@ Modules:
     damping   peaks of a decaying oscillation and the damping ratio per cycle
     solver    Solver: one run of the C core, its TS and DMSwarm as petsc4py objects, fields as numpy
     structure Structure: structure models in Python, registered with register_structure
+    sweep     sweep(): many runs (fill levels, tank shapes...) in sequence or over MPI ranks, damping per cycle
 
 petsc4py (and MPI) are initialized on first use of Solver or register_structure, not on import.
 """
@@ -14,9 +15,9 @@ from __future__ import annotations
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__", "damping", "solver", "structure", "Solver", "Structure", "TankMotion", "register_structure"]
+__all__ = ["__version__", "damping", "solver", "structure", "sweep", "Solver", "Structure", "TankMotion", "register_structure"]
 
 from . import damping  # noqa: E402  (light: numpy only)
-from . import solver, structure  # noqa: E402  (light: numpy and ctypes; petsc4py is imported on first use)
+from . import solver, structure, sweep  # noqa: E402  (light: numpy and ctypes; petsc4py is imported on first use)
 from .solver import Solver  # noqa: E402
 from .structure import Structure, TankMotion, register_structure  # noqa: E402
