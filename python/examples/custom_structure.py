@@ -50,7 +50,7 @@ def main(argv=None):
     parser.add_argument("--tiny", action="store_true", help="a short run (the test suite's)")
     parser.add_argument("--out", default="output/custom_structure", help="output directory (default %(default)s)")
     args = parser.parse_args(argv)
-    from flexslosh.sweep import sweep
+    from flexslosh.sweep import format_table, sweep
 
     flexslosh.register_structure("duffing", Duffing, "tank on a hardening spring (python/examples/custom_structure.py)")
     base = {"fs_case": "beam", "fs_beam_tank_mass": 5.0, "fs_beam_ballast_mass": 3.36, "fs_beam_preload": 0.04,
@@ -58,9 +58,7 @@ def main(argv=None):
     table = sweep([{"fs_structure": "msd"}, {"fs_structure": "duffing"}], base, output_root=args.out)
     if table is None:
         return
-    print("model     cycle  amplitude (m)  period (s)  zeta")
-    for row in table:
-        print(f"{row['fs_structure']:8s}  {row['cycle']:5d}  {row['amplitude']:13.4e}  {row['period']:10.4f}  {row['zeta']:.4f}")
+    print(format_table(table, ["fs_structure", "cycle", "amplitude", "period", "zeta"]))
     print(f"wrote {Path(args.out) / 'damping.csv'}; timeseries.csv of the duffing run has the column spring_force")
 
 

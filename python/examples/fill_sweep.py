@@ -23,7 +23,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     from mpi4py import MPI
 
-    from flexslosh.sweep import sweep
+    from flexslosh.sweep import format_table, sweep
 
     fills = (0.3, 0.6) if args.tiny else (0.2, 0.35, 0.5, 0.65, 0.8)
     base = {"options_file": str(REPO / "cases" / "coupled_rectangular.opts"), "fs_dx": 0.006 if args.tiny else 0.003,
@@ -32,9 +32,7 @@ def main(argv=None):
     table = sweep([{"fs_fill": f} for f in fills], base, comm=comm, output_root=args.out)
     if table is None:  # not rank 0
         return
-    print("fill   cycle  amplitude (m)  period (s)  zeta")
-    for row in table:
-        print(f"{row['fs_fill']:4.2f}   {row['cycle']:5d}  {row['amplitude']:13.3e}  {row['period']:10.4f}  {row['zeta']:.4f}")
+    print(format_table(table, ["fs_fill", "cycle", "amplitude", "period", "zeta"]))
     print(f"wrote {Path(args.out) / 'damping.csv'}")
 
 

@@ -24,7 +24,7 @@ import numpy as np
 from .damping import damping_per_cycle
 from .solver import Solver, initialize
 
-__all__ = ["sweep", "run_case", "write_table"]
+__all__ = ["sweep", "run_case", "write_table", "format_table"]
 
 _COLUMNS = ("case", "cycle", "time", "amplitude", "period", "delta", "zeta")
 
@@ -91,6 +91,14 @@ def write_table(table: np.ndarray, path: str | os.PathLike) -> Path:
         for row in table:
             w.writerow([repr(float(v)) if isinstance(v, (float, np.floating)) else v for v in row.tolist()])
     return path
+
+
+def format_table(table: np.ndarray, columns: Sequence[str] | None = None) -> str:
+    """A sweep's table (or the named columns of it) as aligned text, a header line then one line per row."""
+    columns = list(columns or table.dtype.names)
+    cells = [[f"{v:.6g}" if isinstance(v, (float, np.floating)) else str(v) for v in (row[c] for c in columns)] for row in table]
+    widths = [max([len(c)] + [len(r[k]) for r in cells]) for k, c in enumerate(columns)]
+    return "\n".join("  ".join(v.rjust(w) for v, w in zip(line, widths)) for line in [columns] + cells)
 
 
 def sweep(cases: Sequence[Mapping[str, Any]], base_options: Mapping[str, Any] | None = None, comm=None,
