@@ -2,8 +2,8 @@
 
     mpirun --oversubscribe -n 2 /usr/bin/python3 tests/python/python_api_mpi.py OUT
 
-runs on 2 ranks: a few Taylor-Green steps and a few steps of the coupled tank (fields gathered to
-rank 0), a bad option (the exception's message on every rank) and the beam sweep spread over the
+runs on 2 ranks: a few Taylor-Green steps and a few steps of the coupled tank, with the built-in msd
+and with its Python twin (fields gathered to rank 0), a bad option (the exception's message on every rank) and the beam sweep spread over the
 ranks; rank 0 writes OUT/mpi.npz. test_python_api.py runs the same on 1 rank and compares.
 """
 import sys
@@ -14,6 +14,7 @@ import numpy as np
 REPO = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(REPO / "python"))
 
+import flexslosh  # noqa: E402
 from flexslosh import Solver  # noqa: E402
 from flexslosh.solver import FlexsloshError  # noqa: E402
 from flexslosh.sweep import sweep  # noqa: E402
@@ -22,6 +23,7 @@ QUIET = {"fs_output": False, "fs_progress": False}
 TG = dict(QUIET, fs_case="taylor_green", fs_dx=0.05)
 TANK = dict(QUIET, fs_dx=0.01)  # with cases/coupled_rectangular.opts: 210 particles, msd coupled
 TANK_FILE = REPO / "cases" / "coupled_rectangular.opts"
+PYTANK = dict(TANK, fs_structure="pymsd")  # flexslosh.structure.MassSpringDamper, registered as pymsd
 FIELDS = ("position", "velocity", "density", "pressure", "strain_rate", "turbulent_viscosity")
 BAD = dict(TG, fs_dx=-1)
 SWEEP_BASE = dict(QUIET, fs_case="beam", fs_beam_tank_mass=5.0, fs_beam_ballast_mass=3.36, fs_beam_preload=0.04, ts_max_time=0.5)
@@ -57,7 +59,8 @@ def main(out):
 
     comm = MPI.COMM_WORLD
     data = {}
-    for name, opts, n, f in (("tg", TG, 3, None), ("tank", TANK, 5, TANK_FILE)):
+    flexslosh.register_structure("pymsd", flexslosh.structure.MassSpringDamper)
+    for name, opts, n, f in (("tg", TG, 3, None), ("tank", TANK, 5, TANK_FILE), ("pytank", PYTANK, 5, TANK_FILE)):
         for k, v in run_fields(opts, n, f).items():
             data[f"{name}_{k}"] = v
     messages = comm.gather(bad_option_message(), root=0)

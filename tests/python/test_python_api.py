@@ -243,12 +243,13 @@ def two_ranks(tmp_path_factory):
     return dict(np.load(out / "mpi.npz")), out
 
 
-@pytest.mark.parametrize("name", ["tg", "tank"])
+@pytest.mark.parametrize("name", ["tg", "tank", "pytank"])
 def test_two_ranks_fields_equal_one_rank(two_ranks, name):
     """Fields gathered on 2 ranks, sorted by id, equal those of 1 rank after a few steps; the wrapped TS's
-    time and step number are the solver's on both."""
+    time and step number are the solver's on both. pytank: the Python msd on 2 ranks (its DOFs on rank 0)
+    against the C msd on 1 rank."""
     par, _ = two_ranks
-    opts, n, f = (M.TG, 3, None) if name == "tg" else (M.TANK, 5, M.TANK_FILE)
+    opts, n, f = {"tg": (M.TG, 3, None), "tank": (M.TANK, 5, M.TANK_FILE), "pytank": (M.TANK, 5, M.TANK_FILE)}[name]
     one = M.run_fields(opts, n, f)
     assert par["nranks"] == 2
     assert np.array_equal(par[f"{name}_id"], one["id"]) and np.array_equal(one["id"], np.arange(len(one["id"])))
