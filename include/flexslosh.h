@@ -31,6 +31,7 @@ PETSC_EXTERN PetscClassId FSSOLVER_CLASSID;
 PETSC_EXTERN PetscErrorCode FSInitializePackage(void);
 PETSC_EXTERN PetscErrorCode FSFinalizePackage(void);
 PETSC_EXTERN PetscErrorCode FSCheckPlugins(MPI_Comm);
+PETSC_EXTERN PetscErrorCode FSErrorHandler(MPI_Comm, int, const char *, const char *, PetscErrorCode, PetscErrorType, const char *, void *);
 
 /* ---------- solver ---------- */
 PETSC_EXTERN PetscErrorCode FSSolverCreate(MPI_Comm, FSSolver *);
@@ -46,6 +47,14 @@ PETSC_EXTERN PetscErrorCode FSSolverGetSwarm(FSSolver, DM *);
 PETSC_EXTERN PetscErrorCode FSSolverGetTime(FSSolver, PetscReal *, PetscInt *);
 PETSC_EXTERN PetscErrorCode FSSolverGetDimension(FSSolver, PetscInt *);
 PETSC_EXTERN PetscErrorCode FSSolverGetLocalSize(FSSolver, PetscInt *);
+
+/* ---------- the state, for drivers (the Python package) ---------- */
+#define FS_ENERGY_MAX_COLUMNS 32
+PETSC_EXTERN PetscErrorCode FSSolverGetField(FSSolver, const char[], PetscInt *, PetscInt *, const PetscReal *[]);
+PETSC_EXTERN PetscErrorCode FSSolverRestoreField(FSSolver, const char[], PetscInt *, PetscInt *, const PetscReal *[]);
+PETSC_EXTERN PetscErrorCode FSSolverGetWallLoads(FSSolver, PetscInt *, const char *[], const PetscReal *[]);
+PETSC_EXTERN PetscErrorCode FSSolverGetEnergy(FSSolver, PetscInt *, const char *[], PetscReal[]);
+PETSC_EXTERN PetscErrorCode FSSolverGetLiquidMass(FSSolver, PetscReal *);
 
 /* ---------- terms ---------- */
 /* What a term needs the core to compute in the first pass over neighbour pairs. */
@@ -239,3 +248,26 @@ PETSC_EXTERN PetscErrorCode FSSolverSetLoads(FSSolver, const FSLoads *);
 PETSC_EXTERN PetscErrorCode FSSolverGetTankMotion(FSSolver, FSTankMotion *);
 PETSC_EXTERN PetscErrorCode FSSolverGetStructureState(FSSolver, PetscInt *, PetscReal[]);
 PETSC_EXTERN PetscErrorCode FSSolverSetDefaultStructure(FSSolver, const char[]);
+
+/*
+   A structure model whose operations are function pointers given at registration, for models written
+   outside C (the Python package registers its classes so) or built at run time. impl is the model
+   instance create returns for each FSStructure (ctx itself without create). A callback returns 0, or
+   non-zero after FSStructureCallbacksSetError() with its message (or after a PETSc error of its own).
+   ndof and min_period (the shortest period the model resolves, 0 if none) come from setup, which may
+   also add time-series columns with FSStructureAddColumn(). Which rank calls which: create, setup,
+   initial and destroy on every rank; rhs, motion, columns and energy on rank 0 only.
+*/
+typedef struct {
+  PetscErrorCode (*create)(void *ctx, FSStructure, void **impl);                                  /* optional */
+  PetscErrorCode (*setup)(void *impl, FSStructure, PetscInt *ndof, PetscReal *min_period);       /* required */
+  PetscErrorCode (*initial)(void *impl, PetscInt ndof, PetscReal y[]);                            /* optional (else y = 0) */
+  PetscErrorCode (*rhs)(void *impl, PetscReal t, PetscInt ndof, const PetscReal y[], const FSLoads *, PetscReal ydot[]); /* required */
+  PetscErrorCode (*motion)(void *impl, PetscInt ndof, const PetscReal y[], const PetscReal ydot[], FSTankMotion *);       /* required */
+  PetscErrorCode (*columns)(void *impl, PetscReal t, PetscInt ndof, const PetscReal y[], const PetscReal ydot[], PetscInt ncolumns, PetscReal vals[]); /* with columns */
+  PetscErrorCode (*energy)(void *impl, PetscInt ndof, const PetscReal y[], PetscReal E[3]);      /* optional, as FSStructureOps.energy */
+  PetscErrorCode (*destroy)(void *impl);                                                          /* optional */
+} FSStructureCallbacks;
+
+PETSC_EXTERN PetscErrorCode FSStructureRegisterCallbacks(const char[], const char[], const FSStructureCallbacks *, void *);
+PETSC_EXTERN PetscErrorCode FSStructureCallbacksSetError(const char[]);

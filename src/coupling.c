@@ -106,6 +106,23 @@ PetscErrorCode FSSolverCouplingSetUp(FSSolver s)
 }
 
 /*
+   FSSolverGetLiquidMass - the mass of the liquid the structure carries: the 2-D liquid's mass times
+   the tank's width (-fs_tank_width) when the liquid and the structure are coupled, else 0. Known after
+   the particles are created, in FSSolverSetUp() before the structure's set-up (a structure's
+   payload may depend on it, as -fs_beam_payload_mass does).
+
+   Not collective
+
+.seealso: FSSolverSetUp(), FSStructureGetSolver()
+*/
+PetscErrorCode FSSolverGetLiquidMass(FSSolver s, PetscReal *mass)
+{
+  PetscFunctionBegin;
+  *mass = s->liquid_mass;
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverCouplingPredict - at the start of a right-hand side: the structure's state of this stage on
    every rank, and the tank's motion it gives with the liquid at rest (its dynamic loads left out),
    the body acceleration field s->body of the tank's frame it gives, and the tank's angle (it depends

@@ -280,3 +280,38 @@ PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
   }
   PetscFunctionReturn(0);
 }
+
+/*
+   FSSolverGetEnergy - the energy budget of the current state: the columns of energy.csv (time, E_kin,
+   E_pot, ..., residual_total), on every rank.
+
+   Collective
+
+   Input Parameter:
+.  s - the solver, set up
+
+   Output Parameters:
++  n      - the number of columns (at most FS_ENERGY_MAX_COLUMNS)
+.  names  - their names (an array of FS_ENERGY_MAX_COLUMNS pointers, or NULL); static strings
+-  values - their values (an array of FS_ENERGY_MAX_COLUMNS reals, or NULL)
+
+   Notes:
+   The budget's initial energies are recorded when the run starts (the first FSSolverStep() or
+   FSSolverSolve()); before that the residuals and the work terms are relative to zero.
+
+.seealso: FSSolverSolve(), the "Output" section of the README (energy.csv)
+*/
+PetscErrorCode FSSolverGetEnergy(FSSolver s, PetscInt *n, const char *names[], PetscReal values[])
+{
+  PetscFunctionBegin;
+  PetscCheck(s->setupcalled, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE, "FSSolverGetEnergy(): call FSSolverSetUp() first");
+  PetscCheck(FS_ENERGY_NCOLUMNS <= FS_ENERGY_MAX_COLUMNS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "energy.csv has %" PetscInt_FMT " columns, more than FS_ENERGY_MAX_COLUMNS", FS_ENERGY_NCOLUMNS);
+  *n = FS_ENERGY_NCOLUMNS;
+  if (names)
+    for (PetscInt c = 0; c < FS_ENERGY_NCOLUMNS; c++) names[c] = FSEnergyNames[c];
+  if (values) {
+    PetscCall(FSSolverEnergyValues(s, values));
+    PetscCallMPI(MPI_Bcast(values, (PetscMPIInt)FS_ENERGY_NCOLUMNS, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  }
+  PetscFunctionReturn(0);
+}

@@ -18,21 +18,59 @@ static PetscErrorCode FSSolverEnsureField(FSSolver s, PetscInt n)
 }
 
 /*
+   FSSolverDerivedFields - the fields of the owned particles that the state does not hold, from a fresh
+   evaluation of the right-hand side at the current state (not counted in the run's statistics): the
+   pressure p (the equation of state, as the right-hand side evaluates it), the strain rate ||D|| (0
+   when no term needs it) and the turbulent viscosity (from the first term that provides the field
+   "turbulent_viscosity", else 0). Any of the arrays (nowned values each) may be NULL.
+
+   Collective
+*/
+static PetscErrorCode FSSolverDerivedFields(FSSolver s, PetscReal p[], PetscReal nD[], PetscReal nut[])
+{
+  const PetscInt     n = s->nowned, A = s->auxstride;
+  const PetscScalar *u;
+  PetscScalar       *f;
+  Vec                F;
+  PetscBool          has = PETSC_FALSE;
+  FSParticles        P;
+
+  PetscFunctionBegin;
+  PetscCall(TSGetTime(s->ts, &s->rhs_time));
+  PetscCall(VecDuplicate(s->U, &F));
+  PetscCall(VecGetArrayRead(s->U, &u));
+  PetscCall(VecGetArray(F, &f));
+  PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
+  PetscCall(VecRestoreArray(F, &f));
+  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecDestroy(&F));
+  for (PetscInt k = 0; k < n; k++) {
+    if (p) p[k] = s->pressure[k];
+    if (nD) nD[k] = s->terms.needs ? s->aux[k * A + s->dim] : 0;
+    if (nut) nut[k] = 0;
+  }
+  if (!nut) PetscFunctionReturn(0);
+  PetscCall(FSSolverGetParticles(s, &P));
+  for (PetscInt t = 0; t < s->terms.nterms && !has; t++) {
+    FSTerm term = s->terms.term[t];
+    if (term->ops.field) PetscCall((*term->ops.field)(term, "turbulent_viscosity", &P, nut, &has));
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverWriteSnapshot - writes the particles (position, velocity, density, pressure, strain_rate
    ||D||, turbulent_viscosity, rank, id) to the next snapshot file, and updates the XDMF index.
    The derived fields come from a fresh evaluation of the first pass at the current state.
 */
 PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
 {
-  const PetscInt dim = s->dim, n = s->nowned, US = s->ustride, A = s->auxstride;
+  const PetscInt dim = s->dim, n = s->nowned, US = s->ustride;
   FSOutputField  fields[8];
   PetscReal     *pos, *vel, *rho, *p, *nD, *nut, *rk, *id, t;
   PetscInt      *pid, step;
   PetscMPIInt    rank;
   const PetscScalar *u;
-  Vec            F;
-  PetscBool      has = PETSC_FALSE;
-  FSParticles    P;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_Output, 0, 0, 0, 0));
@@ -45,16 +83,6 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
     PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
     PetscFunctionReturn(0);
   }
-  s->rhs_time = t;
-  /* derived quantities at this state: one right-hand side evaluation */
-  PetscCall(VecDuplicate(s->U, &F));
-  PetscCall(VecGetArrayRead(s->U, &u));
-  {
-    PetscScalar *f;
-    PetscCall(VecGetArray(F, &f));
-    PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
-    PetscCall(VecRestoreArray(F, &f));
-  }
   PetscCall(FSSolverEnsureField(s, n * (2 * dim + 6) + 1));
   pos = s->field;
   vel = pos + n * dim;
@@ -64,6 +92,8 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   nut = nD + n;
   rk  = nut + n;
   id  = rk + n;
+  PetscCall(FSSolverDerivedFields(s, p, nD, nut));
+  PetscCall(VecGetArrayRead(s->U, &u));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
   for (PetscInt k = 0; k < n; k++) {
     for (PetscInt d = 0; d < dim; d++) {
@@ -71,20 +101,11 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
       vel[k * dim + d] = u[k * US + dim + d];
     }
     rho[k] = u[k * US + 2 * dim];
-    p[k]   = s->pressure[k]; /* the equation of state, as the right-hand side just evaluated it */
-    nD[k]  = s->terms.needs ? s->aux[k * A + dim] : 0;
-    nut[k] = 0;
     rk[k]  = rank;
     id[k]  = pid[k];
   }
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
   PetscCall(VecRestoreArrayRead(s->U, &u));
-  PetscCall(VecDestroy(&F));
-  PetscCall(FSSolverGetParticles(s, &P));
-  for (PetscInt t2 = 0; t2 < s->terms.nterms && !has; t2++) {
-    FSTerm term = s->terms.term[t2];
-    if (term->ops.field) PetscCall((*term->ops.field)(term, "turbulent_viscosity", &P, nut, &has));
-  }
   fields[0] = (FSOutputField){"position", dim, pos};
   fields[1] = (FSOutputField){"velocity", dim, vel};
   fields[2] = (FSOutputField){"density", 1, rho};
@@ -96,6 +117,90 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   PetscCall(FSSnapshotWriterWrite(s->snapshots, t, step, dim, n, 8, fields));
   s->last_snapshot_time = t;
   PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+static const char *FSFieldNames[] = {"position", "velocity", "density", "mass", "pressure", "strain_rate", "turbulent_viscosity", "id", "rank"};
+
+/*
+   FSSolverGetField - a copy of one per-particle field of this rank's owned particles at the current
+   state, in the swarm's local order (the particles' ids are the field "id"; the order changes at
+   every step).
+
+   Collective (the derived fields evaluate a right-hand side; the others are local)
+
+   Input Parameters:
++  s    - the solver, set up
+-  name - position, velocity (dim values per particle), density, mass, pressure, strain_rate (||D||),
+          turbulent_viscosity, id or rank (1 value)
+
+   Output Parameters:
++  n      - the number of owned particles (may be NULL)
+.  bs     - the values per particle (may be NULL)
+-  values - n*bs values; give them back with FSSolverRestoreField()
+
+   Notes:
+   pressure, strain_rate and turbulent_viscosity come from a fresh evaluation of the right-hand side
+   at the current state, as in the snapshots; it also refreshes what the last right-hand side left
+   (the wall loads of FSSolverGetWallLoads()). id and rank are returned as reals, as in the snapshots.
+
+.seealso: FSSolverRestoreField(), FSSolverGetSwarm(), FSSolverWriteSnapshot()
+*/
+PetscErrorCode FSSolverGetField(FSSolver s, const char name[], PetscInt *n, PetscInt *bs, const PetscReal *values[])
+{
+  const PetscInt     dim = s->dim, US = s->ustride, S = s->stride, np = s->nowned;
+  PetscInt           k = 0, b = 1, off = -1;
+  PetscReal         *v;
+  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCheck(s->setupcalled, comm, PETSC_ERR_ARG_WRONGSTATE, "FSSolverGetField(): call FSSolverSetUp() first");
+  while (k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames) && strcmp(name, FSFieldNames[k])) k++;
+  PetscCheck(k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames), comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown particle field \"%s\": expected position, velocity, density, mass, pressure, strain_rate, turbulent_viscosity, id or rank", name);
+  if (k < 2) b = dim;
+  PetscCall(PetscMalloc1(np * b + 1, &v));
+  if (k <= 2) off = k * dim; /* the packed state: position, velocity, density */
+  if (off >= 0) {
+    const PetscScalar *u;
+    PetscCall(VecGetArrayRead(s->U, &u));
+    for (PetscInt i = 0; i < np; i++)
+      for (PetscInt d = 0; d < b; d++) v[i * b + d] = u[i * US + off + d];
+    PetscCall(VecRestoreArrayRead(s->U, &u));
+  } else if (k == 3) { /* the mass, from the particle records */
+    for (PetscInt i = 0; i < np; i++) v[i] = s->rec[i * S + 2 * dim + 1];
+  } else if (k <= 6) {
+    PetscCall(FSSolverDerivedFields(s, k == 4 ? v : NULL, k == 5 ? v : NULL, k == 6 ? v : NULL));
+  } else if (k == 7) {
+    PetscInt *pid;
+    PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+    for (PetscInt i = 0; i < np; i++) v[i] = pid[i];
+    PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  } else {
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(comm, &rank));
+    for (PetscInt i = 0; i < np; i++) v[i] = rank;
+  }
+  if (n) *n = np;
+  if (bs) *bs = b;
+  *values = v;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverRestoreField - gives back the values of FSSolverGetField().
+
+   Not collective
+
+.seealso: FSSolverGetField()
+*/
+PetscErrorCode FSSolverRestoreField(FSSolver s, const char name[], PetscInt *n, PetscInt *bs, const PetscReal *values[])
+{
+  PetscFunctionBegin;
+  (void)s;
+  (void)name;
+  PetscCall(PetscFree(*values));
+  if (n) *n = 0;
+  if (bs) *bs = 0;
   PetscFunctionReturn(0);
 }
 

@@ -9,13 +9,22 @@ Modules:
     figures   the seed's Figs. 5-11 as PNG files (matplotlib, imported only when drawing)
     plot      the command line ``python3 -m flexslosh.plot OUTPUT_DIR ...`` (not imported here, so
               that ``-m`` runs it cleanly)
+    solver    Solver: one run of the C core, its TS and DMSwarm as petsc4py objects, fields as numpy
+    structure Structure: structure models in Python, registered with register_structure
+    sweep     sweep(): many runs (fill levels, tank shapes...) in sequence or over MPI ranks, damping per cycle
+
+petsc4py (and MPI) are initialized on first use of Solver or register_structure, not on import.
 """
 from __future__ import annotations
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__", "damping", "output", "figures"]
+__all__ = ["__version__", "damping", "output", "figures", "solver", "structure", "sweep", "Solver", "Structure",
+           "TankMotion", "register_structure"]
 
 from . import damping  # noqa: E402  (light: numpy only)
 from . import output  # noqa: E402  (numpy; h5py only when a snapshot is read)
 from . import figures  # noqa: E402  (numpy; matplotlib only when a figure is drawn)
+from . import solver, structure, sweep  # noqa: E402  (light: numpy and ctypes; petsc4py is imported on first use)
+from .solver import Solver  # noqa: E402
+from .structure import Structure, TankMotion, register_structure  # noqa: E402

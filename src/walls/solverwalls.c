@@ -357,6 +357,37 @@ PetscErrorCode FSSolverWallsGetLoads(FSSolver s, const PetscReal **loads)
   PetscFunctionReturn(0);
 }
 
+/*
+   FSSolverGetWallLoads - the liquid's load on each wall from the last right-hand side evaluation (the
+   values of the wall_<name>_* columns of timeseries.csv), summed over the ranks, on every rank.
+
+   Collective (not collective when loads is NULL)
+
+   Input Parameter:
+.  s - the solver
+
+   Output Parameters:
++  nwalls - the number of walls (0 in a case without walls)
+.  names  - the walls' names (an array of nwalls pointers into the solver, or NULL)
+-  loads  - per wall: the force (3) and the moment (3) about -fs_walls_load_point, 6 nwalls values
+            that stay valid until the next right-hand side (NULL without walls), or NULL
+
+   Notes:
+   After a step the last right-hand side is the integrator's last stage; FSSolverGetField() for a
+   derived field evaluates one at the current state.
+
+.seealso: FSSolverGetField(), FSSolverSetUp()
+*/
+PetscErrorCode FSSolverGetWallLoads(FSSolver s, PetscInt *nwalls, const char *names[], const PetscReal *loads[])
+{
+  PetscFunctionBegin;
+  *nwalls = s->wd ? s->wd->walls.nwalls : 0;
+  if (names)
+    for (PetscInt w = 0; w < *nwalls; w++) names[w] = s->wd->walls.name[w];
+  if (loads) PetscCall(FSSolverWallsGetLoads(s, loads));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FSSolverWallsDestroy(FSSolver s)
 {
   FSWallData *wd = s->wd;

@@ -1,0 +1,504 @@
+"""Drive the C core (libflexslosh) from Python through its PETSc objects.
+
+``Solver`` wraps one FSSolver. PETSc is initialized through petsc4py, and libflexslosh is loaded into
+the same process with ctypes, so the C library and petsc4py share one PETSc: the same options
+database, the same objects. ``Solver.ts`` is the solver's own TS and ``Solver.swarm`` its DMSwarm, as
+petsc4py objects::
+
+    from flexslosh import Solver
+    with Solver({"fs_case": "tank", "fs_dx": 0.01, "ts_max_time": 0.05, "fs_output": False}) as s:
+        s.step(10)
+        print(s.time, s.step_number, s.ts.getType(), s.swarm.getLocalSize())
+        p = s.pressures(gather=True)          # on rank 0, sorted by particle id
+        s.run()                               # to -ts_max_time
+
+PETSc's errors in the C core raise ``FlexsloshError`` (a RuntimeError) with PETSc's message; PETSc
+prints its usual error report too. The library is found in $FLEXSLOSH_BUILD, else in <repo>/build.
+petsc4py is imported on first use, not when ``flexslosh`` is imported.
+"""
+from __future__ import annotations
+
+import atexit
+import ctypes
+import os
+import sys
+import weakref
+from pathlib import Path
+from typing import Any, Callable, Mapping
+
+import numpy as np
+
+__all__ = ["Solver", "FlexsloshError", "initialize", "library_path", "set_options"]
+
+_MISSING = object()
+
+
+class FlexsloshError(RuntimeError):
+    """A PETSc error in the C core.
+
+    Attributes:
+        ierr: PETSc's error code.
+        message: PETSc's message (the text given where the error was raised).
+        call: the C function that returned it.
+    """
+
+    def __init__(self, ierr: int, message: str, call: str):
+        self.ierr, self.message, self.call = ierr, message, call
+        super().__init__(f"{call}: {message} (PETSc error {ierr})")
+
+
+def library_path() -> Path:
+    """libflexslosh.so in $FLEXSLOSH_BUILD, else in the build directory of the checkout (<repo>/build)."""
+    env = os.environ.get("FLEXSLOSH_BUILD")
+    build = Path(env) if env else Path(__file__).resolve().parents[2] / "build"
+    return build / "libflexslosh.so"
+
+
+class _Core:
+    """The loaded library, petsc4py's PETSc module and the C types of this PETSc build."""
+
+    def __init__(self, argv):
+        import petsc4py
+
+        if "petsc4py.PETSc" not in sys.modules:
+            petsc4py.init(list(argv) if argv is not None else [sys.argv[0] if sys.argv and sys.argv[0] else "flexslosh"])
+        from petsc4py import PETSc
+
+        path = library_path()
+        if not path.exists():
+            raise FileNotFoundError(
+                f"libflexslosh.so not found at {path}: build the C core (cmake -S . -B build && cmake --build build) "
+                "or set FLEXSLOSH_BUILD to the build directory")
+        self.PETSc = PETSc
+        # PyDLL: calls keep the GIL, since PETSc may print through petsc4py's Python streams (sys.stdout
+        # replaced, as under pytest) and callbacks into Python may happen at any time
+        self.lib = lib = ctypes.PyDLL(str(path), mode=ctypes.RTLD_GLOBAL)
+        if not ctypes.c_int.in_dll(lib, "PetscInitializeCalled").value:
+            raise RuntimeError(f"{path} does not see the PETSc petsc4py initialized: it must be built against the same PETSc "
+                               f"({PETSc.__file__})")
+        from mpi4py import MPI
+
+        self.Int = ctypes.c_int64 if np.dtype(PETSc.IntType).itemsize == 8 else ctypes.c_int32
+        self.Comm = ctypes.c_void_p if MPI._sizeof(MPI.Comm) == ctypes.sizeof(ctypes.c_void_p) else ctypes.c_int
+        I, R, P, C = self.Int, ctypes.c_double, ctypes.c_void_p, ctypes.c_char_p
+        pI, pR, pP = ctypes.POINTER(I), ctypes.POINTER(R), ctypes.POINTER(P)
+        pRR = ctypes.POINTER(pR)
+        protos = {
+            "FSInitializePackage": [],
+            "FSCheckPlugins": [self.Comm],
+            "FSSolverCreate": [self.Comm, pP],
+            "FSSolverSetFromOptions": [P],
+            "FSSolverSetUp": [P],
+            "FSSolverStep": [P],
+            "FSSolverSolve": [P],
+            "FSSolverDestroy": [pP],
+            "FSSolverGetTS": [P, pP],
+            "FSSolverGetSwarm": [P, pP],
+            "FSSolverGetTime": [P, pR, pI],
+            "FSSolverGetDimension": [P, pI],
+            "FSSolverGetLocalSize": [P, pI],
+            "FSSolverGetField": [P, C, pI, pI, pRR],
+            "FSSolverRestoreField": [P, C, pI, pI, pRR],
+            "FSSolverGetWallLoads": [P, pI, ctypes.POINTER(C), pRR],
+            "FSSolverGetEnergy": [P, pI, ctypes.POINTER(C), pR],
+            "FSSolverGetStructureState": [P, pI, pR],
+            "FSSolverGetTankMotion": [P, ctypes.POINTER(TankMotionC)],
+            "FSSolverGetLiquidMass": [P, pR],
+            "FSStructureGetSolver": [P, pP],
+            "FSStructureAddColumn": [P, C],
+            "FSStructureCallbacksSetError": [C],
+            "FSStructureRegisterCallbacks": [C, C, P, P],
+            "PetscOptionsInsertFile": [self.Comm, P, C, ctypes.c_int],
+            "PetscErrorMessage": [ctypes.c_int, ctypes.POINTER(C), ctypes.POINTER(C)],
+            "PetscPushErrorHandler": [P, P],
+            "PetscPopErrorHandler": [],
+        }
+        for name, args in protos.items():
+            fn = getattr(lib, name)
+            fn.argtypes, fn.restype = args, ctypes.c_int
+        self.call("FSInitializePackage")
+
+    def message(self, ierr: int) -> str:
+        text, specific = ctypes.c_char_p(), ctypes.c_char_p()
+        self.lib.PetscErrorMessage(ierr, ctypes.byref(text), ctypes.byref(specific))
+        return (specific.value or text.value or b"unknown error").decode(errors="replace").strip()
+
+    def call(self, name: str, *args) -> None:
+        """Calls a C function returning a PetscErrorCode under FSErrorHandler (PETSc's error report, printed
+        by rank 0 of the error's communicator, every error of the session in full; petsc4py's own handler
+        prints nothing); a non-zero code raises FlexsloshError on every rank that got it."""
+        lib = self.lib
+        lib.PetscPushErrorHandler(ctypes.cast(lib.FSErrorHandler, ctypes.c_void_p), None)
+        try:
+            ierr = getattr(lib, name)(*args)
+        finally:
+            lib.PetscPopErrorHandler()
+        if ierr:
+            raise FlexsloshError(ierr, self.message(ierr), name)
+
+    def comm(self, comm):
+        """(mpi4py communicator, MPI_Comm handle for C) of comm: None (PETSC_COMM_WORLD), mpi4py or PETSc.Comm."""
+        from mpi4py import MPI
+
+        if comm is None:
+            comm = self.PETSc.COMM_WORLD.tompi4py()
+        elif isinstance(comm, self.PETSc.Comm):
+            comm = comm.tompi4py()
+        return comm, self.Comm(MPI._handleof(comm))
+
+    def wrap(self, kind: str, address: int):
+        """A petsc4py object for a C PETSc object, through petsc4py's C API (PyPetsc<kind>_New, which takes
+        its own reference: the Python object and the C core each destroy theirs)."""
+        capsule = self.PETSc.__pyx_capi__[f"PyPetsc{kind}_New"]
+        api = ctypes.pythonapi
+        api.PyCapsule_GetName.argtypes, api.PyCapsule_GetName.restype = [ctypes.py_object], ctypes.c_void_p
+        api.PyCapsule_GetPointer.argtypes, api.PyCapsule_GetPointer.restype = [ctypes.py_object, ctypes.c_void_p], ctypes.c_void_p
+        fn = ctypes.PYFUNCTYPE(ctypes.py_object, ctypes.c_void_p)(api.PyCapsule_GetPointer(capsule, api.PyCapsule_GetName(capsule)))
+        return fn(address)
+
+
+class TankMotionC(ctypes.Structure):
+    """FSTankMotion."""
+
+    _fields_ = [("disp", ctypes.c_double * 3), ("vel", ctypes.c_double * 3), ("acc", ctypes.c_double * 3),
+                ("angle", ctypes.c_double), ("rate", ctypes.c_double), ("angacc", ctypes.c_double)]
+
+
+_core: _Core | None = None
+_live: "weakref.WeakSet[Solver]" = weakref.WeakSet()
+
+
+def initialize(argv: list[str] | None = None) -> _Core:
+    """Initializes PETSc through petsc4py (``petsc4py.init(argv)``; argv None: no command-line options,
+    pass sys.argv to use the script's), loads libflexslosh and calls FSInitializePackage. Idempotent;
+    when petsc4py.PETSc was imported before, its PETSc is used as it is."""
+    global _core
+    if _core is None:
+        _core = _Core(argv)
+        atexit.register(_destroy_all)  # after petsc4py's finalization was registered: runs before it
+    return _core
+
+
+def _destroy_all():
+    for s in list(_live):
+        s.destroy()
+
+
+def _option_value(value) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return "" if value else "0"
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return ",".join(_option_value(v) for v in value)
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value))  # the shortest text that reads back as the same double
+    return os.fspath(value) if isinstance(value, os.PathLike) else str(value)
+
+
+def set_options(options: Mapping[str, Any]) -> None:
+    """Puts options into PETSc's (global, prefix-free) options database, as on the command line: keys
+    with or without the leading '-'; True sets a flag, False gives 0, sequences are comma separated,
+    None removes the option."""
+    opts = initialize().PETSc.Options()
+    for key, value in options.items():
+        name = key if key.startswith("-") else "-" + key
+        if value is None:
+            opts.delValue(name)
+        else:
+            opts.setValue(name, _option_value(value))
+
+
+class Solver:
+    """One flexslosh run (an FSSolver), driven from Python.
+
+    Args:
+        options: options for PETSc's database, e.g. {"fs_case": "tank", "fs_dx": 0.01, "ts_max_time":
+            0.1} (see ``set_options``); they win over the options file. The options this solver set are
+            taken out of the database again when it is destroyed (values others changed meanwhile stay).
+        options_file: a PETSc options file (as ``-options_file``), inserted first.
+        comm: the run's communicator: None (PETSC_COMM_WORLD), an mpi4py communicator or a PETSc.Comm.
+
+    The solver reads its options at creation (FSSolverSetFromOptions); ``set_up`` builds the case
+    (``step`` and ``run`` do it when needed). Field getters are collective: every rank of comm calls
+    them. A ``Solver`` is a context manager; ``destroy`` frees the C objects.
+    """
+
+    def __init__(self, options: Mapping[str, Any] | None = None, options_file: str | os.PathLike | None = None, comm=None):
+        core = initialize()
+        self._core, self._h = core, ctypes.c_void_p()
+        self._ts = self._swarm = None
+        self._set: dict[str, tuple[Any, Any]] = {}
+        self.comm, self._ccomm = core.comm(comm)
+        if options_file is not None and not Path(options_file).is_file():
+            raise FileNotFoundError(f"options file {options_file} not found")
+        before = core.PETSc.Options().getAll()
+        try:
+            if options_file is not None:
+                core.call("PetscOptionsInsertFile", self._ccomm, None, os.fsencode(options_file), 1)
+            if options:
+                set_options(options)
+        finally:
+            after = core.PETSc.Options().getAll()
+            for k in set(before) | set(after):
+                if before.get(k, _MISSING) != after.get(k, _MISSING):
+                    self._set[k] = (before.get(k, _MISSING), after.get(k, _MISSING))
+        try:
+            core.call("FSCheckPlugins", self._ccomm)
+            core.call("FSSolverCreate", self._ccomm, ctypes.byref(self._h))
+            _live.add(self)
+            core.call("FSSolverSetFromOptions", self._h)
+        except BaseException:
+            self.destroy()
+            raise
+
+    # ------------------------------------------------------------------ life cycle
+
+    def _call(self, name: str, *args) -> None:
+        if not self._h:
+            raise RuntimeError("the solver was destroyed")
+        self._core.call(name, self._h, *args)
+
+    def set_up(self) -> "Solver":
+        """Builds the case, the decomposition and the TS (FSSolverSetUp; idempotent)."""
+        self._call("FSSolverSetUp")
+        return self
+
+    def _at_final_time(self) -> bool:
+        ts = self.ts
+        tmax = ts.getMaxTime()
+        return ts.getTime() >= tmax - 1e-12 * max(1.0, abs(tmax))
+
+    @property
+    def finished(self) -> bool:
+        """Whether the run reached -ts_max_time or -ts_max_steps (as FSSolverSolve decides)."""
+        return self._at_final_time() or self.ts.getStepNumber() >= self.ts.getMaxSteps()
+
+    def step(self, n: int = 1) -> "Solver":
+        """Takes n time steps (FSSolverStep: the output and monitors of each step included; -ts_max_steps
+        does not stop it, the final time does)."""
+        for _ in range(n):
+            if self._at_final_time():
+                raise RuntimeError(f"the run is at its final time {self.ts.getMaxTime()} (-ts_max_time): raise it "
+                                   "(solver.ts.setMaxTime) or use run(until=...)")
+            self._call("FSSolverStep")
+        return self
+
+    def run(self, until: float | None = None, callback: Callable[["Solver"], Any] | None = None) -> "Solver":
+        """Runs to -ts_max_time / -ts_max_steps (FSSolverSolve), or to the time ``until`` (the last step
+        shortened to land on it; -ts_max_time is restored after), writing the output as the executable
+        does (the last snapshot and summary.json at the end). callback(solver), if given, is called after
+        every step."""
+        ts = self.ts
+        tmax = ts.getMaxTime()
+        if until is not None:
+            ts.setMaxTime(until)
+        try:
+            if callback is not None:
+                self.set_up()
+                while not self.finished:
+                    self._call("FSSolverStep")
+                    callback(self)
+            self._call("FSSolverSolve")  # after the loop: no step left, only the end of the output
+        finally:
+            if until is not None:
+                ts.setMaxTime(tmax)
+        return self
+
+    def destroy(self) -> None:
+        """Frees the C solver and the petsc4py wrappers of its TS and swarm, and takes this solver's
+        options out of the database. Idempotent; also called at exit, before PETSc is finalized."""
+        core = self._core
+        _live.discard(self)
+        if core.PETSc.Sys.isFinalized():
+            self._h = ctypes.c_void_p()
+            return
+        try:
+            if self._h:
+                for obj in (self._ts, self._swarm):
+                    if obj is not None:
+                        obj.destroy()  # drops the Python side's reference only
+                self._ts = self._swarm = None
+                core.call("FSSolverDestroy", ctypes.byref(self._h))
+        finally:
+            self._h = ctypes.c_void_p()
+            opts, now = core.PETSc.Options(), core.PETSc.Options().getAll()
+            for k, (old, new) in self._set.items():
+                if now.get(k, _MISSING) != new:
+                    continue  # changed since: not ours any more
+                if old is _MISSING:
+                    opts.delValue("-" + k)
+                else:
+                    opts.setValue("-" + k, "" if old is None else old)
+            self._set = {}
+
+    def __enter__(self) -> "Solver":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.destroy()
+
+    def __del__(self):
+        try:
+            self.destroy()
+        except Exception:
+            pass
+
+    # ------------------------------------------------------------------ PETSc objects
+
+    @property
+    def handle(self) -> int:
+        """The address of the FSSolver (for C calls through ctypes)."""
+        return self._h.value or 0
+
+    def _wrapped(self, attr: str, getter: str, kind: str):
+        ptr = ctypes.c_void_p()
+        self._call(getter, ctypes.byref(ptr))
+        obj = getattr(self, attr)
+        if obj is None or obj.handle != (ptr.value or 0):
+            if obj is not None:
+                obj.destroy()
+            obj = self._core.wrap(kind, ptr.value) if ptr.value else None
+            setattr(self, attr, obj)
+        return obj
+
+    @property
+    def ts(self):
+        """The solver's TS as a petsc4py PETSc.TS (the same object: its time, step number, dt and options
+        are the run's). Valid while the solver lives."""
+        return self._wrapped("_ts", "FSSolverGetTS", "TS")
+
+    @property
+    def swarm(self):
+        """The particles' DMSwarm as a petsc4py PETSc.DMSwarm (fields position, velocity, density, mass, id;
+        local sizes change at every step). Sets the solver up."""
+        self.set_up()
+        return self._wrapped("_swarm", "FSSolverGetSwarm", "DM")
+
+    @property
+    def options(self):
+        """PETSc's options database (petsc4py PETSc.Options, no prefix)."""
+        return self._core.PETSc.Options()
+
+    @property
+    def time(self) -> float:
+        t = ctypes.c_double()
+        self._call("FSSolverGetTime", ctypes.byref(t), None)
+        return t.value
+
+    @property
+    def step_number(self) -> int:
+        n = self._core.Int()
+        self._call("FSSolverGetTime", None, ctypes.byref(n))
+        return n.value
+
+    @property
+    def dim(self) -> int:
+        d = self._core.Int()
+        self._call("FSSolverGetDimension", ctypes.byref(d))
+        return d.value
+
+    @property
+    def local_size(self) -> int:
+        """The number of particles this rank owns."""
+        n = self._core.Int()
+        self._call("FSSolverGetLocalSize", ctypes.byref(n))
+        return n.value
+
+    # ------------------------------------------------------------------ particle fields
+
+    FIELDS = ("position", "velocity", "density", "mass", "pressure", "strain_rate", "turbulent_viscosity", "id", "rank")
+
+    def _local_field(self, name: str) -> np.ndarray:
+        n, bs, ptr = self._core.Int(), self._core.Int(), ctypes.POINTER(ctypes.c_double)()
+        self.set_up()
+        self._call("FSSolverGetField", name.encode(), ctypes.byref(n), ctypes.byref(bs), ctypes.byref(ptr))
+        try:
+            size = n.value * bs.value
+            values = np.ctypeslib.as_array(ptr, shape=(size,)).copy() if size else np.zeros(0)
+        finally:
+            self._call("FSSolverRestoreField", name.encode(), None, None, ctypes.byref(ptr))
+        return values.reshape(n.value, bs.value) if bs.value > 1 else values
+
+    def field(self, name: str, gather: bool = False) -> np.ndarray | None:
+        """One field of the particles (see FIELDS; pressure, strain_rate and turbulent_viscosity from a
+        fresh right-hand side at the current state): this rank's particles in their local order, or with
+        gather=True all of them on rank 0 sorted by particle id (None on the other ranks). Vectors have
+        shape (n, dim). Collective."""
+        values = self._local_field(name)
+        if not gather:
+            return values
+        ids = self._local_field("id").astype(np.int64)
+        return self._gather(ids, values)
+
+    def _gather(self, ids: np.ndarray, values: np.ndarray) -> np.ndarray | None:
+        comm = self.comm
+        width = int(np.prod(values.shape[1:])) if values.ndim > 1 else 1
+        counts = comm.gather(len(ids), root=0)
+        root = comm.Get_rank() == 0
+        all_ids = np.empty(sum(counts), dtype=np.int64) if root else None
+        all_vals = np.empty(sum(counts) * width) if root else None
+        comm.Gatherv(np.ascontiguousarray(ids), (all_ids, counts) if root else None, root=0)
+        comm.Gatherv(np.ascontiguousarray(values, dtype=float).ravel(), (all_vals, [c * width for c in counts]) if root else None, root=0)
+        if not root:
+            return None
+        order = np.argsort(all_ids, kind="stable")
+        all_vals = all_vals.reshape((-1,) + values.shape[1:])
+        return all_vals[order]
+
+    def positions(self, gather: bool = False):
+        return self.field("position", gather)
+
+    def velocities(self, gather: bool = False):
+        return self.field("velocity", gather)
+
+    def densities(self, gather: bool = False):
+        return self.field("density", gather)
+
+    def pressures(self, gather: bool = False):
+        return self.field("pressure", gather)
+
+    def ids(self, gather: bool = False):
+        """The particles' ids (local order; sorted on rank 0 with gather=True)."""
+        ids = self._local_field("id").astype(np.int64)
+        if not gather:
+            return ids
+        ordered = self._gather(ids, ids.astype(float))
+        return None if ordered is None else ordered.astype(np.int64)
+
+    # ------------------------------------------------------------------ loads, structure, energy
+
+    def wall_loads(self) -> dict[str, dict[str, np.ndarray]]:
+        """The liquid's load on each wall from the last right-hand side (the wall_* columns of
+        timeseries.csv): {wall name: {"force": (3,), "moment": (3,)}}, every rank. Collective."""
+        n, loads = self._core.Int(), ctypes.POINTER(ctypes.c_double)()
+        self._call("FSSolverGetWallLoads", ctypes.byref(n), None, None)
+        names = (ctypes.c_char_p * max(n.value, 1))()
+        self._call("FSSolverGetWallLoads", ctypes.byref(n), names, ctypes.byref(loads))
+        if not n.value:
+            return {}
+        L = np.ctypeslib.as_array(loads, shape=(6 * n.value,)).reshape(n.value, 6).copy()
+        return {names[w].decode(): {"force": L[w, :3], "moment": L[w, 3:]} for w in range(n.value)}
+
+    def structure_state(self) -> np.ndarray:
+        """The structure's state (its DOFs) at the current state, every rank (empty without a structure). Collective."""
+        n = self._core.Int()
+        self._call("FSSolverGetStructureState", ctypes.byref(n), None)
+        y = np.zeros(n.value)
+        if n.value:
+            self._call("FSSolverGetStructureState", ctypes.byref(n), y.ctypes.data_as(ctypes.POINTER(ctypes.c_double)))
+        return y
+
+    def tank_motion(self) -> dict[str, Any]:
+        """The tank's motion at the current state (FSSolverGetTankMotion): disp, vel, acc (3 each),
+        angle, rate, angacc; zero without a structure. Collective."""
+        m = TankMotionC()
+        self._call("FSSolverGetTankMotion", ctypes.byref(m))
+        return {"disp": np.array(m.disp), "vel": np.array(m.vel), "acc": np.array(m.acc),
+                "angle": m.angle, "rate": m.rate, "angacc": m.angacc}
+
+    def energy(self) -> dict[str, float]:
+        """The energy budget of the current state: the columns of energy.csv, every rank. Collective."""
+        cap = 64
+        n, names, vals = self._core.Int(), (ctypes.c_char_p * cap)(), (ctypes.c_double * cap)()
+        self.set_up()
+        self._call("FSSolverGetEnergy", ctypes.byref(n), names, vals)
+        return {names[k].decode(): vals[k] for k in range(n.value)}

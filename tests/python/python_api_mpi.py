@@ -1,0 +1,76 @@
+"""The MPI half of test_python_api.py, and the runs both halves share.
+
+    mpirun --oversubscribe -n 2 /usr/bin/python3 tests/python/python_api_mpi.py OUT
+
+runs on 2 ranks: a few Taylor-Green steps and a few steps of the coupled tank, with the built-in msd
+and with its Python twin (fields gathered to rank 0), a bad option (the exception's message on every rank) and the beam sweep spread over the
+ranks; rank 0 writes OUT/mpi.npz. test_python_api.py runs the same on 1 rank and compares.
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(REPO / "python"))
+
+import flexslosh  # noqa: E402
+from flexslosh import Solver  # noqa: E402
+from flexslosh.solver import FlexsloshError  # noqa: E402
+from flexslosh.sweep import sweep  # noqa: E402
+
+QUIET = {"fs_output": False, "fs_progress": False}
+TG = dict(QUIET, fs_case="taylor_green", fs_dx=0.05)
+TANK = dict(QUIET, fs_dx=0.01)  # with cases/coupled_rectangular.opts: 210 particles, msd coupled
+TANK_FILE = REPO / "cases" / "coupled_rectangular.opts"
+PYTANK = dict(TANK, fs_structure="pymsd")  # flexslosh.structure.MassSpringDamper, registered as pymsd
+FIELDS = ("position", "velocity", "density", "pressure", "strain_rate", "turbulent_viscosity")
+BAD = dict(TG, fs_dx=-1)
+SWEEP_BASE = dict(QUIET, fs_case="beam", fs_beam_tank_mass=5.0, fs_beam_ballast_mass=3.36, fs_beam_preload=0.04, ts_max_time=0.5)
+SWEEP_CASES = [{"fs_structure": s, "fs_beam_damping": z} for s in ("msd", "modal") for z in (0.01, 0.03)]
+
+
+def run_fields(options, nsteps, options_file=None):
+    """nsteps steps, then every field gathered (rank 0, by id), the times, the energy and the wall loads."""
+    with Solver(options, options_file=options_file) as s:
+        s.step(nsteps)
+        res = {f: s.field(f, gather=True) for f in FIELDS}
+        res["id"] = s.ids(gather=True)
+        ts = s.ts
+        res["times"] = np.array([s.time, ts.getTime(), s.step_number, ts.getStepNumber()])
+        energy = s.energy()
+        res["energy"] = np.array(list(energy.values()))
+        loads = s.wall_loads()
+        res["loads"] = np.array([np.r_[v["force"], v["moment"]] for v in loads.values()])
+        res["structure"] = s.structure_state()
+    return res
+
+
+def bad_option_message():
+    try:
+        Solver(BAD)
+    except FlexsloshError as e:
+        return str(e)
+    return ""
+
+
+def main(out):
+    from mpi4py import MPI
+
+    comm = MPI.COMM_WORLD
+    data = {}
+    flexslosh.register_structure("pymsd", flexslosh.structure.MassSpringDamper)
+    for name, opts, n, f in (("tg", TG, 3, None), ("tank", TANK, 5, TANK_FILE), ("pytank", PYTANK, 5, TANK_FILE)):
+        for k, v in run_fields(opts, n, f).items():
+            data[f"{name}_{k}"] = v
+    messages = comm.gather(bad_option_message(), root=0)
+    table = sweep(SWEEP_CASES, SWEEP_BASE, comm=comm, output_root=Path(out) / "sweep")
+    if comm.Get_rank() == 0:
+        data["nranks"] = comm.Get_size()
+        data["bad_messages"] = np.array(messages)
+        data["sweep"] = table
+        np.savez(Path(out) / "mpi.npz", **data)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])

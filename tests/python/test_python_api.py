@@ -1,0 +1,293 @@
+"""The Python driver (issue 6): flexslosh.Solver over the C core's PETSc objects, Python structure models
+in the C registry, sweeps, the examples. Runs on 1 rank in this process; the 2-rank half runs
+python_api_mpi.py under mpirun as a subprocess and is compared here."""
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import MPI_ENV, REPO_ROOT, build_dir, mpirun_bin, read_series, read_snapshot, snapshot_files
+import python_api_mpi as M
+
+import flexslosh
+from flexslosh import Solver
+from flexslosh.solver import FlexsloshError
+from flexslosh.structure import MassSpringDamper
+from flexslosh.sweep import sweep
+
+QUIET = M.QUIET
+BEAM = dict(QUIET, fs_case="beam", fs_beam_tank_mass=5.0, fs_beam_ballast_mass=3.36, fs_beam_preload=0.04)
+
+
+def _env():
+    env = dict(os.environ, **MPI_ENV, FLEXSLOSH_BUILD=str(build_dir()))
+    env["PYTHONPATH"] = os.pathsep.join([str(REPO_ROOT / "python"), env.get("PYTHONPATH", "")])
+    return env
+
+
+def _python(args, nranks=1, timeout=120, cwd=None):
+    cmd = [sys.executable] + [str(a) for a in args]
+    if nranks > 1:
+        cmd = [mpirun_bin(), "--oversubscribe", "-n", str(nranks), sys.executable, "-m", "mpi4py"] + cmd[1:]
+    proc = subprocess.run(cmd, env=_env(), cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout)
+    assert proc.returncode == 0, f"{' '.join(cmd)} failed ({proc.returncode}):\n{proc.stdout[-4000:]}"
+    return proc
+
+
+def tip_history(structure, options, options_file=None):
+    """The tip displacement after every step of a run with the given structure."""
+    with Solver(dict(options, fs_structure=structure), options_file=options_file) as s:
+        rec = [(s.time, s.tank_motion()["disp"][1])]
+        s.run(callback=lambda s: rec.append((s.time, s.tank_motion()["disp"][1])))
+    return np.array(rec)
+
+
+@pytest.fixture(scope="module", autouse=True)
+def pymsd():
+    flexslosh.register_structure("pymsd", MassSpringDamper)
+
+
+# ------------------------------------------------------------------ the package
+
+
+def test_import_is_light():
+    """import flexslosh initializes neither MPI nor PETSc."""
+    code = "import sys, flexslosh; print(sorted(m for m in ('petsc4py.PETSc', 'mpi4py.MPI') if m in sys.modules))"
+    assert _python(["-c", code]).stdout.strip() == "[]"
+
+
+def test_missing_library_is_a_clear_error(tmp_path):
+    env = dict(_env(), FLEXSLOSH_BUILD=str(tmp_path))
+    proc = subprocess.run([sys.executable, "-c", "import flexslosh; flexslosh.Solver()"], env=env, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True, timeout=60)
+    assert proc.returncode != 0
+    assert f"libflexslosh.so not found at {tmp_path}/libflexslosh.so" in proc.stdout
+    assert "FLEXSLOSH_BUILD" in proc.stdout
+
+
+# ------------------------------------------------------------------ TS, DMSwarm, fields
+
+
+def test_ts_and_swarm_are_the_solvers_objects():
+    from petsc4py import PETSc
+
+    s = Solver(M.TG).set_up()
+    ts, sw = s.ts, s.swarm
+    assert isinstance(ts, PETSc.TS) and isinstance(sw, PETSc.DMSwarm)
+    assert ts.getType() == "rk" and ts.getRKType() == "4"
+    assert ts.getRefCount() == 2  # the C solver's reference and the wrapper's
+    assert s.ts is ts  # one wrapper per object
+    s.step(3)
+    assert s.step_number == ts.getStepNumber() == 3
+    assert s.time == ts.getTime() > 0
+    assert sw.getLocalSize() == s.local_size == 400
+    x = sw.getField("position").reshape(-1, 2).copy()
+    sw.restoreField("position")
+    assert np.array_equal(x, s.positions())
+    # the wrapped TS drives the run: a shorter final time through it stops run() there
+    ts.setMaxTime(2 * s.time)
+    s.run()
+    assert s.time == pytest.approx(ts.getMaxTime(), rel=1e-14) and s.step_number > 3
+    s.destroy()
+    assert ts.handle == 0 and sw.handle == 0  # the wrappers' references went with the solver
+    s.destroy()  # idempotent
+
+
+def test_fields_equal_the_snapshot(tmp_path):
+    """The fields at the end of a run are those of its last snapshot (same evaluation of the derived ones)."""
+    with Solver(dict(M.TG, fs_output=True, fs_output_dir=tmp_path, ts_max_steps=4)) as s:
+        s.run()
+        got = {f: s.field(f, gather=True) for f in M.FIELDS}
+        ids = s.ids(gather=True)
+    snap = read_snapshot(snapshot_files(tmp_path)[-1])
+    assert np.array_equal(snap["id"], ids)
+    for f in M.FIELDS:
+        assert np.array_equal(snap[f], got[f]), f
+    assert got["turbulent_viscosity"].max() > 0 and got["strain_rate"].max() > 0
+    with Solver(M.TG) as s, pytest.raises(FlexsloshError, match='Unknown particle field "nosuch"'):
+        s.field("nosuch")
+
+
+def test_energy_and_wall_loads_equal_the_csv_files(tmp_path):
+    """(step, not run: run's last snapshot evaluates the right-hand side at the final state, the series
+    has the loads of the step's last stage)"""
+    with Solver(dict(M.TANK, fs_output=True, fs_output_dir=tmp_path), options_file=M.TANK_FILE) as s:
+        s.step(5)
+        energy, loads, motion, state = s.energy(), s.wall_loads(), s.tank_motion(), s.structure_state()
+    csv = read_series(tmp_path)
+    with open(tmp_path / "energy.csv") as fp:
+        names = fp.readline().strip().split(",")
+        last = np.array(fp.readlines()[-1].split(","), dtype=float)
+    assert names[1:] == list(energy)
+    np.testing.assert_allclose(last[1:], list(energy.values()), rtol=1e-9, atol=1e-12 * abs(energy["E_total"]))
+    assert list(loads) == ["tank"]
+    np.testing.assert_allclose([loads["tank"]["force"][0], loads["tank"]["force"][1], loads["tank"]["moment"][2]],
+                               [csv[f"wall_tank_{c}"][-1] for c in ("force_x", "force_y", "moment")], rtol=1e-9)
+    assert motion["disp"][1] == pytest.approx(csv["tip_displacement"][-1], rel=1e-9) == state[0]
+
+
+def test_options_dict_file_and_restore(tmp_path):
+    from petsc4py import PETSc
+
+    opts = PETSc.Options()
+    f = tmp_path / "tg.opts"
+    f.write_text("-fs_case taylor_green\n-fs_dx 0.1\n-fs_output 0\n")
+    with Solver(options_file=f) as s:
+        assert s.set_up().local_size == 100
+    with Solver({"-fs_dx": 0.05, "fs_progress": False}, options_file=f) as s:  # the dict wins over the file
+        assert s.set_up().local_size == 400
+        assert opts.getString("fs_dx") == "0.05" and opts.getBool("fs_progress") is False
+    assert not opts.hasName("fs_dx") and not opts.hasName("fs_case")  # taken out again
+    with Solver(dict(M.TG, fs_terms=["continuity", "pressure"])) as s:  # a list as a comma-separated value
+        s.step()
+        assert s.energy()["work_alpha"] == 0 and s.field("turbulent_viscosity").max() == 0
+
+
+def test_bad_options_raise_petsc_messages():
+    with pytest.raises(FlexsloshError, match='Unknown case "nosuch" given to -fs_case'):
+        Solver({"fs_case": "nosuch"})
+    with pytest.raises(RuntimeError, match="-fs_dx -1.* must be positive") as err:
+        Solver(M.BAD)
+    assert err.value.ierr == 63 and err.value.call == "FSSolverSetFromOptions"
+    with pytest.raises(FlexsloshError, match='Unknown structure "nosuch" given to -fs_structure'):
+        Solver(dict(BEAM, fs_structure="nosuch"))
+    with pytest.raises(FileNotFoundError):
+        Solver(options_file="/nonexistent.opts")
+    from petsc4py import PETSc
+
+    assert not PETSc.Options().hasName("fs_case") and not PETSc.Options().hasName("fs_dx")  # taken out again
+    with Solver(M.TG) as s:  # the errors left PETSc usable
+        s.step()
+
+
+# ------------------------------------------------------------------ Python structures
+
+
+def test_python_msd_equals_builtin_dry_beam():
+    """1 s of the dry beam's free decay (303 RK4 steps): the Python msd's tip history is the C msd's."""
+    opts = dict(BEAM, ts_max_time=1.0)
+    a, b = tip_history("msd", opts), tip_history("pymsd", opts)
+    assert len(a) == len(b) > 300
+    assert np.abs(a - b).max() <= 1e-12 * np.abs(a[:, 1]).max()
+
+
+def test_python_msd_equals_builtin_coupled_tank():
+    """40 steps of the coupled rectangular tank at dx = 5 mm (840 particles): the same to round-off."""
+    opts = dict(QUIET, fs_dx=0.005, ts_max_steps=40)
+    a, b = tip_history("msd", opts, M.TANK_FILE), tip_history("pymsd", opts, M.TANK_FILE)
+    assert len(a) == len(b) == 41
+    moved = np.abs(a[:, 1] - a[0, 1]).max()
+    assert moved > 1e-4 and np.abs(a - b).max() <= 1e-10 * np.abs(a[:, 1]).max()
+
+
+class _Oscillator(flexslosh.Structure):
+    """w'' = -w, with a time-series column and energies."""
+
+    ndof, min_period, columns = 2, 2 * np.pi, ("w2",)
+
+    def initial_state(self):
+        return [1.0, 0.0]
+
+    def rhs(self, t, y, loads):
+        return [y[1], -y[0]]
+
+    def motion(self, y, ydot):
+        return flexslosh.TankMotion(disp=(0, y[0], 0), vel=(0, y[1], 0), acc=(0, ydot[1], 0))
+
+    def energy(self, y):
+        return (0.5 * y[1] ** 2, 0.5 * y[0] ** 2, 0.0)
+
+    def column_values(self, t, y, ydot):
+        return [y[0] ** 2]
+
+
+def test_python_structure_columns_energy_and_errors(tmp_path):
+    flexslosh.register_structure("pyosc", _Oscillator)
+    with Solver(dict(QUIET, fs_case="beam", fs_structure="pyosc", fs_output=True, fs_output_dir=tmp_path, ts_max_time=np.pi)) as s:
+        s.run()
+        e = s.energy()
+        assert s.structure_state()[0] == pytest.approx(-1, abs=1e-5)
+    csv = read_series(tmp_path)
+    np.testing.assert_allclose(csv["w2"], csv["tip_displacement"] ** 2, rtol=1e-9)
+    assert e["E_struct_kin"] + e["E_struct_elastic"] == pytest.approx(0.5, rel=1e-5)  # RK4 at 50 steps a period
+
+    class Failing(_Oscillator):
+        def rhs(self, t, y, loads):
+            if t > 1:
+                raise ValueError(f"no stiffness left at t = {t:.3f}")
+            return super().rhs(t, y, loads)
+
+    class WrongSize(_Oscillator):
+        def initial_state(self):
+            return [1.0]
+
+    flexslosh.register_structure("pyfail", Failing)
+    flexslosh.register_structure("pysize", WrongSize)
+    with Solver(dict(QUIET, fs_case="beam", fs_structure="pyfail")) as s:
+        with pytest.raises(FlexsloshError, match="Structure pyfail: its rhs callback failed: ValueError: no stiffness left at t = 1.0"):
+            s.run()
+        assert 0.8 < s.time < 1  # the time of the step that failed: the TS did not advance
+    with pytest.raises(FlexsloshError, match=r"its initial callback failed: ValueError: initial_state\(\) returned 1 values, expected 2"):
+        Solver(dict(QUIET, fs_case="beam", fs_structure="pysize")).set_up()
+
+
+# ------------------------------------------------------------------ sweeps and 2 ranks
+
+
+@pytest.fixture(scope="module")
+def two_ranks(tmp_path_factory):
+    out = tmp_path_factory.mktemp("mpi")
+    _python([REPO_ROOT / "tests" / "python" / "python_api_mpi.py", out], nranks=2)
+    return dict(np.load(out / "mpi.npz")), out
+
+
+@pytest.mark.parametrize("name", ["tg", "tank", "pytank"])
+def test_two_ranks_fields_equal_one_rank(two_ranks, name):
+    """Fields gathered on 2 ranks, sorted by id, equal those of 1 rank after a few steps; the wrapped TS's
+    time and step number are the solver's on both. pytank: the Python msd on 2 ranks (its DOFs on rank 0)
+    against the C msd on 1 rank."""
+    par, _ = two_ranks
+    opts, n, f = {"tg": (M.TG, 3, None), "tank": (M.TANK, 5, M.TANK_FILE), "pytank": (M.TANK, 5, M.TANK_FILE)}[name]
+    one = M.run_fields(opts, n, f)
+    assert par["nranks"] == 2
+    assert np.array_equal(par[f"{name}_id"], one["id"]) and np.array_equal(one["id"], np.arange(len(one["id"])))
+    assert np.array_equal(par[f"{name}_times"], one["times"]) and one["times"][0] == one["times"][1]
+    for field in M.FIELDS:
+        a, b = par[f"{name}_{field}"], one[field]
+        assert np.abs(a - b).max() <= 1e-10 * max(np.abs(b).max(), 1e-300), field
+    np.testing.assert_allclose(par[f"{name}_energy"], one["energy"], rtol=1e-9, atol=1e-13)
+    np.testing.assert_allclose(par[f"{name}_loads"], one["loads"], rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(par[f"{name}_structure"], one["structure"], rtol=1e-10)
+
+
+def test_two_ranks_bad_option_raises_on_every_rank(two_ranks):
+    par, _ = two_ranks
+    assert list(par["bad_messages"]) == ["FSSolverSetFromOptions: -fs_dx -1. must be positive (PETSc error 63)"] * 2
+
+
+def test_sweep_over_two_ranks_equals_sequence(two_ranks, tmp_path):
+    par, out = two_ranks
+    seq = sweep(M.SWEEP_CASES, M.SWEEP_BASE, output_root=tmp_path)
+    assert seq.dtype.names == ("case", "fs_structure", "fs_beam_damping", "cycle", "time", "amplitude", "period", "delta", "zeta")
+    assert np.array_equal(par["sweep"], seq)
+    assert (tmp_path / "damping.csv").read_text() == (out / "sweep" / "damping.csv").read_text()
+    assert sorted(set(seq["case"])) == [0, 1, 2, 3] and (seq["cycle"] >= 1).any()
+    # the damping ratio of the decay is the one asked for (cycles after the first)
+    later = seq[seq["cycle"] >= 1]
+    np.testing.assert_allclose(later["zeta"], later["fs_beam_damping"], rtol=0.02)
+
+
+# ------------------------------------------------------------------ examples
+
+
+@pytest.mark.parametrize("example", ["run_and_plot", "fill_sweep", "custom_structure"])
+def test_examples_run_tiny(example, tmp_path):
+    proc = _python([REPO_ROOT / "python" / "examples" / f"{example}.py", "--tiny", "--out", tmp_path], cwd=tmp_path)
+    assert "wrote" in proc.stdout
+    if example == "run_and_plot":
+        assert (tmp_path / "pressure.png").stat().st_size > 1000
+    else:
+        with open(tmp_path / "damping.csv") as fp:
+            assert len(fp.readlines()) >= 3
