@@ -144,9 +144,13 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(FSSolverStructureBroadcastState(s, u));
   PetscCall(PetscMemzero(&none, sizeof(none)));
-  if (!rank) {
-    PetscCall((*st->ops.rhs)(st, s->rhs_time, s->sy, &none, s->sydot));
-    PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &predicted));
+  {
+    PetscErrorCode ierr = 0;
+    if (!rank) {
+      ierr = (*st->ops.rhs)(st, s->rhs_time, s->sy, &none, s->sydot);
+      if (!ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &predicted);
+    }
+    PetscCall(FSSolverStructureCheckRank0(s, ierr, "right-hand side or motion"));
   }
   PetscCallMPI(MPI_Bcast(&predicted, (PetscMPIInt)(sizeof(predicted) / sizeof(PetscReal)), MPIU_REAL, 0, comm));
   s->angle = predicted.angle;
@@ -195,7 +199,7 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
   s->loads.moment[2] = M * s->tank_width - s->static_loads.moment[2];
   /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
   PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f));
-  if (!rank) PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &s->motion));
+  PetscCall(FSSolverStructureCheckRank0(s, rank ? 0 : (*st->ops.motion)(st, s->sy, s->sydot, &s->motion), "motion"));
   PetscCallMPI(MPI_Bcast(&s->motion, (PetscMPIInt)(sizeof(s->motion) / sizeof(PetscReal)), MPIU_REAL, 0, comm));
   PetscFunctionReturn(0);
 }

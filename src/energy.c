@@ -124,9 +124,9 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
   }
   PetscCallMPI(MPI_Allreduce(loc, liq, FS_E_NLIQ, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
   st[0] = st[1] = st[2] = 0;
-  if (!rank && s->structure && s->structure->ndof && s->structure->ops.energy) {
-    PetscReal E[3];
-    PetscCall((*s->structure->ops.energy)(s->structure, s->sy, E));
+  if (s->structure && s->structure->ndof && s->structure->ops.energy) {
+    PetscReal E[3] = {0, 0, 0};
+    PetscCall(FSSolverStructureCheckRank0(s, rank ? 0 : (*s->structure->ops.energy)(s->structure, s->sy, E), "energy"));
     st[0] = E[0];
     st[1] = E[1];
   }

@@ -309,6 +309,7 @@ PETSC_INTERN PetscErrorCode FSCaseHelpAll(FSSolver, PetscOptionItems *);
 PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast, const PetscReal *u, PetscReal *f);
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
+PETSC_INTERN PetscErrorCode FSSolverStructureCheckRank0(FSSolver, PetscErrorCode, const char[]);
 PETSC_INTERN PetscErrorCode FSSolverCouplingSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, PetscReal *f);

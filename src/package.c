@@ -179,3 +179,32 @@ PetscErrorCode FSCheckPlugins(MPI_Comm comm)
   }
   PetscFunctionReturn(0);
 }
+
+/*@C
+   FSLoadPlugins - loads the libraries given to -dll_append that PETSc has not loaded yet, then checks
+   them all (FSCheckPlugins()). PetscInitialize() loads those given on the command line; a driver that
+   sets options afterwards (the Python package's Solver options) calls this so that a -dll_append among
+   them registers its terms and structures too. A library already loaded is not loaded again.
+
+   Collective
+
+   Input Parameter:
+.  comm - the communicator of the run
+
+.seealso: FSCheckPlugins(), FSTermRegister(), FSStructureRegister()
+@*/
+PetscErrorCode FSLoadPlugins(MPI_Comm comm)
+{
+  char     *paths[64];
+  PetscInt  n = 64;
+  PetscBool set;
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsGetStringArray(NULL, NULL, "-dll_append", paths, &n, &set));
+  for (PetscInt k = 0; set && k < n; k++) {
+    PetscCall(PetscDLLibraryAppend(comm, &PetscDLLibrariesLoaded, paths[k]));
+    PetscCall(PetscFree(paths[k]));
+  }
+  PetscCall(FSCheckPlugins(comm));
+  PetscFunctionReturn(0);
+}

@@ -387,12 +387,13 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     PetscReal  *fe = f + n * US + s->genergy;
     PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
     PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
+    PetscErrorCode ierr = 0; /* the structure's energy (rank 0): its failure is raised on every rank below */
     if (!rank) {
       FSStructure st = s->structure;
       PetscReal   E[3] = {0, 0, 0};
       for (PetscInt k = 0; k < npower; k++) f[n * US + s->gdiss + k] = power[k];
       for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) fe[e] = 0; /* the constants and the bounces' jumps */
-      if (st && st->ndof && st->ops.energy) PetscCall((*st->ops.energy)(st, s->sy, E));
+      if (st && st->ndof && st->ops.energy) ierr = (*st->ops.energy)(st, s->sy, E);
       fe[FS_ENERGY_WORK_EXT]     = power[npower];
       fe[FS_ENERGY_WORK_RELAX]   = power[npower + 1];
       fe[FS_ENERGY_WORK_DAMPING] = -E[2];
@@ -404,6 +405,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
         fe[FS_ENERGY_WORK_COUPLING] = s->tank_width * ((R[0] + L[0]) * vx + (R[1] + L[1]) * vy + mo->rate * (R[2] + L[2]));
       }
     }
+    if (s->structure && s->structure->ndof && s->structure->ops.energy) PetscCall(FSSolverStructureCheckRank0(s, ierr, "energy"));
   }
   PetscCall(PetscLogEventEnd(FS_RHS, 0, 0, 0, 0));
   PetscFunctionReturn(0);

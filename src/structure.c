@@ -183,6 +183,36 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
   PetscFunctionReturn(0);
 }
 
+/*
+   FSSolverStructureCheckRank0 - a structure routine that ran on rank 0 alone returned ierr there: every
+   rank raises the error, so that a failure (a Python structure's exception, a failed solve) stops the
+   run everywhere instead of leaving the other ranks waiting in the next collective.
+
+   Collective
+*/
+PetscErrorCode FSSolverStructureCheckRank0(FSSolver s, PetscErrorCode ierr, const char what[])
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  PetscMPIInt size, rank;
+  int         code = (int)ierr;
+  char        msg[512] = "";
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (size == 1) PetscFunctionReturn(ierr); /* the error as raised, its message first */
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Bcast(&code, 1, MPI_INT, 0, comm));
+  if (!code) PetscFunctionReturn(0);
+  if (!rank) {
+    const char *text = NULL;
+    (void)PetscErrorMessage(ierr, NULL, (char **)&text);
+    if (text) (void)PetscStrncpy(msg, text, sizeof(msg));
+  }
+  PetscCallMPI(MPI_Bcast(msg, (PetscMPIInt)sizeof(msg), MPI_CHAR, 0, comm));
+  if (!rank) PetscFunctionReturn(ierr); /* rank 0 keeps the error as raised */
+  SETERRQ(comm, (PetscErrorCode)code, "Structure %s: its %s failed on rank 0, where the structure lives: %s", s->structure->name, what, msg);
+}
+
 /* FSSolverStructureBroadcastState - the structure's state from the packed state u (rank 0) into s->sy on every rank. Collective. */
 PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
 {
@@ -217,9 +247,13 @@ PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const Pet
   PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   if (broadcast) PetscCall(FSSolverStructureBroadcastState(s, u));
-  if (!rank) {
-    PetscCall((*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot));
-    if (f) PetscCall(PetscArraycpy(f + off, s->sydot, st->ndof));
+  {
+    PetscErrorCode ierr = 0;
+    if (!rank) {
+      ierr = (*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot);
+      if (!ierr && f) ierr = PetscArraycpy(f + off, s->sydot, st->ndof);
+    }
+    PetscCall(FSSolverStructureCheckRank0(s, ierr, "right-hand side"));
   }
   PetscCall(PetscLogEventEnd(FS_Structure, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -256,7 +290,7 @@ PetscErrorCode FSSolverGetTankMotion(FSSolver s, FSTankMotion *m)
   if (!s->structure || !s->structure->ndof) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(FSSolverStructureCurrent(s));
-  if (!rank) PetscCall((*s->structure->ops.motion)(s->structure, s->sy, s->sydot, m));
+  PetscCall(FSSolverStructureCheckRank0(s, rank ? 0 : (*s->structure->ops.motion)(s->structure, s->sy, s->sydot, m), "motion"));
   PetscCallMPI(MPI_Bcast(m, (PetscMPIInt)(sizeof(*m) / sizeof(PetscReal)), MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
   PetscFunctionReturn(0);
 }

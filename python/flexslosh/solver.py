@@ -86,6 +86,7 @@ class _Core:
         protos = {
             "FSInitializePackage": [],
             "FSCheckPlugins": [self.Comm],
+            "FSLoadPlugins": [self.Comm],
             "FSSolverCreate": [self.Comm, pP],
             "FSSolverSetFromOptions": [P],
             "FSSolverSetUp": [P],
@@ -242,7 +243,7 @@ class Solver:
                 if before.get(k, _MISSING) != after.get(k, _MISSING):
                     self._set[k] = (before.get(k, _MISSING), after.get(k, _MISSING))
         try:
-            core.call("FSCheckPlugins", self._ccomm)
+            core.call("FSLoadPlugins", self._ccomm)  # a -dll_append among the options: its terms and structures
             core.call("FSSolverCreate", self._ccomm, ctypes.byref(self._h))
             _live.add(self)
             core.call("FSSolverSetFromOptions", self._h)

@@ -3,7 +3,8 @@
     mpirun --oversubscribe -n 2 /usr/bin/python3 tests/python/python_api_mpi.py OUT
 
 runs on 2 ranks: a few Taylor-Green steps and a few steps of the coupled tank, with the built-in msd
-and with its Python twin (fields gathered to rank 0), a bad option (the exception's message on every rank) and the beam sweep spread over the
+and with its Python twin (fields gathered to rank 0), a bad option and a Python structure that raises on
+rank 0 (the exception's message on every rank) and the beam sweep spread over the
 ranks; rank 0 writes OUT/mpi.npz. test_python_api.py runs the same on 1 rank and compares.
 """
 import sys
@@ -54,6 +55,25 @@ def bad_option_message():
     return ""
 
 
+class FailingMSD(flexslosh.structure.MassSpringDamper):
+    """The Python msd whose right-hand side raises once t > 0.05 (on rank 0, where structures live)."""
+
+    def rhs(self, t, y, loads):
+        if t > 0.05:
+            raise ValueError(f"the spring broke at t = {t:.3f}")
+        return super().rhs(t, y, loads)
+
+
+def failing_structure_message():
+    """The error every rank gets when the Python structure fails on rank 0 (no rank left waiting)."""
+    try:
+        with Solver(dict(QUIET, fs_case="beam", fs_structure="pybreak", fs_beam_preload=0.01, ts_max_time=0.2)) as s:
+            s.run()
+    except FlexsloshError as e:
+        return str(e)
+    return ""
+
+
 def main(out):
     from mpi4py import MPI
 
@@ -64,10 +84,13 @@ def main(out):
         for k, v in run_fields(opts, n, f).items():
             data[f"{name}_{k}"] = v
     messages = comm.gather(bad_option_message(), root=0)
+    flexslosh.register_structure("pybreak", FailingMSD)
+    failures = comm.gather(failing_structure_message(), root=0)
     table = sweep(SWEEP_CASES, SWEEP_BASE, comm=comm, output_root=Path(out) / "sweep")
     if comm.Get_rank() == 0:
         data["nranks"] = comm.Get_size()
         data["bad_messages"] = np.array(messages)
+        data["failure_messages"] = np.array(failures)
         data["sweep"] = table
         np.savez(Path(out) / "mpi.npz", **data)
 

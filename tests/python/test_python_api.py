@@ -267,6 +267,17 @@ def test_two_ranks_bad_option_raises_on_every_rank(two_ranks):
     assert list(par["bad_messages"]) == ["FSSolverSetFromOptions: -fs_dx -1. must be positive (PETSc error 63)"] * 2
 
 
+def test_two_ranks_python_structure_failure_stops_every_rank(two_ranks):
+    """A Python structure's exception on rank 0 (where structure routines run) is an error on both ranks:
+    the other rank is not left waiting in the next collective."""
+    par, _ = two_ranks
+    msgs = list(par["failure_messages"])
+    assert len(msgs) == 2
+    assert "Structure pybreak: its rhs callback failed: ValueError: the spring broke at t = 0.05" in msgs[0]
+    assert "Structure pybreak: its right-hand side failed on rank 0, where the structure lives" in msgs[1]
+    assert "ValueError: the spring broke at t = 0.05" in msgs[1]
+
+
 def test_sweep_over_two_ranks_equals_sequence(two_ranks, tmp_path):
     par, out = two_ranks
     seq = sweep(M.SWEEP_CASES, M.SWEEP_BASE, output_root=tmp_path)
@@ -291,3 +302,31 @@ def test_examples_run_tiny(example, tmp_path):
     else:
         with open(tmp_path / "damping.csv") as fp:
             assert len(fp.readlines()) >= 3
+
+
+# ------------------------------------------------------------------ plug-ins
+
+
+def test_plugin_from_options_dict():
+    """A -dll_append among a Solver's options loads the plug-in (FSLoadPlugins), so its term runs: the
+    drag term removes kinetic energy at 2 k times the drag-free decay's rate; a library without the
+    entry point named after it is an error."""
+    from conftest import plugin_path
+
+    energies = {}
+    for name, extra in (("drag", dict(dll_append=plugin_path(), fs_terms="continuity,delta,pressure,viscosity,drag",
+                                      fs_drag_rate=2.0)),
+                        ("nodrag", dict(fs_terms="continuity,delta,pressure,viscosity"))):
+        with Solver(dict(M.TG, ts_max_steps=5, **extra)) as s:
+            s.run()
+            e = s.energy()
+            energies[name] = (e["E_kin"], s.time)
+    (e_drag, t), (e_free, _) = energies["drag"], energies["nodrag"]
+    assert np.log(e_free / e_drag) == pytest.approx(2 * 2.0 * t, rel=0.02)
+    with pytest.raises(FlexsloshError, match="has no entry point PetscDLLibraryRegister_fsnothing"):
+        bad = build_dir() / "libfsnothing.so"
+        bad.write_bytes((build_dir() / "libfsspring.so").read_bytes())
+        try:
+            Solver(dict(M.TG, dll_append=bad))
+        finally:
+            bad.unlink()
