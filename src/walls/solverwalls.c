@@ -61,6 +61,14 @@ PetscErrorCode FSSolverWallsSetUp(FSSolver s)
     PetscCheck(found, comm, PETSC_ERR_ARG_WRONG, "-fs_walls_noslip names wall \"%s\", which this case does not have", names[k]);
     PetscCall(PetscFree(names[k]));
   }
+  /* a segment can hide another from a particle only if the liquid's region is not convex: obstacles, or
+     a container with a reflex vertex (a notch, a baffle on the floor) */
+  wd->occlusion = (PetscBool)(w->npoly > 1);
+  for (PetscInt e = w->pstart[0]; e < w->pstart[1] && !wd->occlusion; e++) {
+    const PetscInt   n0 = w->pstart[1] - w->pstart[0], a = w->pstart[0] + (e - w->pstart[0] + n0 - 1) % n0, c = w->pstart[0] + (e - w->pstart[0] + 1) % n0;
+    const PetscReal *pa = &w->vert[2 * a], *pb = &w->vert[2 * e], *pc = &w->vert[2 * c];
+    if ((pb[0] - pa[0]) * (pc[1] - pb[1]) - (pb[1] - pa[1]) * (pc[0] - pb[0]) < 0) wd->occlusion = PETSC_TRUE; /* a right turn of the counter-clockwise outline */
+  }
   /* static grid of segments by midpoint, cells as wide as the candidate radius */
   R         = s->kernel.support + s->halo_skin * s->h;
   wd->gcell = R;
@@ -166,6 +174,19 @@ PetscErrorCode FSSolverWallsUpdate(FSSolver s)
         PetscBool        cut = PETSC_FALSE;
         for (PetscInt r = first; r < nc && !cut; r++) cut = Crosses(x, xj, &w->seg[wd->cand[r] * FS_SEG_STRIDE]);
         if (!cut) nb->cand[wp++] = nb->cand[q];
+      }
+      if (wd->occlusion) { /* drop the segments hidden behind other walls: their shadows lie in those of the nearer ones */
+        PetscInt keep = first;
+        for (PetscInt q = first; q < nc; q++) {
+          const PetscReal *sg = &w->seg[wd->cand[q] * FS_SEG_STRIDE];
+          PetscBool        hidden = PETSC_FALSE;
+          if ((sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7] > 0) /* facing: is its midpoint seen through another segment? */
+            for (PetscInt r = first; r < nc && !hidden; r++) hidden = (PetscBool)(r != q && Crosses(x, sg + 4, &w->seg[(wd->cand[r] < 0 ? -1 - wd->cand[r] : wd->cand[r]) * FS_SEG_STRIDE]));
+          if (hidden) wd->cand[q] = -1 - wd->cand[q];
+        }
+        for (PetscInt q = first; q < nc; q++)
+          if (wd->cand[q] >= 0) wd->cand[keep++] = wd->cand[q];
+        nc = keep;
       }
     } else
       for (PetscInt q = os; q < oe; q++) nb->cand[wp++] = nb->cand[q];
