@@ -4,9 +4,12 @@
      rectangular: -fs_tank_length (0.7 m) x -fs_tank_height (0.06 m), the seed's rectangular tank
      baffled:     -fs_tank_compartments (7) of -fs_tank_compartment_length (0.1 m) separated by baffles
                   of -fs_tank_baffle_thickness (0.005 m): 0.73 m overall as in the seed; each baffle spans
-                  -fs_tank_baffle_gap (0.005 m) to -fs_tank_baffle_gap + -fs_tank_baffle_height
+                  -fs_tank_baffle_gap (0: on the floor) to -fs_tank_baffle_gap + -fs_tank_baffle_height
                   (0.045 m) above the floor. The seed does not give the baffles' height or openings:
-                  these defaults leave a 5 mm opening below and 10 mm above each baffle.
+                  by default they stand on the floor and leave 15 mm below the lid, so up to 75 % fill
+                  each compartment holds its own liquid unless it sloshes over (the seed: the baffles
+                  "do not allow the wave to propagate"). An opening under the baffles needs about 4
+                  particles across it: with 1-2 (5 mm at dx 3-5 mm) the liquid in it is not at rest.
      file:        -fs_tank_file <path> in the polyline format of the README.
    The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5) on a lattice of spacing
    dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2.
@@ -87,7 +90,7 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_Tank(FSSolver s, FSCaseOps *ops)
   tk->ncomp           = 7;
   tk->Lc              = 0.1;
   tk->t               = 0.005;
-  tk->gap             = 0.005;
+  tk->gap             = 0.0;
   tk->hb              = 0.045;
   tk->fill            = 0.5;
   s->casedata         = tk;

@@ -11,7 +11,7 @@ import pytest
 from conftest import read_summary, run_flexslosh, snapshot_files
 
 DX = 0.004
-BAFFLED = ["-fs_case", "tank", "-fs_tank_shape", "baffled", "-fs_dx", DX, "-fs_geometry_view"]
+BAFFLED = ["-fs_case", "tank", "-fs_tank_shape", "baffled", "-fs_tank_baffle_gap", 0.005, "-fs_dx", DX, "-fs_geometry_view"]
 
 # the picture's layout and colours (src/walls/geometryview.c)
 SIZE, MARGIN = 1600, 20
@@ -19,8 +19,9 @@ WHITE = (255, 255, 255)
 PARTICLE = (30, 90, 220)
 WALLS = [(40, 40, 40), (170, 30, 30)]  # wall 0 (the tank), wall 1 (the baffles)
 
-# the seed's baffled tank (defaults of the case): 7 compartments of 0.1 m, baffles 5 mm thick from
-# 5 mm to 50 mm above the floor, 0.06 m high
+# the seed's baffled tank: 7 compartments of 0.1 m, 0.06 m high, baffles 5 mm thick, here lifted 5 mm
+# off the floor (to 50 mm) so that they are free-standing polygons, a wall of their own (on the floor,
+# the case's default, they are notches of the tank's outline)
 L, H = 0.73, 0.06
 
 
