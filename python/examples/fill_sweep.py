@@ -25,9 +25,11 @@ def main(argv=None):
 
     from flexslosh.sweep import format_table, sweep
 
-    fills = (0.3, 0.6) if args.tiny else (0.2, 0.35, 0.5, 0.65, 0.8)
-    base = {"options_file": str(REPO / "cases" / "coupled_rectangular.opts"), "fs_dx": 0.006 if args.tiny else 0.003,
-            "ts_max_time": 0.25 if args.tiny else 1.0, "fs_output": False, "fs_progress": False}
+    # 0: the empty tank, the payload all ballast (the solid mass); the case file's dx = 5 mm and 3 s
+    fills = (0.0, 0.3, 0.6) if args.tiny else (0.0, 0.2, 0.35, 0.5, 0.65, 0.8)
+    base = {"options_file": str(REPO / "cases" / "coupled_rectangular.opts"), "fs_output": False, "fs_progress": False}
+    if args.tiny:
+        base.update(fs_dx=0.006, ts_max_time=0.25)
     comm = MPI.COMM_WORLD if MPI.COMM_WORLD.Get_size() > 1 else None
     table = sweep([{"fs_fill": f} for f in fills], base, comm=comm, output_root=args.out)
     if table is None:  # not rank 0

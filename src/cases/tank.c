@@ -12,7 +12,9 @@
                   particles across it: with 1-2 (5 mm at dx 3-5 mm) the liquid in it is not at rest.
      file:        -fs_tank_file <path> in the polyline format of the README.
    The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5) on a lattice of spacing
-   dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2.
+   dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2. -fs_fill 0 is an empty
+   tank: no particles and no walls, the structure alone (with -fs_beam_payload_mass all ballast), the
+   0 % point of a fill sweep.
    Defaults: rho0 = 1000, c0 = 20 m/s and h/dx = 2 (seed), nu = 1e-6, g = 9.81 down, dx = H/30.
 */
 #include "../fsimpl.h"
@@ -49,7 +51,7 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCheck(rect || baff || file, PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE, "-fs_tank_shape %s is not known: expected rectangular, baffled or file", tk->shape);
   PetscCheck(!file || tk->file[0], PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "-fs_tank_shape file needs -fs_tank_file <path>");
   PetscCheck(tk->H > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_height %g must be positive", (double)tk->H);
-  PetscCheck(tk->fill > 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_fill %g is outside the tank: expected a fraction in (0, 1] of the tank height", (double)tk->fill);
+  PetscCheck(tk->fill >= 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_fill %g is outside the tank: expected a fraction in [0, 1] of the tank height", (double)tk->fill);
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 20.0, 1e-6, g));
   PetscCall(PetscStrncpy(s->default_terms, FS_WALL_CASE_TERMS, sizeof(s->default_terms)));
   s->dx         = tk->H / 30;
@@ -73,7 +75,14 @@ static PetscErrorCode SetUp(FSSolver s)
   else if (baff) PetscCall(FSWallsBaffledTank(&w, comm, tk->ncomp, tk->Lc, tk->t, tk->H, tk->gap, tk->hb));
   else PetscCall(FSWallsLoad(&w, comm, tk->file));
   PetscCall(FSWallsCheck(&w, comm)); /* sets the bounding box used below */
-  PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
+  if (tk->fill > 0) PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
+  else { /* an empty tank (the 0 % point of a fill sweep): the structure alone, its payload all ballast */
+    PetscCheck(s->structure, comm, PETSC_ERR_ARG_WRONG, "-fs_fill 0 leaves the tank empty: there is nothing to compute without a structure (-fs_structure msd or modal)");
+    const PetscReal lo[3] = {w.lo[0], w.lo[1], 0}, hi[3] = {w.hi[0], w.hi[1], 1};
+    const PetscBool per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+    PetscCall(FSSolverSetDomain(s, lo, hi, per));
+    PetscCall(FSWallsDestroy(&w));
+  }
   PetscFunctionReturn(0);
 }
 

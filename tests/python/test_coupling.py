@@ -114,3 +114,20 @@ def test_reaction_loads_conserve_the_coupled_energy(tmp_path):
         assert np.abs(e["residual_total"]).max() < 1e-4 * E0, loads
     assert work["reaction"] == 0.0
     assert abs(work["walls"]) > 1e-3, work
+
+
+@pytest.mark.parametrize("model", ["msd", "modal"])
+def test_empty_tank_is_the_solid_mass(tmp_path, model):
+    """-fs_fill 0, the 0 % point of a fill sweep: no liquid, the payload all ballast, so the coupled case
+    is the structure alone with that ballast (cases/beam_free_decay_*.opts): the same tip history."""
+    from conftest import REPO_ROOT
+
+    empty, solid = tmp_path / "empty", tmp_path / "solid"
+    run_flexslosh(["-options_file", REPO_ROOT / "cases/coupled_rectangular.opts", "-fs_structure", model, "-fs_fill", 0,
+                   "-ts_max_time", 0.5, "-fs_output_dir", empty], cwd=tmp_path)
+    run_flexslosh(["-options_file", REPO_ROOT / f"cases/beam_free_decay_{model}.opts", "-ts_max_time", 0.5,
+                   "-fs_output_dir", solid], cwd=tmp_path)
+    e, s = read_series(empty), read_series(solid)
+    assert e["mass"][0] == 0 and len(e["time"]) == len(s["time"]) > 20
+    np.testing.assert_allclose(e["time"], s["time"], rtol=1e-12)
+    assert rel_max_diff(e["tip_displacement"], s["tip_displacement"]) < 1e-12

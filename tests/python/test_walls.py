@@ -62,7 +62,8 @@ def test_wall_file_runs(tmp_path):
 
 @pytest.mark.parametrize("args,expect", [
     (["-fs_fill", 1.5], ["-fs_fill", "1.5", "outside the tank"]),
-    (["-fs_fill", 0], ["-fs_fill", "outside the tank"]),
+    (["-fs_fill", -0.1], ["-fs_fill", "-0.1", "outside the tank"]),
+    (["-fs_fill", 0], ["-fs_fill 0 leaves the tank empty", "-fs_structure"]),
     (["-fs_tank_shape", "round"], ["-fs_tank_shape", "round"]),
     (["-fs_walls_noslip", "lid"], ["-fs_walls_noslip", "lid"]),
     (["-fs_tank_shape", "baffled", "-fs_tank_baffle_gap", 0, "-fs_tank_baffle_height", 0.06], ["close the compartments"]),
