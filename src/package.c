@@ -138,14 +138,9 @@ PetscErrorCode FSErrorHandler(MPI_Comm comm, int line, const char *fun, const ch
   return n;
 }
 
-/*
-   FSCheckPlugins - checks every library given to -dll_append: PETSc loads a library silently even
-   when it has no entry point named after its file, and then nothing is registered. This makes that
-   a clear error.
-
-   Collective
-*/
-PetscErrorCode FSCheckPlugins(MPI_Comm comm)
+/* the libraries given to -dll_append: loaded first if load (those PETSc has not loaded yet), then each
+   checked for its entry point */
+static PetscErrorCode FSPluginsProcess(MPI_Comm comm, PetscBool load)
 {
   char     *paths[64];
   PetscInt  n = 64;
@@ -158,6 +153,7 @@ PetscErrorCode FSCheckPlugins(MPI_Comm comm)
     char        base[PETSC_MAX_PATH_LEN], symbol[PETSC_MAX_PATH_LEN + 64], *dot;
     const char *slash = strrchr(paths[k], '/');
     void       *handle, *sym = NULL;
+    if (load) PetscCall(PetscDLLibraryAppend(comm, &PetscDLLibrariesLoaded, paths[k]));
     PetscCall(PetscStrncpy(base, slash ? slash + 1 : paths[k], sizeof(base)));
     if (!strncmp(base, "lib", 3)) memmove(base, base + 3, strlen(base + 3) + 1);
     dot = strchr(base, '.');
@@ -180,6 +176,20 @@ PetscErrorCode FSCheckPlugins(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
+/*
+   FSCheckPlugins - checks every library given to -dll_append: PETSc loads a library silently even
+   when it has no entry point named after its file, and then nothing is registered. This makes that
+   a clear error.
+
+   Collective
+*/
+PetscErrorCode FSCheckPlugins(MPI_Comm comm)
+{
+  PetscFunctionBegin;
+  PetscCall(FSPluginsProcess(comm, PETSC_FALSE));
+  PetscFunctionReturn(0);
+}
+
 /*@C
    FSLoadPlugins - loads the libraries given to -dll_append that PETSc has not loaded yet, then checks
    them all (FSCheckPlugins()). PetscInitialize() loads those given on the command line; a driver that
@@ -195,16 +205,7 @@ PetscErrorCode FSCheckPlugins(MPI_Comm comm)
 @*/
 PetscErrorCode FSLoadPlugins(MPI_Comm comm)
 {
-  char     *paths[64];
-  PetscInt  n = 64;
-  PetscBool set;
-
   PetscFunctionBegin;
-  PetscCall(PetscOptionsGetStringArray(NULL, NULL, "-dll_append", paths, &n, &set));
-  for (PetscInt k = 0; set && k < n; k++) {
-    PetscCall(PetscDLLibraryAppend(comm, &PetscDLLibrariesLoaded, paths[k]));
-    PetscCall(PetscFree(paths[k]));
-  }
-  PetscCall(FSCheckPlugins(comm));
+  PetscCall(FSPluginsProcess(comm, PETSC_TRUE));
   PetscFunctionReturn(0);
 }
