@@ -296,8 +296,9 @@ PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
 -  values - their values (an array of FS_ENERGY_MAX_COLUMNS reals, or NULL)
 
    Notes:
-   The budget's initial energies are recorded when the run starts (the first FSSolverStep() or
-   FSSolverSolve()); before that the residuals and the work terms are relative to zero.
+   The budget's initial energies are those of the state the run starts from: asked before the first
+   FSSolverStep() or FSSolverSolve(), they are recorded from the current state (the run records them
+   again at its start, from the same state), so the residuals are zero there.
 
 .seealso: FSSolverSolve(), the "Output" section of the README (energy.csv)
 */
@@ -310,6 +311,7 @@ PetscErrorCode FSSolverGetEnergy(FSSolver s, PetscInt *n, const char *names[], P
   if (names)
     for (PetscInt c = 0; c < FS_ENERGY_NCOLUMNS; c++) names[c] = FSEnergyNames[c];
   if (values) {
+    if (!s->monitoring && !s->restart[0]) PetscCall(FSSolverEnergyInitial(s)); /* before the run: its initial state */
     PetscCall(FSSolverEnergyValues(s, values));
     PetscCallMPI(MPI_Bcast(values, (PetscMPIInt)FS_ENERGY_NCOLUMNS, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
   }

@@ -330,3 +330,22 @@ def test_plugin_from_options_dict():
             Solver(dict(M.TG, dll_append=bad))
         finally:
             bad.unlink()
+
+
+def test_energy_before_the_first_step():
+    """energy() after set_up and before any step: the initial energies are the current state's, so the
+    residuals are zero and the liquid's energy is the sum of its parts; the run then starts from the same
+    values (the budget after 3 steps is the one of a run that did not ask)."""
+    final = []
+    for ask in (True, False):
+        with Solver(dict(M.TANK, ts_max_steps=3), options_file=M.TANK_FILE) as s:
+            s.set_up()
+            if ask:
+                e0 = s.energy()
+                assert e0["residual_liquid"] == 0 and e0["residual_total"] == 0
+                assert e0["E_liquid"] == pytest.approx(e0["E_kin"] + e0["E_pot"] + e0["E_comp"], rel=1e-12)
+                assert e0["E_pot"] != 0
+            s.run()
+            final.append(s.energy())
+    assert final[0] == final[1]
+    assert abs(final[0]["residual_liquid"]) < 0.01 * abs(final[0]["work_ext"])  # the release's jolt, RK4's error
