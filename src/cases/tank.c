@@ -8,8 +8,9 @@
                   (0.045 m) above the floor. The seed does not give the baffles' height or openings:
                   by default they stand on the floor and leave 15 mm below the lid, so up to 75 % fill
                   each compartment holds its own liquid unless it sloshes over (the seed: the baffles
-                  "do not allow the wave to propagate"). An opening under the baffles needs about 4
-                  particles across it: with 1-2 (5 mm at dx 3-5 mm) the liquid in it is not at rest.
+                  "do not allow the wave to propagate"). With an opening under the baffles the liquid
+                  at rest is not yet quiet: rms speed 0.02-0.03 sqrt(gH) with 2-4 particles across the
+                  opening, against 0.003-0.005 with the baffles on the floor (README, Walls).
      file:        -fs_tank_file <path> in the polyline format of the README.
    The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5) on a lattice of spacing
    dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2. -fs_fill 0 is an empty
