@@ -150,9 +150,8 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
       ierr = (*st->ops.rhs)(st, s->rhs_time, s->sy, &none, s->sydot);
       if (!ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &predicted);
     }
-    PetscCall(FSSolverStructureCheckRank0(s, ierr, "right-hand side or motion"));
+    PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&predicted));
   }
-  PetscCallMPI(MPI_Bcast(&predicted, (PetscMPIInt)(sizeof(predicted) / sizeof(PetscReal)), MPIU_REAL, 0, comm));
   s->angle = predicted.angle;
   FrameField(s, &predicted, &s->body);
   PetscFunctionReturn(0);
@@ -199,8 +198,7 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
   s->loads.moment[2] = M * s->tank_width - s->static_loads.moment[2];
   /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
   PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f));
-  PetscCall(FSSolverStructureCheckRank0(s, rank ? 0 : (*st->ops.motion)(st, s->sy, s->sydot, &s->motion), "motion"));
-  PetscCallMPI(MPI_Bcast(&s->motion, (PetscMPIInt)(sizeof(s->motion) / sizeof(PetscReal)), MPIU_REAL, 0, comm));
+  PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : (*st->ops.motion)(st, s->sy, s->sydot, &s->motion), "motion", FS_MOTION_NREAL, (PetscReal *)&s->motion));
   PetscFunctionReturn(0);
 }
 

@@ -126,7 +126,7 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
   st[0] = st[1] = st[2] = 0;
   if (s->structure && s->structure->ndof && s->structure->ops.energy) {
     PetscReal E[3] = {0, 0, 0};
-    PetscCall(FSSolverStructureCheckRank0(s, rank ? 0 : (*s->structure->ops.energy)(s->structure, s->sy, E), "energy"));
+    PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : (*s->structure->ops.energy)(s->structure, s->sy, E), "energy", 0, NULL));
     st[0] = E[0];
     st[1] = E[1];
   }

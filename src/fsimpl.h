@@ -309,7 +309,10 @@ PETSC_INTERN PetscErrorCode FSCaseHelpAll(FSSolver, PetscOptionItems *);
 PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast, const PetscReal *u, PetscReal *f);
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
-PETSC_INTERN PetscErrorCode FSSolverStructureCheckRank0(FSSolver, PetscErrorCode, const char[]);
+/* the reals of an FSTankMotion, and the most a structure routine's result broadcast carries */
+#define FS_MOTION_NREAL ((PetscInt)(sizeof(FSTankMotion) / sizeof(PetscReal)))
+#define FS_RANK0_MAX    16
+PETSC_INTERN PetscErrorCode FSSolverStructureResultRank0(FSSolver, PetscErrorCode, const char[], PetscInt, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverCouplingSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, PetscReal *f);

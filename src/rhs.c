@@ -405,7 +405,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
         fe[FS_ENERGY_WORK_COUPLING] = s->tank_width * ((R[0] + L[0]) * vx + (R[1] + L[1]) * vy + mo->rate * (R[2] + L[2]));
       }
     }
-    if (s->structure && s->structure->ndof && s->structure->ops.energy) PetscCall(FSSolverStructureCheckRank0(s, ierr, "energy"));
+    if (s->structure && s->structure->ndof && s->structure->ops.energy) PetscCall(FSSolverStructureResultRank0(s, ierr, "energy", 0, NULL));
   }
   PetscCall(PetscLogEventEnd(FS_RHS, 0, 0, 0, 0));
   PetscFunctionReturn(0);

@@ -184,25 +184,35 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
 }
 
 /*
-   FSSolverStructureCheckRank0 - a structure routine that ran on rank 0 alone returned ierr there: every
-   rank raises the error, so that a failure (a Python structure's exception, a failed solve) stops the
-   run everywhere instead of leaving the other ranks waiting in the next collective.
+   FSSolverStructureResultRank0 - a structure routine ran on rank 0 alone, returned ierr there and
+   computed buf[0..n) (n <= FS_RANK0_MAX): one broadcast gives every rank buf and the error code, so
+   that a failure (a Python structure's exception, a failed solve) stops the run everywhere instead of
+   leaving the other ranks waiting in the next collective. n = 0 broadcasts the code alone.
 
    Collective
 */
-PetscErrorCode FSSolverStructureCheckRank0(FSSolver s, PetscErrorCode ierr, const char what[])
+PetscErrorCode FSSolverStructureResultRank0(FSSolver s, PetscErrorCode ierr, const char what[], PetscInt n, PetscReal buf[])
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   PetscMPIInt size, rank;
-  int         code = (int)ierr;
+  PetscReal   pack[FS_RANK0_MAX + 1];
   char        msg[512] = "";
+  int         code;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   if (size == 1) PetscFunctionReturn(ierr); /* the error as raised, its message first */
+  PetscCheck(n <= FS_RANK0_MAX, comm, PETSC_ERR_PLIB, "FSSolverStructureResultRank0: %" PetscInt_FMT " values, at most %d", n, FS_RANK0_MAX);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Bcast(&code, 1, MPI_INT, 0, comm));
-  if (!code) PetscFunctionReturn(0);
+  pack[0] = (PetscReal)ierr;
+  if (!rank)
+    for (PetscInt k = 0; k < n; k++) pack[k + 1] = buf[k];
+  PetscCallMPI(MPI_Bcast(pack, (PetscMPIInt)(n + 1), MPIU_REAL, 0, comm));
+  code = (int)pack[0];
+  if (!code) {
+    for (PetscInt k = 0; k < n; k++) buf[k] = pack[k + 1];
+    PetscFunctionReturn(0);
+  }
   if (!rank) {
     const char *text = NULL;
     (void)PetscErrorMessage(ierr, NULL, (char **)&text);
@@ -253,7 +263,7 @@ PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const Pet
       ierr = (*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot);
       if (!ierr && f) ierr = PetscArraycpy(f + off, s->sydot, st->ndof);
     }
-    PetscCall(FSSolverStructureCheckRank0(s, ierr, "right-hand side"));
+    PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side", 0, NULL));
   }
   PetscCall(PetscLogEventEnd(FS_Structure, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -290,8 +300,7 @@ PetscErrorCode FSSolverGetTankMotion(FSSolver s, FSTankMotion *m)
   if (!s->structure || !s->structure->ndof) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(FSSolverStructureCurrent(s));
-  PetscCall(FSSolverStructureCheckRank0(s, rank ? 0 : (*s->structure->ops.motion)(s->structure, s->sy, s->sydot, m), "motion"));
-  PetscCallMPI(MPI_Bcast(m, (PetscMPIInt)(sizeof(*m) / sizeof(PetscReal)), MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : (*s->structure->ops.motion)(s->structure, s->sy, s->sydot, m), "motion", FS_MOTION_NREAL, (PetscReal *)m));
   PetscFunctionReturn(0);
 }
 

@@ -57,16 +57,15 @@ class CycleDamping:
 def _refine(t: np.ndarray, z: np.ndarray, a: int, b: int, k: int, s: int) -> tuple[float, float]:
     """The extremum of lobe z[a:b] (sign s, sampled extremum at k): the vertex of the least-squares
     parabola through the lobe's samples within 20 % of the extremum, so that noise on single samples
-    averages out; the same relative bias for every peak of a decaying cosine, so decrements are exact."""
+    averages out; its bias is nearly the same fraction of every peak, so it cancels in the decrements."""
     seg = z[a:b] * s
-    top = np.nonzero(seg >= 0.8 * seg[k - a])[0]
     # the contiguous run around k
     lo = hi = k - a
     while lo - 1 >= 0 and seg[lo - 1] >= 0.8 * seg[k - a]:
         lo -= 1
     while hi + 1 < len(seg) and seg[hi + 1] >= 0.8 * seg[k - a]:
         hi += 1
-    if hi - lo < 2 or len(top) < 3:
+    if hi - lo < 2:
         return float(t[k]), float(z[k])
     tt = t[a + lo : a + hi + 1]
     tc = tt.mean()
@@ -132,15 +131,12 @@ def find_peaks(t: np.ndarray, y: np.ndarray, offset: float = 0.0, hysteresis: fl
             signs.append(state)
     # a noise excursion across the offset makes two short lobes: merge lobes much shorter than the
     # median one with their neighbours (which have the same sign) until none is left
-    bounds = starts + [len(z)]
     while len(starts) > 3:
-        lengths = np.diff(np.append(t[bounds[:-1]], t[-1]))  # durations: steps need not be uniform
+        lengths = np.diff(np.append(t[starts], t[-1]))  # durations: steps need not be uniform
         n = int(np.argmin(lengths[1:-1])) + 1  # the end lobes may be cut by the record
         if lengths[n] >= 0.3 * np.median(lengths):
             break
-        del starts[n : n + 2 if n + 1 < len(starts) else n + 1]
-        del signs[n : n + 2 if n + 1 < len(signs) else n + 1]
-        bounds = starts + [len(z)]
+        del starts[n : n + 2], signs[n : n + 2]  # lobe n and the next, which lobe n - 1 absorbs
     times: list[float] = []
     values: list[float] = []
     for n, (a, s) in enumerate(zip(starts, signs)):
