@@ -155,13 +155,17 @@ PETSC_EXTERN PetscErrorCode FSTermListView(PetscViewer);
 PETSC_EXTERN PetscErrorCode FSTermGetSolver(FSTerm, FSSolver *);
 
 /* ---------- cases ---------- */
+#define FS_CASE_MAX_COLUMNS 4 /* a case's own columns in the time series */
 /* A case sets up the run: called from FSSolverSetUp after options are read. It sets the domain
    box and periodicity (FSSolverSetDomain) and creates the particles (FSSolverAddParticles). */
 typedef struct {
   PetscErrorCode (*setfromoptions)(FSSolver, PetscOptionItems *);
   PetscErrorCode (*setup)(FSSolver);
-  PetscErrorCode (*analytic)(FSSolver, PetscReal t, PetscReal *value); /* optional reference value in the time series */
-  const char *analytic_name;
+  /* optional columns of the case in the time series (a reference solution, a measured quantity):
+     columns() fills values[0..ncolumns-1] (the same on every rank), named column_names[] */
+  PetscErrorCode (*columns)(FSSolver, PetscReal t, PetscReal values[]);
+  PetscInt    ncolumns;
+  const char *column_names[FS_CASE_MAX_COLUMNS];
 } FSCaseOps;
 
 typedef PetscErrorCode (*FSCaseCreateFn)(FSSolver, FSCaseOps *);

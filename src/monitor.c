@@ -7,7 +7,7 @@
 #include "walls/walldata.h"
 
 #define FS_MAX_WALL_COLUMNS 16 /* walls whose loads go into the time series */
-#define FS_MAX_COLUMNS      (32 + FS_MAX_TERMS + FS_STRUCTURE_MAX_COLUMNS + 3 * FS_MAX_WALL_COLUMNS)
+#define FS_MAX_COLUMNS      (32 + FS_CASE_MAX_COLUMNS + FS_MAX_TERMS + FS_STRUCTURE_MAX_COLUMNS + 3 * FS_MAX_WALL_COLUMNS)
 
 /* Global diagnostics of the current state. vals: kinetic energy, mass, momentum (3), then max |u|. */
 static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscReal *umax)
@@ -67,7 +67,10 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
     for (PetscInt g = s->gdiss; g < s->gdiss + s->ndiss; g++) vals[k++] = u[s->nowned * s->ustride + g];
     PetscCall(VecRestoreArrayRead(s->U, &u));
   } else k += s->ndiss;
-  if (s->caseops.analytic) PetscCall((*s->caseops.analytic)(s, t, &vals[k++]));
+  if (s->caseops.columns) {
+    PetscCall((*s->caseops.columns)(s, t, &vals[k]));
+    k += s->caseops.ncolumns;
+  }
   if (s->wd) { /* the liquid's loads on each wall, from the step's last right-hand side */
     const PetscReal *L;
     PetscCall(FSSolverWallsGetLoads(s, &L));
@@ -136,7 +139,8 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
       PetscCall(PetscSNPrintf(namebuf[q], sizeof(namebuf[q]), "dissipated_%s", s->terms.term[g]->name));
       names[k++] = namebuf[q++];
     }
-  if (s->caseops.analytic) names[k++] = s->caseops.analytic_name;
+  if (s->caseops.columns)
+    for (PetscInt c = 0; c < s->caseops.ncolumns; c++) names[k++] = s->caseops.column_names[c];
   if (s->wd) {
     static const char *part[] = {"force_x", "force_y", "moment"};
     for (PetscInt w = 0; w < PetscMin(s->wd->walls.nwalls, FS_MAX_WALL_COLUMNS); w++)

@@ -71,13 +71,14 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_Shear(FSSolver s, FSCaseOps *ops)
   PetscFunctionBegin;
   PetscCall(PetscFree(s->casedata));
   PetscCall(PetscNew(&sh));
-  sh->U               = 1;
-  sh->L               = 1;
-  sh->Re              = 100;
-  s->casedata         = sh;
-  ops->setfromoptions = SetFromOptions;
-  ops->setup          = SetUp;
-  ops->analytic       = Analytic;
-  ops->analytic_name  = "kinetic_energy_exact";
+  sh->U                = 1;
+  sh->L                = 1;
+  sh->Re               = 100;
+  s->casedata          = sh;
+  ops->setfromoptions  = SetFromOptions;
+  ops->setup           = SetUp;
+  ops->columns         = Analytic;
+  ops->ncolumns        = 1;
+  ops->column_names[0] = "kinetic_energy_exact";
   PetscFunctionReturn(0);
 }

@@ -116,15 +116,16 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_StandingWave(FSSolver s, FSCaseOps *ops
   PetscFunctionBegin;
   PetscCall(PetscFree(s->casedata));
   PetscCall(PetscNew(&sw));
-  sw->L               = 2;
-  sw->h               = 1;
-  sw->mode            = 1;
-  sw->A               = 0.05;
-  sw->Re              = 250;
-  s->casedata         = sw;
-  ops->setfromoptions = SetFromOptions;
-  ops->setup          = SetUp;
-  ops->analytic       = Analytic;
-  ops->analytic_name  = "kinetic_energy_linear";
+  sw->L                = 2;
+  sw->h                = 1;
+  sw->mode             = 1;
+  sw->A                = 0.05;
+  sw->Re               = 250;
+  s->casedata          = sw;
+  ops->setfromoptions  = SetFromOptions;
+  ops->setup           = SetUp;
+  ops->columns         = Analytic;
+  ops->ncolumns        = 1;
+  ops->column_names[0] = "kinetic_energy_linear";
   PetscFunctionReturn(0);
 }

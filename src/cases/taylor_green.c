@@ -80,13 +80,14 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_TaylorGreen(FSSolver s, FSCaseOps *ops)
   PetscFunctionBegin;
   PetscCall(PetscFree(s->casedata));
   PetscCall(PetscNew(&tg));
-  tg->U               = 1;
-  tg->L               = 1;
-  tg->Re              = 100;
-  s->casedata         = tg;
-  ops->setfromoptions = SetFromOptions;
-  ops->setup          = SetUp;
-  ops->analytic       = Analytic;
-  ops->analytic_name  = "kinetic_energy_exact";
+  tg->U                = 1;
+  tg->L                = 1;
+  tg->Re               = 100;
+  s->casedata          = tg;
+  ops->setfromoptions  = SetFromOptions;
+  ops->setup           = SetUp;
+  ops->columns         = Analytic;
+  ops->ncolumns        = 1;
+  ops->column_names[0] = "kinetic_energy_exact";
   PetscFunctionReturn(0);
 }
