@@ -21,6 +21,10 @@
    With eps = 2A/h this is the reference's (eps^2 g L h^2 / 32) (1 + cos 2 omega t) exp(-4 nu k^2 t).
    The time series has this E_k(t) as column kinetic_energy_linear, scaled to the particles' own initial
    kinetic energy (which differs from rho0 g A^2 L / 4 by O(dx^2) and the hydrostatic rho/rho0 - 1).
+   The floor is a wall of its own, "floor", the sides and the lid wall "tank": -fs_walls_noslip floor
+   makes the floor no-slip with free-slip sides, which the mode cos(k x) still satisfies exactly, so that
+   the exact linear viscous mode with a no-slip floor (tests/python/test_standing_wave.py) is the
+   reference for the no-slip wall term (no contact line moves along a no-slip wall).
    Defaults: dx = h/50, c0 = 10 sqrt(g h) (the waves' speeds are below 0.1 sqrt(g h)), the wall cases'
    terms (delta-LES-SPH with boundary integrals) and CFL 1.5, final time 20 sqrt(h/g).
 */
@@ -85,6 +89,7 @@ static PetscErrorCode SetUp(FSSolver s)
   sw->omega = PetscSqrtReal(-s->gravity[1] * sw->k * PetscTanhReal(sw->k * sw->h));
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, comm, sw->L, 1.5 * sw->h));
+  PetscCall(FSWallsSetEdgeWall(&w, comm, 0, 0, "floor"));
   PetscCall(FSWallsCheck(&w, comm));
   PetscCall(FSCaseFillLiquidWithVelocity(s, &w, 0, sw->L, 0, sw->h, "the liquid (-fs_sw_length x -fs_sw_depth)", Velocity, sw));
   /* the particles' initial kinetic energy, the scale of kinetic_energy_linear */

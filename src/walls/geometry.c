@@ -19,6 +19,7 @@ PetscErrorCode FSWallsDestroy(FSWalls *w)
   PetscFunctionBegin;
   PetscCall(PetscFree(w->pstart));
   PetscCall(PetscFree(w->pwall));
+  PetscCall(PetscFree(w->vwall));
   PetscCall(PetscFree(w->vert));
   PetscCall(PetscFree(w->area));
   PetscCall(PetscFree(w->name));
@@ -63,6 +64,25 @@ static PetscBool InPolygon(const FSWalls *w, PetscInt p, const PetscReal x[])
   return in;
 }
 
+/* the index of the wall named name, added if new */
+static PetscErrorCode FSWallsFindOrAdd(FSWalls *w, const char name[], PetscInt *wall)
+{
+  PetscFunctionBegin;
+  *wall = -1;
+  for (PetscInt k = 0; k < w->nwalls; k++)
+    if (!strcmp(w->name[k], name)) *wall = k;
+  if (*wall < 0) {
+    char(*names)[64];
+    PetscCall(PetscMalloc1(w->nwalls + 1, &names));
+    if (w->nwalls) PetscCall(PetscArraycpy(names, w->name, w->nwalls));
+    PetscCall(PetscStrncpy(names[w->nwalls], name, 64));
+    PetscCall(PetscFree(w->name));
+    w->name = names;
+    *wall   = w->nwalls++;
+  }
+  PetscFunctionReturn(0);
+}
+
 /*
    FSWallsAddPolygon - adds a closed polygon to the wall named name (created if new). The last
    vertex connects back to the first (a repeated first vertex is dropped). where names the origin
@@ -76,22 +96,14 @@ PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], P
   PetscFunctionBegin;
   if (n > 1 && xy[0] == xy[2 * (n - 1)] && xy[1] == xy[2 * (n - 1) + 1]) n--;
   PetscCheck(n >= 3, comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s) has %" PetscInt_FMT " distinct vertices: a wall is a closed polygon of at least 3 vertices", name, where, n);
-  for (PetscInt k = 0; k < w->nwalls; k++)
-    if (!strcmp(w->name[k], name)) wall = k;
-  if (wall < 0) {
-    char(*names)[64];
-    PetscCall(PetscMalloc1(w->nwalls + 1, &names));
-    if (w->nwalls) PetscCall(PetscArraycpy(names, w->name, w->nwalls));
-    PetscCall(PetscStrncpy(names[w->nwalls], name, 64));
-    PetscCall(PetscFree(w->name));
-    w->name = names;
-    wall    = w->nwalls++;
-  }
+  PetscCall(FSWallsFindOrAdd(w, name, &wall));
   /* grow the arrays */
   {
     PetscInt  *pstart, *pwall;
+    PetscInt  *vwall;
     PetscReal *vert, *ar;
     PetscCall(PetscMalloc1(w->npoly + 2, &pstart));
+    PetscCall(PetscMalloc1(w->nvert + n, &vwall));
     PetscCall(PetscMalloc1(w->npoly + 1, &pwall));
     PetscCall(PetscMalloc1(w->npoly + 1, &ar));
     PetscCall(PetscMalloc1(2 * (w->nvert + n), &vert));
@@ -100,7 +112,11 @@ PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], P
       PetscCall(PetscArraycpy(pwall, w->pwall, w->npoly));
       PetscCall(PetscArraycpy(ar, w->area, w->npoly));
     }
-    if (w->nvert) PetscCall(PetscArraycpy(vert, w->vert, 2 * w->nvert));
+    if (w->nvert) {
+      PetscCall(PetscArraycpy(vert, w->vert, 2 * w->nvert));
+      PetscCall(PetscArraycpy(vwall, w->vwall, w->nvert));
+    }
+    PetscCall(PetscFree(w->vwall));
     PetscCall(PetscFree(w->pstart));
     PetscCall(PetscFree(w->pwall));
     PetscCall(PetscFree(w->area));
@@ -109,6 +125,7 @@ PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], P
     w->pwall  = pwall;
     w->area   = ar;
     w->vert   = vert;
+    w->vwall  = vwall;
   }
   s = w->nvert;
   for (PetscInt k = 0; k < n; k++) {
@@ -131,10 +148,28 @@ PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], P
     }
   }
   PetscCheck(area != 0, comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s) encloses no area", name, where);
+  for (PetscInt k = 0; k < n; k++) w->vwall[s + k] = wall;
   w->pwall[w->npoly]      = wall;
   w->area[w->npoly]       = area;
   w->nvert               += n;
   w->pstart[++w->npoly]   = w->nvert;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSWallsSetEdgeWall - gives edge e of polygon p (from its vertex e to the next) to the wall named
+   name (added if new), so that one polygon carries walls of different names and properties: a tank
+   whose floor is no-slip and whose sides are free-slip, the load on the floor alone.
+*/
+PetscErrorCode FSWallsSetEdgeWall(FSWalls *w, MPI_Comm comm, PetscInt p, PetscInt e, const char name[])
+{
+  PetscInt wall;
+
+  PetscFunctionBegin;
+  PetscCheck(p >= 0 && p < w->npoly, comm, PETSC_ERR_ARG_OUTOFRANGE, "Polygon %" PetscInt_FMT " does not exist (%" PetscInt_FMT " polygons)", p, w->npoly);
+  PetscCheck(e >= 0 && e < w->pstart[p + 1] - w->pstart[p], comm, PETSC_ERR_ARG_OUTOFRANGE, "Polygon %" PetscInt_FMT " has no edge %" PetscInt_FMT " (%" PetscInt_FMT " edges)", p, e, w->pstart[p + 1] - w->pstart[p]);
+  PetscCall(FSWallsFindOrAdd(w, name, &wall));
+  w->vwall[w->pstart[p] + e] = wall;
   PetscFunctionReturn(0);
 }
 
@@ -335,7 +370,7 @@ PetscErrorCode FSWallsDiscretize(FSWalls *w, PetscReal dx)
         s[6] = (b[1] - a[1]) / L;
         s[7] = -(b[0] - a[0]) / L;
         s[8] = L / m;
-        w->segwall[w->nseg++] = w->pwall[p];
+        w->segwall[w->nseg++] = w->vwall[v];
       }
     }
   PetscFunctionReturn(0);

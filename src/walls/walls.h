@@ -14,6 +14,7 @@ typedef struct {
   PetscInt   npoly, nvert, vcap;
   PetscInt  *pstart;  /* npoly+1 offsets into the vertices */
   PetscInt  *pwall;   /* wall (name) index of each polygon */
+  PetscInt  *vwall;   /* wall index of each edge, by its first vertex: the polygon's unless FSWallsSetEdgeWall */
   PetscReal *vert;    /* vertices, 2 per vertex */
   PetscReal *area;    /* signed area of each polygon (> 0 counter-clockwise) */
   PetscInt   nwalls;
@@ -42,6 +43,7 @@ static inline PetscReal FSSegmentDistance2(const PetscReal seg[], const PetscRea
 PETSC_INTERN PetscErrorCode FSWallsCreate(FSWalls *);
 PETSC_INTERN PetscErrorCode FSWallsDestroy(FSWalls *);
 PETSC_INTERN PetscErrorCode FSWallsAddPolygon(FSWalls *, MPI_Comm, const char name[], PetscInt n, const PetscReal xy[], const char where[]);
+PETSC_INTERN PetscErrorCode FSWallsSetEdgeWall(FSWalls *, MPI_Comm, PetscInt poly, PetscInt edge, const char name[]);
 PETSC_INTERN PetscErrorCode FSWallsLoad(FSWalls *, MPI_Comm, const char path[]);
 PETSC_INTERN PetscErrorCode FSWallsRectangularTank(FSWalls *, MPI_Comm, PetscReal L, PetscReal H);
 PETSC_INTERN PetscErrorCode FSWallsBaffledTank(FSWalls *, MPI_Comm, PetscInt ncomp, PetscReal Lc, PetscReal thickness, PetscReal H, PetscReal bottom_gap, PetscReal baffle_height);
