@@ -274,7 +274,8 @@ PetscErrorCode FSWallsBaffledTank(FSWalls *w, MPI_Comm comm, PetscInt ncomp, Pet
 
      # comment (anywhere after #)
      wall <name>        start a polygon of the wall <name>
-     <x> <y>            one vertex per line
+     <x> <y> [<edge>]   one vertex per line; the edge from it to the next vertex belongs to the wall
+                        <edge> if given (a floor that is no-slip, the load on one side), else to <name>
      end                close the polygon (the last vertex connects to the first)
 
    The first polygon is the container (counter-clockwise); later ones are obstacles (clockwise).
@@ -285,6 +286,7 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
   FILE       *fp = NULL;
   char        line[1024], name[64] = "", where[PETSC_MAX_PATH_LEN + 64];
   PetscReal  *xy  = NULL;
+  char      (*edge)[64] = NULL; /* the wall of each edge, "" for the polygon's */
   PetscInt    n = 0, cap = 0, lineno = 0, start = 0;
   PetscBool   open = PETSC_FALSE;
   PetscMPIInt rank;
@@ -310,28 +312,41 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
       PetscCheck(open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": \"end\" without \"wall\"", path, lineno);
       PetscCall(PetscSNPrintf(where, sizeof(where), "%s:%" PetscInt_FMT "-%" PetscInt_FMT, path, start, lineno));
       PetscCall(FSWallsAddPolygon(w, comm, name, n, xy, where));
+      for (PetscInt k = 0, p = w->npoly - 1; k < w->pstart[p + 1] - w->pstart[p]; k++)
+        if (edge[k][0]) PetscCall(FSWallsSetEdgeWall(w, comm, p, k, edge[k]));
       open = PETSC_FALSE;
     } else {
       double x, y;
-      char   extra[8];
+      char   ename[64] = "", extra[8];
+      int    nread;
       PetscCheck(open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": a vertex outside \"wall <name>\" ... \"end\": %s", path, lineno, p);
-      PetscCheck(sscanf(p, "%lf %lf %7s", &x, &y, extra) == 2, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": cannot parse \"%s\": expected two numbers x y, \"wall <name>\" or \"end\"", path, lineno, p);
+      nread = sscanf(p, "%lf %lf %63s %7s", &x, &y, ename, extra);
+      PetscCheck(nread == 2 || nread == 3, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": cannot parse \"%s\": expected two numbers x y (and the name of the edge's wall), \"wall <name>\" or \"end\"", path, lineno, p);
       if (n == cap) {
         PetscReal *nxy;
+        char(*nedge)[64];
         cap = PetscMax(64, 2 * cap);
         PetscCall(PetscMalloc1(2 * cap, &nxy));
-        if (n) PetscCall(PetscArraycpy(nxy, xy, 2 * n));
+        PetscCall(PetscMalloc1(cap, &nedge));
+        if (n) {
+          PetscCall(PetscArraycpy(nxy, xy, 2 * n));
+          PetscCall(PetscArraycpy(nedge, edge, n));
+        }
         PetscCall(PetscFree(xy));
-        xy = nxy;
+        PetscCall(PetscFree(edge));
+        xy   = nxy;
+        edge = nedge;
       }
       xy[2 * n]     = x;
       xy[2 * n + 1] = y;
+      PetscCall(PetscStrncpy(edge[n], nread == 3 ? ename : "", sizeof(edge[n])));
       n++;
     }
   }
   fclose(fp);
   PetscCheck(!open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s: wall \"%s\" (line %" PetscInt_FMT ") has no \"end\": the polygon is open", path, name, start);
   PetscCall(PetscFree(xy));
+  PetscCall(PetscFree(edge));
   PetscFunctionReturn(0);
 }
 

@@ -69,6 +69,15 @@ PetscErrorCode FSSolverWallsSetUp(FSSolver s)
     const PetscReal *pa = &w->vert[2 * a], *pb = &w->vert[2 * e], *pc = &w->vert[2 * c];
     if ((pb[0] - pa[0]) * (pc[1] - pb[1]) - (pb[1] - pa[1]) * (pc[0] - pb[0]) < 0) wd->occlusion = PETSC_TRUE; /* a right turn of the counter-clockwise outline */
   }
+  /* the Shepard factor of the container at each segment (just inside its midpoint): the wall
+     pressure's interpolation weights add up to it where the liquid covers the segment */
+  PetscCall(PetscMalloc1(w->nseg, &wd->wetfull));
+  for (PetscInt k = 0; k < w->nseg; k++) {
+    const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
+    const PetscReal  x[2] = {sg[4] - 1e-3 * s->h * sg[6], sg[5] - 1e-3 * s->h * sg[7]};
+    PetscReal        grad[2];
+    PetscCall(FSWallsShepard(w, s->h, x, &wd->wetfull[k], grad));
+  }
   /* static grid of segments by midpoint, cells as wide as the candidate radius */
   R         = s->kernel.support + s->halo_skin * s->h;
   wd->gcell = R;
@@ -263,7 +272,12 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
   /* wall pressure: p_k = sum_i (p_i + rho_i g.(x_k - x_i)) W_ik V_i / sum_i W_ik V_i over the liquid near
      segment k (all ranks), so that a particle pressed against a wall meets a wall pressure set by its
      neighbours as well as by itself; g is the body acceleration of the tank's frame (s->body: gravity,
-     and with a coupling the motion predicted for this stage) */
+     and with a coupling the motion predicted for this stage). Below the ambient pressure p_b
+     (-fs_background_pressure, 0) p_k counts with the square of the segment's wetted share
+     c_k = min(1, sum_i W_ik V_i / gamma_k) (gamma_k: the container's Shepard factor there): the
+     hydrostatic correction extrapolates the liquid's pressure to the dry wall above a free surface,
+     where it would suck (the side walls' load 16 % short at H/dx = 10, and a pull on the top particles
+     towards them); a covered wall keeps its tension */
   if (!wd->wp) PetscCall(PetscMalloc1(3 * w->nseg + 1, &wd->wp));
   PetscCall(PetscArrayzero(wd->wp, 3 * w->nseg));
   {
@@ -282,7 +296,15 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
       }
     }
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * w->nseg), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
-    for (PetscInt k = 0; k < w->nseg; k++) wd->wp[k] = den[k] > 0 ? num[k] / den[k] : 0;
+    for (PetscInt k = 0; k < w->nseg; k++) {
+      const PetscReal pamb = s->background_pressure;
+      PetscReal       pk   = den[k] > 0 ? num[k] / den[k] : pamb;
+      if (pk < pamb) {
+        const PetscReal c = PetscMin(1.0, den[k] / wd->wetfull[k]);
+        pk = pamb + (pk - pamb) * c * c;
+      }
+      wd->wp[k] = pk;
+    }
   }
   /* the pressure loads on the walls, the integral of p_k n_k over the segments (rank 0's share: every
      rank knows every wall pressure) */
@@ -425,6 +447,7 @@ PetscErrorCode FSSolverWallsDestroy(FSSolver s)
   PetscCall(PetscFree2(wd->wnbr, wd->wW));
   PetscCall(PetscFree2(wd->gamma, wd->invgamma));
   PetscCall(PetscFree(wd->wp));
+  PetscCall(PetscFree(wd->wetfull));
   PetscCall(PetscFree(s->wd));
   PetscFunctionReturn(0);
 }

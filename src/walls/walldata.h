@@ -20,6 +20,7 @@ struct _n_FSWallData {
   PetscReal  bounce_distance, restitution; /* elastic bounce near walls (FSSolverWallsBounce) */
   PetscInt64 nbounce;
   PetscReal *wp;             /* per segment: wall pressure interpolated from the liquid; then 2*nseg work */
+  PetscReal *wetfull;        /* per segment: the container's Shepard factor at its midpoint, the liquid's sum there when it covers the segment */
   PetscReal *load;           /* nwalls * 6: force (3), moment (3): this rank's share of the last RHS */
   PetscReal *loadsum;        /* the same summed over the ranks (FSSolverWallsGetLoads) */
 };
