@@ -114,8 +114,10 @@ HYDROSTATIC = {
 def test_hydrostatic_tank_stays_quiet(tmp_path, shape):
     """Liquid at rest, 3 cm deep, delta-LES-SPH with boundary integrals, a delta floor of 0.1 with the
     hydrostatic correction (as cases/hydrostatic.opts) and a start-up relaxation of 0.1 s, to t sqrt(g/H)
-    = 20 (notes/validation.md). Measured (rectangular / baffled): rms speed 0.0016-0.0037 / 0.0037-0.0047
-    sqrt(gH) from T = 4 on, without a trend (a rectangular run to T = 100 stays at 0.003); the pressure's
+    = 20 (notes/validation.md). Measured (rectangular / baffled): rms speed 0.0019-0.0037 / 0.0039-0.0058
+    sqrt(gH) from T = 4 on (the baffled tank's largest at T = 4, after the relaxation, then 0.0039-0.0045;
+    0.0037-0.0047 before the wall pressure stopped sucking at the dry walls above the surface, which
+    held the liquid's top at the walls), without a trend (a rectangular run to T = 100 stays at 0.003); the pressure's
     row means below 0.8 H within 0.9 % / 1.0 % of rho0 g (H - y) at T = 20 (largest at the floor); the
     vertical wall load from T = 10 to 20 the weight within 0.9 % / 1.0 %. Without the occlusion of the
     segments behind the baffles the baffled tank's rms speed was 0.046 sqrt(gH)."""
@@ -137,7 +139,7 @@ def test_hydrostatic_tank_stays_quiet(tmp_path, shape):
     top = np.array([np.sqrt(np.sum(sn["velocity"] ** 2, axis=1)).max() / U for sn in snaps])
     assert T[-1] == pytest.approx(20) and len(T) == 11
     settled = T >= 4
-    assert rms[settled].max() < 0.006, rms  # a few 1e-3 sqrt(gH)
+    assert rms[settled].max() < 0.007, rms  # a few 1e-3 sqrt(gH)
     assert top[settled].max() < 0.04, top
     # no growth: the second half of the run is not livelier than the first
     assert rms[T >= 12].mean() < 1.6 * rms[(T >= 4) & (T < 12)].mean(), rms
