@@ -69,6 +69,7 @@ static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb,
     PetscReal        d, f, *L;
     if (!P->noslip[P->wsegwall[k]]) continue;
     d = (sg[0] - ri[0]) * sg[6] + (sg[1] - ri[1]) * sg[7];
+    if (d <= 0) continue; /* a face turned away (-fs_walls_visibility all): the other side's wall */
     f = c * nb->wW[q] * sg[8] / PetscMax(d, dmin);
     acc[0] -= f * ri[dim];
     acc[1] -= f * ri[dim + 1];

@@ -8,8 +8,9 @@
    liquid. On a straight segment (y - x) . n_k = d, the distance from x to the segment's line, so the
    integrand is d (Phi(r) - 1) / r^2: the -d/r^2 part integrates exactly (the angle the segment
    subtends), and d Phi(r)/r^2 is smooth and integrates by Gauss-Legendre on each side of the foot of
-   the perpendicular. Only the part of the segment within the support counts, and only segments that
-   face x (d > 0): a thin baffle's far face is hidden behind its near face.
+   the perpendicular. Only the part of the segment within the support counts, and by default only
+   segments that face x (d > 0): a thin baffle's far face is hidden behind its near face. With
+   -fs_walls_visibility all every segment counts, with its signed distance.
 */
 #include "walls.h"
 
@@ -53,20 +54,25 @@ static void IntegrateAlong(PetscReal h, PetscReal d, PetscReal a, PetscReal b, P
    boundary terms' kernel weight: with it the wall part of grad gamma, -sum_k n_k int_k W dS, is the
    exact gradient of the geometric gamma, so the wall terms balance the particle sums the way gamma
    does (a midpoint rule W(x_k) s_k would not). Both from one set of quadrature points.
+   FSSegmentIntegralsAll does the same for a segment on either side (-fs_walls_visibility all): the
+   integrand d (Phi(r) - 1)/r^2 with the signed distance d, negative for a segment that faces away,
+   so that the sum over every segment within the support is the exact gamma of the liquid region in
+   the support, whatever its shape (the liquid behind a thin baffle included).
 
    seg holds p0 (2), p1 (2), midpoint (2), normal (2), length.
 */
-void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscReal *gammak, PetscReal *wint)
+static inline void SegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool both, PetscReal *gammak, PetscReal *wint)
 {
   const PetscReal *p0 = seg, *p1 = seg + 2, *n = seg + 6, len = seg[8];
   const PetscReal  t[2] = {(p1[0] - p0[0]) / len, (p1[1] - p0[1]) / len};
-  const PetscReal  d    = (p0[0] - x[0]) * n[0] + (p0[1] - x[1]) * n[1]; /* > 0: x on the liquid side */
+  const PetscReal  ds   = (p0[0] - x[0]) * n[0] + (p0[1] - x[1]) * n[1]; /* > 0: x on the liquid side */
+  const PetscReal  d    = PetscAbsReal(ds);
   const PetscReal  s0   = (x[0] - p0[0]) * t[0] + (x[1] - p0[1]) * t[1]; /* foot of the perpendicular along the segment */
   const PetscReal  R    = 2 * h;
   PetscReal        a, b, half, sums[2] = {0, 0}, ang;
 
   *gammak = *wint = 0;
-  if (d <= 0 || d >= R) return;
+  if ((!both && ds <= 0) || d >= R) return;
   half = PetscSqrtReal(R * R - d * d);
   a    = PetscMax(0.0, s0 - half) - s0; /* the part of the segment within the support, relative to the foot */
   b    = PetscMin(len, s0 + half) - s0;
@@ -75,9 +81,20 @@ void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[],
     IntegrateAlong(h, d, a, 0, sums);
     IntegrateAlong(h, d, 0, b, sums);
   } else IntegrateAlong(h, d, a, b, sums);
+  *wint = sums[1];
+  if (d == 0) return; /* x on the segment's line: e_r . n = 0 */
   ang     = PetscAtan2Real(b, d) - PetscAtan2Real(a, d); /* int d/(d^2+s^2) ds */
-  *gammak = (d * sums[0] - ang) / (2 * PETSC_PI);
-  *wint   = sums[1];
+  *gammak = (ds > 0 ? 1 : -1) * (d * sums[0] - ang) / (2 * PETSC_PI);
+}
+
+void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscReal *gammak, PetscReal *wint)
+{
+  SegmentIntegrals(h, x, seg, PETSC_FALSE, gammak, wint);
+}
+
+void FSSegmentIntegralsAll(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscReal *gammak, PetscReal *wint)
+{
+  SegmentIntegrals(h, x, seg, PETSC_TRUE, gammak, wint);
 }
 
 /*
@@ -87,12 +104,20 @@ void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[],
 PetscErrorCode FSWallsShepard(const FSWalls *w, PetscReal h, const PetscReal x[], PetscReal *gamma, PetscReal grad[])
 {
   PetscFunctionBegin;
+  PetscCall(FSWallsShepardVisibility(w, h, x, PETSC_FALSE, gamma, grad));
+  PetscFunctionReturn(0);
+}
+
+/* FSWallsShepardVisibility - the same with the segments that face x only (all = PETSC_FALSE) or with every segment (PETSC_TRUE) */
+PetscErrorCode FSWallsShepardVisibility(const FSWalls *w, PetscReal h, const PetscReal x[], PetscBool all, PetscReal *gamma, PetscReal grad[])
+{
+  PetscFunctionBegin;
   *gamma  = 1;
   grad[0] = grad[1] = 0;
   for (PetscInt k = 0; k < w->nseg; k++) {
     const PetscReal *seg = &w->seg[k * FS_SEG_STRIDE];
     PetscReal        gk, wi;
-    FSSegmentIntegrals(h, x, seg, &gk, &wi);
+    SegmentIntegrals(h, x, seg, all, &gk, &wi);
     *gamma += gk;
     grad[0] -= wi * seg[6];
     grad[1] -= wi * seg[7];

@@ -24,7 +24,14 @@ PetscErrorCode FSSolverSetWalls(FSSolver s, FSWalls *w)
 
    Options Database Keys:
 +  -fs_walls_noslip <names> - the walls with no-slip conditions (the others are free-slip)
--  -fs_walls_load_point <x,y> - the point about which the wall moments are taken (default: the origin)
+.  -fs_walls_load_point <x,y> - the point about which the wall moments are taken (default: the origin)
+-  -fs_walls_visibility <cut|all> - what a particle near the walls interacts with. cut (default): fluid
+   pairs whose connecting line crosses a wall are cut, and gamma and the wall terms count only the
+   segments that face the particle and are not hidden behind others. all: every fluid pair and every
+   segment within the support, far faces and faces turned away included (the exact boundary-integral
+   identity for any polygon: no ray through a convex corner bounds the region a particle sees); the
+   wall pressure p_k still comes only from the liquid on the side segment k faces, so each face of a
+   thin baffle carries its own side's pressure, and the leak check and bounce are the same.
 */
 PetscErrorCode FSSolverWallsSetUp(FSSolver s)
 {
@@ -32,7 +39,8 @@ PetscErrorCode FSSolverWallsSetUp(FSSolver s)
   FSWalls    *w;
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   char       *names[32];
-  PetscInt    nnames = 32, np = 3;
+  PetscInt    nnames = 32, np = 3, vis = 0;
+  const char *const visnames[] = {"cut", "all"};
   PetscReal   R;
 
   PetscFunctionBegin;
@@ -49,6 +57,7 @@ PetscErrorCode FSSolverWallsSetUp(FSSolver s)
   PetscCall(PetscOptionsStringArray("-fs_walls_noslip", "Walls with no-slip conditions, by name (the others are free-slip)", "FSSolverWallsSetUp", names, &nnames, NULL));
   PetscCall(PetscOptionsReal("-fs_walls_bounce_distance", "Particles closer to a wall than this (in dx) and moving towards it bounce back (0: never)", "FSSolverWallsBounce", wd->bounce_distance, &wd->bounce_distance, NULL));
   PetscCall(PetscOptionsReal("-fs_walls_bounce_restitution", "Fraction of the normal velocity kept by a bounce (1: elastic)", "FSSolverWallsBounce", wd->restitution, &wd->restitution, NULL));
+  PetscCall(PetscOptionsEList("-fs_walls_visibility", "Fluid pairs and wall segments near walls: cut (pairs through walls cut, only facing and unhidden segments) or all (every pair and segment within the support; wall pressure from the facing side)", "FSSolverWallsSetUp", visnames, 2, visnames[0], &vis, NULL));
   PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken", "FSSolverWallsSetUp", wd->loadpoint, &np, NULL));
   PetscOptionsEnd();
   for (PetscInt k = 0; k < nnames; k++) {
@@ -63,6 +72,7 @@ PetscErrorCode FSSolverWallsSetUp(FSSolver s)
   }
   /* a segment can hide another from a particle only if the liquid's region is not convex: obstacles, or
      a container with a reflex vertex (a notch, a baffle on the floor) */
+  wd->visall    = (PetscBool)(vis == 1);
   wd->occlusion = (PetscBool)(w->npoly > 1);
   for (PetscInt e = w->pstart[0]; e < w->pstart[1] && !wd->occlusion; e++) {
     const PetscInt   n0 = w->pstart[1] - w->pstart[0], a = w->pstart[0] + (e - w->pstart[0] + n0 - 1) % n0, c = w->pstart[0] + (e - w->pstart[0] + 1) % n0;
@@ -177,14 +187,16 @@ PetscErrorCode FSSolverWallsUpdate(FSSolver s)
           }
         }
       }
-      /* keep the fluid candidates not seen through a wall */
-      for (PetscInt q = os; q < oe; q++) {
+      /* keep the fluid candidates not seen through a wall (all of them with -fs_walls_visibility all) */
+      if (wd->visall)
+        for (PetscInt q = os; q < oe; q++) nb->cand[wp++] = nb->cand[q];
+      else for (PetscInt q = os; q < oe; q++) {
         const PetscReal *xj  = &s->rec[nb->cand[q] * S];
         PetscBool        cut = PETSC_FALSE;
         for (PetscInt r = first; r < nc && !cut; r++) cut = Crosses(x, xj, &w->seg[wd->cand[r] * FS_SEG_STRIDE]);
         if (!cut) nb->cand[wp++] = nb->cand[q];
       }
-      if (wd->occlusion) { /* drop the segments hidden behind other walls: their shadows lie in those of the nearer ones */
+      if (wd->occlusion && !wd->visall) { /* drop the segments hidden behind other walls: their shadows lie in those of the nearer ones */
         PetscInt keep = first;
         for (PetscInt q = first; q < nc; q++) {
           const PetscReal *sg = &w->seg[wd->cand[q] * FS_SEG_STRIDE];
@@ -224,7 +236,8 @@ PetscErrorCode FSSolverWallsUpdate(FSSolver s)
 
 /*
    FSSolverWallsPrepare - at every right-hand side: gamma_i of every owned particle near a wall (1
-   elsewhere) and its facing segments within the support with their mean kernel values (int_k W dS / s_k).
+   elsewhere) and its facing segments within the support with their mean kernel values (int_k W dS / s_k);
+   with -fs_walls_visibility all every segment within the support, with the signed gamma_k.
 */
 PetscErrorCode FSSolverWallsPrepare(FSSolver s)
 {
@@ -256,8 +269,11 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
       const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
       const PetscReal  d  = (sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7];
       PetscReal        gk, wi;
-      if (d <= 0) continue; /* faces away: hidden */
-      FSSegmentIntegrals(h, x, sg, &gk, &wi);
+      if (wd->visall) FSSegmentIntegralsAll(h, x, sg, &gk, &wi);
+      else {
+        if (d <= 0) continue; /* faces away: hidden */
+        FSSegmentIntegrals(h, x, sg, &gk, &wi);
+      }
       g += gk;
       if (wi > 0) {
         wd->wnbr[nw] = k;
@@ -290,6 +306,7 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
         const PetscReal  wv = wd->wW[q] * s->vol[i];
         const PetscReal  mid[2] = {0.5 * (sg[4] + x[0]), 0.5 * (sg[5] + x[1])};
         PetscReal        g[2];
+        if ((sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7] <= 0) continue; /* p_k from the side the segment faces (-fs_walls_visibility all) */
         FSFrameFieldEval(&s->body, mid, g);
         num[k] += (s->pressure[i] + rho * (g[0] * (sg[4] - x[0]) + g[1] * (sg[5] - x[1]))) * wv;
         den[k] += wv;

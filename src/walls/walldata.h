@@ -13,6 +13,7 @@ struct _n_FSWallData {
   /* per step: candidate segments of each owned particle (CSR) */
   PetscInt  *cstart, *cand, ccap, scap;
   PetscBool  occlusion;      /* the walls can hide segments from a particle behind others (a non-convex container or obstacles) */
+  PetscBool  visall;         /* -fs_walls_visibility all: no pair cut, no facing filter, no occlusion */
   /* per right-hand side: facing segments within the support, with W at their midpoints */
   PetscInt  *wstart, *wnbr, wcap, wscap;
   PetscReal *wW, *gamma, *invgamma; /* gamma and 1/gamma of the owned and ghost particles */
