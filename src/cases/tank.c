@@ -10,7 +10,8 @@
                   each compartment holds its own liquid unless it sloshes over (the seed: the baffles
                   "do not allow the wave to propagate"). With an opening under the baffles the liquid
                   at rest is not yet quiet: rms speed 0.02-0.03 sqrt(gH) with 2-4 particles across the
-                  opening, against 0.003-0.005 with the baffles on the floor (README, Walls).
+                  opening, against 0.003-0.005 with the baffles on the floor; with
+                  -fs_walls_visibility all 0.002-0.004 (README, Walls).
      file:        -fs_tank_file <path> in the polyline format of the README.
    The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5) on a lattice of spacing
    dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2. -fs_fill 0 is an empty
