@@ -117,6 +117,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscCheck(s->dim == 2 || s->dim == 3, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dim %" PetscInt_FMT " is not supported: expected 2 or 3", s->dim);
   PetscCall(PetscMemzero(&s->caseops, sizeof(s->caseops)));
   PetscCall((*create)(s, &s->caseops));
+  PetscCheck(s->caseops.ncolumns >= 0 && s->caseops.ncolumns <= FS_CASE_MAX_COLUMNS && (!s->caseops.ncolumns || s->caseops.columns), comm, PETSC_ERR_PLIB, "Case \"%s\" declares %" PetscInt_FMT " time-series columns: at most FS_CASE_MAX_COLUMNS = %d, with a columns() routine", s->casename, s->caseops.ncolumns, FS_CASE_MAX_COLUMNS);
   PetscCall(PetscStrncpy(s->default_terms, FSDefaultTerms, sizeof(s->default_terms)));
   if (s->caseops.setfromoptions) PetscCall((*s->caseops.setfromoptions)(s, PetscOptionsObject));
   PetscCall(PetscStrncpy(terms, s->default_terms, sizeof(terms)));

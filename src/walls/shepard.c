@@ -49,19 +49,19 @@ static void IntegrateAlong(PetscReal h, PetscReal d, PetscReal a, PetscReal b, P
 }
 
 /*
-   FSSegmentIntegrals - for a segment that faces x (else both 0): its contribution gamma_k to
-   gamma(x) - 1, and int_k W(|y - x|) dS over its part within the support of x. The latter is the
-   boundary terms' kernel weight: with it the wall part of grad gamma, -sum_k n_k int_k W dS, is the
-   exact gradient of the geometric gamma, so the wall terms balance the particle sums the way gamma
-   does (a midpoint rule W(x_k) s_k would not). Both from one set of quadrature points.
-   FSSegmentIntegralsAll does the same for a segment on either side (-fs_walls_visibility all): the
-   integrand d (Phi(r) - 1)/r^2 with the signed distance d, negative for a segment that faces away,
-   so that the sum over every segment within the support is the exact gamma of the liquid region in
-   the support, whatever its shape (the liquid behind a thin baffle included).
+   FSSegmentIntegrals - a segment's contribution gamma_k to gamma(x) - 1, and int_k W(|y - x|) dS over
+   its part within the support of x. The latter is the boundary terms' kernel weight: with it the
+   wall part of grad gamma, -sum_k n_k int_k W dS, is the exact gradient of the geometric gamma, so
+   the wall terms balance the particle sums the way gamma does (a midpoint rule W(x_k) s_k would not).
+   Both from one set of quadrature points. With all = PETSC_FALSE only a segment that faces x counts
+   (else both 0: a thin baffle's far face is hidden behind its near face); with all = PETSC_TRUE
+   (-fs_walls_visibility all) a segment on either side counts, the integrand d (Phi(r) - 1)/r^2 with
+   the signed distance d, negative for a segment that faces away, so that the sum over every segment
+   within the support is the exact gamma of the liquid region in the support, whatever its shape.
 
    seg holds p0 (2), p1 (2), midpoint (2), normal (2), length.
 */
-static inline void SegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool both, PetscReal *gammak, PetscReal *wint)
+void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool all, PetscReal *gammak, PetscReal *wint)
 {
   const PetscReal *p0 = seg, *p1 = seg + 2, *n = seg + 6, len = seg[8];
   const PetscReal  t[2] = {(p1[0] - p0[0]) / len, (p1[1] - p0[1]) / len};
@@ -72,7 +72,7 @@ static inline void SegmentIntegrals(PetscReal h, const PetscReal x[], const Pets
   PetscReal        a, b, half, sums[2] = {0, 0}, ang;
 
   *gammak = *wint = 0;
-  if ((!both && ds <= 0) || d >= R) return;
+  if ((!all && ds <= 0) || d >= R) return;
   half = PetscSqrtReal(R * R - d * d);
   a    = PetscMax(0.0, s0 - half) - s0; /* the part of the segment within the support, relative to the foot */
   b    = PetscMin(len, s0 + half) - s0;
@@ -87,29 +87,12 @@ static inline void SegmentIntegrals(PetscReal h, const PetscReal x[], const Pets
   *gammak = (ds > 0 ? 1 : -1) * (d * sums[0] - ang) / (2 * PETSC_PI);
 }
 
-void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscReal *gammak, PetscReal *wint)
-{
-  SegmentIntegrals(h, x, seg, PETSC_FALSE, gammak, wint);
-}
-
-void FSSegmentIntegralsAll(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscReal *gammak, PetscReal *wint)
-{
-  SegmentIntegrals(h, x, seg, PETSC_TRUE, gammak, wint);
-}
-
 /*
-   FSWallsShepard - gamma(x) and grad gamma(x) = -sum_k n_k int_k W dS from all segments (a reference
-   implementation for tests and set-up; the solver uses its per-particle lists of nearby segments).
+   FSWallsShepard - gamma(x) and grad gamma(x) = -sum_k n_k int_k W dS from all segments, those that
+   face x only or every one (all, as FSSegmentIntegrals): a reference implementation for tests and
+   set-up; the solver uses its per-particle lists of nearby segments.
 */
-PetscErrorCode FSWallsShepard(const FSWalls *w, PetscReal h, const PetscReal x[], PetscReal *gamma, PetscReal grad[])
-{
-  PetscFunctionBegin;
-  PetscCall(FSWallsShepardVisibility(w, h, x, PETSC_FALSE, gamma, grad));
-  PetscFunctionReturn(0);
-}
-
-/* FSWallsShepardVisibility - the same with the segments that face x only (all = PETSC_FALSE) or with every segment (PETSC_TRUE) */
-PetscErrorCode FSWallsShepardVisibility(const FSWalls *w, PetscReal h, const PetscReal x[], PetscBool all, PetscReal *gamma, PetscReal grad[])
+PetscErrorCode FSWallsShepard(const FSWalls *w, PetscReal h, const PetscReal x[], PetscBool all, PetscReal *gamma, PetscReal grad[])
 {
   PetscFunctionBegin;
   *gamma  = 1;
@@ -117,7 +100,7 @@ PetscErrorCode FSWallsShepardVisibility(const FSWalls *w, PetscReal h, const Pet
   for (PetscInt k = 0; k < w->nseg; k++) {
     const PetscReal *seg = &w->seg[k * FS_SEG_STRIDE];
     PetscReal        gk, wi;
-    SegmentIntegrals(h, x, seg, all, &gk, &wi);
+    FSSegmentIntegrals(h, x, seg, all, &gk, &wi);
     *gamma += gk;
     grad[0] -= wi * seg[6];
     grad[1] -= wi * seg[7];

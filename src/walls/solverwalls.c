@@ -86,7 +86,7 @@ PetscErrorCode FSSolverWallsSetUp(FSSolver s)
     const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
     const PetscReal  x[2] = {sg[4] - 1e-3 * s->h * sg[6], sg[5] - 1e-3 * s->h * sg[7]};
     PetscReal        grad[2];
-    PetscCall(FSWallsShepard(w, s->h, x, &wd->wetfull[k], grad));
+    PetscCall(FSWallsShepard(w, s->h, x, PETSC_FALSE, &wd->wetfull[k], grad));
   }
   /* static grid of segments by midpoint, cells as wide as the candidate radius */
   R         = s->kernel.support + s->halo_skin * s->h;
@@ -267,13 +267,8 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
     for (PetscInt q = wd->cstart[i]; q < wd->cstart[i + 1]; q++) {
       const PetscInt   k  = wd->cand[q];
       const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
-      const PetscReal  d  = (sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7];
       PetscReal        gk, wi;
-      if (wd->visall) FSSegmentIntegralsAll(h, x, sg, &gk, &wi);
-      else {
-        if (d <= 0) continue; /* faces away: hidden */
-        FSSegmentIntegrals(h, x, sg, &gk, &wi);
-      }
+      FSSegmentIntegrals(h, x, sg, wd->visall, &gk, &wi); /* zero for a segment facing away, unless visall */
       g += gk;
       if (wi > 0) {
         wd->wnbr[nw] = k;
@@ -306,7 +301,7 @@ PetscErrorCode FSSolverWallsPrepare(FSSolver s)
         const PetscReal  wv = wd->wW[q] * s->vol[i];
         const PetscReal  mid[2] = {0.5 * (sg[4] + x[0]), 0.5 * (sg[5] + x[1])};
         PetscReal        g[2];
-        if ((sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7] <= 0) continue; /* p_k from the side the segment faces (-fs_walls_visibility all) */
+        if (wd->visall && (sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7] <= 0) continue; /* p_k from the side the segment faces (the lists hold only such segments otherwise) */
         FSFrameFieldEval(&s->body, mid, g);
         num[k] += (s->pressure[i] + rho * (g[0] * (sg[4] - x[0]) + g[1] * (sg[5] - x[1]))) * wv;
         den[k] += wv;

@@ -54,7 +54,5 @@ PETSC_INTERN PetscReal      FSWallsDistance(const FSWalls *, const PetscReal x[]
 
 /* Shepard factor from the walls alone (notes/boundary-integrals.md): gamma(x) and its gradient
    from the segments within the kernel support that face x. */
-PETSC_INTERN void      FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscReal *gammak, PetscReal *wint);
-PETSC_INTERN void      FSSegmentIntegralsAll(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscReal *gammak, PetscReal *wint);
-PETSC_INTERN PetscErrorCode FSWallsShepardVisibility(const FSWalls *, PetscReal h, const PetscReal x[], PetscBool all, PetscReal *gamma, PetscReal grad[]);
-PETSC_INTERN PetscErrorCode FSWallsShepard(const FSWalls *, PetscReal h, const PetscReal x[], PetscReal *gamma, PetscReal grad[]);
+PETSC_INTERN void      FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool all, PetscReal *gammak, PetscReal *wint);
+PETSC_INTERN PetscErrorCode FSWallsShepard(const FSWalls *, PetscReal h, const PetscReal x[], PetscBool all, PetscReal *gamma, PetscReal grad[]);

@@ -12,7 +12,7 @@ static PetscErrorCode Gamma(FSWalls *w, PetscReal h, PetscReal x, PetscReal y, P
 {
   PetscReal xy[2] = {x, y}, gr[2];
   PetscFunctionBegin;
-  PetscCall(FSWallsShepard(w, h, xy, g, grad ? grad : gr));
+  PetscCall(FSWallsShepard(w, h, xy, PETSC_FALSE, g, grad ? grad : gr));
   PetscFunctionReturn(0);
 }
 

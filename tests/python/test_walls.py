@@ -112,58 +112,71 @@ HYDROSTATIC = {
 }
 
 
-@pytest.mark.parametrize("shape", list(HYDROSTATIC))
-def test_hydrostatic_tank_stays_quiet(tmp_path, shape):
-    """Liquid at rest, 3 cm deep, delta-LES-SPH with boundary integrals, a delta floor of 0.1 with the
-    hydrostatic correction (as cases/hydrostatic.opts) and a start-up relaxation of 0.1 s, to t sqrt(g/H)
-    = 20 (notes/validation.md). Measured (rectangular / baffled): rms speed 0.0019-0.0037 / 0.0039-0.0058
-    sqrt(gH) from T = 4 on (the baffled tank's largest at T = 4, after the relaxation, then 0.0039-0.0045;
-    0.0037-0.0047 before the wall pressure stopped sucking at the dry walls above the surface, which
-    held the liquid's top at the walls), without a trend (a rectangular run to T = 100 stays at 0.003); the pressure's
-    row means below 0.8 H within 0.9 % / 1.0 % of rho0 g (H - y) at T = 20 (largest at the floor); the
-    vertical wall load from T = 10 to 20 the weight within 0.9 % / 1.0 %. Without the occlusion of the
-    segments behind the baffles the baffled tank's rms speed was 0.046 sqrt(gH)."""
+RESTING_H, G = 0.03, 9.81  # the tanks' 50 % fill of 0.06 m
+
+
+def run_resting_tank(tmp_path, args, dx):
+    """Liquid at rest RESTING_H deep in -fs_case tank with the options of cases/hydrostatic.opts (a
+    delta floor of 0.1 with the hydrostatic correction, a start-up relaxation of 0.1 s) and args, to
+    T = t sqrt(g/H) = 20, a snapshot every 2. Returns the measures the resting-tank tests assert:
+    T and the rms and largest speeds (over sqrt(gH)) of the snapshots; at T = 20 the particles'
+    pressure error relative to rho0 g (H - y) below 0.8 H (rms) and its row means (rows of dx); over
+    T = 10-20 the mean wall loads (vertical, horizontal, moment about the origin), the weight and
+    the tank's length as the liquid spans it."""
     from conftest import read_series, snapshot_files, read_snapshot
 
-    H, g = 0.03, 9.81
+    H, g = RESTING_H, G
     tscale = np.sqrt(H / g)
-    out = tmp_path / "hs"
+    out = tmp_path / "rest"
     run_flexslosh(["-fs_case", "tank", "-ts_max_time", 20 * tscale, "-fs_relax_time", 0.1, "-fs_delta_min", 0.1,
-                   "-fs_delta_hydrostatic", "-fs_output_interval", 2 * tscale, "-fs_output_dir", out]
-                  + HYDROSTATIC[shape], cwd=tmp_path, timeout=600)
+                   "-fs_delta_hydrostatic", "-fs_output_interval", 2 * tscale, "-fs_output_dir", out] + args,
+                  cwd=tmp_path, timeout=600)
     s = read_series(out)
-    U = np.sqrt(g * H)
     assert s["time"][-1] == pytest.approx(20 * tscale)
     assert np.abs(s["mass"] / s["mass"][0] - 1).max() < 1e-13
     snaps = [read_snapshot(f) for f in snapshot_files(out)]
-    T = np.array([sn.attrs["time"] / tscale for sn in snaps])
-    rms = np.array([np.sqrt((np.sum(sn["velocity"] ** 2, axis=1)).mean()) / U for sn in snaps])
-    top = np.array([np.sqrt(np.sum(sn["velocity"] ** 2, axis=1)).max() / U for sn in snaps])
+    U = np.sqrt(g * H)
+    speed = [np.sqrt(np.sum(sn["velocity"] ** 2, axis=1)) / U for sn in snaps]
+    x, p = snaps[-1]["position"], snaps[-1]["pressure"]
+    err = (p - 1000 * g * (H - x[:, 1])) / (1000 * g * H)
+    late = s["time"] >= 10 * tscale
+    load = {part: sum(s[c][late] for c in s if c.startswith("wall_") and c.endswith(part)).mean()
+            for part in ("_force_x", "_force_y", "_moment")}
+    return dict(T=np.array([sn.attrs["time"] / tscale for sn in snaps]),
+                rms=np.array([np.sqrt((v ** 2).mean()) for v in speed]), top=np.array([v.max() for v in speed]),
+                deep_rms=np.sqrt((err[x[:, 1] < 0.8 * H] ** 2).mean()),
+                rows=np.array([err[(x[:, 1] >= y0) & (x[:, 1] < y0 + dx)].mean() for y0 in np.arange(0, 0.8 * H - 1e-9, dx)]),
+                fx=load["_force_x"], fy=load["_force_y"], mz=load["_moment"], weight=s["mass"][0] * g,
+                length=x[:, 0].max() + x[:, 0].min())
+
+
+@pytest.mark.parametrize("shape", list(HYDROSTATIC))
+def test_hydrostatic_tank_stays_quiet(tmp_path, shape):
+    """Liquid at rest, 3 cm deep, delta-LES-SPH with boundary integrals (run_resting_tank), to
+    t sqrt(g/H) = 20 (notes/validation.md). Measured (rectangular / baffled): rms speed 0.0019-0.0037 /
+    0.0039-0.0058 sqrt(gH) from T = 4 on (the baffled tank's largest at T = 4, after the relaxation,
+    then 0.0039-0.0045; 0.0037-0.0047 before the wall pressure stopped sucking at the dry walls above
+    the surface, which held the liquid's top at the walls), without a trend (a rectangular run to
+    T = 100 stays at 0.003); the pressure's row means below 0.8 H within 0.9 % / 1.0 % of
+    rho0 g (H - y) at T = 20 (largest at the floor); the vertical wall load from T = 10 to 20 the
+    weight within 0.9 % / 1.0 %. Without the occlusion of the segments behind the baffles the baffled
+    tank's rms speed was 0.046 sqrt(gH)."""
+    r = run_resting_tank(tmp_path, HYDROSTATIC[shape], HYDROSTATIC[shape][-1])
+    T, rms = r["T"], r["rms"]
     assert T[-1] == pytest.approx(20) and len(T) == 11
     settled = T >= 4
     assert rms[settled].max() < 0.007, rms  # a few 1e-3 sqrt(gH)
-    assert top[settled].max() < 0.04, top
+    assert r["top"][settled].max() < 0.04, r["top"]
     # no growth: the second half of the run is not livelier than the first
     assert rms[T >= 12].mean() < 1.6 * rms[(T >= 4) & (T < 12)].mean(), rms
     # the pressure profile at the end, away from the free surface
-    x, p = snaps[-1]["position"], snaps[-1]["pressure"]
-    dx = HYDROSTATIC[shape][-1]
-    err = (p - 1000 * g * (H - x[:, 1])) / (1000 * g * H)
-    deep = x[:, 1] < 0.8 * H
-    assert np.sqrt((err[deep] ** 2).mean()) < 0.01
-    for y0 in np.arange(0, 0.8 * H - 1e-9, dx):
-        row = (x[:, 1] >= y0) & (x[:, 1] < y0 + dx)
-        assert abs(err[row].mean()) < 0.011, (y0, err[row].mean())
-    # the liquid's load on the tank: its weight, pointing down, with its moment about the origin
-    weight = s["mass"][0] * g
-    late = s["time"] >= 10 * tscale
-    fy = sum(s[c][late] for c in s if c.startswith("wall_") and c.endswith("_force_y"))
-    fx = sum(s[c][late] for c in s if c.startswith("wall_") and c.endswith("_force_x"))
-    mz = sum(s[c][late] for c in s if c.startswith("wall_") and c.endswith("_moment"))
-    length = x[:, 0].max() + x[:, 0].min()  # the tank's length: the liquid is symmetric about its middle
-    assert -fy.mean() == pytest.approx(weight, rel=0.01)
-    assert abs(fx.mean()) < 1e-3 * weight
-    assert mz.mean() == pytest.approx(-weight * length / 2, rel=0.01)
+    assert r["deep_rms"] < 0.01
+    assert (np.abs(r["rows"]) < 0.011).all(), r["rows"]
+    # the liquid's load on the tank: its weight, pointing down, with its moment about the origin (the
+    # liquid is symmetric about the tank's middle)
+    assert -r["fy"] == pytest.approx(r["weight"], rel=0.01)
+    assert abs(r["fx"]) < 1e-3 * r["weight"]
+    assert r["mz"] == pytest.approx(-r["weight"] * r["length"] / 2, rel=0.01)
 
 
 def test_lifted_baffles_stay_quiet_with_visibility_all(tmp_path):
@@ -174,39 +187,18 @@ def test_lifted_baffles_stay_quiet_with_visibility_all(tmp_path):
     on (max 0.024), deep pressure 0.53 % rms, row means within 0.94 %, floor load the weight within
     1.0 %; the default (cut) gives 0.024-0.058 sqrt(gH), growing, and 3.9 g at the start beside the
     corners (0.40 g with all, the floor's corners)."""
-    from conftest import read_series, snapshot_files, read_snapshot
-
-    H, g, dx = 0.03, 9.81, 0.0025
-    tscale = np.sqrt(H / g)
-    out = tmp_path / "lifted"
-    run_flexslosh(["-fs_case", "tank", "-fs_tank_shape", "baffled", "-fs_tank_compartments", 2,
-                   "-fs_tank_baffle_gap", 0.005, "-fs_dx", dx, "-fs_walls_visibility", "all",
-                   "-ts_max_time", 20 * tscale, "-fs_relax_time", 0.1, "-fs_delta_min", 0.1,
-                   "-fs_delta_hydrostatic", "-fs_output_interval", 2 * tscale, "-fs_output_dir", out],
-                  cwd=tmp_path, timeout=300)
-    s = read_series(out)
-    U = np.sqrt(g * H)
-    assert np.abs(s["mass"] / s["mass"][0] - 1).max() < 1e-13
-    snaps = [read_snapshot(f) for f in snapshot_files(out)]
-    T = np.array([sn.attrs["time"] / tscale for sn in snaps])
-    rms = np.array([np.sqrt((np.sum(sn["velocity"] ** 2, axis=1)).mean()) / U for sn in snaps])
-    top = np.array([np.sqrt(np.sum(sn["velocity"] ** 2, axis=1)).max() / U for sn in snaps])
+    dx = 0.0025
+    r = run_resting_tank(tmp_path, ["-fs_tank_shape", "baffled", "-fs_tank_compartments", 2, "-fs_tank_baffle_gap", 0.005,
+                                    "-fs_dx", dx, "-fs_walls_visibility", "all"], dx)
+    T = r["T"]
     assert T[-1] == pytest.approx(20) and len(T) == 11
     settled = T >= 4
-    assert rms[settled].max() < 0.007, rms
-    assert top[settled].max() < 0.04, top
-    x, p = snaps[-1]["position"], snaps[-1]["pressure"]
-    err = (p - 1000 * g * (H - x[:, 1])) / (1000 * g * H)
-    deep = x[:, 1] < 0.8 * H
-    assert np.sqrt((err[deep] ** 2).mean()) < 0.01
-    for y0 in np.arange(0, 0.8 * H - 1e-9, dx):
-        row = (x[:, 1] >= y0) & (x[:, 1] < y0 + dx)
-        assert abs(err[row].mean()) < 0.015, (y0, err[row].mean())
+    assert r["rms"][settled].max() < 0.007, r["rms"]
+    assert r["top"][settled].max() < 0.04, r["top"]
+    assert r["deep_rms"] < 0.01
+    assert (np.abs(r["rows"]) < 0.015).all(), r["rows"]
     # the load on the walls (the baffles' undersides included): the weight
-    weight = s["mass"][0] * g
-    late = s["time"] >= 10 * tscale
-    fy = sum(s[c][late] for c in s if c.startswith("wall_") and c.endswith("_force_y"))
-    assert -fy.mean() == pytest.approx(weight, rel=0.015)
+    assert -r["fy"] == pytest.approx(r["weight"], rel=0.015)
 
 
 # Martin & Moyce (1952), column a wide and 2a high: T = t sqrt(2g/a), Z = x_front/a (notes/validation.md)
