@@ -197,8 +197,12 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
   s->loads.force[1]  = (sn * F[0] + c * F[1]) * s->tank_width - s->static_loads.force[1];
   s->loads.moment[2] = M * s->tank_width - s->static_loads.moment[2];
   /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
-  PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f));
-  PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : (*st->ops.motion)(st, s->sy, s->sydot, &s->motion), "motion", FS_MOTION_NREAL, (PetscReal *)&s->motion));
+  {
+    PetscErrorCode ierr; /* rank 0's: checked with the motion's broadcast, one collective for both */
+    PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f, &ierr));
+    if (!rank && !ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &s->motion);
+    PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&s->motion));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -307,7 +307,7 @@ PETSC_INTERN PetscErrorCode FSCaseHelpAll(FSSolver, PetscOptionItems *);
 
 /* the structure inside the solver (src/structure.c) */
 PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast, const PetscReal *u, PetscReal *f);
+PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast, const PetscReal *u, PetscReal *f, PetscErrorCode *rank0err);
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
 /* the reals of an FSTankMotion, and the most a structure routine's result broadcast carries */
 #define FS_MOTION_NREAL ((PetscInt)(sizeof(FSTankMotion) / sizeof(PetscReal)))

@@ -375,7 +375,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     PetscCall(FSSolverCouplingRates(s, f));
     PetscCall(FSSolverCouplingInertia(s, f, &s->ext_power));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
-  } else PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, f));
+  } else PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, f, NULL));
   /* powers: the rates of the dissipated energies (the next block) and of the energy block's integrals, rank 0 */
   for (PetscInt t = 0; t < s->terms.nterms; t++)
     if (s->terms.term[t]->has_power) power[npower++] = s->terms.term[t]->power;

@@ -245,14 +245,19 @@ PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
    With broadcast PETSC_FALSE s->sy already holds this stage's state on every rank (the coupling
    broadcast it) and u is not read. The flag is explicit: u itself cannot say it, since a rank that
    owns no entries of the state gets a NULL array from VecGetArrayRead().
+   With rank0err NULL a failure of the structure's routine on rank 0 is raised on every rank here
+   (one broadcast of the error code); else rank 0's code is returned in *rank0err (0 elsewhere) for a
+   caller that broadcasts a result of its own next, to check it there (FSSolverStructureResultRank0)
+   without a broadcast of its own.
 */
-PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const PetscReal *u, PetscReal *f)
+PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const PetscReal *u, PetscReal *f, PetscErrorCode *rank0err)
 {
   FSStructure st = s->structure;
   PetscMPIInt rank;
   const PetscInt off = s->nowned * s->ustride + s->gstruct;
 
   PetscFunctionBegin;
+  if (rank0err) *rank0err = 0;
   if (!st || !st->ndof) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
@@ -263,14 +268,16 @@ PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const Pet
       ierr = (*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot);
       if (!ierr && f) ierr = PetscArraycpy(f + off, s->sydot, st->ndof);
     }
-    PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side", 0, NULL));
+    if (rank0err) *rank0err = ierr;
+    else PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side", 0, NULL));
   }
   PetscCall(PetscLogEventEnd(FS_Structure, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
-/* Rank 0: the structure's state and rate at the current state of the TS (rate with the current loads). */
-static PetscErrorCode FSSolverStructureCurrent(FSSolver s)
+/* The structure's state (every rank) and rate (rank 0) at the current state of the TS, the rate with
+   the current loads; rank0err as in FSSolverStructureRates (NULL: a failure is raised here). */
+static PetscErrorCode FSSolverStructureCurrent(FSSolver s, PetscErrorCode *rank0err)
 {
   const PetscScalar *u;
   PetscReal          t;
@@ -279,7 +286,7 @@ static PetscErrorCode FSSolverStructureCurrent(FSSolver s)
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(VecGetArrayRead(s->U, &u));
   s->rhs_time = t;
-  PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, NULL));
+  PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, NULL, rank0err));
   PetscCall(VecRestoreArrayRead(s->U, &u));
   PetscFunctionReturn(0);
 }
@@ -293,14 +300,16 @@ static PetscErrorCode FSSolverStructureCurrent(FSSolver s)
 */
 PetscErrorCode FSSolverGetTankMotion(FSSolver s, FSTankMotion *m)
 {
-  PetscMPIInt rank;
+  PetscMPIInt    rank;
+  PetscErrorCode ierr;
 
   PetscFunctionBegin;
   PetscCall(PetscMemzero(m, sizeof(*m)));
   if (!s->structure || !s->structure->ndof) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-  PetscCall(FSSolverStructureCurrent(s));
-  PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : (*s->structure->ops.motion)(s->structure, s->sy, s->sydot, m), "motion", FS_MOTION_NREAL, (PetscReal *)m));
+  PetscCall(FSSolverStructureCurrent(s, &ierr));
+  if (!rank && !ierr) ierr = (*s->structure->ops.motion)(s->structure, s->sy, s->sydot, m);
+  PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)m));
   PetscFunctionReturn(0);
 }
 
@@ -315,7 +324,7 @@ PetscErrorCode FSSolverGetStructureState(FSSolver s, PetscInt *n, PetscReal y[])
   PetscFunctionBegin;
   *n = s->structure ? s->structure->ndof : 0;
   if (!*n || !y) PetscFunctionReturn(0);
-  PetscCall(FSSolverStructureCurrent(s));
+  PetscCall(FSSolverStructureCurrent(s, NULL));
   PetscCall(PetscArraycpy(y, s->sy, *n));
   PetscFunctionReturn(0);
 }
@@ -379,7 +388,7 @@ PetscErrorCode FSSolverStructureValues(FSSolver s, PetscReal vals[])
   PetscFunctionBegin;
   if (!st) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-  PetscCall(FSSolverStructureCurrent(s));
+  PetscCall(FSSolverStructureCurrent(s, NULL));
   if (rank) PetscFunctionReturn(0);
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &m));
@@ -411,7 +420,7 @@ PetscErrorCode FSSolverStructureSnapshot(FSSolver s)
   PetscFunctionBegin;
   if (!s->structure || !s->structure->ops.snapshot) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-  PetscCall(FSSolverStructureCurrent(s));
+  PetscCall(FSSolverStructureCurrent(s, NULL));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
   if (!rank) PetscCall((*s->structure->ops.snapshot)(s->structure, s->outdir, t, step, s->sy));
@@ -430,7 +439,7 @@ PetscErrorCode FSSolverStructureSummary(FSSolver s, FSJSON js)
     PetscCall(FSJSONWriteInt(js, "ndof", st->ndof));
     PetscCall(FSJSONWriteReal(js, "min_period", st->min_period));
     if (st->ndof) {
-      PetscCall(FSSolverStructureCurrent(s));
+      PetscCall(FSSolverStructureCurrent(s, NULL));
       PetscCall(FSJSONWriteRealArray(js, "final_state", st->ndof, s->sy));
     }
     if (st->ops.summary) PetscCall((*st->ops.summary)(st, js));
