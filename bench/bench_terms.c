@@ -8,9 +8,9 @@
 
      build/bench_terms -fs_dx 0.005 [-reps 20]
 */
-#include "fsimpl.h"
+#include "solver/solverimpl.h"
 
-/* The five terms fused by hand: the same formulas as plugins/terms/{continuity,delta,pressure,viscosity}.c. */
+/* The five terms fused by hand: the same formulas as src/terms/impls/{continuity,delta,pressure,viscosity}.c. */
 static void FusedRates(FSSolver s, const PetscReal *delta, const PetscReal *a, PetscReal *f, PetscReal Kvisc)
 {
   const PetscInt   dim = s->dim, S = s->stride, US = s->ustride, A = s->auxstride;

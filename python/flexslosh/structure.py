@@ -22,7 +22,7 @@ message carries the exception's type and text (and Python prints its traceback):
     flexslosh.register_structure("spring1", Spring)
     Solver({"fs_case": "beam", "fs_structure": "spring1"}).run()
 
-``MassSpringDamper`` is the Python twin of the built-in ``msd`` (plugins/structures/msd.c), with the
+``MassSpringDamper`` is the Python twin of the built-in ``msd`` (src/structure/impls/msd.c), with the
 same options and formulas.
 """
 from __future__ import annotations
@@ -123,7 +123,7 @@ class Structure(ABC):
 
 class MassSpringDamper(Structure):
     """The cantilever as a mass-spring-damper at the tank, m w'' + c w' + K w = F: the built-in ``msd``
-    (plugins/structures/msd.c) written in Python, with its options (-fs_beam_*, -fs_msd_*) and formulas,
+    (src/structure/impls/msd.c) written in Python, with its options (-fs_beam_*, -fs_msd_*) and formulas,
     so that both give the same run to round-off. State (w, w')."""
 
     ndof = 2

@@ -4,7 +4,7 @@
    - the cell-list neighbour list equals a brute-force search (same pairs, same kernel factors)
      for random particles, owned and extra (ghost-like) ones, in 2-D and 3-D.
 */
-#include "fsimpl.h"
+#include "particles/fsparticles.h"
 
 static PetscErrorCode TestKernel(PetscInt dim)
 {

@@ -1,5 +1,5 @@
 /*
-   Unit test of src/output: snapshots (2-D and 3-D) with their XDMF and CSV index, the snapshot
+   Unit test of src/io: snapshots (2-D and 3-D) with their XDMF and CSV index, the snapshot
    index on restart, checkpoints (write, read back exactly, even split on another communicator
    size, error cases), the time-series CSV with restart, and the JSON writer.
 
@@ -13,7 +13,7 @@
 #include <math.h>
 #include <petscvec.h>
 #include <petscviewerhdf5.h>
-#include "fsoutput.h"
+#include "io/fsoutput.h"
 
 /* Fails the test (on every rank of comm) when cond is false */
 #define TCHECK(comm, cond, ...) PetscCheck(cond, comm, PETSC_ERR_PLIB, "test_output: " __VA_ARGS__)

@@ -4,7 +4,7 @@
    thin baffles seen from either side, grad gamma against finite differences, the seed's baffled
    tank, and the errors on bad polygons and files.
 */
-#include "walls/walls.h"
+#include "boundary/impls/polygon/walls.h"
 
 #define CHECK(c, ...) PetscCheck(c, PETSC_COMM_SELF, PETSC_ERR_PLIB, __VA_ARGS__)
 

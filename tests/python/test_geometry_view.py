@@ -13,7 +13,7 @@ from conftest import read_summary, run_flexslosh, snapshot_files
 DX = 0.004
 BAFFLED = ["-fs_case", "tank", "-fs_tank_shape", "baffled", "-fs_tank_baffle_gap", 0.005, "-fs_dx", DX, "-fs_geometry_view"]
 
-# the picture's layout and colours (src/walls/geometryview.c)
+# the picture's layout and colours (src/boundary/impls/polygon/geometryview.c)
 SIZE, MARGIN = 1600, 20
 WHITE = (255, 255, 255)
 PARTICLE = (30, 90, 220)

@@ -1,0 +1,38 @@
+/* A lattice of particles filling a box, enumerated globally and split in chunks over the ranks
+   (so ids do not depend on the number of ranks). Used by the periodic cases. */
+#include "solver/solverimpl.h"
+#include "lattice.h"
+
+/*
+   FSLatticeCreate - the particles of this rank's chunk of the lattice (i + 1/2) dx in [lo, hi].
+
+   Output Parameters:
++  n - number of particles on this rank
+-  x - their positions (n*dim), to free with PetscFree
+*/
+PetscErrorCode FSLatticeCreate(FSSolver s, const PetscReal lo[], const PetscReal hi[], PetscInt *n, PetscReal **x)
+{
+  PetscInt    dim = s->dim, nc[3] = {1, 1, 1};
+  PetscInt64  total = 1, first, last;
+  PetscMPIInt rank, size;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
+  for (PetscInt d = 0; d < dim; d++) {
+    nc[d] = (PetscInt)PetscFloorReal((hi[d] - lo[d]) / s->dx + 0.5);
+    PetscCheck(nc[d] >= 1, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g is larger than the box (%g) in direction %" PetscInt_FMT, (double)s->dx, (double)(hi[d] - lo[d]), d);
+    PetscCheck(PetscAbsReal(nc[d] * s->dx - (hi[d] - lo[d])) < 1e-8 * (hi[d] - lo[d]), PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g does not divide the periodic box length %g in direction %" PetscInt_FMT ": choose dx = length/N", (double)s->dx, (double)(hi[d] - lo[d]), d);
+    total *= nc[d];
+  }
+  PetscCheck(total < PETSC_MAX_INT, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g gives %" PetscInt64_FMT " particles, too many", (double)s->dx, total);
+  first = total * rank / size;
+  last  = total * (rank + 1) / size;
+  *n    = (PetscInt)(last - first);
+  PetscCall(PetscMalloc1(*n * dim + 1, x));
+  for (PetscInt64 g = first; g < last; g++) {
+    PetscInt64 i[3] = {g % nc[0], (g / nc[0]) % nc[1], g / (nc[0] * nc[1])};
+    for (PetscInt d = 0; d < dim; d++) (*x)[(g - first) * dim + d] = lo[d] + (i[d] + 0.5) * s->dx;
+  }
+  PetscFunctionReturn(0);
+}

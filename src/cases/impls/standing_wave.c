@@ -1,0 +1,136 @@
+/*
+   Case "standing_wave": a small standing wave (linear sloshing) in a rectangular tank with free-slip
+   walls, the validation of notes/validation.md. Non-dimensional, as the delta-SPH reference: g = 1,
+   rho0 = 1, lengths in units of the depth h.
+     -fs_sw_length L (2), -fs_sw_depth h (1): the tank [0, L] x [0, 1.5 h] holds liquid up to y = h;
+     -fs_sw_mode n (1): the mode cos(k x), k = n pi / L (n = 1: the first, sloshing mode; the
+                  reference's omega = 1.76915 sqrt(g/h) is n = 2 in L = 2h, i.e. k = pi/h);
+     -fs_sw_amplitude A/h (0.05, the reference's 2A/h = 0.1): the amplitude A of the surface elevation;
+     -fs_sw_reynolds Re (250): nu = h sqrt(g h) / Re, unless -fs_nu is given.
+   Linear theory: omega^2 = g k tanh(k h). The surface eta = A cos(k x) sin(omega t) starts flat, with
+   the velocity potential phi = (g A / omega) cos(k x) cosh(k y) / cosh(k h) cos(omega t) at its
+   largest, so the particles start with
+     u = -A omega sin(k x) cosh(k y) / sinh(k h),   v = A omega cos(k x) sinh(k y) / sinh(k h)
+   (the floor at y = 0) and the hydrostatic density. The kinetic energy (per unit width)
+     E_k(t) = (rho0 g A^2 L / 8) (1 + cos 2 omega t) exp(-4 nu k^2 t)
+   oscillates at 2 omega and decays, with free-slip walls, at 4 nu k^2 (the amplitude at 2 nu k^2,
+   whatever the depth: the dissipation of the potential flow is 8 nu k^2 times its kinetic energy).
+   This is the leading order in nu: the exact linear viscous mode (Lamb's relation at finite depth with
+   a free-slip floor, tests/python/test_standing_wave.py) decays slower by a relative O((nu k^2/omega)^1/2),
+   at 0.941 x 4 nu k^2 for the defaults.
+   With eps = 2A/h this is the reference's (eps^2 g L h^2 / 32) (1 + cos 2 omega t) exp(-4 nu k^2 t).
+   The time series has this E_k(t) as column kinetic_energy_linear, scaled to the particles' own initial
+   kinetic energy (which differs from rho0 g A^2 L / 4 by O(dx^2) and the hydrostatic rho/rho0 - 1).
+   The floor is a wall of its own, "floor", the sides and the lid wall "tank": -fs_walls_noslip floor
+   makes the floor no-slip with free-slip sides, which the mode cos(k x) still satisfies exactly, so that
+   the exact linear viscous mode with a no-slip floor (tests/python/test_standing_wave.py) is the
+   reference for the no-slip wall term (no contact line moves along a no-slip wall).
+   Defaults: dx = h/50, c0 = 10 sqrt(g h) (the waves' speeds are below 0.1 sqrt(g h)), the wall cases'
+   terms (delta-LES-SPH with boundary integrals) and CFL 1.5, final time 20 sqrt(h/g).
+*/
+#include "solver/solverimpl.h"
+#include "liquid.h"
+
+typedef struct {
+  PetscReal L, h, A, Re, k, omega, ke0;
+  PetscInt  mode;
+} StandingWave;
+
+static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
+{
+  StandingWave *sw   = (StandingWave *)s->casedata;
+  PetscReal     g[3] = {0, -1, 0};
+
+  PetscFunctionBegin;
+  PetscOptionsHeadBegin(PetscOptionsObject, "Case standing_wave");
+  PetscCall(PetscOptionsReal("-fs_sw_length", "Length L of the tank", "", sw->L, &sw->L, NULL));
+  PetscCall(PetscOptionsReal("-fs_sw_depth", "Depth h of the liquid", "", sw->h, &sw->h, NULL));
+  PetscCall(PetscOptionsInt("-fs_sw_mode", "Mode n of the wave: k = n pi / L", "", sw->mode, &sw->mode, NULL));
+  PetscCall(PetscOptionsReal("-fs_sw_amplitude", "Amplitude A/h of the surface elevation", "", sw->A, &sw->A, NULL));
+  PetscCall(PetscOptionsReal("-fs_sw_reynolds", "Reynolds number h sqrt(g h) / nu (ignored when -fs_nu is given)", "", sw->Re, &sw->Re, NULL));
+  PetscOptionsHeadEnd();
+  PetscCheck(sw->L > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_length %g must be positive", (double)sw->L);
+  PetscCheck(sw->h > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_depth %g must be positive", (double)sw->h);
+  PetscCheck(sw->mode >= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_mode %" PetscInt_FMT " must be at least 1", sw->mode);
+  PetscCheck(sw->A > 0 && sw->A <= 0.25, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_amplitude %g is out of range: expected A/h in (0, 0.25] (linear theory wants it small)", (double)sw->A);
+  PetscCheck(sw->Re > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_reynolds %g must be positive", (double)sw->Re);
+  PetscCheck(s->dim == 2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Case standing_wave is 2-D: -fs_dim %" PetscInt_FMT " is not supported", s->dim);
+  PetscCall(FSSolverSetDefaultPhysics(s, 1.0, 10 * PetscSqrtReal(sw->h), sw->h * PetscSqrtReal(sw->h) / sw->Re, g));
+  PetscCall(PetscStrncpy(s->default_terms, FS_WALL_CASE_TERMS, sizeof(s->default_terms)));
+  s->dx         = sw->h / 50;
+  s->cfl        = 1.5; /* RK4: checked on the hydrostatic tank and the dam break (same results as 0.4) */
+  s->final_time = 20 * PetscSqrtReal(sw->h);
+  PetscFunctionReturn(0);
+}
+
+/* the velocity of the standing wave when its surface is flat (the header comment) */
+static PetscErrorCode Velocity(const PetscReal x[], PetscReal u[], void *ctx)
+{
+  StandingWave   *sw = (StandingWave *)ctx;
+  const PetscReal a  = sw->A * sw->h * sw->omega / PetscSinhReal(sw->k * sw->h);
+
+  PetscFunctionBegin;
+  u[0] = -a * PetscSinReal(sw->k * x[0]) * PetscCoshReal(sw->k * x[1]);
+  u[1] = a * PetscCosReal(sw->k * x[0]) * PetscSinhReal(sw->k * x[1]);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SetUp(FSSolver s)
+{
+  StandingWave *sw   = (StandingWave *)s->casedata;
+  MPI_Comm      comm = PetscObjectComm((PetscObject)s);
+  FSWalls       w;
+  PetscReal     ke = 0, *u, *m;
+  PetscInt      n;
+
+  PetscFunctionBegin;
+  PetscCheck(s->gravity[0] == 0 && s->gravity[1] < 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Case standing_wave needs gravity pointing down (-fs_gravity 0,-g), not %g,%g", (double)s->gravity[0], (double)s->gravity[1]);
+  sw->k     = sw->mode * PETSC_PI / sw->L;
+  sw->omega = PetscSqrtReal(-s->gravity[1] * sw->k * PetscTanhReal(sw->k * sw->h));
+  PetscCall(FSWallsCreate(&w));
+  PetscCall(FSWallsRectangularTank(&w, comm, sw->L, 1.5 * sw->h));
+  PetscCall(FSWallsSetEdgeWall(&w, comm, 0, 0, "floor"));
+  PetscCall(FSWallsCheck(&w, comm));
+  PetscCall(FSCaseFillLiquidWithVelocity(s, &w, 0, sw->L, 0, sw->h, "the liquid (-fs_sw_length x -fs_sw_depth)", Velocity, sw));
+  /* the particles' initial kinetic energy, the scale of kinetic_energy_linear */
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  for (PetscInt p = 0; p < n; p++) ke += 0.5 * m[p] * (u[2 * p] * u[2 * p] + u[2 * p + 1] * u[2 * p + 1]);
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
+  PetscCallMPI(MPI_Allreduce(&ke, &sw->ke0, 1, MPIU_REAL, MPI_SUM, comm));
+  PetscCall(PetscInfo(s, "Standing wave: k = %g, omega = %g, period %g, kinetic energy decay rate 4 nu k^2 = %g, E_k(0) = %g (linear theory %g)\n", (double)sw->k, (double)sw->omega, (double)(2 * PETSC_PI / sw->omega), (double)(4 * s->nu * sw->k * sw->k), (double)sw->ke0,
+                      (double)(s->rho0 * -s->gravity[1] * PetscSqr(sw->A * sw->h) * sw->L / 4)));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Analytic(FSSolver s, PetscReal t, PetscReal *value)
+{
+  StandingWave *sw = (StandingWave *)s->casedata;
+
+  PetscFunctionBegin;
+  *value = sw->ke0 * 0.5 * (1 + PetscCosReal(2 * sw->omega * t)) * PetscExpReal(-4 * s->nu * sw->k * sw->k * t);
+  PetscFunctionReturn(0);
+}
+
+PETSC_EXTERN PetscErrorCode FSCaseCreate_StandingWave(FSSolver s, FSCaseOps *ops)
+{
+  StandingWave *sw;
+
+  PetscFunctionBegin;
+  PetscCall(PetscFree(s->casedata));
+  PetscCall(PetscNew(&sw));
+  sw->L                = 2;
+  sw->h                = 1;
+  sw->mode             = 1;
+  sw->A                = 0.05;
+  sw->Re               = 250;
+  s->casedata          = sw;
+  ops->setfromoptions  = SetFromOptions;
+  ops->setup           = SetUp;
+  ops->columns         = Analytic;
+  ops->ncolumns        = 1;
+  ops->column_names[0] = "kinetic_energy_linear";
+  PetscFunctionReturn(0);
+}

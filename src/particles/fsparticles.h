@@ -1,0 +1,94 @@
+/*
+   The particles' geometry (src/particles): the smoothing kernel, the decomposition of the domain over
+   the ranks, the halo of ghost particles and the cell and neighbour lists. Plain data structures that
+   know nothing of the solver: they take arrays of particle records.
+*/
+#pragma once
+#include <petscsf.h>
+
+/* Wendland C2 kernel with support 2h, dimension 2 or 3. */
+typedef struct {
+  PetscInt  dim;
+  PetscReal h, support, support2;
+  PetscReal wnorm; /* W(q) = wnorm (1 - q/2)^4 (2q + 1) */
+  PetscReal fnorm; /* grad_i W = fnorm (1 - q/2)^3 (x_i - x_j), i.e. F(r) = W'(r)/r */
+} FSKernel;
+
+PETSC_INTERN PetscErrorCode FSKernelSetUp(FSKernel *, PetscInt dim, PetscReal h);
+static inline PetscReal FSKernelW(const FSKernel *k, PetscReal r)
+{
+  const PetscReal q = r / k->h, a = 1.0 - 0.5 * q;
+  return q >= 2.0 ? 0.0 : k->wnorm * a * a * a * a * (2.0 * q + 1.0);
+}
+/* F(r) such that grad_i W(x_i - x_j) = F(r) (x_i - x_j); valid for r < 2h. */
+static inline PetscReal FSKernelF(const FSKernel *k, PetscReal r)
+{
+  const PetscReal a = 1.0 - 0.5 * r / k->h;
+  return k->fnorm * a * a * a;
+}
+
+/* Orthogonal process grid over the domain box: rank (i,j,k) owns
+   [cut[d][i_d], cut[d][i_d+1]) in every direction d. */
+typedef struct {
+  PetscInt    dim;
+  PetscReal   lo[3], hi[3], len[3];
+  PetscBool   periodic[3];
+  PetscMPIInt size, rank;
+  PetscMPIInt np[3];    /* ranks per direction */
+  PetscMPIInt coord[3]; /* this rank's position in the grid */
+  PetscReal  *cut[3];   /* np[d]+1 cut positions per direction */
+} FSDecomp;
+
+PETSC_INTERN PetscErrorCode FSDecompSetUp(FSDecomp *, MPI_Comm, PetscInt dim, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[], PetscReal minwidth);
+PETSC_INTERN PetscErrorCode FSDecompBalance(FSDecomp *, MPI_Comm, PetscInt n, const PetscReal x[], PetscReal minwidth);
+PETSC_INTERN PetscErrorCode FSDecompDestroy(FSDecomp *);
+PETSC_INTERN PetscMPIInt    FSDecompRankOf(const FSDecomp *, const PetscReal x[]);
+PETSC_INTERN PetscMPIInt    FSDecompRankAt(const FSDecomp *, const PetscMPIInt c[]);
+
+/* Ghost particles: copies of owned particles of other ranks (or periodic images of this rank's)
+   within the halo width of this rank's subdomain. Refreshed through a PetscSF each RHS. */
+typedef struct {
+  PetscInt   nghost, cap;
+  PetscReal *shift; /* nghost*dim periodic shift added after each refresh */
+  PetscSF    sf;    /* roots: owned records, leaves: ghost records */
+  MPI_Datatype rectype, auxtype;
+  PetscInt   recstride, auxstride;
+  /* send-side work for building */
+  PetscInt   nsend, sendcap;
+  PetscInt  *send_index;
+  PetscMPIInt *send_rank;
+  PetscReal *send_shift;
+} FSHalo;
+
+PETSC_INTERN PetscErrorCode FSHaloBuild(FSHalo *, MPI_Comm, const FSDecomp *, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width);
+PETSC_INTERN PetscErrorCode FSHaloRefresh(FSHalo *, PetscInt dim, PetscInt nowned, PetscReal rec[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshAux(FSHalo *, PetscReal aux[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshScalar(FSHalo *, PetscReal a[]);
+PETSC_INTERN PetscErrorCode FSHaloDestroy(FSHalo *);
+
+/* Cell-linked list (counting sort) and the full neighbour list of owned particles (CSR). */
+typedef struct {
+  PetscInt   dim;
+  PetscReal  lo[3], cellsize;
+  PetscInt   nc[3], ncells;
+  PetscInt  *cellstart; /* ncells+1 */
+  PetscInt  *cellof;    /* cell of each particle */
+  PetscInt  *order;     /* particles sorted by cell */
+  PetscInt   ncap, ccap;
+  /* candidate (Verlet) list, built once per step */
+  PetscInt  *cstart;    /* nowned+1 */
+  PetscInt  *cand;
+  PetscInt   ccandcap, ncand;
+  /* neighbour list, built at every right-hand side */
+  PetscInt  *start;     /* nowned+1 */
+  PetscInt  *nbr;       /* neighbour index per pair */
+  PetscReal *F;         /* kernel gradient factor per pair */
+  PetscInt   scap, pcap;
+  PetscInt64 npairs;
+} FSNeighbours;
+
+PETSC_INTERN PetscErrorCode FSNeighboursBuildCells(FSNeighbours *, PetscInt dim, PetscInt n, const PetscReal rec[], PetscInt stride, PetscReal cellsize);
+PETSC_INTERN PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal radius);
+PETSC_INTERN PetscErrorCode FSNeighboursReserveList(FSNeighbours *);
+PETSC_INTERN PetscErrorCode FSNeighboursBuildList(FSNeighbours *, const FSKernel *, PetscInt nowned, const PetscReal rec[], PetscInt stride);
+PETSC_INTERN PetscErrorCode FSNeighboursDestroy(FSNeighbours *);

@@ -1,0 +1,236 @@
+/*
+   Halo exchange: ghost copies of the particles of neighbouring subdomains (and periodic images).
+
+   FSHaloBuild selects, after each migration, the owned particles within the halo width of a face,
+   edge or corner of this rank's box and sends one copy per neighbouring rank (shifted by the
+   period across a periodic boundary; a rank may be its own neighbour). The result is a PetscSF
+   whose roots are the owned particle records and whose leaves are the ghost records stored after
+   them in the same array, so a refresh is one PetscSFBcast.
+*/
+#include "particles/fsparticles.h"
+
+static PetscErrorCode FSHaloPushSend(FSHalo *hl, PetscInt dim, PetscMPIInt rank, PetscInt index, const PetscReal shift[])
+{
+  PetscFunctionBegin;
+  if (hl->nsend == hl->sendcap) {
+    PetscInt     cap = PetscMax(1024, 2 * hl->sendcap);
+    PetscInt    *idx;
+    PetscMPIInt *rk;
+    PetscReal   *sh;
+    PetscCall(PetscMalloc3(cap, &idx, cap, &rk, cap * dim, &sh));
+    PetscCall(PetscArraycpy(idx, hl->send_index, hl->nsend));
+    PetscCall(PetscArraycpy(rk, hl->send_rank, hl->nsend));
+    PetscCall(PetscArraycpy(sh, hl->send_shift, hl->nsend * dim));
+    PetscCall(PetscFree3(hl->send_index, hl->send_rank, hl->send_shift));
+    hl->send_index = idx;
+    hl->send_rank  = rk;
+    hl->send_shift = sh;
+    hl->sendcap    = cap;
+  }
+  hl->send_index[hl->nsend] = index;
+  hl->send_rank[hl->nsend]  = rank;
+  for (PetscInt d = 0; d < dim; d++) hl->send_shift[hl->nsend * dim + d] = shift[d];
+  hl->nsend++;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSHaloBuild - finds the ghosts of every rank and sets up the PetscSF that refreshes them.
+
+   Input Parameters:
++  comm   - the run's communicator
+.  dd     - the decomposition
+.  nowned - number of owned particles
+.  rec    - owned particle records (position first)
+.  stride - reals per record
+-  width  - halo width (kernel support plus skin)
+
+   Notes: collective. Ghost order is deterministic (by source rank, then source order).
+*/
+PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width)
+{
+  const PetscInt dim = dd->dim;
+  PetscInt       noff = dim == 2 ? 9 : 27;
+  PetscMPIInt    size = dd->size, nto = 0, nfrom = 0, *toranks, *fromranks = NULL;
+  PetscInt      *counts, *todata, *fromdata = NULL, *perm, *order;
+  PetscReal     *sendbuf, *recvbuf;
+  PetscSF        tmp;
+  PetscSFNode   *remote;
+  PetscInt      *ilocal, nrec = 1 + dim;
+  MPI_Datatype   rtype;
+
+  PetscFunctionBegin;
+  hl->nsend = 0;
+  for (PetscInt p = 0; p < nowned; p++) {
+    const PetscReal *x = &rec[p * stride];
+    PetscBool        low[3], high[3];
+    for (PetscInt d = 0; d < dim; d++) {
+      low[d]  = (PetscBool)(x[d] - dd->cut[d][dd->coord[d]] < width);
+      high[d] = (PetscBool)(dd->cut[d][dd->coord[d] + 1] - x[d] < width);
+    }
+    if (dim == 2 && !(low[0] || low[1] || high[0] || high[1])) continue;
+    if (dim == 3 && !(low[0] || low[1] || low[2] || high[0] || high[1] || high[2])) continue;
+    for (PetscInt o = 0; o < noff; o++) {
+      PetscInt    off[3] = {o % 3 - 1, (o / 3) % 3 - 1, o / 9 - 1};
+      PetscMPIInt t[3]   = {0, 0, 0};
+      PetscReal   shift[3] = {0, 0, 0};
+      PetscBool   use = PETSC_TRUE, any = PETSC_FALSE;
+      for (PetscInt d = 0; d < dim && use; d++) {
+        t[d] = dd->coord[d] + (PetscMPIInt)off[d];
+        if (off[d] == 0) continue;
+        any = PETSC_TRUE;
+        if ((off[d] < 0 && !low[d]) || (off[d] > 0 && !high[d])) use = PETSC_FALSE;
+        else if (t[d] < 0) {
+          if (dd->periodic[d]) {
+            t[d] += dd->np[d];
+            shift[d] = dd->len[d];
+          } else use = PETSC_FALSE;
+        } else if (t[d] >= dd->np[d]) {
+          if (dd->periodic[d]) {
+            t[d] -= dd->np[d];
+            shift[d] = -dd->len[d];
+          } else use = PETSC_FALSE;
+        }
+      }
+      if (!use || !any) continue;
+      PetscCall(FSHaloPushSend(hl, dim, FSDecompRankAt(dd, t), p, shift));
+    }
+  }
+
+  /* order the sends by destination rank (counting sort, stable) */
+  PetscCall(PetscCalloc1(size + 1, &counts));
+  for (PetscInt k = 0; k < hl->nsend; k++) counts[hl->send_rank[k] + 1]++;
+  for (PetscMPIInt r = 0; r < size; r++) counts[r + 1] += counts[r];
+  PetscCall(PetscMalloc2(hl->nsend, &perm, hl->nsend * nrec, &sendbuf));
+  for (PetscInt k = 0; k < hl->nsend; k++) perm[counts[hl->send_rank[k]]++] = k;
+  for (PetscMPIInt r = size; r > 0; r--) counts[r] = counts[r - 1];
+  counts[0] = 0;
+  for (PetscInt k = 0; k < hl->nsend; k++) {
+    PetscInt q = perm[k];
+    sendbuf[k * nrec] = (PetscReal)hl->send_index[q];
+    for (PetscInt d = 0; d < dim; d++) sendbuf[k * nrec + 1 + d] = hl->send_shift[q * dim + d];
+  }
+  for (PetscMPIInt r = 0; r < size; r++)
+    if (counts[r + 1] > counts[r]) nto++;
+  PetscCall(PetscMalloc2(nto, &toranks, 2 * nto, &todata));
+  nto = 0;
+  for (PetscMPIInt r = 0; r < size; r++)
+    if (counts[r + 1] > counts[r]) {
+      toranks[nto]        = r;
+      todata[2 * nto]     = counts[r + 1] - counts[r];
+      todata[2 * nto + 1] = counts[r];
+      nto++;
+    }
+  PetscCall(PetscCommBuildTwoSided(comm, 2, MPIU_INT, nto, toranks, todata, &nfrom, &fromranks, &fromdata));
+
+  /* receive side: ghosts ordered by source rank */
+  PetscCall(PetscMalloc1(nfrom, &order));
+  for (PetscMPIInt k = 0; k < nfrom; k++) order[k] = k;
+  for (PetscMPIInt a = 1; a < nfrom; a++) { /* insertion sort: few neighbours */
+    PetscInt v = order[a], b = a - 1;
+    while (b >= 0 && fromranks[order[b]] > fromranks[v]) {
+      order[b + 1] = order[b];
+      b--;
+    }
+    order[b + 1] = v;
+  }
+  hl->nghost = 0;
+  for (PetscMPIInt k = 0; k < nfrom; k++) hl->nghost += fromdata[2 * k];
+  PetscCall(PetscMalloc3(hl->nghost, &remote, hl->nghost, &ilocal, hl->nghost * nrec, &recvbuf));
+  {
+    PetscInt g = 0;
+    for (PetscMPIInt a = 0; a < nfrom; a++) {
+      PetscMPIInt k = (PetscMPIInt)order[a];
+      for (PetscInt m = 0; m < fromdata[2 * k]; m++, g++) {
+        remote[g].rank  = fromranks[k];
+        remote[g].index = fromdata[2 * k + 1] + m;
+      }
+    }
+  }
+  PetscCall(PetscSFCreate(comm, &tmp));
+  PetscCall(PetscSFSetGraph(tmp, hl->nsend, hl->nghost, NULL, PETSC_OWN_POINTER, remote, PETSC_COPY_VALUES));
+  PetscCall(PetscSFSetUp(tmp));
+  PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)nrec, MPIU_REAL, &rtype));
+  PetscCallMPI(MPI_Type_commit(&rtype));
+  PetscCall(PetscSFBcastBegin(tmp, rtype, sendbuf, recvbuf, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(tmp, rtype, sendbuf, recvbuf, MPI_REPLACE));
+  PetscCallMPI(MPI_Type_free(&rtype));
+  PetscCall(PetscSFDestroy(&tmp));
+
+  /* the refresh SF: leaf g (record nowned+g) <- root (source rank, source index) */
+  if (hl->nghost > hl->cap) {
+    PetscCall(PetscFree(hl->shift));
+    hl->cap = PetscMax(hl->nghost, 2 * hl->cap);
+    PetscCall(PetscMalloc1(hl->cap * dim, &hl->shift));
+  }
+  for (PetscInt g = 0; g < hl->nghost; g++) {
+    remote[g].index = (PetscInt)recvbuf[g * nrec];
+    ilocal[g]       = nowned + g;
+    for (PetscInt d = 0; d < dim; d++) hl->shift[g * dim + d] = recvbuf[g * nrec + 1 + d];
+  }
+  PetscCall(PetscSFDestroy(&hl->sf));
+  PetscCall(PetscSFCreate(comm, &hl->sf));
+  PetscCall(PetscSFSetGraph(hl->sf, nowned, hl->nghost, ilocal, PETSC_COPY_VALUES, remote, PETSC_COPY_VALUES));
+  PetscCall(PetscSFSetUp(hl->sf));
+  if (hl->rectype == MPI_DATATYPE_NULL || hl->recstride != stride) {
+    if (hl->rectype != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&hl->rectype));
+    PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)stride, MPIU_REAL, &hl->rectype));
+    PetscCallMPI(MPI_Type_commit(&hl->rectype));
+    hl->recstride = stride;
+  }
+  if (hl->auxtype == MPI_DATATYPE_NULL) {
+    hl->auxstride = dim + 1;
+    PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)hl->auxstride, MPIU_REAL, &hl->auxtype));
+    PetscCallMPI(MPI_Type_commit(&hl->auxtype));
+  }
+  PetscCall(PetscFree3(remote, ilocal, recvbuf));
+  PetscCall(PetscFree(order));
+  PetscCall(PetscFree(fromranks));
+  PetscCall(PetscFree(fromdata));
+  PetscCall(PetscFree2(toranks, todata));
+  PetscCall(PetscFree2(perm, sendbuf));
+  PetscCall(PetscFree(counts));
+  PetscFunctionReturn(0);
+}
+
+/* FSHaloRefresh - copies the owners' current records into the ghost records and applies the periodic shifts. */
+PetscErrorCode FSHaloRefresh(FSHalo *hl, PetscInt dim, PetscInt nowned, PetscReal rec[])
+{
+  PetscFunctionBegin;
+  PetscCall(PetscSFBcastBegin(hl->sf, hl->rectype, rec, rec, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(hl->sf, hl->rectype, rec, rec, MPI_REPLACE));
+  for (PetscInt g = 0; g < hl->nghost; g++) {
+    PetscReal *x = &rec[(nowned + g) * hl->recstride];
+    for (PetscInt d = 0; d < dim; d++) x[d] += hl->shift[g * dim + d];
+  }
+  PetscFunctionReturn(0);
+}
+
+/* FSHaloRefreshAux - copies the owners' derived quantities (density gradient, ||D||) to the ghosts. */
+PetscErrorCode FSHaloRefreshAux(FSHalo *hl, PetscReal aux[])
+{
+  PetscFunctionBegin;
+  PetscCall(PetscSFBcastBegin(hl->sf, hl->auxtype, aux, aux, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(hl->sf, hl->auxtype, aux, aux, MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
+/* FSHaloRefreshScalar - copies one real per particle (e.g. the Shepard factor) from the owners to the ghosts. */
+PetscErrorCode FSHaloRefreshScalar(FSHalo *hl, PetscReal a[])
+{
+  PetscFunctionBegin;
+  PetscCall(PetscSFBcastBegin(hl->sf, MPIU_REAL, a, a, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(hl->sf, MPIU_REAL, a, a, MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSHaloDestroy(FSHalo *hl)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscSFDestroy(&hl->sf));
+  PetscCall(PetscFree(hl->shift));
+  PetscCall(PetscFree3(hl->send_index, hl->send_rank, hl->send_shift));
+  if (hl->rectype != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&hl->rectype));
+  if (hl->auxtype != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&hl->auxtype));
+  PetscFunctionReturn(0);
+}

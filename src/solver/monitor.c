@@ -1,0 +1,210 @@
+/*
+   Monitors: the per-step time series (energy, mass, momentum, extremes, dissipated energies), the
+   energy budget (energy.csv, src/coupling/energy.c),
+   particle snapshots at the output interval, checkpoints, the progress line and the summary.
+*/
+#include "solver/solverimpl.h"
+#include "boundary/impls/polygon/polygonimpl.h"
+
+#define FS_MAX_WALL_COLUMNS 16 /* walls whose loads go into the time series */
+#define FS_MAX_COLUMNS      (32 + FS_CASE_MAX_COLUMNS + FS_MAX_TERMS + FS_STRUCTURE_MAX_COLUMNS + 3 * FS_MAX_WALL_COLUMNS)
+
+/* Global diagnostics of the current state. vals: kinetic energy, mass, momentum (3), then max |u|. */
+static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscReal *umax)
+{
+  const PetscInt     dim = s->dim, US = s->ustride, S = s->stride;
+  const PetscScalar *u;
+  PetscReal          loc[5] = {0, 0, 0, 0, 0}, vmax = 0;
+
+  PetscFunctionBegin;
+  PetscCall(VecGetArrayRead(s->U, &u));
+  for (PetscInt p = 0; p < s->nowned; p++) {
+    const PetscReal m = s->rec[p * S + 2 * dim + 1];
+    PetscReal       v2 = 0;
+    for (PetscInt d = 0; d < dim; d++) {
+      const PetscReal v = u[p * US + dim + d];
+      v2 += v * v;
+      loc[2 + d] += m * v;
+    }
+    loc[0] += 0.5 * m * v2;
+    loc[1] += m;
+    vmax = PetscMax(vmax, v2);
+  }
+  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCallMPI(MPI_Allreduce(loc, sums, 5, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &vmax, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  *umax = PetscSqrtReal(vmax);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FSSolverAppendSeries(FSSolver s)
+{
+  PetscReal   vals[FS_MAX_COLUMNS], sums[5], umax = 0, t, dt;
+  PetscInt    k = 0, step;
+  PetscMPIInt rank;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverDiagnostics(s, sums, &umax));
+  if (!s->series) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  if (step > s->step0) { /* the step just taken (TS's own time step is its proposal for the next one) */
+    PetscReal tprev;
+    PetscCall(TSGetPrevTime(s->ts, &tprev));
+    dt = t - tprev;
+  } else PetscCall(TSGetTimeStep(s->ts, &dt));
+  vals[k++] = t;
+  vals[k++] = dt;
+  vals[k++] = sums[0];
+  vals[k++] = sums[1];
+  for (PetscInt d = 0; d < s->dim; d++) vals[k++] = sums[2 + d];
+  vals[k++] = umax;
+  vals[k++] = s->max_variation;
+  if (!rank && s->ndiss) { /* the dissipated energies */
+    const PetscScalar *u;
+    PetscCall(VecGetArrayRead(s->U, &u));
+    for (PetscInt g = s->gdiss; g < s->gdiss + s->ndiss; g++) vals[k++] = u[s->nowned * s->ustride + g];
+    PetscCall(VecRestoreArrayRead(s->U, &u));
+  } else k += s->ndiss;
+  if (s->caseops.columns) {
+    PetscCall((*s->caseops.columns)(s, t, &vals[k]));
+    k += s->caseops.ncolumns;
+  }
+  if (s->wd) { /* the liquid's loads on each wall, from the step's last right-hand side */
+    const PetscReal *L;
+    PetscCall(FSSolverWallsGetLoads(s, &L));
+    for (PetscInt w = 0; w < PetscMin(s->wd->walls.nwalls, FS_MAX_WALL_COLUMNS); w++) {
+      vals[k++] = L[6 * w];
+      vals[k++] = L[6 * w + 1];
+      vals[k++] = L[6 * w + 5];
+    }
+  }
+  if (s->structure) { /* the structure's motion, loads and the model's own columns */
+    const char *names[FS_MAX_COLUMNS];
+    PetscInt    nc;
+    PetscCall(FSSolverStructureColumns(s, &nc, names));
+    PetscCall(FSSolverStructureValues(s, &vals[k]));
+    k += nc;
+  }
+  PetscCall(FSTimeSeriesAppend(s->series, step, vals));
+  if (s->energyseries) { /* energy.csv: the energy budget (src/coupling/energy.c) */
+    PetscCall(FSSolverEnergyValues(s, vals));
+    PetscCall(FSTimeSeriesAppend(s->energyseries, step, vals));
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverMonitorBegin - opens the output (directory, time series, snapshots) and records the
+   initial state. Called by FSSolverSolve, or by the first FSSolverStep.
+*/
+PetscErrorCode FSSolverMonitorBegin(FSSolver s)
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  const char *names[FS_MAX_COLUMNS];
+  char        namebuf[FS_MAX_TERMS][80], wallbuf[3 * FS_MAX_WALL_COLUMNS][80], path[PETSC_MAX_PATH_LEN];
+  PetscInt    k = 0, step;
+  PetscReal   t;
+  static const char *mom[] = {"momentum_x", "momentum_y", "momentum_z"};
+
+  PetscFunctionBegin;
+  if (s->monitoring) PetscFunctionReturn(0);
+  PetscCall(FSSolverSetUp(s));
+  s->monitoring = PETSC_TRUE;
+  PetscCall(PetscTime(&s->wall_start));
+  s->wall_last_progress = s->wall_start;
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  s->step0          = step;
+  s->t0             = t;
+  s->particle_steps = 0;
+  s->steps_taken    = 0;
+  s->pair_visits    = 0;
+  /* snapshots at multiples of the interval, also after a restart */
+  s->next_output = s->output_interval > 0 ? (PetscFloorReal(t / s->output_interval + 1e-9) + 1) * s->output_interval : PETSC_MAX_REAL;
+  s->last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
+  if (!s->restart[0]) PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
+  if (!s->write_output) PetscFunctionReturn(0);
+  PetscCall(FSMakeDirectory(comm, s->outdir, "-fs_output_dir"));
+  names[k++] = "time";
+  names[k++] = "dt";
+  names[k++] = "kinetic_energy";
+  names[k++] = "mass";
+  for (PetscInt d = 0; d < s->dim; d++) names[k++] = mom[d];
+  names[k++] = "max_velocity";
+  names[k++] = "max_density_variation";
+  for (PetscInt g = 0, q = 0; g < s->terms.nterms; g++)
+    if (s->terms.term[g]->has_power) {
+      PetscCall(PetscSNPrintf(namebuf[q], sizeof(namebuf[q]), "dissipated_%s", s->terms.term[g]->name));
+      names[k++] = namebuf[q++];
+    }
+  if (s->caseops.columns)
+    for (PetscInt c = 0; c < s->caseops.ncolumns; c++) names[k++] = s->caseops.column_names[c];
+  if (s->wd) {
+    static const char *part[] = {"force_x", "force_y", "moment"};
+    for (PetscInt w = 0; w < PetscMin(s->wd->walls.nwalls, FS_MAX_WALL_COLUMNS); w++)
+      for (PetscInt c = 0; c < 3; c++) {
+        PetscCall(PetscSNPrintf(wallbuf[3 * w + c], sizeof(wallbuf[0]), "wall_%s_%s", s->wd->walls.name[w], part[c]));
+        names[k++] = wallbuf[3 * w + c];
+      }
+  }
+  {
+    PetscInt nc;
+    PetscCall(FSSolverStructureColumns(s, &nc, &names[k]));
+    k += nc;
+  }
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/timeseries.csv", s->outdir));
+  PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->restart[0] ? step : -1, &s->series));
+  PetscCall(FSSolverEnergyColumns(s, &k, names));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/energy.csv", s->outdir));
+  PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->restart[0] ? step : -1, &s->energyseries));
+  PetscCall(FSSnapshotWriterCreate(comm, s->outdir, s->restart[0] ? t : -1.0, &s->snapshots));
+  PetscCall(FSSolverCheckState(s));
+  PetscCall(FSSolverAppendSeries(s)); /* on restart, the series was cut just before this row */
+  if (!s->restart[0]) PetscCall(FSSolverWriteSnapshot(s));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverMonitor - called after every step: time series, snapshots, checkpoints, progress. */
+PetscErrorCode FSSolverMonitor(FSSolver s)
+{
+  PetscReal      t, tmax, dt;
+  PetscInt       step;
+  PetscLogDouble now;
+
+  PetscFunctionBegin;
+  if (!s->monitoring) PetscCall(FSSolverMonitorBegin(s));
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  PetscCall(FSSolverAppendSeries(s));
+  if (s->write_output && s->output_interval > 0 && t >= s->next_output - 1e-9 * s->output_interval) {
+    PetscCall(FSSolverWriteSnapshot(s));
+    while (s->next_output <= t + 1e-9 * s->output_interval) s->next_output += s->output_interval;
+  }
+  if (s->write_output && s->checkpoint_interval > 0 && step % s->checkpoint_interval == 0) PetscCall(FSSolverWriteCheckpoint(s));
+  PetscCall(PetscTime(&now));
+  if (s->progress && now - s->wall_last_progress >= s->progress_interval) {
+    PetscReal frac, eta;
+    PetscCall(TSGetMaxTime(s->ts, &tmax));
+    PetscCall(TSGetTimeStep(s->ts, &dt));
+    frac = tmax > s->t0 ? (t - s->t0) / (tmax - s->t0) : 1;
+    eta  = frac > 0 ? (now - s->wall_start) * (1 - frac) / frac : 0;
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s), "step %6" PetscInt_FMT "  t = %-11.5g dt = %-10.4g %5.1f%%  elapsed %7.1f s  left ~%7.1f s\n", step, (double)t, (double)dt, (double)(100 * frac), now - s->wall_start, (double)eta));
+    s->wall_last_progress = now;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverMonitorEnd - the last snapshot and the run's summary.json. */
+PetscErrorCode FSSolverMonitorEnd(FSSolver s)
+{
+  PetscReal t;
+
+  PetscFunctionBegin;
+  if (!s->monitoring) PetscFunctionReturn(0);
+  PetscCall(TSGetTime(s->ts, &t));
+  if (s->write_output && s->last_snapshot_time < t) PetscCall(FSSolverWriteSnapshot(s)); /* unless one was written at t */
+  if (s->write_output) PetscCall(FSSolverWriteSummary(s));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,371 @@
+/*
+   The solver's side of the output: which fields go into snapshots and checkpoints, restarting
+   from a checkpoint, and the run summary. The file formats live in src/io/.
+*/
+#include "solver/solverimpl.h"
+#include "boundary/impls/polygon/polygonimpl.h"
+#include <sys/resource.h>
+
+static PetscErrorCode FSSolverEnsureField(FSSolver s, PetscInt n)
+{
+  PetscFunctionBegin;
+  if (n > s->fieldcap) {
+    PetscCall(PetscFree(s->field));
+    s->fieldcap = n;
+    PetscCall(PetscMalloc1(n, &s->field));
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverDerivedFields - the fields of the owned particles that the state does not hold, from a fresh
+   evaluation of the right-hand side at the current state (not counted in the run's statistics): the
+   pressure p (the equation of state, as the right-hand side evaluates it), the strain rate ||D|| (0
+   when no term needs it) and the turbulent viscosity (from the first term that provides the field
+   "turbulent_viscosity", else 0). Any of the arrays (nowned values each) may be NULL.
+
+   Collective
+*/
+static PetscErrorCode FSSolverDerivedFields(FSSolver s, PetscReal p[], PetscReal nD[], PetscReal nut[])
+{
+  const PetscInt     n = s->nowned, A = s->auxstride;
+  const PetscScalar *u;
+  PetscScalar       *f;
+  Vec                F;
+  PetscBool          has = PETSC_FALSE;
+  FSParticles        P;
+
+  PetscFunctionBegin;
+  PetscCall(TSGetTime(s->ts, &s->rhs_time));
+  PetscCall(VecDuplicate(s->U, &F));
+  PetscCall(VecGetArrayRead(s->U, &u));
+  PetscCall(VecGetArray(F, &f));
+  PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
+  PetscCall(VecRestoreArray(F, &f));
+  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecDestroy(&F));
+  for (PetscInt k = 0; k < n; k++) {
+    if (p) p[k] = s->pressure[k];
+    if (nD) nD[k] = s->terms.needs ? s->aux[k * A + s->dim] : 0;
+    if (nut) nut[k] = 0;
+  }
+  if (!nut) PetscFunctionReturn(0);
+  PetscCall(FSSolverGetParticles(s, &P));
+  for (PetscInt t = 0; t < s->terms.nterms && !has; t++) {
+    FSTerm term = s->terms.term[t];
+    if (term->ops.field) PetscCall((*term->ops.field)(term, "turbulent_viscosity", &P, nut, &has));
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverWriteSnapshot - writes the particles (position, velocity, density, pressure, strain_rate
+   ||D||, turbulent_viscosity, rank, id) to the next snapshot file, and updates the XDMF index.
+   The derived fields come from a fresh evaluation of the first pass at the current state.
+*/
+PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
+{
+  const PetscInt dim = s->dim, n = s->nowned, US = s->ustride;
+  FSOutputField  fields[8];
+  PetscReal     *pos, *vel, *rho, *p, *nD, *nut, *rk, *id, t;
+  PetscInt      *pid, step;
+  PetscMPIInt    rank;
+  const PetscScalar *u;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_Output, 0, 0, 0, 0));
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  PetscCall(FSSolverStructureSnapshot(s)); /* the structure's own output (e.g. the deflected shape) */
+  if (s->nglobal_particles == 0) {         /* a dry structure: no particle file */
+    s->last_snapshot_time = t;
+    PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(FSSolverEnsureField(s, n * (2 * dim + 6) + 1));
+  pos = s->field;
+  vel = pos + n * dim;
+  rho = vel + n * dim;
+  p   = rho + n;
+  nD  = p + n;
+  nut = nD + n;
+  rk  = nut + n;
+  id  = rk + n;
+  PetscCall(FSSolverDerivedFields(s, p, nD, nut));
+  PetscCall(VecGetArrayRead(s->U, &u));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  for (PetscInt k = 0; k < n; k++) {
+    for (PetscInt d = 0; d < dim; d++) {
+      pos[k * dim + d] = u[k * US + d];
+      vel[k * dim + d] = u[k * US + dim + d];
+    }
+    rho[k] = u[k * US + 2 * dim];
+    rk[k]  = rank;
+    id[k]  = pid[k];
+  }
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  PetscCall(VecRestoreArrayRead(s->U, &u));
+  fields[0] = (FSOutputField){"position", dim, pos};
+  fields[1] = (FSOutputField){"velocity", dim, vel};
+  fields[2] = (FSOutputField){"density", 1, rho};
+  fields[3] = (FSOutputField){"pressure", 1, p};
+  fields[4] = (FSOutputField){"strain_rate", 1, nD};
+  fields[5] = (FSOutputField){"turbulent_viscosity", 1, nut};
+  fields[6] = (FSOutputField){"rank", 1, rk};
+  fields[7] = (FSOutputField){"id", 1, id};
+  PetscCall(FSSnapshotWriterWrite(s->snapshots, t, step, dim, n, 8, fields));
+  s->last_snapshot_time = t;
+  PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+static const char *FSFieldNames[] = {"position", "velocity", "density", "mass", "pressure", "strain_rate", "turbulent_viscosity", "id", "rank"};
+
+/*
+   FSSolverGetField - a copy of one per-particle field of this rank's owned particles at the current
+   state, in the swarm's local order (the particles' ids are the field "id"; the order changes at
+   every step).
+
+   Collective (the derived fields evaluate a right-hand side; the others are local)
+
+   Input Parameters:
++  s    - the solver, set up
+-  name - position, velocity (dim values per particle), density, mass, pressure, strain_rate (||D||),
+          turbulent_viscosity, id or rank (1 value)
+
+   Output Parameters:
++  n      - the number of owned particles (may be NULL)
+.  bs     - the values per particle (may be NULL)
+-  values - n*bs values; give them back with FSSolverRestoreField()
+
+   Notes:
+   pressure, strain_rate and turbulent_viscosity come from a fresh evaluation of the right-hand side
+   at the current state, as in the snapshots; it also refreshes what the last right-hand side left
+   (the wall loads of FSSolverGetWallLoads()). id and rank are returned as reals, as in the snapshots.
+
+.seealso: FSSolverRestoreField(), FSSolverGetSwarm(), FSSolverWriteSnapshot()
+*/
+PetscErrorCode FSSolverGetField(FSSolver s, const char name[], PetscInt *n, PetscInt *bs, const PetscReal *values[])
+{
+  const PetscInt     dim = s->dim, US = s->ustride, S = s->stride, np = s->nowned;
+  PetscInt           k = 0, b = 1, off = -1;
+  PetscReal         *v;
+  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCheck(s->setupcalled, comm, PETSC_ERR_ARG_WRONGSTATE, "FSSolverGetField(): call FSSolverSetUp() first");
+  while (k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames) && strcmp(name, FSFieldNames[k])) k++;
+  PetscCheck(k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames), comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown particle field \"%s\": expected position, velocity, density, mass, pressure, strain_rate, turbulent_viscosity, id or rank", name);
+  if (k < 2) b = dim;
+  PetscCall(PetscMalloc1(np * b + 1, &v));
+  if (k <= 2) off = k * dim; /* the packed state: position, velocity, density */
+  if (off >= 0) {
+    const PetscScalar *u;
+    PetscCall(VecGetArrayRead(s->U, &u));
+    for (PetscInt i = 0; i < np; i++)
+      for (PetscInt d = 0; d < b; d++) v[i * b + d] = u[i * US + off + d];
+    PetscCall(VecRestoreArrayRead(s->U, &u));
+  } else if (k == 3) { /* the mass, from the particle records */
+    for (PetscInt i = 0; i < np; i++) v[i] = s->rec[i * S + 2 * dim + 1];
+  } else if (k <= 6) {
+    PetscCall(FSSolverDerivedFields(s, k == 4 ? v : NULL, k == 5 ? v : NULL, k == 6 ? v : NULL));
+  } else if (k == 7) {
+    PetscInt *pid;
+    PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+    for (PetscInt i = 0; i < np; i++) v[i] = pid[i];
+    PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  } else {
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(comm, &rank));
+    for (PetscInt i = 0; i < np; i++) v[i] = rank;
+  }
+  if (n) *n = np;
+  if (bs) *bs = b;
+  *values = v;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverRestoreField - gives back the values of FSSolverGetField().
+
+   Not collective
+
+.seealso: FSSolverGetField()
+*/
+PetscErrorCode FSSolverRestoreField(FSSolver s, const char name[], PetscInt *n, PetscInt *bs, const PetscReal *values[])
+{
+  PetscFunctionBegin;
+  (void)s;
+  (void)name;
+  PetscCall(PetscFree(*values));
+  if (n) *n = 0;
+  if (bs) *bs = 0;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverWriteCheckpoint - writes <output_dir>/checkpoint_<step>.h5 with the whole state: particles
+   (position, velocity, density, mass, id), time, step, dt and the global DOFs (the structure's
+   state, the dissipated energies), then the viscosity bound of the next step and the number of
+   structure DOFs (to refuse a restart with another structure). A run started with -fs_restart on
+   that file continues exactly as the uninterrupted run.
+*/
+PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
+{
+  const PetscInt     dim = s->dim, n = s->nowned;
+  FSCheckpointHeader hdr;
+  FSOutputField      fields[5];
+  PetscReal         *x, *v, *rho, *m, *id;
+  PetscInt          *pid;
+  char               path[PETSC_MAX_PATH_LEN];
+  PetscMPIInt        rank;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_Output, 0, 0, 0, 0));
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCall(PetscMemzero(&hdr, sizeof(hdr)));
+  PetscCall(TSGetTime(s->ts, &hdr.time));
+  PetscCall(TSGetStepNumber(s->ts, &hdr.step));
+  PetscCall(TSGetTimeStep(s->ts, &hdr.dt));
+  hdr.nglobal = s->nglobaldofs + 2; /* the global DOFs, the viscosity bound of the next step, the structure's DOF count */
+  if (!rank && s->nglobaldofs) {
+    const PetscScalar *u;
+    PetscInt           nl;
+    PetscCall(VecGetLocalSize(s->U, &nl));
+    PetscCall(VecGetArrayRead(s->U, &u));
+    for (PetscInt g = 0; g < s->nglobaldofs; g++) hdr.global[g] = u[nl - s->nglobaldofs + g];
+    PetscCall(VecRestoreArrayRead(s->U, &u));
+  }
+  PetscCallMPI(MPI_Bcast(hdr.global, (PetscMPIInt)s->nglobaldofs, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  PetscCallMPI(MPI_Allreduce(&s->nu_bound, &hdr.global[s->nglobaldofs], 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  hdr.global[s->nglobaldofs + 1] = (PetscReal)(s->gdiss - s->gstruct);
+  PetscCall(FSSolverEnsureField(s, n + 1));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  id = s->field;
+  for (PetscInt k = 0; k < n; k++) id[k] = pid[k];
+  fields[0] = (FSOutputField){FS_FIELD_POSITION, dim, x};
+  fields[1] = (FSOutputField){FS_FIELD_VELOCITY, dim, v};
+  fields[2] = (FSOutputField){FS_FIELD_DENSITY, 1, rho};
+  fields[3] = (FSOutputField){FS_FIELD_MASS, 1, m};
+  fields[4] = (FSOutputField){FS_FIELD_ID, 1, id};
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt_FMT ".h5", s->outdir, hdr.step));
+  PetscCall(FSCheckpointWrite(PetscObjectComm((PetscObject)s), path, &hdr, n, 5, fields));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverLoadCheckpoint - replaces the case's particles by those of the checkpoint given to
+   -fs_restart and remembers its time, step, dt and global DOFs for the TS.
+*/
+PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
+{
+  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
+  const PetscInt     dim = s->dim;
+  FSCheckpointHeader hdr;
+  PetscInt           nglob, n;
+  PetscMPIInt        nranks;
+  PetscReal         *x, *v, *rho, *m, *id;
+  PetscInt          *pid;
+
+  PetscFunctionBegin;
+  PetscCall(FSCheckpointReadHeader(comm, s->restart, &hdr, &nglob, &nranks));
+  PetscCheck(hdr.nglobal == s->nglobaldofs + 2 && hdr.global[hdr.nglobal - 1] == (PetscReal)(s->gdiss - s->gstruct), comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s holds %" PetscInt_FMT " global values (%g of them structure DOFs) but this run needs %" PetscInt_FMT " (%" PetscInt_FMT "): restart with the same -fs_terms and -fs_structure (and its modes) as the run that wrote it", s->restart, hdr.nglobal, hdr.nglobal > 0 ? (double)hdr.global[hdr.nglobal - 1] : 0.0, s->nglobaldofs + 2, s->gdiss - s->gstruct);
+  PetscCall(FSCheckpointGetLocalSize(comm, s->restart, &n));
+  PetscCall(DMSwarmSetLocalSizes(s->swarm, n, 1024));
+  PetscCall(FSSolverEnsureField(s, n + 1));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  id = s->field;
+  PetscCall(FSCheckpointReadField(comm, s->restart, FS_FIELD_POSITION, dim, n, x));
+  PetscCall(FSCheckpointReadField(comm, s->restart, FS_FIELD_VELOCITY, dim, n, v));
+  PetscCall(FSCheckpointReadField(comm, s->restart, FS_FIELD_DENSITY, 1, n, rho));
+  PetscCall(FSCheckpointReadField(comm, s->restart, FS_FIELD_MASS, 1, n, m));
+  PetscCall(FSCheckpointReadField(comm, s->restart, FS_FIELD_ID, 1, n, id));
+  for (PetscInt k = 0; k < n; k++) pid[k] = (PetscInt)id[k];
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  s->nglobal_particles = nglob;
+  s->restart_hdr       = hdr;
+  for (PetscInt g = 0; g < s->nglobaldofs; g++) s->global0[g] = hdr.global[g];
+  s->nu_bound = hdr.global[s->nglobaldofs];
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverWriteSummary - <output_dir>/summary.json: what ran, how long, how fast, with which options. */
+PetscErrorCode FSSolverWriteSummary(FSSolver s)
+{
+  MPI_Comm       comm = PetscObjectComm((PetscObject)s);
+  FSJSON         js;
+  char           path[PETSC_MAX_PATH_LEN], *opts;
+  PetscLogDouble now, wall;
+  PetscReal      t, dt, mem, memsum;
+  PetscInt       step;
+  PetscMPIInt    size;
+  struct rusage  ru;
+  PetscInt64     pv = s->pair_visits;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscTime(&now));
+  wall = now - s->wall_start;
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetTimeStep(s->ts, &dt));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &pv, 1, MPIU_INT64, MPI_SUM, comm));
+  getrusage(RUSAGE_SELF, &ru);
+  mem = (PetscReal)ru.ru_maxrss * 1024.0;
+  PetscCallMPI(MPI_Allreduce(&mem, &memsum, 1, MPIU_REAL, MPI_SUM, comm));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/summary.json", s->outdir));
+  PetscCall(FSJSONCreate(comm, path, &js));
+  PetscCall(FSJSONWriteString(js, "program", "flexslosh " FLEXSLOSH_VERSION));
+  PetscCall(FSJSONWriteString(js, "case", s->casename));
+  PetscCall(FSJSONWriteInt(js, "dim", s->dim));
+  PetscCall(FSJSONWriteInt(js, "ranks", size));
+  PetscCall(FSJSONWriteInt(js, "particles", s->nglobal_particles));
+  PetscCall(FSJSONWriteInt(js, "steps", step - s->step0));
+  PetscCall(FSJSONWriteInt(js, "final_step", step));
+  PetscCall(FSJSONWriteReal(js, "start_time", s->t0));
+  PetscCall(FSJSONWriteReal(js, "final_time", t));
+  PetscCall(FSJSONWriteReal(js, "last_dt", dt));
+  PetscCall(FSJSONWriteReal(js, "dx", s->dx));
+  PetscCall(FSJSONWriteReal(js, "h", s->h));
+  PetscCall(FSJSONWriteReal(js, "wall_time", wall));
+  PetscCall(FSJSONWriteReal(js, "particle_steps_per_second", wall > 0 ? (PetscReal)s->particle_steps / wall : 0));
+  PetscCall(FSJSONWriteInt(js, "rhs_evaluations", s->nrhs));
+  PetscCall(FSJSONWriteInt(js, "pair_visits", pv));
+  PetscCall(FSJSONWriteReal(js, "pair_visits_per_second", wall > 0 ? (PetscReal)pv / wall : 0));
+  PetscCall(FSJSONWriteReal(js, "peak_memory_bytes", memsum));
+  PetscCall(FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->nglobal_particles, 1)));
+  PetscCall(FSJSONWriteInt(js, "migrations", s->nmigrations));
+  if (s->wd) { /* particles bounced off walls (FSSolverWallsBounce): a measure of how hard the walls are pressed */
+    PetscInt64 nb = s->wd->nbounce;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nb, 1, MPIU_INT64, MPI_SUM, comm));
+    PetscCall(FSJSONWriteInt(js, "wall_bounces", nb));
+  }
+  PetscCall(FSSolverStructureSummary(s, js));
+  PetscCall(FSJSONBeginObject(js, "terms"));
+  for (PetscInt k = 0; k < s->terms.nterms; k++) PetscCall(FSJSONWriteBool(js, s->terms.term[k]->name, PETSC_TRUE));
+  PetscCall(FSJSONEndObject(js));
+  PetscCall(PetscOptionsGetAll(NULL, &opts));
+  PetscCall(FSJSONWriteString(js, "options", opts));
+  PetscCall(PetscFree(opts));
+  PetscCall(FSJSONDestroy(&js));
+  PetscFunctionReturn(0);
+}

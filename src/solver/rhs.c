@@ -1,0 +1,465 @@
+/*
+   The right-hand side of the particle ODE system, evaluated by TS at every stage:
+     halo refresh -> cell list and neighbour lists -> first pass (correction matrix L_i, renormalized
+     density gradient, strain rate ||D||_i) -> ghost refresh of those -> the terms' pair pass.
+   Kernel gradients are computed once per pair (in the neighbour list) and shared by all passes
+   and all terms; the first pass runs only when a selected term needs it.
+*/
+#include "solver/solverimpl.h"
+#include "boundary/impls/polygon/polygonimpl.h"
+
+/* Fills the neighbourhood scratch of particle i: x_j - x_i, r^2, grad_i W. Returns the count. */
+static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
+{
+  const PetscInt   dim = s->dim, S = s->stride, b = s->nbrs.start[i], n = s->nbrs.start[i + 1] - b;
+  const PetscInt  *nbr = s->nbrs.nbr + b;
+  const PetscReal *F = s->nbrs.F + b, *xi = &s->rec[i * S];
+  if (dim == 2) {
+    for (PetscInt k = 0; k < n; k++) {
+      const PetscReal *xj = &s->rec[nbr[k] * S];
+      const PetscReal  a = xj[0] - xi[0], c = xj[1] - xi[1];
+      dx[2 * k]     = a;
+      dx[2 * k + 1] = c;
+      r2[k]         = a * a + c * c;
+      gw[2 * k]     = -F[k] * a;
+      gw[2 * k + 1] = -F[k] * c;
+    }
+  } else {
+    for (PetscInt k = 0; k < n; k++) {
+      const PetscReal *xj = &s->rec[nbr[k] * S];
+      const PetscReal  a = xj[0] - xi[0], c = xj[1] - xi[1], e = xj[2] - xi[2];
+      dx[3 * k]     = a;
+      dx[3 * k + 1] = c;
+      dx[3 * k + 2] = e;
+      r2[k]         = a * a + c * c + e * e;
+      gw[3 * k]     = -F[k] * a;
+      gw[3 * k + 1] = -F[k] * c;
+      gw[3 * k + 2] = -F[k] * e;
+    }
+  }
+  /* the inverses in a loop of their own, which the compiler vectorizes */
+  if (ri2)
+    for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
+  return n;
+}
+
+/* Inverse of the dim x dim matrix M (row-major); falls back to the identity when M is nearly
+   singular (a particle with too few neighbours, e.g. isolated spray), as is usual for L_i. */
+static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscReal Minv[])
+{
+  if (dim == 2) {
+    const PetscReal det = M[0] * M[3] - M[1] * M[2];
+    if (PetscAbsReal(det) < 1e-2) {
+      Minv[0] = Minv[3] = 1;
+      Minv[1] = Minv[2] = 0;
+      return;
+    }
+    Minv[0] = M[3] / det;
+    Minv[1] = -M[1] / det;
+    Minv[2] = -M[2] / det;
+    Minv[3] = M[0] / det;
+  } else {
+    const PetscReal c0 = M[4] * M[8] - M[5] * M[7], c1 = M[5] * M[6] - M[3] * M[8], c2 = M[3] * M[7] - M[4] * M[6];
+    const PetscReal det = M[0] * c0 + M[1] * c1 + M[2] * c2;
+    if (PetscAbsReal(det) < 1e-3) {
+      for (PetscInt a = 0; a < 9; a++) Minv[a] = (a % 4 == 0) ? 1 : 0;
+      return;
+    }
+    Minv[0] = c0 / det;
+    Minv[1] = (M[2] * M[7] - M[1] * M[8]) / det;
+    Minv[2] = (M[1] * M[5] - M[2] * M[4]) / det;
+    Minv[3] = c1 / det;
+    Minv[4] = (M[0] * M[8] - M[2] * M[6]) / det;
+    Minv[5] = (M[2] * M[3] - M[0] * M[5]) / det;
+    Minv[6] = c2 / det;
+    Minv[7] = (M[1] * M[6] - M[0] * M[7]) / det;
+    Minv[8] = (M[0] * M[4] - M[1] * M[3]) / det;
+  }
+}
+
+/*
+   First pass over the pairs of each owned particle i:
+     M_i = sum_j (x_j - x_i) (x) grad_i W_ij V_j,  L_i = M_i^{-1}   (Randles & Libersky)
+     <grad rho>^L_i = L_i^T sum_j (rho_j - rho_i) grad_i W_ij V_j
+     (grad u)_i = [sum_j (u_j - u_i) (x) grad_i W_ij V_j] L_i,  D_i = sym(grad u)_i,  ||D||_i = sqrt(2 D:D)
+   Results go to aux[i*(dim+1)]: the density gradient, then ||D||.
+   build: the pass also builds the right-hand side's neighbour list (what FSNeighboursBuildList does): it
+   visits the candidates, keeps those within the support and uses them on the spot, which saves a
+   separate traversal of the candidates and their positions. The list, its F(r) and the sums are the
+   same as with the list built first. The body is written for a compile-time dimension (FS_ALWAYS_INLINE)
+   so that the small dim x dim loops unroll and the sums stay in registers.
+*/
+FS_ALWAYS_INLINE void FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const PetscBool build)
+{
+  FSNeighbours    *nb  = &s->nbrs;
+  const PetscInt   S   = s->stride, A = s->auxstride, n = s->nowned;
+  const PetscReal *rec = s->rec, *vol = s->vol, R2 = s->kernel.support2;
+  PetscReal       *dx  = s->scratch; /* x_j - x_i of the neighbours of i */
+  PetscInt         np  = 0;
+
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *ri = &rec[i * S];
+    PetscReal        M[9] = {0}, Minv[9], G[3] = {0, 0, 0}, Au[9] = {0}, J[9] = {0}, nrm = 0;
+    PetscReal       *out = &s->aux[i * A];
+    PetscInt         b0, m;
+    if (build) {
+      /* the candidates within the support, without branches (whether a candidate is inside is as
+         good as random, and mispredicted branches cost more than the stores): every candidate is
+         written at the end of the list and the end moves on only for those inside. F holds r^2
+         until the next loop. */
+      b0 = nb->start[i] = np;
+      for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
+        const PetscInt   j  = nb->cand[q];
+        const PetscReal *rj = &rec[j * S];
+        PetscReal        r2 = 0;
+        for (PetscInt a = 0; a < dim; a++) {
+          const PetscReal d = rj[a] - ri[a];
+          dx[(np - b0) * dim + a] = d;
+          r2 += d * d;
+        }
+        nb->nbr[np] = j;
+        nb->F[np]   = r2;
+        np += r2 < R2;
+      }
+      m = np - b0;
+      /* F(r) of the pairs kept (a loop the compiler vectorizes: square roots and divisions in pairs) */
+      for (PetscInt k = b0; k < np; k++) nb->F[k] = FSKernelF(&s->kernel, PetscSqrtReal(nb->F[k]));
+    } else {
+      b0 = nb->start[i];
+      m  = nb->start[i + 1] - b0;
+      for (PetscInt k = 0; k < m; k++) {
+        const PetscReal *rj = &rec[nb->nbr[b0 + k] * S];
+        for (PetscInt a = 0; a < dim; a++) dx[k * dim + a] = rj[a] - ri[a];
+      }
+    }
+    for (PetscInt k = 0; k < m; k++) {
+      const PetscInt   j  = nb->nbr[b0 + k];
+      const PetscReal *rj = &rec[j * S], *d = &dx[k * dim], F = nb->F[b0 + k];
+      const PetscReal  Vj = vol[j], drho = (rj[2 * dim] - ri[2 * dim]) * Vj;
+      PetscReal        g[3];
+      for (PetscInt a = 0; a < dim; a++) g[a] = -F * d[a];
+      for (PetscInt a = 0; a < dim; a++) {
+        const PetscReal du = (rj[dim + a] - ri[dim + a]) * Vj, dd = d[a] * Vj;
+        G[a] += drho * g[a];
+        for (PetscInt b = 0; b < dim; b++) {
+          M[a * dim + b] += dd * g[b];
+          Au[a * dim + b] += du * g[b];
+        }
+      }
+    }
+    FSInvertCorrection(dim, M, Minv);
+    for (PetscInt a = 0; a < dim; a++) {
+      PetscReal v = 0;
+      for (PetscInt b = 0; b < dim; b++) v += Minv[b * dim + a] * G[b];
+      out[a] = v;
+      for (PetscInt b = 0; b < dim; b++) {
+        PetscReal w = 0;
+        for (PetscInt c = 0; c < dim; c++) w += Au[a * dim + c] * Minv[c * dim + b];
+        J[a * dim + b] = w;
+      }
+    }
+    for (PetscInt a = 0; a < dim; a++)
+      for (PetscInt b = 0; b < dim; b++) {
+        const PetscReal Dab = 0.5 * (J[a * dim + b] + J[b * dim + a]);
+        nrm += Dab * Dab;
+      }
+    out[dim] = PetscSqrtReal(2.0 * nrm);
+  }
+  if (build) {
+    nb->start[n] = np;
+    nb->npairs   = np;
+  }
+}
+
+static PetscErrorCode FSSolverFirstPass(FSSolver s, PetscBool build)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
+  if (build) PetscCall(FSNeighboursReserveList(&s->nbrs));
+  if (s->dim == 2) {
+    if (build) FSSolverFirstPassDim(s, 2, PETSC_TRUE);
+    else FSSolverFirstPassDim(s, 2, PETSC_FALSE);
+  } else {
+    if (build) FSSolverFirstPassDim(s, 3, PETSC_TRUE);
+    else FSSolverFirstPassDim(s, 3, PETSC_FALSE);
+  }
+  PetscCall(PetscLogEventEnd(FS_FirstPass, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverWallPass - the terms that act through the wall segments (boundary integrals), over the
+   owned particles that have segments within their support, added to the rates f of the pair pass;
+   the renormalized ones divided by gamma_i.
+*/
+static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscReal *f)
+{
+  const PetscInt dim = s->dim, US = s->ustride, n = s->nowned;
+  FSWallData    *wd  = s->wd;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_WallPass, 0, 0, 0, 0));
+  for (PetscInt i = 0; i < n; i++) {
+    FSNeighbourhood nb;
+    FSRate          rn = {0, {0, 0, 0}, {0, 0, 0}}, ru = {0, {0, 0, 0}, {0, 0, 0}};
+    PetscReal       ig;
+    if (wd->wstart[i + 1] == wd->wstart[i]) continue;
+    PetscCall(PetscMemzero(&nb, sizeof(nb)));
+    nb.i  = i;
+    nb.nw = wd->wstart[i + 1] - wd->wstart[i];
+    nb.wk = wd->wnbr + wd->wstart[i];
+    nb.wW = wd->wW + wd->wstart[i];
+    for (PetscInt t = 0; t < s->terms.nterms; t++) {
+      FSTerm term = s->terms.term[t];
+      if (!term->wall || !term->ops.interact) continue;
+      term->ops.interact(term, P, &nb, term->renormalized ? &rn : &ru);
+    }
+    ig = wd->invgamma[i];
+    for (PetscInt d = 0; d < dim; d++) {
+      f[i * US + d] += rn.dx[d] * ig + ru.dx[d];
+      f[i * US + dim + d] += rn.du[d] * ig + ru.du[d];
+    }
+    f[i * US + 2 * dim] += rn.drho * ig + ru.drho;
+  }
+  PetscCall(PetscLogEventEnd(FS_WallPass, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverEvaluateRates - the rates (dx/dt, du/dt, drho/dt) of the owned particles for the packed
+   state u, into f (same layout); the global DOFs' rates (the structure's, at time s->rhs_time,
+   and the dissipated energies) on rank 0.
+   count: add the work to the run's statistics (PETSC_FALSE for evaluations made for output).
+
+   Collective
+*/
+PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *f, PetscBool count)
+{
+  const PetscInt dim = s->dim, S = s->stride, US = s->ustride, n = s->nowned;
+  FSParticles    P;
+  PetscReal     *dx, *r2, *gw, *ri2, power[FS_MAX_TERMS + 5], reaction[3] = {0, 0, 0};
+  PetscInt       maxn = 0, npower = 0;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_RHS, 0, 0, 0, 0));
+  for (PetscInt i = 0; i < n; i++)
+    for (PetscInt a = 0; a < US; a++) s->rec[i * S + a] = u[i * US + a];
+  PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
+  PetscCall(FSHaloRefresh(&s->halo, dim, n, s->rec));
+  PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
+
+  /* the neighbour list of this right-hand side: built by the first pass when there is one (it visits
+     the candidates anyway), else here */
+  if (!s->terms.needs) {
+    PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
+    PetscCall(FSNeighboursBuildList(&s->nbrs, &s->kernel, n, s->rec, S));
+    PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
+  }
+  /* the scratch holds one particle's neighbours: the candidates bound their number */
+  for (PetscInt i = 0; i < n; i++) maxn = PetscMax(maxn, s->nbrs.cstart[i + 1] - s->nbrs.cstart[i]);
+  if (maxn > s->scratchcap) {
+    PetscCall(PetscFree(s->scratch));
+    s->scratchcap = PetscMax(maxn, 2 * s->scratchcap);
+    PetscCall(PetscMalloc1((2 * dim + 2) * s->scratchcap, &s->scratch));
+  }
+  dx  = s->scratch;
+  r2  = dx + dim * s->scratchcap;
+  gw  = r2 + s->scratchcap;
+  ri2 = gw + dim * s->scratchcap;
+  /* per-particle volumes and pressures (owned and ghosts), shared by the passes and the terms */
+  for (PetscInt k = 0; k < n + s->halo.nghost; k++) {
+    const PetscReal *rk = &s->rec[k * S];
+    s->vol[k]      = rk[2 * dim + 1] / rk[2 * dim];
+    s->pressure[k] = s->c0 * s->c0 * (rk[2 * dim] - s->rho0) + s->background_pressure;
+  }
+
+  if (s->coupled) {
+    PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
+    PetscCall(FSSolverCouplingPredict(s, u));
+    PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
+  }
+  if (s->wd) {
+    PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
+    PetscCall(FSSolverWallsPrepare(s));
+    PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
+  }
+  PetscCall(FSSolverGetParticles(s, &P));
+
+  if (s->terms.needs) {
+    PetscCall(FSSolverFirstPass(s, PETSC_TRUE));
+    PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
+    PetscCall(FSHaloRefreshAux(&s->halo, s->aux));
+    PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
+    if (count) s->pair_visits += s->nbrs.npairs;
+  }
+  for (PetscInt t = 0; t < s->terms.nterms; t++) {
+    FSTerm term = s->terms.term[t];
+    term->power = 0;
+    if (term->ops.prepare) PetscCall((*term->ops.prepare)(term, &P));
+  }
+  if (count) { /* the viscosity bound of the next time step comes from the integrator's own evaluations only */
+    s->nu_bound = s->nu;
+    for (PetscInt t = 0; t < s->terms.nterms; t++) s->nu_bound = PetscMax(s->nu_bound, s->terms.term[t]->max_viscosity);
+  }
+
+  PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
+  for (PetscInt i = 0; i < n; i++) {
+    FSNeighbourhood nb;
+    FSRate          rate = {0, {0, 0, 0}, {0, 0, 0}};
+    nb.i     = i;
+    nb.n     = FSFillNeighbourhood(s, i, dx, r2, gw, ri2);
+    nb.j     = s->nbrs.nbr + s->nbrs.start[i];
+    nb.dx    = dx;
+    nb.r2    = r2;
+    nb.rinv2 = ri2;
+    nb.gradW = gw;
+    nb.nw    = 0;
+    nb.wk    = NULL;
+    nb.wW    = NULL;
+    /* renormalized terms (boundary integrals) first: their sum is divided by gamma_i */
+    for (PetscInt t = 0; t < s->terms.nterms; t++) {
+      FSTerm term = s->terms.term[t];
+      if (!term->renormalized || term->wall) continue;
+      if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
+      if (term->ops.source) term->ops.source(term, &P, i, &rate);
+    }
+    if (s->wd) {
+      const PetscReal ig = s->wd->invgamma[i];
+      rate.drho *= ig;
+      for (PetscInt d = 0; d < dim; d++) {
+        rate.du[d] *= ig;
+        rate.dx[d] *= ig;
+      }
+    }
+    for (PetscInt t = 0; t < s->terms.nterms; t++) {
+      FSTerm term = s->terms.term[t];
+      if (term->renormalized || term->wall) continue;
+      if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
+      if (term->ops.source) term->ops.source(term, &P, i, &rate);
+    }
+    for (PetscInt d = 0; d < dim; d++) {
+      f[i * US + d]       = s->rec[i * S + dim + d] + rate.dx[d];
+      f[i * US + dim + d] = rate.du[d];
+    }
+    f[i * US + 2 * dim] = rate.drho;
+  }
+  PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
+  if (s->wd) PetscCall(FSSolverWallPass(s, &P, f));
+  if (s->coupled) {
+    PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
+    PetscCall(FSSolverCouplingReaction(s, f, reaction));
+    PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
+  }
+  s->relax_power = 0;
+  if (s->rhs_time < s->relax_time) { /* start-up relaxation: du/dt -= zeta(t) u, zeta fading smoothly to 0 */
+    const PetscReal zeta = 10.0 / s->relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->rhs_time / s->relax_time));
+    for (PetscInt i = 0; i < n; i++)
+      for (PetscInt d = 0; d < dim; d++) {
+        const PetscReal ud = s->rec[i * S + dim + d];
+        f[i * US + dim + d] -= zeta * ud;
+        s->relax_power -= zeta * s->rec[i * S + 2 * dim + 1] * ud * ud;
+      }
+  }
+  if (count) {
+    s->pair_visits += s->nbrs.npairs;
+    s->nrhs++;
+  }
+
+  /* the structure's DOFs (first block of the global DOFs, rank 0) */
+  s->ext_power = 0;
+  if (s->coupled) { /* loads of this stage to the structure, the tank's motion back to the liquid */
+    PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
+    PetscCall(FSSolverCouplingRates(s, f));
+    PetscCall(FSSolverCouplingInertia(s, f, &s->ext_power));
+    PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
+  } else PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, f, NULL));
+  /* powers: the rates of the dissipated energies (the next block) and of the energy block's integrals, rank 0 */
+  for (PetscInt t = 0; t < s->terms.nterms; t++)
+    if (s->terms.term[t]->has_power) power[npower++] = s->terms.term[t]->power;
+  power[npower]     = s->ext_power;
+  power[npower + 1] = s->relax_power;
+  for (PetscInt c = 0; c < 3; c++) power[npower + 2 + c] = reaction[c];
+  {
+    PetscMPIInt rank;
+    PetscReal  *fe = f + n * US + s->genergy;
+    PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+    PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
+    PetscErrorCode ierr = 0; /* the structure's energy (rank 0): its failure is raised on every rank below */
+    if (!rank) {
+      FSStructure st = s->structure;
+      PetscReal   E[3] = {0, 0, 0};
+      for (PetscInt k = 0; k < npower; k++) f[n * US + s->gdiss + k] = power[k];
+      for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) fe[e] = 0; /* the constants and the bounces' jumps */
+      if (st && st->ndof && st->ops.energy) ierr = (*st->ops.energy)(st, s->sy, E);
+      fe[FS_ENERGY_WORK_EXT]     = power[npower];
+      fe[FS_ENERGY_WORK_RELAX]   = power[npower + 1];
+      fe[FS_ENERGY_WORK_DAMPING] = -E[2];
+      if (s->coupled) { /* w [(F_walls + F_L) . R(-theta) V_ref + omega (M_walls + M_L)] */
+        const FSTankMotion *mo = &s->motion;
+        const PetscReal     c = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
+        const PetscReal     vx = c * mo->vel[0] + sn * mo->vel[1], vy = -sn * mo->vel[0] + c * mo->vel[1];
+        const PetscReal    *R = &power[npower + 2], *L = s->tank_load;
+        fe[FS_ENERGY_WORK_COUPLING] = s->tank_width * ((R[0] + L[0]) * vx + (R[1] + L[1]) * vy + mo->rate * (R[2] + L[2]));
+      }
+    }
+    if (s->structure && s->structure->ndof && s->structure->ops.energy) PetscCall(FSSolverStructureResultRank0(s, ierr, "energy", 0, NULL));
+  }
+  PetscCall(PetscLogEventEnd(FS_RHS, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetParticles - the view of the particles and parameters the terms work on, pointing into
+   the solver's work arrays as the last right-hand side left them.
+*/
+PetscErrorCode FSSolverGetParticles(FSSolver s, FSParticles *P)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscMemzero(P, sizeof(*P)));
+  P->dim                 = s->dim;
+  P->nowned              = s->nowned;
+  P->nghost              = s->halo.nghost;
+  P->stride              = s->stride;
+  P->rec                 = s->rec;
+  P->aux                 = s->aux;
+  P->vol                 = s->vol;
+  P->pressure            = s->pressure;
+  P->rho0                = s->rho0;
+  P->c0                  = s->c0;
+  P->h                   = s->h;
+  P->nu                  = s->nu;
+  P->dx                  = s->dx;
+  P->umax                = s->umax;
+  P->background_pressure = s->background_pressure;
+  for (PetscInt d = 0; d < 3; d++) P->gravity[d] = s->gravity[d];
+  if (s->wd) {
+    P->nwalls    = s->wd->walls.nwalls;
+    P->gamma     = s->wd->gamma;
+    P->invgamma  = s->wd->invgamma;
+    P->wseg      = s->wd->walls.seg;
+    P->wsegwall  = s->wd->walls.segwall;
+    P->wpressure = s->wd->wp;
+    P->noslip    = s->wd->noslip;
+    P->wallload  = s->wd->load;
+    for (PetscInt d = 0; d < 3; d++) P->loadpoint[d] = s->wd->loadpoint[d];
+  }
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverRHS - the TS right-hand side callback. */
+PetscErrorCode FSSolverRHS(TS ts, PetscReal t, Vec U, Vec F, void *ctx)
+{
+  FSSolver           s = (FSSolver)ctx;
+  const PetscScalar *u;
+  PetscScalar       *f;
+
+  PetscFunctionBegin;
+  (void)ts;
+  s->rhs_time = t;
+  PetscCall(VecGetArrayRead(U, &u));
+  PetscCall(VecGetArray(F, &f));
+  PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_TRUE));
+  PetscCall(VecRestoreArrayRead(U, &u));
+  PetscCall(VecRestoreArray(F, &f));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,445 @@
+/*
+   FSSolver: the object that holds a run. Create / SetFromOptions / SetUp / Solve / View / Destroy.
+*/
+#include "solver/solverimpl.h"
+#include "boundary/impls/polygon/polygonimpl.h"
+
+PetscClassId FSSOLVER_CLASSID;
+
+static const char FSDefaultTerms[] = "continuity,delta,pressure,viscosity,les_viscosity,gravity";
+
+/*
+   FSSolverCreate - creates a solver with default parameters; the case and every parameter are
+   then set from the options database by FSSolverSetFromOptions().
+
+   Collective
+
+   Input Parameter:
+.  comm - the communicator of the run
+
+   Output Parameter:
+.  solver - the new solver
+*/
+PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
+{
+  FSSolver s;
+
+  PetscFunctionBegin;
+  PetscCall(FSInitializePackage());
+  PetscCall(PetscHeaderCreate(s, FSSOLVER_CLASSID, "FSSolver", "flexslosh solver", "FS", comm, FSSolverDestroy, FSSolverView));
+  PetscCall(PetscStrncpy(s->casename, "taylor_green", sizeof(s->casename)));
+  s->dim                   = 2;
+  s->dx                    = 0;
+  s->h_over_dx             = 2.0;
+  s->rho0                  = 1000.0;
+  s->c0                    = 20.0;
+  s->nu                    = 1e-6;
+  s->cfl                   = 0.4; /* cases may raise it (RK4 only, see below) */
+  s->cfl_visc              = 0.125;
+  s->cfl_force             = 0.25;
+  s->halo_skin             = 0.5;
+  s->max_density_variation = 0.3;
+  s->output_interval       = 0;
+  s->checkpoint_interval   = 0;
+  s->progress              = PETSC_TRUE;
+  s->progress_interval     = 5.0;
+  s->write_output          = PETSC_TRUE;
+  s->sort_interval         = 1;
+  s->final_time            = 1.0;
+  s->structure_cfl         = 0.02;
+  PetscCall(PetscStrncpy(s->structname, "none", sizeof(s->structname)));
+  s->halo.rectype          = MPI_DATATYPE_NULL;
+  s->halo.auxtype          = MPI_DATATYPE_NULL;
+  *solver                  = s;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetDefaultPhysics - lets a case set the defaults of -fs_rho0, -fs_c0, -fs_nu and -fs_gravity
+   before they are read (called from the case's setfromoptions).
+*/
+PetscErrorCode FSSolverSetDefaultPhysics(FSSolver s, PetscReal rho0, PetscReal c0, PetscReal nu, const PetscReal g[])
+{
+  PetscFunctionBegin;
+  s->rho0 = rho0;
+  s->c0   = c0;
+  s->nu   = nu;
+  for (PetscInt d = 0; d < 3; d++) s->gravity[d] = g ? g[d] : 0;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetFromOptions - reads the run's options (prefix -fs_), the case's and the terms'.
+
+   Collective
+
+   Options Database Keys:
++  -fs_case <name>                 - the case to set up (-fs_case_view lists them)
+.  -fs_dim <2|3>                   - dimension
+.  -fs_dx <dx>                     - particle spacing (default from the case)
+.  -fs_h_over_dx <2>               - smoothing length over particle spacing; the kernel support is 2h
+.  -fs_rho0, -fs_c0, -fs_nu        - reference density, speed of sound, kinematic viscosity
+.  -fs_gravity <gx,gy[,gz]>        - body force per unit mass
+.  -fs_background_pressure <0>     - constant added to the equation of state
+.  -fs_terms <list>                - physics terms, by name (-fs_terms_view lists them)
+.  -fs_structure <none|msd|modal>  - the structure carrying the tank (-fs_structure_view lists the models)
+.  -fs_structure_cfl <0.02>        - without particles: time step as a fraction of the shortest period the structure resolves (or -ts_dt)
+.  -fs_cfl, -fs_cfl_viscous, -fs_cfl_force - time-step limits: CFL h/(c0+|u|max), CFL_v h^2/nu, CFL_f sqrt(h/|g|)
+                                     (CFL 0.4; the wall cases use 1.0 with the default RK4)
+.  -fs_relax_time <0>              - start-up relaxation: the velocities are damped until this time
+.  -fs_output_dir <dir>            - output directory (default output/<case>)
+.  -fs_output_interval <t>         - simulated time between particle snapshots (0: first and last only)
+.  -fs_checkpoint_interval <n>     - steps between checkpoints (0: none)
+.  -fs_restart <file>              - continue from a checkpoint
+.  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) and stop after set-up
+-  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
+*/
+PetscErrorCode FSSolverSetFromOptions(FSSolver s)
+{
+  char           terms[1024];
+  PetscBool      flg = PETSC_FALSE, set = PETSC_FALSE; /* PetscOptionsBool() leaves flg untouched when -fs_case_view is absent */
+  PetscInt       ng = 3;
+  PetscReal      g[3];
+  FSCaseCreateFn create;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCall(FSCaseRegisterAll());
+  PetscCall(FSTermRegisterAll());
+  PetscCall(FSStructureRegisterAll());
+  PetscObjectOptionsBegin((PetscObject)s);
+  PetscCall(PetscOptionsString("-fs_case", "Case to set up (list with -fs_case_view)", "FSSolverSetFromOptions", s->casename, s->casename, sizeof(s->casename), NULL));
+  PetscCall(PetscOptionsBool("-fs_case_view", "List the registered cases", "FSCaseListView", PETSC_FALSE, &flg, NULL));
+  if (flg) PetscCall(FSCaseListView(PETSC_VIEWER_STDOUT_(comm)));
+  PetscCall(FSCaseFind(s->casename, &create));
+  PetscCheck(create, comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown case \"%s\" given to -fs_case: list the registered cases with -fs_case_view", s->casename);
+  PetscCall(PetscOptionsInt("-fs_dim", "Dimension: 2 or 3", "FSSolverSetFromOptions", s->dim, &s->dim, NULL));
+  PetscCheck(s->dim == 2 || s->dim == 3, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dim %" PetscInt_FMT " is not supported: expected 2 or 3", s->dim);
+  PetscCall(PetscMemzero(&s->caseops, sizeof(s->caseops)));
+  PetscCall((*create)(s, &s->caseops));
+  PetscCheck(s->caseops.ncolumns >= 0 && s->caseops.ncolumns <= FS_CASE_MAX_COLUMNS && (!s->caseops.ncolumns || s->caseops.columns), comm, PETSC_ERR_PLIB, "Case \"%s\" declares %" PetscInt_FMT " time-series columns: at most FS_CASE_MAX_COLUMNS = %d, with a columns() routine", s->casename, s->caseops.ncolumns, FS_CASE_MAX_COLUMNS);
+  PetscCall(PetscStrncpy(s->default_terms, FSDefaultTerms, sizeof(s->default_terms)));
+  if (s->caseops.setfromoptions) PetscCall((*s->caseops.setfromoptions)(s, PetscOptionsObject));
+  PetscCall(PetscStrncpy(terms, s->default_terms, sizeof(terms)));
+
+  PetscCall(PetscOptionsReal("-fs_dx", "Particle spacing", "FSSolverSetFromOptions", s->dx, &s->dx, NULL));
+  PetscCheck(s->dx > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g must be positive", (double)s->dx);
+  PetscCall(PetscOptionsReal("-fs_h_over_dx", "Smoothing length over particle spacing (kernel support is 2h)", "FSSolverSetFromOptions", s->h_over_dx, &s->h_over_dx, NULL));
+  PetscCheck(s->h_over_dx >= 1.0 && s->h_over_dx <= 4.0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_h_over_dx %g is out of range: expected a value in [1, 4] (2 is usual)", (double)s->h_over_dx);
+  PetscCall(PetscOptionsReal("-fs_rho0", "Reference density of the liquid", "FSSolverSetFromOptions", s->rho0, &s->rho0, NULL));
+  PetscCheck(s->rho0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_rho0 %g must be positive", (double)s->rho0);
+  PetscCall(PetscOptionsReal("-fs_c0", "Artificial speed of sound (about 10 times the largest flow speed)", "FSSolverSetFromOptions", s->c0, &s->c0, NULL));
+  PetscCheck(s->c0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_c0 %g must be positive", (double)s->c0);
+  PetscCall(PetscOptionsReal("-fs_nu", "Kinematic viscosity of the liquid", "FSSolverSetFromOptions", s->nu, &s->nu, NULL));
+  PetscCheck(s->nu >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_nu %g must be non-negative", (double)s->nu);
+  for (PetscInt d = 0; d < 3; d++) g[d] = s->gravity[d];
+  PetscCall(PetscOptionsRealArray("-fs_gravity", "Body force per unit mass, one value per dimension", "FSSolverSetFromOptions", g, &ng, &set));
+  if (set) {
+    PetscCheck(ng == s->dim, comm, PETSC_ERR_ARG_SIZ, "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng, s->dim);
+    for (PetscInt d = 0; d < 3; d++) s->gravity[d] = d < ng ? g[d] : 0;
+  }
+  PetscCall(PetscOptionsReal("-fs_background_pressure", "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b", "FSSolverSetFromOptions", s->background_pressure, &s->background_pressure, NULL));
+  PetscCall(PetscOptionsString("-fs_terms", "Physics terms, comma separated (list with -fs_terms_view)", "FSSolverSetFromOptions", terms, terms, sizeof(terms), NULL));
+  PetscCall(PetscOptionsBool("-fs_terms_view", "List the registered physics terms", "FSTermListView", s->terms_view, &s->terms_view, NULL));
+  PetscCall(PetscOptionsString("-fs_structure", "Structure carrying the tank: none, or a registered model (list with -fs_structure_view)", "FSSolverSetFromOptions", s->structname, s->structname, sizeof(s->structname), NULL));
+  PetscCall(PetscOptionsBool("-fs_structure_view", "List the registered structure models", "FSStructureListView", s->structure_view, &s->structure_view, NULL));
+  PetscCall(PetscOptionsReal("-fs_structure_cfl", "Without particles: time step as a fraction of the shortest period the structure resolves (-ts_dt overrides)", "FSSolverStructureDt", s->structure_cfl, &s->structure_cfl, NULL));
+  PetscCheck(s->structure_cfl > 0 && s->structure_cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_structure_cfl %g is out of range: expected (0, 1]", (double)s->structure_cfl);
+  PetscCall(PetscOptionsReal("-fs_cfl", "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)", "FSSolverComputeStableDt", s->cfl, &s->cfl, &s->cfl_set));
+  PetscCheck(!s->cfl_set || (s->cfl > 0 && s->cfl <= 2), comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl %g is out of range: expected (0, 2]", (double)s->cfl);
+  PetscCall(PetscOptionsReal("-fs_relax_time", "Start-up relaxation: damp the particle velocities until this time (0: none)", "FSSolverEvaluateRates", s->relax_time, &s->relax_time, NULL));
+  PetscCheck(s->relax_time >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_relax_time %g must be non-negative", (double)s->relax_time);
+  PetscCall(PetscOptionsReal("-fs_cfl_viscous", "Viscous limit: dt <= CFL_v h^2/nu", "FSSolverComputeStableDt", s->cfl_visc, &s->cfl_visc, NULL));
+  PetscCheck(s->cfl_visc > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_viscous %g must be positive", (double)s->cfl_visc);
+  PetscCall(PetscOptionsReal("-fs_cfl_force", "Body-force limit: dt <= CFL_f sqrt(h/|g|)", "FSSolverComputeStableDt", s->cfl_force, &s->cfl_force, NULL));
+  PetscCheck(s->cfl_force > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_force %g must be positive", (double)s->cfl_force);
+  PetscCall(PetscOptionsReal("-fs_halo_skin", "Extra halo width beyond the kernel support, in units of h", "FSHaloBuild", s->halo_skin, &s->halo_skin, NULL));
+  PetscCheck(s->halo_skin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_halo_skin %g must be positive", (double)s->halo_skin);
+  PetscCall(PetscOptionsReal("-fs_max_density_variation", "Stop the run when |rho/rho0 - 1| exceeds this (blow-up detection)", "FSSolverCheckState", s->max_density_variation, &s->max_density_variation, NULL));
+  PetscCall(PetscOptionsInt("-fs_sort_interval", "Steps between reorderings of the particles by cell", "FSSolverSortByCell", s->sort_interval, &s->sort_interval, NULL));
+  PetscCheck(s->sort_interval >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sort_interval %" PetscInt_FMT " must be at least 1", s->sort_interval);
+  {
+    char def[PETSC_MAX_PATH_LEN];
+    PetscCall(PetscSNPrintf(def, sizeof(def), "output/%s", s->casename));
+    if (!s->outdir[0]) PetscCall(PetscStrncpy(s->outdir, def, sizeof(s->outdir)));
+  }
+  PetscCall(PetscOptionsBool("-fs_output", "Write output files (snapshots, time series, summary)", "FSSolverSolve", s->write_output, &s->write_output, NULL));
+  PetscCall(PetscOptionsString("-fs_output_dir", "Output directory (default output/<case>)", "FSSolverSolve", s->outdir, s->outdir, sizeof(s->outdir), NULL));
+  PetscCall(PetscOptionsReal("-fs_output_interval", "Simulated time between particle snapshots (0: first and last only)", "FSSolverWriteSnapshot", s->output_interval, &s->output_interval, NULL));
+  PetscCheck(s->output_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_output_interval %g must be non-negative", (double)s->output_interval);
+  PetscCall(PetscOptionsInt("-fs_checkpoint_interval", "Steps between checkpoints (0: none)", "FSSolverWriteCheckpoint", s->checkpoint_interval, &s->checkpoint_interval, NULL));
+  PetscCheck(s->checkpoint_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->checkpoint_interval);
+  PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint", s->restart, s->restart, sizeof(s->restart), NULL));
+  PetscCall(PetscOptionsBool("-fs_geometry_view", "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 snapshot), then stop without time stepping", "FSSolverGeometryView", s->geometry_view, &s->geometry_view, NULL));
+  PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor", s->progress, &s->progress, NULL));
+  PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor", s->progress_interval, &s->progress_interval, NULL));
+
+  /* the terms */
+  for (PetscInt t = 0; t < s->terms.nterms; t++) PetscCall(FSTermDestroy(&s->terms.term[t]));
+  s->terms.nterms = 0;
+  s->terms.needs  = 0;
+  {
+    char *tok, *save = NULL;
+    for (tok = strtok_r(terms, ", ", &save); tok; tok = strtok_r(NULL, ", ", &save)) {
+      FSTerm term;
+      PetscCheck(s->terms.nterms < FS_MAX_TERMS, comm, PETSC_ERR_ARG_OUTOFRANGE, "Too many terms in -fs_terms (at most %d)", FS_MAX_TERMS);
+      for (PetscInt t = 0; t < s->terms.nterms; t++) {
+        PetscBool same;
+        PetscCall(PetscStrcmp(s->terms.term[t]->name, tok, &same));
+        PetscCheck(!same, comm, PETSC_ERR_ARG_WRONG, "Term \"%s\" appears twice in -fs_terms", tok);
+      }
+      PetscCall(FSTermCreate(s, tok, &term));
+      if (term->ops.setfromoptions) PetscCall((*term->ops.setfromoptions)(term, PetscOptionsObject));
+      s->terms.term[s->terms.nterms++] = term;
+      s->terms.needs |= term->needs;
+    }
+  }
+  /* the structure */
+  PetscCall(FSStructureDestroy(&s->structure));
+  if (strcmp(s->structname, "none")) {
+    PetscCall(FSStructureCreate(s, s->structname, &s->structure));
+    if (s->structure->ops.setfromoptions) PetscCall((*s->structure->ops.setfromoptions)(s->structure, PetscOptionsObject));
+  }
+  {
+    PetscBool help;
+    PetscCall(PetscOptionsHasHelp(NULL, &help));
+    if (help) {
+      PetscCall(FSCaseHelpAll(s, PetscOptionsObject));
+      PetscCall(FSTermHelpAll(s, &s->terms, PetscOptionsObject));
+      PetscCall(FSStructureHelpAll(s, s->structure, PetscOptionsObject));
+    }
+  }
+  PetscOptionsEnd();
+  if (s->terms_view) PetscCall(FSTermListView(PETSC_VIEWER_STDOUT_(comm)));
+  if (s->structure_view) PetscCall(FSStructureListView(PETSC_VIEWER_STDOUT_(comm)));
+  s->h = s->h_over_dx * s->dx;
+  PetscCall(FSSolverSetUpTS(s));
+  if (!s->cfl_set && s->cfl > 0.4) { /* a case's larger default holds for RK4 only (stable on the imaginary axis up to 2.8) */
+    TSType    type;
+    TSRKType  rk = NULL;
+    PetscBool isrk;
+    PetscCall(TSGetType(s->ts, &type));
+    PetscCall(PetscStrcmp(type, TSRK, &isrk));
+    if (isrk) PetscCall(TSRKGetType(s->ts, &rk));
+    if (!(isrk && rk && !strcmp(rk, TSRK4))) s->cfl = 0.4;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverSetDomain - the domain box and its periodicity (called by the case). */
+PetscErrorCode FSSolverSetDomain(FSSolver s, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[])
+{
+  PetscFunctionBegin;
+  for (PetscInt d = 0; d < 3; d++) {
+    s->lo[d]       = d < s->dim ? lo[d] : 0;
+    s->hi[d]       = d < s->dim ? hi[d] : 1;
+    s->periodic[d] = d < s->dim ? periodic[d] : PETSC_FALSE;
+    PetscCheck(s->hi[d] > s->lo[d], PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "Empty domain in direction %" PetscInt_FMT ": [%g, %g]", d, (double)s->lo[d], (double)s->hi[d]);
+  }
+  s->domain_set = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverGetParameters - the particle spacing, smoothing length and liquid parameters (for cases and terms). */
+PetscErrorCode FSSolverGetParameters(FSSolver s, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0, PetscReal *nu)
+{
+  PetscFunctionBegin;
+  if (dx) *dx = s->dx;
+  if (h) *h = s->h;
+  if (rho0) *rho0 = s->rho0;
+  if (c0) *c0 = s->c0;
+  if (nu) *nu = s->nu;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSSolverGetDimension(FSSolver s, PetscInt *dim)
+{
+  PetscFunctionBegin;
+  *dim = s->dim;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSSolverGetLocalSize(FSSolver s, PetscInt *n)
+{
+  PetscFunctionBegin;
+  *n = s->nowned;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSSolverGetTS(FSSolver s, TS *ts)
+{
+  PetscFunctionBegin;
+  *ts = s->ts;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSSolverGetSwarm(FSSolver s, DM *sw)
+{
+  PetscFunctionBegin;
+  *sw = s->swarm;
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverGetTime - the current time and step number. */
+PetscErrorCode FSSolverGetTime(FSSolver s, PetscReal *t, PetscInt *step)
+{
+  PetscFunctionBegin;
+  if (t) PetscCall(TSGetTime(s->ts, t));
+  if (step) PetscCall(TSGetStepNumber(s->ts, step));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetUp - builds the case (domain, particles), the decomposition, the halo and the TS.
+
+   Collective
+
+   Options Database Key:
+.  -fs_geometry_view - then write the set-up's picture and walls (FSSolverGeometryView()) and the
+                       particles at step 0 to the output directory
+*/
+PetscErrorCode FSSolverSetUp(FSSolver s)
+{
+  MPI_Comm  comm = PetscObjectComm((PetscObject)s);
+  PetscReal width;
+  PetscBool changed;
+  PetscReal *x;
+  PetscInt  n;
+
+  PetscFunctionBegin;
+  if (s->setupcalled) PetscFunctionReturn(0);
+  PetscCall(FSKernelSetUp(&s->kernel, s->dim, s->h));
+  s->stride    = 2 * s->dim + 2;
+  s->ustride   = 2 * s->dim + 1;
+  s->auxstride = s->dim + 1;
+  PetscCall(FSSolverCreateSwarm(s));
+  PetscCheck(s->caseops.setup, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s has no setup routine", s->casename);
+  PetscCall((*s->caseops.setup)(s));
+  PetscCheck(s->domain_set, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s did not set the domain (FSSolverSetDomain)", s->casename);
+  PetscCall(FSSolverWallsSetUp(s));
+  PetscCheck(s->nglobal_particles > 0 || s->structure, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s created no particles and there is no structure (-fs_structure none): nothing to compute", s->casename);
+
+  width = s->kernel.support + s->halo_skin * s->h;
+  for (PetscInt d = 0; d < s->dim; d++)
+    PetscCheck(!s->periodic[d] || s->hi[d] - s->lo[d] >= 2 * width, comm, PETSC_ERR_ARG_OUTOFRANGE, "Periodic direction %" PetscInt_FMT " is %g long, less than twice the halo width %g: use a smaller -fs_dx", d, (double)(s->hi[d] - s->lo[d]), (double)width);
+  PetscCall(FSDecompSetUp(&s->decomp, comm, s->dim, s->lo, s->hi, s->periodic, width));
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(FSDecompBalance(&s->decomp, comm, n, x, width));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+
+  /* the coupling (the liquid's mass, which the structure's payload may need), the structure, then the
+     global DOFs: the structure's state, one dissipated energy per dissipative term */
+  PetscCall(FSSolverCouplingSetUp(s));
+  if (s->structure) {
+    FSStructure st = s->structure;
+    PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
+    if (st->ops.setup) PetscCall((*st->ops.setup)(st));
+    PetscCall(PetscLogEventEnd(FS_Structure, 0, 0, 0, 0));
+    PetscCheck(st->ndof >= 0 && (st->ndof == 0 || (st->ops.rhs && st->ops.motion)), comm, PETSC_ERR_PLIB, "Structure %s: the model must set ndof and provide rhs and motion", st->name);
+    PetscCheck(!st->ncolumns || st->ops.columns, comm, PETSC_ERR_PLIB, "Structure %s adds time-series columns but has no columns routine", st->name);
+    PetscCall(PetscCalloc2(st->ndof + 1, &s->sy, st->ndof + 1, &s->sydot));
+  }
+  PetscCall(FSSolverSetUpGlobalBlocks(s));
+  if (s->structure && s->structure->ndof && s->structure->ops.initial) PetscCall((*s->structure->ops.initial)(s->structure, &s->global0[s->gstruct]));
+  if (s->restart[0]) PetscCall(FSSolverLoadCheckpoint(s));
+  if (!s->ts) PetscCall(FSSolverSetUpTS(s));
+  if (s->restart[0]) {
+    PetscCall(TSSetTime(s->ts, s->restart_hdr.time));
+    PetscCall(TSSetStepNumber(s->ts, s->restart_hdr.step));
+    PetscCall(TSSetTimeStep(s->ts, s->restart_hdr.dt));
+  }
+  PetscCall(FSSolverMigrate(s, &changed));
+  PetscCall(FSSolverSortByCell(s));
+  PetscCall(FSSolverResize(s, PETSC_TRUE));
+  if (!s->restart[0]) {
+    PetscReal dt;
+    PetscCall(FSSolverComputeStableDt(s, &dt));
+    PetscCall(TSSetTimeStep(s->ts, dt));
+  }
+  s->setupcalled = PETSC_TRUE;
+  if (s->geometry_view) {
+    PetscCall(FSSolverGeometryView(s, s->outdir));
+    PetscCall(FSSolverMonitorBegin(s)); /* the particles at step 0: snapshot_000000.h5 in particles.xdmf */
+    if (s->write_output && !s->restart[0] && s->nglobal_particles) PetscCall(PetscPrintf(comm, "Geometry view: the particles at step 0 are in %s/particles.xdmf\n", s->outdir));
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverView - prints the run's set-up: case, particles, decomposition, parameters, terms, TS.
+
+   Options Database Key:
+.  -fs_view - view the solver after set-up
+*/
+PetscErrorCode FSSolverView(FSSolver s, PetscViewer viewer)
+{
+  PetscBool   iascii;
+  PetscMPIInt size;
+
+  PetscFunctionBegin;
+  if (!viewer) PetscCall(PetscViewerASCIIGetStdout(PetscObjectComm((PetscObject)s), &viewer));
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &iascii));
+  if (!iascii) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
+  PetscCall(PetscObjectPrintClassNamePrefixType((PetscObject)s, viewer));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "case %s, %" PetscInt_FMT "-D, %" PetscInt64_FMT " particles on %d rank(s)\n", s->casename, s->dim, s->nglobal_particles, (int)size));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "dx = %g, h = %g (h/dx = %g), Wendland C2 kernel, support 2h\n", (double)s->dx, (double)s->h, (double)s->h_over_dx));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "rho0 = %g, c0 = %g, nu = %g, gravity = (%g, %g, %g), background pressure %g\n", (double)s->rho0, (double)s->c0, (double)s->nu, (double)s->gravity[0], (double)s->gravity[1], (double)s->gravity[2], (double)s->background_pressure));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "domain [%g, %g] x [%g, %g]", (double)s->lo[0], (double)s->hi[0], (double)s->lo[1], (double)s->hi[1]));
+  if (s->dim == 3) PetscCall(PetscViewerASCIIPrintf(viewer, " x [%g, %g]", (double)s->lo[2], (double)s->hi[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, ", periodic (%d, %d, %d), ranks grid %d x %d x %d\n", s->periodic[0], s->periodic[1], s->periodic[2], s->decomp.np[0], s->decomp.np[1], s->decomp.np[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "time step: CFL %g, viscous %g, force %g\n", (double)s->cfl, (double)s->cfl_visc, (double)s->cfl_force));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "terms (%" PetscInt_FMT "):\n", s->terms.nterms));
+  PetscCall(PetscViewerASCIIPushTab(viewer));
+  for (PetscInt t = 0; t < s->terms.nterms; t++) {
+    FSTerm term = s->terms.term[t];
+    if (term->ops.view) PetscCall((*term->ops.view)(term, viewer));
+    else PetscCall(PetscViewerASCIIPrintf(viewer, "%s\n", term->name));
+  }
+  PetscCall(PetscViewerASCIIPopTab(viewer));
+  if (s->structure) {
+    PetscCall(PetscViewerASCIIPrintf(viewer, "structure %s, %" PetscInt_FMT " DOFs\n", s->structure->name, s->structure->ndof));
+    PetscCall(PetscViewerASCIIPushTab(viewer));
+    if (s->structure->ops.view) PetscCall((*s->structure->ops.view)(s->structure, viewer));
+    PetscCall(PetscViewerASCIIPopTab(viewer));
+  } else PetscCall(PetscViewerASCIIPrintf(viewer, "no structure\n"));
+  if (s->ts) PetscCall(TSView(s->ts, viewer));
+  PetscCall(PetscViewerASCIIPopTab(viewer));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverDestroy - frees everything the solver holds. */
+PetscErrorCode FSSolverDestroy(FSSolver *solver)
+{
+  FSSolver s;
+
+  PetscFunctionBegin;
+  if (!*solver) PetscFunctionReturn(0);
+  s = *solver;
+  if (--((PetscObject)s)->refct > 0) {
+    *solver = NULL;
+    PetscFunctionReturn(0);
+  }
+  for (PetscInt t = 0; t < s->terms.nterms; t++) PetscCall(FSTermDestroy(&s->terms.term[t]));
+  PetscCall(FSStructureDestroy(&s->structure));
+  PetscCall(PetscFree2(s->sy, s->sydot));
+  if (s->casedata) PetscCall(PetscFree(s->casedata));
+  PetscCall(FSSnapshotWriterDestroy(&s->snapshots));
+  PetscCall(FSTimeSeriesDestroy(&s->series));
+  PetscCall(FSTimeSeriesDestroy(&s->energyseries));
+  PetscCall(TSDestroy(&s->ts));
+  PetscCall(VecDestroy(&s->U));
+  PetscCall(VecDestroy(&s->Uprev));
+  PetscCall(DMDestroy(&s->swarm));
+  PetscCall(FSDecompDestroy(&s->decomp));
+  PetscCall(FSSolverWallsDestroy(s));
+  PetscCall(FSHaloDestroy(&s->halo));
+  PetscCall(FSNeighboursDestroy(&s->nbrs));
+  PetscCall(PetscFree4(s->rec, s->aux, s->vol, s->pressure));
+  PetscCall(PetscFree(s->scratch));
+  PetscCall(PetscFree(s->field));
+  PetscCall(PetscHeaderDestroy(solver));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,192 @@
+/*
+   Private data structures of libflexslosh. Not part of the public interface.
+
+   Data flow of one run:  options -> case set-up (domain, particles) -> decomposition ->
+   TS loop [ halo refresh -> cell list and neighbour lists -> first pass (correction matrix,
+   density gradient, strain rate) -> ghost refresh of those -> pair pass of the terms ] ->
+   monitors (time series, snapshots, checkpoints, progress, blow-up checks).
+*/
+#pragma once
+#include <flexslosh.h>
+#include <petsc/private/petscimpl.h>
+#include "sys/fssys.h"
+#include "particles/fsparticles.h"
+#include "terms/fsterms.h"
+#include "structure/fsstructure.h"
+#include "cases/fscases.h"
+#include "coupling/fscoupling.h"
+#include "io/fsoutput.h"
+
+
+#define FS_MAX_GLOBAL 64
+
+
+
+
+
+
+
+/* The global DOFs of the state (on rank 0, after the particles) are a short list of blocks:
+   the structure's DOFs first, then one dissipated energy per term with a power, then the energy
+   budget's own integrals and constants (FS_ENERGY_*, src/coupling/energy.c). */
+#define FS_MAX_GLOBAL_BLOCKS 4
+typedef struct {
+  char     name[32];
+  PetscInt offset, n;
+} FSGlobalBlock;
+
+
+
+typedef struct _FSSolverOps *FSSolverOps;
+struct _FSSolverOps {
+  PetscErrorCode (*dummy)(void);
+};
+
+struct _p_FSSolver {
+  PETSCHEADER(struct _FSSolverOps);
+  /* options */
+  char      casename[64];
+  char      default_terms[1024]; /* the case's default for -fs_terms */
+  char      outdir[PETSC_MAX_PATH_LEN];
+  char      restart[PETSC_MAX_PATH_LEN];
+  PetscInt  dim;
+  PetscReal dx, h_over_dx, h, rho0, c0, nu, gravity[3], background_pressure;
+  PetscReal cfl, cfl_visc, cfl_force, relax_time;
+  PetscBool cfl_set; /* -fs_cfl given (else chosen by integrator) */
+  PetscReal halo_skin;        /* extra halo width, in units of h */
+  PetscReal max_density_variation;
+  PetscReal output_interval;
+  PetscInt  checkpoint_interval;
+  PetscBool progress, write_output;
+  PetscReal progress_interval;
+  PetscBool terms_view, setupcalled;
+  PetscBool geometry_view;    /* -fs_geometry_view: write the set-up's picture and walls, then stop */
+  PetscInt  sort_interval;
+
+  /* case */
+  FSCaseOps caseops;
+  void     *casedata;
+
+  /* geometry and decomposition */
+  PetscReal lo[3], hi[3];
+  PetscBool periodic[3], domain_set;
+  FSDecomp  decomp;
+  FSKernel  kernel;
+
+  /* particles: DMSwarm (BASIC) with fields position, velocity, density, mass, id */
+  DM       swarm;
+  PetscInt nowned;
+  PetscInt64 nglobal_particles;
+
+  /* work arrays: particle records of owned + ghost particles, derived quantities */
+  PetscInt   stride;    /* 2*dim+2 */
+  PetscInt   auxstride; /* dim+1 */
+  PetscReal *rec, *aux, *vol, *pressure;
+  PetscInt   reccap;
+  FSHalo       halo;
+  FSNeighbours nbrs;
+  PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW */
+  PetscInt     scratchcap;
+
+  /* terms */
+  FSTermSet terms;
+
+  /* the structure (NULL with -fs_structure none) */
+  char        structname[64];
+  FSStructure structure;
+  PetscBool   structure_view;
+  PetscReal   structure_cfl;  /* dt = structure_cfl * shortest period, when there are no particles */
+  FSLoads     loads;          /* liquid loads on the tank (the coupling fills them; zero until then) */
+  PetscReal  *sy, *sydot;     /* the structure's state and rate at the last right-hand side, every rank */
+  /* the coupling (src/coupling/coupling.c) */
+  PetscBool    coupled;       /* liquid and structure coupled */
+  PetscReal    tank_width;    /* across the 2-D plane: loads per unit width times this */
+  PetscReal    tank_ref[2];   /* the tank's point on the beam, in the tank frame */
+  PetscReal    liquid_mass;   /* of the whole tank (2-D mass times width) */
+  FSLoads      static_loads;  /* of the liquid at rest in the undeflected tank, subtracted */
+  FSTankMotion motion;        /* the tank's motion at the last right-hand side, every rank */
+  PetscReal    angle;         /* the tank's angle at this stage (from the structure's state) */
+  FSFrameField body;          /* the body acceleration field of the tank's frame predicted for this stage (FSSolverCouplingPredict; g without a coupling) */
+  PetscReal    ext_power;     /* P_ext of the last right-hand side, this rank's share */
+  PetscReal    reaction[3];   /* force (2) and moment of all terms but gravity on the liquid, tank frame, per unit width, all ranks */
+  PetscBool    loads_from_walls; /* -fs_coupling_loads walls */
+  PetscReal    tank_load[3];  /* the liquid's loads of the last right-hand side in the tank's frame, per unit width: force (2), moment about tank_ref */
+  PetscReal    relax_power;   /* power of the start-up relaxation of the last right-hand side, this rank's share */
+  PetscReal   rhs_time;       /* time of the right-hand side being evaluated */
+  PetscInt    steps_taken;    /* steps taken since set-up (this process) */
+
+  /* time stepping: U packs (x, u, rho) per owned particle, then the global DOFs on rank 0 */
+  TS        ts;
+  Vec       U;
+  FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
+  PetscInt  ngblocks;
+  PetscInt  gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
+  PetscInt  ndiss;          /* dissipated energies: one per term with a power */
+  PetscInt  nglobaldofs;
+  PetscReal global0[FS_MAX_GLOBAL];
+  PetscInt  ustride; /* 2*dim+1 */
+  PetscReal dt_stable, final_time, umax, nu_bound;
+  PetscInt  nrhs;
+  Vec       Uprev;               /* state at the start of the step (for the displacement check) */
+  FSCheckpointHeader restart_hdr;
+  PetscReal max_variation;       /* max |rho/rho0 - 1| at the last check */
+
+  /* monitors and output */
+  FSSnapshotWriter snapshots;
+  FSTimeSeries     series;
+  FSTimeSeries     energyseries;  /* energy.csv */
+  PetscReal        next_output;
+  PetscLogDouble   wall_start, wall_last_progress;
+  PetscInt         step0;
+  PetscInt64       pair_visits, particle_steps;
+  PetscInt         nmigrations;
+  PetscBool        monitoring;
+  PetscReal        t0, last_snapshot_time;
+  PetscReal       *field;        /* output staging */
+  struct _n_FSWallData *wd;      /* walls (boundary integrals), NULL without walls: src/boundary/impls/polygon/polygonimpl.h */
+  PetscInt         fieldcap;
+};
+
+/* solver pieces, one file each */
+PETSC_INTERN PetscErrorCode FSSolverCreateSwarm(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverMigrate(FSSolver, PetscBool *changed);
+PETSC_INTERN PetscErrorCode FSSolverSortByCell(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverPackState(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverUnpackState(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverEnsureWork(FSSolver, PetscInt n);
+PETSC_INTERN PetscErrorCode FSSolverSetUpTS(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverRHS(TS, PetscReal, Vec, Vec, void *);
+PETSC_INTERN PetscErrorCode FSSolverComputeStableDt(FSSolver, PetscReal *);
+PETSC_INTERN PetscErrorCode FSSolverMonitor(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverMonitorBegin(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
+PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverGetParticles(FSSolver, FSParticles *);
+PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool count);
+
+/* the structure inside the solver (src/solver/structure.c) */
+PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast, const PetscReal *u, PetscReal *f, PetscErrorCode *rank0err);
+PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
+/* the reals of an FSTankMotion, and the most a structure routine's result broadcast carries */
+#define FS_MOTION_NREAL ((PetscInt)(sizeof(FSTankMotion) / sizeof(PetscReal)))
+#define FS_RANK0_MAX    16
+PETSC_INTERN PetscErrorCode FSSolverStructureResultRank0(FSSolver, PetscErrorCode, const char[], PetscInt, PetscReal[]);
+PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
+PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);
+PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);
+PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverStructureSummary(FSSolver, FSJSON);
+
+
+/* field names in the swarm */
+#define FS_FIELD_POSITION "position"
+#define FS_FIELD_VELOCITY "velocity"
+#define FS_FIELD_DENSITY  "density"
+#define FS_FIELD_MASS     "mass"
+#define FS_FIELD_ID       "id"

@@ -1,0 +1,273 @@
+/*
+   Time stepping: the TS that advances the packed state, the stable time step, and the step loop
+   (TS step -> checks -> migration -> ordering by cell -> halo -> repack -> monitors).
+*/
+#include "solver/solverimpl.h"
+#include "boundary/impls/polygon/polygonimpl.h"
+
+/* FSSolverSetUpTS - creates the TS (RK4 by default; -ts_type and friends change it). Called from
+   FSSolverSetFromOptions, so that -help shows the TS options with flexslosh's defaults. */
+PetscErrorCode FSSolverSetUpTS(FSSolver s)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCall(TSDestroy(&s->ts));
+  PetscCall(TSCreate(comm, &s->ts));
+  PetscCall(TSSetProblemType(s->ts, TS_NONLINEAR));
+  PetscCall(TSSetType(s->ts, TSRK));
+  PetscCall(TSRKSetType(s->ts, TSRK4));
+  PetscCall(TSSetRHSFunction(s->ts, NULL, FSSolverRHS, s));
+  PetscCall(TSSetMaxTime(s->ts, s->final_time));
+  PetscCall(TSSetExactFinalTime(s->ts, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCall(TSSetFromOptions(s->ts));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverResize - after a migration or reordering: (re)creates the state vector when the local
+   sizes changed, packs the particles into it, rebuilds the halo, and tells TS that the state
+   changed outside of it, keeping time, step number, dt and monitors.
+
+   Collective
+*/
+PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  PetscMPIInt rank;
+  PetscInt    nloc;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (resize || !s->U) {
+    Vec U;
+    nloc = s->nowned * s->ustride + (rank == 0 ? s->nglobaldofs : 0);
+    if (s->U && !rank && s->nglobaldofs) { /* keep the global DOFs */
+      const PetscScalar *u;
+      PetscInt           n;
+      PetscCall(VecGetLocalSize(s->U, &n));
+      PetscCall(VecGetArrayRead(s->U, &u));
+      for (PetscInt k = 0; k < s->nglobaldofs; k++) s->global0[k] = u[n - s->nglobaldofs + k];
+      PetscCall(VecRestoreArrayRead(s->U, &u));
+    }
+    PetscCall(VecCreateMPI(comm, nloc, PETSC_DETERMINE, &U));
+    PetscCall(PetscObjectSetName((PetscObject)U, "state"));
+    if (!rank && s->nglobaldofs) {
+      PetscScalar *u;
+      PetscCall(VecGetArray(U, &u));
+      for (PetscInt k = 0; k < s->nglobaldofs; k++) u[nloc - s->nglobaldofs + k] = s->global0[k];
+      PetscCall(VecRestoreArray(U, &u));
+    }
+    PetscCall(VecDestroy(&s->U));
+    PetscCall(VecDestroy(&s->Uprev));
+    s->U = U;
+    PetscCall(VecDuplicate(U, &s->Uprev));
+    if (s->ts) {
+      DM tsdm;
+      PetscCall(TSReset(s->ts));
+      PetscCall(TSGetDM(s->ts, &tsdm));
+      PetscCall(DMClearGlobalVectors(tsdm));
+      PetscCall(DMClearLocalVectors(tsdm));
+      PetscCall(TSSetSolution(s->ts, s->U));
+    }
+  }
+  PetscCall(FSSolverPackState(s));
+  PetscCall(VecCopy(s->U, s->Uprev));
+  PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
+  PetscCall(FSHaloBuild(&s->halo, comm, &s->decomp, s->nowned, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
+  PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
+  PetscCall(FSSolverEnsureWork(s, s->nowned + s->halo.nghost));
+  /* candidate neighbours for the whole step: kernel support plus the halo skin */
+  PetscCall(FSHaloRefresh(&s->halo, s->dim, s->nowned, s->rec));
+  PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
+  PetscCall(FSNeighboursBuildCells(&s->nbrs, s->dim, s->nowned + s->halo.nghost, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
+  PetscCall(FSNeighboursBuildCandidates(&s->nbrs, s->nowned, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
+  PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
+  PetscCall(FSSolverWallsUpdate(s));
+  PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
+  if (s->ts) PetscCall(TSRestartStep(s->ts));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverComputeStableDt - the SPH time-step limit for the current state:
+     dt = min(CFL h/(c0 + |u|max), CFL_v h^2/nu_max, CFL_f sqrt(h/|g|)),
+   nu_max being the largest viscosity any term applied in the integrator's last right-hand side
+   (kept in checkpoints, so that a restarted run takes the same steps). With a structure, dt also
+   resolves its shortest period (dt <= -fs_structure_cfl T_min, explicit integrators being stable
+   and accurate only for omega dt = O(1)). Without particles dt comes from the structure alone
+   (FSSolverStructureDt: -ts_dt if given, else -fs_structure_cfl T_min).
+
+   Collective
+*/
+PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
+{
+  const PetscInt     dim = s->dim, US = s->ustride;
+  const PetscScalar *u;
+  PetscReal          loc[2] = {0, PetscMax(s->nu, s->nu_bound)}, g2 = 0;
+
+  PetscFunctionBegin;
+  if (s->nglobal_particles == 0) {
+    PetscCall(FSSolverStructureDt(s, dt));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(VecGetArrayRead(s->U, &u));
+  for (PetscInt p = 0; p < s->nowned; p++) {
+    PetscReal v2 = 0;
+    for (PetscInt d = 0; d < dim; d++) v2 += u[p * US + dim + d] * u[p * US + dim + d];
+    loc[0] = PetscMax(loc[0], v2);
+  }
+  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  s->umax = PetscSqrtReal(loc[0]);
+  *dt     = s->cfl * s->h / (s->c0 + s->umax);
+  if (loc[1] > 0) *dt = PetscMin(*dt, s->cfl_visc * s->h * s->h / loc[1]);
+  if (s->umax > 0) *dt = PetscMin(*dt, 0.4 * s->halo_skin * s->h / s->umax); /* no particle outruns its candidate lists */
+  for (PetscInt d = 0; d < dim; d++) g2 += s->gravity[d] * s->gravity[d];
+  if (g2 > 0) *dt = PetscMin(*dt, s->cfl_force * PetscSqrtReal(s->h / PetscSqrtReal(g2)));
+  if (s->structure && s->structure->min_period > 0) *dt = PetscMin(*dt, s->structure_cfl * s->structure->min_period);
+  s->dt_stable = *dt;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverCheckState - stops the run on NaN, on a density blow-up (|rho/rho0 - 1| above
+   -fs_max_density_variation) and on particles that moved further in one step than the halo skin
+   allows, naming the step, time, particle and place.
+
+   Collective
+*/
+PetscErrorCode FSSolverCheckState(FSSolver s)
+{
+  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
+  const PetscInt     dim = s->dim, US = s->ustride;
+  const PetscScalar *u, *u0;
+  PetscInt          *id, bad = -1, kind = 0, step;
+  PetscReal          worst = 0, move = 0, t, glob[3];
+  PetscMPIInt        rank;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(VecGetArrayRead(s->U, &u));
+  PetscCall(VecGetArrayRead(s->Uprev, &u0));
+  for (PetscInt p = 0; p < s->nowned; p++) {
+    PetscReal d2 = 0, var;
+    for (PetscInt a = 0; a < US; a++)
+      if (PetscIsInfOrNanReal(u[p * US + a])) {
+        bad  = p;
+        kind = 1;
+      }
+    if (kind == 1) break;
+    var = PetscAbsReal(u[p * US + 2 * dim] / s->rho0 - 1.0);
+    if (var > worst) {
+      worst = var;
+      if (var > s->max_density_variation) {
+        bad  = p;
+        kind = 2;
+      }
+    }
+    for (PetscInt d = 0; d < dim; d++) d2 += (u[p * US + d] - u0[p * US + d]) * (u[p * US + d] - u0[p * US + d]);
+    move = PetscMax(move, d2);
+  }
+  glob[0] = kind;
+  glob[1] = worst;
+  glob[2] = PetscSqrtReal(move);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, glob, 3, MPIU_REAL, MPI_MAX, comm));
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  if (bad >= 0) {
+    PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
+    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[%d] flexslosh: %s at step %" PetscInt_FMT ", time %g: particle %" PetscInt_FMT " at (%g, %g, %g), density %g (rho0 %g)\n", rank, kind == 1 ? "NaN or Inf in the state" : "density blow-up", step, (double)t, id[bad], (double)u0[bad * US], (double)u0[bad * US + 1], dim == 3 ? (double)u0[bad * US + 2] : 0.0, (double)u[bad * US + 2 * dim], (double)s->rho0));
+    PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
+  }
+  PetscCall(VecRestoreArrayRead(s->Uprev, &u0));
+  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCheck(glob[0] != 1, comm, PETSC_ERR_FP, "The run blew up: NaN or Inf at step %" PetscInt_FMT ", time %g (the particle is named above); reduce -fs_cfl or check the set-up", step, (double)t);
+  PetscCheck(glob[0] != 2, comm, PETSC_ERR_CONV_FAILED, "The run blew up: density variation %g above -fs_max_density_variation %g at step %" PetscInt_FMT ", time %g (the particle is named above); reduce -fs_cfl, raise -fs_c0, or check the set-up", (double)glob[1], (double)s->max_density_variation, step, (double)t);
+  PetscCheck(2 * glob[2] <= s->halo_skin * s->h, comm, PETSC_ERR_CONV_FAILED, "A particle moved %g in one step (step %" PetscInt_FMT ", time %g), more than half the halo skin %g: reduce -fs_cfl or raise -fs_halo_skin", (double)glob[2], step, (double)t, (double)(s->halo_skin * s->h));
+  s->max_variation = glob[1];
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverStep - advances the run by one time step of the stable size (or less, to land on the
+   final time), then migrates, reorders and repacks the particles.
+
+   Collective
+*/
+PetscErrorCode FSSolverStep(FSSolver s)
+{
+  PetscReal         dt, t, tmax, dtts;
+  PetscBool         changed, adaptive;
+  TSAdapt           adapt;
+  TSConvergedReason reason;
+  PetscInt          step;
+  PetscReal         ejump[2];
+  PetscBool         bounce;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverSetUp(s));
+  bounce = (PetscBool)(s->wd && s->wd->bounce_distance > 0 && s->nglobal_particles > 0);
+  PetscCall(PetscLogEventBegin(FS_Step, 0, 0, 0, 0));
+  PetscCall(FSSolverComputeStableDt(s, &dt));
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetMaxTime(s->ts, &tmax));
+  PetscCall(TSGetAdapt(s->ts, &adapt));
+  PetscCall(PetscObjectTypeCompare((PetscObject)adapt, TSADAPTNONE, &adaptive));
+  adaptive = (PetscBool)!adaptive;
+  if (adaptive) {
+    PetscCall(TSGetTimeStep(s->ts, &dtts));
+    if (dtts > 0 && s->steps_taken > 0) dt = PetscMin(dt, dtts);
+  }
+  if (t + dt > tmax - 1e-12 * tmax) dt = tmax - t;
+  PetscCall(TSSetTimeStep(s->ts, dt));
+  PetscCall(VecCopy(s->U, s->Uprev));
+  PetscCall(TSStep(s->ts));
+  PetscCall(TSGetConvergedReason(s->ts, &reason));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  PetscCheck(reason >= 0, PetscObjectComm((PetscObject)s), PETSC_ERR_CONV_FAILED, "The time integrator failed at step %" PetscInt_FMT ": %s", step, TSConvergedReasons[reason]);
+  s->particle_steps += s->nglobal_particles;
+  s->steps_taken++;
+  PetscCall(FSSolverCheckState(s));
+  PetscCall(FSSolverUnpackState(s));
+  PetscCall(FSSolverWallsBounce(s, ejump)); /* with the bounces' energy changes, for the energy budget */
+  PetscCall(FSSolverMigrate(s, &changed));
+  if (step % s->sort_interval == 0) PetscCall(FSSolverSortByCell(s));
+  PetscCall(FSSolverResize(s, changed));
+  if (bounce) PetscCall(FSSolverEnergyAddJump(s, ejump));
+  PetscCall(PetscLogEventEnd(FS_Step, 0, 0, 0, 0));
+  PetscCall(FSSolverMonitor(s));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSolve - runs to the final time (-ts_max_time) or step count (-ts_max_steps), writing the
+   output the options ask for.
+
+   Collective
+
+   Options Database Key:
+.  -fs_geometry_view - take no step: the set-up's files are written (FSSolverGeometryView()) and the
+                       run stops, so the set-up can be checked before running
+*/
+PetscErrorCode FSSolverSolve(FSSolver s)
+{
+  PetscReal t, tmax;
+  PetscInt  step, maxsteps;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverSetUp(s));
+  PetscCall(FSSolverMonitorBegin(s));
+  if (s->geometry_view) PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s), "-fs_geometry_view: stopping after set-up; run again without it to compute\n"));
+  while (!s->geometry_view) { /* -fs_geometry_view: no time stepping */
+    PetscCall(TSGetTime(s->ts, &t));
+    PetscCall(TSGetMaxTime(s->ts, &tmax));
+    PetscCall(TSGetStepNumber(s->ts, &step));
+    PetscCall(TSGetMaxSteps(s->ts, &maxsteps));
+    if (t >= tmax - 1e-12 * PetscMax(1.0, PetscAbsReal(tmax)) || step >= maxsteps) break;
+    PetscCall(FSSolverStep(s));
+  }
+  PetscCall(FSSolverMonitorEnd(s));
+  PetscFunctionReturn(0);
+}

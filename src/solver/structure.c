@@ -1,0 +1,332 @@
+/*
+   The structure inside the solver: its DOFs y are the first block of the state's global DOFs (rank 0,
+   after the particles), advanced by the same TS as the liquid. At every right-hand side rank 0
+   broadcasts y to all ranks (a few doubles), so that every rank knows the tank's position and
+   rotation at each stage (the coupling needs them for the fictitious forces); the rate dy/dt is
+   computed on rank 0, with the liquid loads FSSolverSetLoads() gave (zero until the coupling).
+*/
+#include "solver/solverimpl.h"
+
+/* FSSolverGetStructure - the run's structure (NULL with -fs_structure none). */
+PetscErrorCode FSSolverGetStructure(FSSolver s, FSStructure *st)
+{
+  PetscFunctionBegin;
+  *st = s->structure;
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverSetDefaultStructure - lets a case choose the default of -fs_structure (from its setfromoptions). */
+PetscErrorCode FSSolverSetDefaultStructure(FSSolver s, const char name[])
+{
+  PetscFunctionBegin;
+  PetscCall(PetscStrncpy(s->structname, name, sizeof(s->structname)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetLoads - the liquid's loads on the tank for the next right-hand sides (the coupling
+   calls it; the structure sees zero loads until then). Loads are read on rank 0.
+*/
+PetscErrorCode FSSolverSetLoads(FSSolver s, const FSLoads *loads)
+{
+  PetscFunctionBegin;
+  s->loads = *loads;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetUpGlobalBlocks - lays out the global DOFs of the state: the structure's, then one
+   dissipated energy per term with a power, then the energy block (FS_ENERGY_*). Called from
+   FSSolverSetUp once the structure is set up.
+*/
+PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
+{
+  PetscInt ndiss = 0;
+
+  PetscFunctionBegin;
+  for (PetscInt t = 0; t < s->terms.nterms; t++)
+    if (s->terms.term[t]->has_power) ndiss++;
+  s->ngblocks = 0;
+  s->gstruct  = 0;
+  PetscCall(PetscStrncpy(s->gblock[s->ngblocks].name, "structure", sizeof(s->gblock[0].name)));
+  s->gblock[s->ngblocks].offset = 0;
+  s->gblock[s->ngblocks++].n    = s->structure ? s->structure->ndof : 0;
+  s->gdiss                      = s->gblock[0].n;
+  s->ndiss                      = ndiss;
+  PetscCall(PetscStrncpy(s->gblock[s->ngblocks].name, "dissipated_energy", sizeof(s->gblock[0].name)));
+  s->gblock[s->ngblocks].offset = s->gdiss;
+  s->gblock[s->ngblocks++].n    = ndiss;
+  s->genergy                    = s->gdiss + ndiss;
+  PetscCall(PetscStrncpy(s->gblock[s->ngblocks].name, "energy_budget", sizeof(s->gblock[0].name)));
+  s->gblock[s->ngblocks].offset = s->genergy;
+  s->gblock[s->ngblocks++].n    = FS_ENERGY_NDOF;
+  s->nglobaldofs                = s->genergy + FS_ENERGY_NDOF;
+  /* the checkpoint header keeps the global DOFs and two more values (FSSolverWriteCheckpoint) */
+  PetscCheck(s->nglobaldofs + 2 <= FS_MAX_GLOBAL, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "The state has %" PetscInt_FMT " global DOFs (structure %" PetscInt_FMT ", dissipated energies %" PetscInt_FMT ", energy budget %d), more than %d: use fewer structure modes", s->nglobaldofs, s->gdiss, ndiss, (int)FS_ENERGY_NDOF, FS_MAX_GLOBAL - 2);
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverStructureResultRank0 - a structure routine ran on rank 0 alone, returned ierr there and
+   computed buf[0..n) (n <= FS_RANK0_MAX): one broadcast gives every rank buf and the error code, so
+   that a failure (a Python structure's exception, a failed solve) stops the run everywhere instead of
+   leaving the other ranks waiting in the next collective. n = 0 broadcasts the code alone.
+
+   Collective
+*/
+PetscErrorCode FSSolverStructureResultRank0(FSSolver s, PetscErrorCode ierr, const char what[], PetscInt n, PetscReal buf[])
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  PetscMPIInt size, rank;
+  PetscReal   pack[FS_RANK0_MAX + 1];
+  char        msg[512] = "";
+  int         code;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (size == 1) PetscFunctionReturn(ierr); /* the error as raised, its message first */
+  PetscCheck(n <= FS_RANK0_MAX, comm, PETSC_ERR_PLIB, "FSSolverStructureResultRank0: %" PetscInt_FMT " values, at most %d", n, FS_RANK0_MAX);
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  pack[0] = (PetscReal)ierr;
+  if (!rank)
+    for (PetscInt k = 0; k < n; k++) pack[k + 1] = buf[k];
+  PetscCallMPI(MPI_Bcast(pack, (PetscMPIInt)(n + 1), MPIU_REAL, 0, comm));
+  code = (int)pack[0];
+  if (!code) {
+    for (PetscInt k = 0; k < n; k++) buf[k] = pack[k + 1];
+    PetscFunctionReturn(0);
+  }
+  if (!rank) {
+    const char *text = NULL;
+    (void)PetscErrorMessage(ierr, NULL, (char **)&text);
+    if (text) (void)PetscStrncpy(msg, text, sizeof(msg));
+  }
+  PetscCallMPI(MPI_Bcast(msg, (PetscMPIInt)sizeof(msg), MPI_CHAR, 0, comm));
+  if (!rank) PetscFunctionReturn(ierr); /* rank 0 keeps the error as raised */
+  SETERRQ(comm, (PetscErrorCode)code, "Structure %s: its %s failed on rank 0, where the structure lives: %s", s->structure->name, what, msg);
+}
+
+/* FSSolverStructureBroadcastState - the structure's state from the packed state u (rank 0) into s->sy on every rank. Collective. */
+PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
+{
+  PetscMPIInt rank, size;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
+  if (!rank) PetscCall(PetscArraycpy(s->sy, u + s->nowned * s->ustride + s->gstruct, s->structure->ndof));
+  if (size > 1) PetscCallMPI(MPI_Bcast(s->sy, (PetscMPIInt)s->structure->ndof, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverStructureRates - the structure's part of a right-hand side: rank 0 broadcasts the
+   structure's state from the packed state u (its global DOFs) into s->sy on every rank, then
+   computes dy/dt at s->rhs_time with the current loads into f (rank 0).
+
+   Collective
+   With broadcast PETSC_FALSE s->sy already holds this stage's state on every rank (the coupling
+   broadcast it) and u is not read. The flag is explicit: u itself cannot say it, since a rank that
+   owns no entries of the state gets a NULL array from VecGetArrayRead().
+   With rank0err NULL a failure of the structure's routine on rank 0 is raised on every rank here
+   (one broadcast of the error code); else rank 0's code is returned in *rank0err (0 elsewhere) for a
+   caller that broadcasts a result of its own next, to check it there (FSSolverStructureResultRank0)
+   without a broadcast of its own.
+*/
+PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const PetscReal *u, PetscReal *f, PetscErrorCode *rank0err)
+{
+  FSStructure st = s->structure;
+  PetscMPIInt rank;
+  const PetscInt off = s->nowned * s->ustride + s->gstruct;
+
+  PetscFunctionBegin;
+  if (rank0err) *rank0err = 0;
+  if (!st || !st->ndof) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  if (broadcast) PetscCall(FSSolverStructureBroadcastState(s, u));
+  {
+    PetscErrorCode ierr = 0;
+    if (!rank) {
+      ierr = (*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot);
+      if (!ierr && f) ierr = PetscArraycpy(f + off, s->sydot, st->ndof);
+    }
+    if (rank0err) *rank0err = ierr;
+    else PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side", 0, NULL));
+  }
+  PetscCall(PetscLogEventEnd(FS_Structure, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* The structure's state (every rank) and rate (rank 0) at the current state of the TS, the rate with
+   the current loads; rank0err as in FSSolverStructureRates (NULL: a failure is raised here). */
+static PetscErrorCode FSSolverStructureCurrent(FSSolver s, PetscErrorCode *rank0err)
+{
+  const PetscScalar *u;
+  PetscReal          t;
+
+  PetscFunctionBegin;
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(VecGetArrayRead(s->U, &u));
+  s->rhs_time = t;
+  PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, NULL, rank0err));
+  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetTankMotion - the tank's motion at the current state (displacement, velocity and
+   acceleration of its reference point, rotation angle, rate and angular acceleration), the same on
+   every rank (computed on rank 0 and broadcast). Zero without a structure.
+
+   Collective
+*/
+PetscErrorCode FSSolverGetTankMotion(FSSolver s, FSTankMotion *m)
+{
+  PetscMPIInt    rank;
+  PetscErrorCode ierr;
+
+  PetscFunctionBegin;
+  PetscCall(PetscMemzero(m, sizeof(*m)));
+  if (!s->structure || !s->structure->ndof) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCall(FSSolverStructureCurrent(s, &ierr));
+  if (!rank && !ierr) ierr = (*s->structure->ops.motion)(s->structure, s->sy, s->sydot, m);
+  PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)m));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetStructureState - the structure's state at the current TS state, on every rank.
+   n (out) is the number of DOFs; y may be NULL to ask for n only.
+
+   Collective
+*/
+PetscErrorCode FSSolverGetStructureState(FSSolver s, PetscInt *n, PetscReal y[])
+{
+  PetscFunctionBegin;
+  *n = s->structure ? s->structure->ndof : 0;
+  if (!*n || !y) PetscFunctionReturn(0);
+  PetscCall(FSSolverStructureCurrent(s, NULL));
+  PetscCall(PetscArraycpy(y, s->sy, *n));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverStructureDt - the time step of a run without particles: the -ts_dt given, else
+   -fs_structure_cfl times the shortest period the structure resolves.
+*/
+PetscErrorCode FSSolverStructureDt(FSSolver s, PetscReal *dt)
+{
+  PetscBool set;
+  PetscReal user;
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsGetReal(NULL, NULL, "-ts_dt", &user, &set));
+  if (set) {
+    PetscCheck(user > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-ts_dt %g must be positive", (double)user);
+    *dt = user;
+  } else {
+    PetscCheck(s->structure && s->structure->min_period > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE, "A run without particles takes its time step from the structure, but structure %s gives no period: set -ts_dt", s->structure ? s->structure->name : "none");
+    *dt = s->structure_cfl * s->structure->min_period;
+  }
+  s->dt_stable = *dt;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverStructureColumns - names of the structure's time-series columns: the tank's motion,
+   the applied loads, then the model's own columns. Without a structure, none.
+*/
+PetscErrorCode FSSolverStructureColumns(FSSolver s, PetscInt *n, const char *names[])
+{
+  static const char *motion[] = {"tip_displacement", "tip_velocity", "tip_acceleration", "tank_rotation", "tank_rotation_rate", "tank_angular_acceleration"};
+  static const char *load2[]  = {"load_force_x", "load_force_y", "load_moment_z"};
+  static const char *load3[]  = {"load_force_x", "load_force_y", "load_force_z", "load_moment_x", "load_moment_y", "load_moment_z"};
+  FSStructure        st       = s->structure;
+  PetscInt           k        = 0;
+
+  PetscFunctionBegin;
+  *n = 0;
+  if (!st) PetscFunctionReturn(0);
+  for (PetscInt c = 0; c < 6; c++) names[k++] = motion[c];
+  if (s->dim == 2)
+    for (PetscInt c = 0; c < 3; c++) names[k++] = load2[c];
+  else
+    for (PetscInt c = 0; c < 6; c++) names[k++] = load3[c];
+  for (PetscInt c = 0; c < st->ncolumns; c++) names[k++] = st->column[c];
+  *n = k;
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverStructureValues - the values of those columns at the current state (valid on rank 0). Collective. */
+PetscErrorCode FSSolverStructureValues(FSSolver s, PetscReal vals[])
+{
+  FSStructure  st = s->structure;
+  FSTankMotion m;
+  PetscMPIInt  rank;
+  PetscInt     k = 0;
+  PetscReal    t;
+
+  PetscFunctionBegin;
+  if (!st) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCall(FSSolverStructureCurrent(s, NULL));
+  if (rank) PetscFunctionReturn(0);
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &m));
+  vals[k++] = m.disp[1];
+  vals[k++] = m.vel[1];
+  vals[k++] = m.acc[1];
+  vals[k++] = m.angle;
+  vals[k++] = m.rate;
+  vals[k++] = m.angacc;
+  if (s->dim == 2) {
+    vals[k++] = s->loads.force[0];
+    vals[k++] = s->loads.force[1];
+    vals[k++] = s->loads.moment[2];
+  } else {
+    for (PetscInt d = 0; d < 3; d++) vals[k++] = s->loads.force[d];
+    for (PetscInt d = 0; d < 3; d++) vals[k++] = s->loads.moment[d];
+  }
+  if (st->ncolumns) PetscCall((*st->ops.columns)(st, t, s->sy, s->sydot, &vals[k]));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverStructureSnapshot - the model's output at a snapshot time (e.g. the deflected shape). Collective. */
+PetscErrorCode FSSolverStructureSnapshot(FSSolver s)
+{
+  PetscMPIInt rank;
+  PetscReal   t;
+  PetscInt    step;
+
+  PetscFunctionBegin;
+  if (!s->structure || !s->structure->ops.snapshot) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCall(FSSolverStructureCurrent(s, NULL));
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  if (!rank) PetscCall((*s->structure->ops.snapshot)(s->structure, s->outdir, t, step, s->sy));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverStructureSummary - the "structure" object of summary.json. Collective. */
+PetscErrorCode FSSolverStructureSummary(FSSolver s, FSJSON js)
+{
+  FSStructure st = s->structure;
+
+  PetscFunctionBegin;
+  PetscCall(FSJSONBeginObject(js, "structure"));
+  PetscCall(FSJSONWriteString(js, "model", st ? st->name : "none"));
+  if (st) {
+    PetscCall(FSJSONWriteInt(js, "ndof", st->ndof));
+    PetscCall(FSJSONWriteReal(js, "min_period", st->min_period));
+    if (st->ndof) {
+      PetscCall(FSSolverStructureCurrent(s, NULL));
+      PetscCall(FSJSONWriteRealArray(js, "final_state", st->ndof, s->sy));
+    }
+    if (st->ops.summary) PetscCall((*st->ops.summary)(st, js));
+  }
+  PetscCall(FSJSONEndObject(js));
+  PetscFunctionReturn(0);
+}

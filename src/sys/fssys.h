@@ -1,0 +1,26 @@
+/*
+   The library's own machinery (src/sys): registration tables of implementations by name, and the
+   log events that -log_view reports.
+*/
+#pragma once
+#include <flexslosh.h>
+#include <petsc/private/petscimpl.h>
+
+/* A registration table (src/sys/registry.c): creation routines by name, with descriptions. */
+typedef struct _n_FSRegistryEntry {
+  char                       name[64], description[256];
+  struct _n_FSRegistryEntry *next;
+} FSRegistryEntry;
+typedef struct {
+  PetscFunctionList list;
+  FSRegistryEntry  *first; /* registration order */
+} FSRegistry;
+
+PETSC_INTERN PetscErrorCode FSRegistryAdd(FSRegistry *, const char[], const char[], void (*)(void));
+PETSC_INTERN PetscErrorCode FSRegistryFind(FSRegistry *, const char[], void (**)(void));
+PETSC_INTERN PetscErrorCode FSRegistryView(FSRegistry *, PetscViewer, const char[], const char[]);
+PETSC_INTERN PetscErrorCode FSRegistryNames(FSRegistry *, char[], size_t);
+
+/* log events */
+PETSC_EXTERN PetscLogEvent FS_Structure, FS_Coupling;
+PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls, FS_Migrate, FS_Output, FS_RHS;
