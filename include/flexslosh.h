@@ -8,6 +8,7 @@
      FSTerm    one physics term of the right-hand side (continuity, pressure, viscosity, ...)
      FSCase    the set-up of a run (domain, particles, initial fields, default parameters)
      FSStructure  the structure that carries the tank (mass-spring-damper, modal beam, ...)
+     FSBoundary   the walls (boundary integrals on polygons, ...): the Shepard factor, the wall terms' view
 
    Implementations of terms, cases and structures are registered in tables (FSTermRegister,
    FSCaseRegister, FSStructureRegister) and chosen by name at run time (-fs_terms, -fs_case,
@@ -24,6 +25,7 @@
 typedef struct _p_FSSolver *FSSolver;
 typedef struct _p_FSTerm   *FSTerm;
 typedef struct _p_FSStructure *FSStructure;
+typedef struct _p_FSBoundary  *FSBoundary;
 
 PETSC_EXTERN PetscClassId FSSOLVER_CLASSID;
 
@@ -78,16 +80,9 @@ typedef struct {
   /* physical constants */
   PetscReal rho0, c0, h, dx, nu, gravity[3], background_pressure;
   PetscReal umax; /* largest particle speed at the start of the step */
-  /* walls (boundary integrals); nwalls = 0 without walls */
-  PetscInt         nwalls;
-  const PetscReal *gamma;    /* Shepard factor gamma of the owned and ghost particles (NULL without walls: 1) */
-  const PetscReal *invgamma; /* 1/gamma, the same particles (NULL without walls) */
-  const PetscReal *wseg;     /* wall segments, 9 reals each: p0 (2), p1 (2), midpoint (2), normal out of the liquid (2), length */
-  const PetscInt  *wsegwall; /* the wall each segment belongs to */
-  const PetscReal *wpressure; /* per segment: the wall pressure interpolated from the liquid */
-  const PetscBool *noslip;   /* per wall: no-slip (else free-slip) */
-  PetscReal       *wallload; /* per wall: force (3) and moment about the load point (3) of the liquid on the wall, this rank's share, accumulated by the wall terms */
-  PetscReal        loadpoint[3];
+  /* the Shepard factor of the walls (boundary integrals): NULL without walls, where gamma = 1 */
+  const PetscReal *gamma;    /* gamma of the owned and ghost particles */
+  const PetscReal *invgamma; /* 1/gamma, the same particles */
 } FSParticles;
 
 /* The neighbourhood of one owned particle i: n neighbours j[k] with x_j - x_i in dx[k*dim], the
@@ -97,11 +92,33 @@ typedef struct {
   PetscInt         i, n;
   const PetscInt  *j;
   const PetscReal *dx, *r2, *rinv2, *gradW;
-  /* wall segments k within the kernel support that face i, with W(|x_k - x_i|) at their midpoints */
-  PetscInt         nw;
-  const PetscInt  *wk;
-  const PetscReal *wW;
 } FSNeighbourhood;
+
+/* ---------- walls, as the wall terms see them ---------- */
+/*
+   The boundary's wall elements (segments in 2-D, triangles in 3-D), each a row of `stride` reals in
+   element[]: a point of the element at 0 (p0), its centroid at `centroid` (dim), its unit normal
+   pointing out of the liquid at `normal` (dim) and its length or area at `measure`. The boundary
+   (FSBoundary) hands this view to the wall terms with each particle's wall neighbourhood.
+*/
+typedef struct {
+  PetscInt         dim, nwalls, nelements;
+  PetscInt         stride, centroid, normal, measure; /* the element rows' layout */
+  const PetscReal *element;
+  const PetscInt  *elementwall; /* the wall each element belongs to */
+  const PetscReal *pressure;    /* per element: the wall pressure interpolated from the liquid */
+  const PetscBool *noslip;      /* per wall: no-slip (else free-slip) */
+  PetscReal       *load;        /* per wall: force (3) and moment about loadpoint (3) of the liquid on the wall, this rank's share, accumulated by the wall terms */
+  PetscReal        loadpoint[3];
+} FSWallView;
+
+/* The wall elements k[q] (q < n) of particle i within its kernel support, with the mean kernel value
+   W[q] over each (W[q] measure_k = int_k W(x - x_i) dS), as the boundary's lists give them. */
+typedef struct {
+  PetscInt         i, n;
+  const PetscInt  *k;
+  const PetscReal *W;
+} FSWallNeighbourhood;
 
 /* Rate of change of particle i accumulated by the terms: drho/dt, du/dt (dim), and a correction
    of the particle's transport velocity dx/dt = u + dx (particle shifting; zero for most terms). */
@@ -123,6 +140,8 @@ typedef struct {
   void (*interact)(FSTerm, const FSParticles *, const FSNeighbourhood *, FSRate *);
   /* per owned particle, no neighbours (body forces) */
   void (*source)(FSTerm, const FSParticles *, PetscInt i, FSRate *);
+  /* per owned particle near the walls, with its wall elements (a wall term: evaluated in the wall pass) */
+  void (*wall)(FSTerm, const FSParticles *, const FSWallView *, const FSWallNeighbourhood *, FSRate *);
   /* once per right-hand side, after the first pass and its ghost refresh, before the pair pass */
   PetscErrorCode (*prepare)(FSTerm, const FSParticles *);
   /* a per-particle output field the term can provide for the owned particles (e.g. "turbulent_viscosity") */
@@ -140,7 +159,6 @@ struct _p_FSTerm {
   FSTermOps  ops;
   PetscInt   needs;      /* FSNeed flags */
   PetscBool  renormalized; /* the core divides the term's rates by the Shepard factor gamma_i (boundary integrals) */
-  PetscBool  wall;       /* acts through the wall segments only (nb->nw, nb->wk, nb->wW): evaluated in the wall pass, over the particles near walls */
   PetscBool  has_power;  /* the term dissipates: it accumulates power */
   PetscReal  power;      /* dissipation power of the last right-hand side, this rank's share (seed Eq. 38) */
   PetscReal  max_viscosity; /* largest kinematic viscosity the term applies (time-step limit), set in prepare */
@@ -174,6 +192,7 @@ PETSC_EXTERN PetscErrorCode FSCaseRegister(const char[], const char[], FSCaseCre
 PETSC_EXTERN PetscErrorCode FSCaseRegisterAll(void);
 PETSC_EXTERN PetscErrorCode FSCaseListView(PetscViewer);
 
+PETSC_EXTERN PetscErrorCode FSSolverGetBoundary(FSSolver, FSBoundary *);
 PETSC_EXTERN PetscErrorCode FSSolverSetDomain(FSSolver, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[]);
 PETSC_EXTERN PetscErrorCode FSSolverAddParticles(FSSolver, PetscInt n, const PetscReal x[], const PetscReal u[], const PetscReal rho[], const PetscReal m[]);
 PETSC_EXTERN PetscErrorCode FSSolverGetParameters(FSSolver, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0, PetscReal *nu);
@@ -194,6 +213,20 @@ PETSC_EXTERN PetscErrorCode FSSolverSetDefaultPhysics(FSSolver, PetscReal rho0, 
 typedef struct {
   PetscReal force[3], moment[3];
 } FSLoads;
+
+/* The body acceleration a particle at x feels in the tank's frame without the Coriolis part:
+   a(x) = b + alpha (r_y, -r_x) + omega^2 (r_x, r_y), r = x - ref, b = R(-theta) (g - A) (the coupling's
+   tank frame; b = g without a coupling). */
+typedef struct {
+  PetscReal b[2], omega, alpha, ref[2];
+} FSFrameField;
+
+static inline void FSFrameFieldEval(const FSFrameField *ff, const PetscReal x[], PetscReal a[])
+{
+  const PetscReal rx = x[0] - ff->ref[0], ry = x[1] - ff->ref[1], w2 = ff->omega * ff->omega;
+  a[0] = ff->b[0] + ff->alpha * ry + w2 * rx;
+  a[1] = ff->b[1] - ff->alpha * rx + w2 * ry;
+}
 
 /* Rigid motion of the tank reference point: displacement, velocity and acceleration, and the
    rotation (about z) angle, rate and angular acceleration. */

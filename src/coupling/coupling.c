@@ -30,7 +30,6 @@
 -  -fs_tank_reference <x,y>          - the tank's point on the beam, in the tank's frame (default: the middle of the floor)
 */
 #include "solver/solverimpl.h"
-#include "boundary/impls/polygon/polygonimpl.h"
 
 /* the tank frame's body acceleration field (gravity and the frame's inertia but Coriolis) of a motion */
 static void FrameField(FSSolver s, const FSTankMotion *mo, FSFrameField *ff)
@@ -61,17 +60,17 @@ PetscErrorCode FSSolverCouplingSetUp(FSSolver s)
   PetscReal    ref[2], loc[3] = {0, 0, 0}, glob[3];
   PetscInt     nref = 2, n, lt = 0;
   const char  *loadtypes[] = {"reaction", "walls"};
-  PetscReal   *x, *m;
-  FSWallData  *wd = s->wd;
+  PetscReal   *x, *m, lo[3], hi[3];
 
   PetscFunctionBegin;
   s->coupled = PETSC_FALSE;
   PetscCall(PetscMemzero(&s->body, sizeof(s->body))); /* without a coupling the frame's body acceleration is g */
   s->body.b[0] = s->gravity[0];
   s->body.b[1] = s->gravity[1];
-  if (!s->structure || !wd || !s->nglobal_particles) PetscFunctionReturn(0);
-  ref[0]         = 0.5 * (wd->walls.lo[0] + wd->walls.hi[0]);
-  ref[1]         = wd->walls.lo[1];
+  if (!s->structure || !s->boundary || !s->nglobal_particles) PetscFunctionReturn(0);
+  PetscCall(FSBoundaryGetBoundingBox(s->boundary, lo, hi));
+  ref[0]         = 0.5 * (lo[0] + hi[0]);
+  ref[1]         = lo[1];
   s->tank_width  = 0.1;
   PetscOptionsBegin(comm, NULL, "Coupling of the liquid and the structure", "FS");
   PetscCall(PetscOptionsBool("-fs_coupling", "Couple the liquid and the structure (loads to the structure, tank motion to the liquid)", "FSSolverCouplingSetUp", want, &want, NULL));
@@ -177,13 +176,16 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
   /* the liquid's loads at this stage, about the reference point, in the global axes */
   if (s->loads_from_walls) {
     const PetscReal *L;
-    PetscCall(FSSolverWallsGetLoads(s, &L));
-    for (PetscInt w = 0; w < s->wd->walls.nwalls; w++) {
+    PetscReal        lp[3];
+    PetscInt         nwalls;
+    PetscCall(FSBoundaryGetLoads(s->boundary, &nwalls, NULL, &L));
+    PetscCall(FSBoundaryGetLoadPoint(s->boundary, lp));
+    for (PetscInt w = 0; w < nwalls; w++) {
       F[0] += L[6 * w];
       F[1] += L[6 * w + 1];
       M += L[6 * w + 5];
     }
-    M += (s->wd->loadpoint[0] - s->tank_ref[0]) * F[1] - (s->wd->loadpoint[1] - s->tank_ref[1]) * F[0];
+    M += (lp[0] - s->tank_ref[0]) * F[1] - (lp[1] - s->tank_ref[1]) * F[0];
   } else {
     F[0] = -s->reaction[0];
     F[1] = -s->reaction[1];

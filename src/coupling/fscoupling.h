@@ -5,18 +5,6 @@
 #pragma once
 #include <flexslosh.h>
 
-/* The body acceleration a particle at x feels in the tank's frame without the Coriolis part:
-   a(x) = b + alpha (r_y, -r_x) + omega^2 (r_x, r_y), r = x - ref, b = R(-theta) (g - A) (coupling.c). */
-typedef struct {
-  PetscReal b[2], omega, alpha, ref[2];
-} FSFrameField;
-
-static inline void FSFrameFieldEval(const FSFrameField *ff, const PetscReal x[], PetscReal a[])
-{
-  const PetscReal rx = x[0] - ff->ref[0], ry = x[1] - ff->ref[1], w2 = ff->omega * ff->omega;
-  a[0] = ff->b[0] + ff->alpha * ry + w2 * rx;
-  a[1] = ff->b[1] - ff->alpha * rx + w2 * ry;
-}
 
 /* The energy block of the global DOFs: the time integrals of P_ext, of the start-up relaxation's
    power, of the structure's damping power (negative: energy lost) and of the coupling's power (the work

@@ -4,7 +4,6 @@
    particle snapshots at the output interval, checkpoints, the progress line and the summary.
 */
 #include "solver/solverimpl.h"
-#include "boundary/impls/polygon/polygonimpl.h"
 
 #define FS_MAX_WALL_COLUMNS 16 /* walls whose loads go into the time series */
 #define FS_MAX_COLUMNS      (32 + FS_CASE_MAX_COLUMNS + FS_MAX_TERMS + FS_STRUCTURE_MAX_COLUMNS + 3 * FS_MAX_WALL_COLUMNS)
@@ -71,10 +70,11 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
     PetscCall((*s->caseops.columns)(s, t, &vals[k]));
     k += s->caseops.ncolumns;
   }
-  if (s->wd) { /* the liquid's loads on each wall, from the step's last right-hand side */
+  if (s->boundary) { /* the liquid's loads on each wall, from the step's last right-hand side */
     const PetscReal *L;
-    PetscCall(FSSolverWallsGetLoads(s, &L));
-    for (PetscInt w = 0; w < PetscMin(s->wd->walls.nwalls, FS_MAX_WALL_COLUMNS); w++) {
+    PetscInt         nwalls;
+    PetscCall(FSBoundaryGetLoads(s->boundary, &nwalls, NULL, &L));
+    for (PetscInt w = 0; w < PetscMin(nwalls, FS_MAX_WALL_COLUMNS); w++) {
       vals[k++] = L[6 * w];
       vals[k++] = L[6 * w + 1];
       vals[k++] = L[6 * w + 5];
@@ -141,11 +141,14 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
     }
   if (s->caseops.columns)
     for (PetscInt c = 0; c < s->caseops.ncolumns; c++) names[k++] = s->caseops.column_names[c];
-  if (s->wd) {
+  if (s->boundary) {
     static const char *part[] = {"force_x", "force_y", "moment"};
-    for (PetscInt w = 0; w < PetscMin(s->wd->walls.nwalls, FS_MAX_WALL_COLUMNS); w++)
+    const char *const *wname;
+    PetscInt           nwalls;
+    PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &wname));
+    for (PetscInt w = 0; w < PetscMin(nwalls, FS_MAX_WALL_COLUMNS); w++)
       for (PetscInt c = 0; c < 3; c++) {
-        PetscCall(PetscSNPrintf(wallbuf[3 * w + c], sizeof(wallbuf[0]), "wall_%s_%s", s->wd->walls.name[w], part[c]));
+        PetscCall(PetscSNPrintf(wallbuf[3 * w + c], sizeof(wallbuf[0]), "wall_%s_%s", wname[w], part[c]));
         names[k++] = wallbuf[3 * w + c];
       }
   }

@@ -3,7 +3,6 @@
    from a checkpoint, and the run summary. The file formats live in src/io/.
 */
 #include "solver/solverimpl.h"
-#include "boundary/impls/polygon/polygonimpl.h"
 #include <sys/resource.h>
 
 static PetscErrorCode FSSolverEnsureField(FSSolver s, PetscInt n)
@@ -354,11 +353,7 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSJSONWriteReal(js, "peak_memory_bytes", memsum));
   PetscCall(FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->nglobal_particles, 1)));
   PetscCall(FSJSONWriteInt(js, "migrations", s->nmigrations));
-  if (s->wd) { /* particles bounced off walls (FSSolverWallsBounce): a measure of how hard the walls are pressed */
-    PetscInt64 nb = s->wd->nbounce;
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nb, 1, MPIU_INT64, MPI_SUM, comm));
-    PetscCall(FSJSONWriteInt(js, "wall_bounces", nb));
-  }
+  if (s->boundary) PetscCall(FSBoundarySummary(s->boundary, js));
   PetscCall(FSSolverStructureSummary(s, js));
   PetscCall(FSJSONBeginObject(js, "terms"));
   for (PetscInt k = 0; k < s->terms.nterms; k++) PetscCall(FSJSONWriteBool(js, s->terms.term[k]->name, PETSC_TRUE));
@@ -367,5 +362,35 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSJSONWriteString(js, "options", opts));
   PetscCall(PetscFree(opts));
   PetscCall(FSJSONDestroy(&js));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetWallLoads - the liquid's load on each wall from the last right-hand side evaluation (the
+   values of the wall_<name>_* columns of timeseries.csv), summed over the ranks, on every rank.
+
+   Collective (not collective when loads is NULL)
+
+   Input Parameter:
+.  s - the solver
+
+   Output Parameters:
++  nwalls - the number of walls (0 in a case without walls)
+.  names  - the walls' names (an array of nwalls pointers into the solver, or NULL)
+-  loads  - per wall: the force (3) and the moment (3) about -fs_walls_load_point, 6 nwalls values
+            that stay valid until the next right-hand side (NULL without walls), or NULL
+
+   Notes:
+   After a step the last right-hand side is the integrator's last stage; FSSolverGetField() for a
+   derived field evaluates one at the current state.
+
+.seealso: FSSolverGetField(), FSSolverSetUp()
+*/
+PetscErrorCode FSSolverGetWallLoads(FSSolver s, PetscInt *nwalls, const char *names[], const PetscReal *loads[])
+{
+  PetscFunctionBegin;
+  *nwalls = 0;
+  if (loads) *loads = NULL;
+  if (s->boundary) PetscCall(FSBoundaryGetLoads(s->boundary, nwalls, names, loads));
   PetscFunctionReturn(0);
 }

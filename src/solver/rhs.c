@@ -6,7 +6,6 @@
    and all terms; the first pass runs only when a selected term needs it.
 */
 #include "solver/solverimpl.h"
-#include "boundary/impls/polygon/polygonimpl.h"
 
 /* Fills the neighbourhood scratch of particle i: x_j - x_i, r^2, grad_i W. Returns the count. */
 static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
@@ -188,33 +187,68 @@ static PetscErrorCode FSSolverFirstPass(FSSolver s, PetscBool build)
 }
 
 /*
+   FSSolverBoundaryPrepare - the boundary's work of a right-hand side (FSBoundaryPrepare): gamma of the
+   owned particles, their wall elements, the wall pressure and loads; then gamma of the ghosts (for the
+   symmetric, dissipative viscous terms) and 1/gamma of all.
+*/
+static PetscErrorCode FSSolverBoundaryPrepare(FSSolver s)
+{
+  const PetscInt      n = s->nowned;
+  FSBoundaryParticles bp;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
+  if (s->reccap > s->gammacap) { /* gamma of the owned and ghost particles */
+    PetscCall(PetscFree2(s->gamma, s->invgamma));
+    s->gammacap = s->reccap;
+    PetscCall(PetscMalloc2(s->gammacap, &s->gamma, s->gammacap, &s->invgamma));
+  }
+  bp.dim                 = s->dim;
+  bp.nowned              = n;
+  bp.stride              = s->stride;
+  bp.rec                 = s->rec;
+  bp.vol                 = s->vol;
+  bp.pressure            = s->pressure;
+  bp.body                = &s->body;
+  bp.background_pressure = s->background_pressure;
+  PetscCall(FSBoundaryPrepare(s->boundary, &bp, s->gamma));
+  for (PetscInt g = 0; g < s->halo.nghost; g++) s->gamma[n + g] = 1;
+  PetscCall(FSHaloRefreshScalar(&s->halo, s->gamma));
+  for (PetscInt k = 0; k < n + s->halo.nghost; k++) s->invgamma[k] = 1.0 / s->gamma[k];
+  PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverWallPass - the terms that act through the wall segments (boundary integrals), over the
    owned particles that have segments within their support, added to the rates f of the pair pass;
    the renormalized ones divided by gamma_i.
 */
 static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscReal *f)
 {
-  const PetscInt dim = s->dim, US = s->ustride, n = s->nowned;
-  FSWallData    *wd  = s->wd;
+  const PetscInt        dim = s->dim, US = s->ustride, n = s->nowned;
+  const FSWallView *B;
+  const PetscInt       *wstart, *wk;
+  const PetscReal      *wW;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_WallPass, 0, 0, 0, 0));
+  PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
   for (PetscInt i = 0; i < n; i++) {
-    FSNeighbourhood nb;
-    FSRate          rn = {0, {0, 0, 0}, {0, 0, 0}}, ru = {0, {0, 0, 0}, {0, 0, 0}};
-    PetscReal       ig;
-    if (wd->wstart[i + 1] == wd->wstart[i]) continue;
-    PetscCall(PetscMemzero(&nb, sizeof(nb)));
-    nb.i  = i;
-    nb.nw = wd->wstart[i + 1] - wd->wstart[i];
-    nb.wk = wd->wnbr + wd->wstart[i];
-    nb.wW = wd->wW + wd->wstart[i];
+    FSWallNeighbourhood nb;
+    FSRate              rn = {0, {0, 0, 0}, {0, 0, 0}}, ru = {0, {0, 0, 0}, {0, 0, 0}};
+    PetscReal           ig;
+    if (wstart[i + 1] == wstart[i]) continue;
+    nb.i = i;
+    nb.n = wstart[i + 1] - wstart[i];
+    nb.k = wk + wstart[i];
+    nb.W = wW + wstart[i];
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
-      if (!term->wall || !term->ops.interact) continue;
-      term->ops.interact(term, P, &nb, term->renormalized ? &rn : &ru);
+      if (!term->ops.wall) continue;
+      term->ops.wall(term, P, B, &nb, term->renormalized ? &rn : &ru);
     }
-    ig = wd->invgamma[i];
+    ig = s->invgamma[i];
     for (PetscInt d = 0; d < dim; d++) {
       f[i * US + d] += rn.dx[d] * ig + ru.dx[d];
       f[i * US + dim + d] += rn.du[d] * ig + ru.du[d];
@@ -278,11 +312,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     PetscCall(FSSolverCouplingPredict(s, u));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   }
-  if (s->wd) {
-    PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
-    PetscCall(FSSolverWallsPrepare(s));
-    PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
-  }
+  if (s->boundary) PetscCall(FSSolverBoundaryPrepare(s));
   PetscCall(FSSolverGetParticles(s, &P));
 
   if (s->terms.needs) {
@@ -313,18 +343,15 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     nb.r2    = r2;
     nb.rinv2 = ri2;
     nb.gradW = gw;
-    nb.nw    = 0;
-    nb.wk    = NULL;
-    nb.wW    = NULL;
     /* renormalized terms (boundary integrals) first: their sum is divided by gamma_i */
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
-      if (!term->renormalized || term->wall) continue;
+      if (!term->renormalized) continue;
       if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
       if (term->ops.source) term->ops.source(term, &P, i, &rate);
     }
-    if (s->wd) {
-      const PetscReal ig = s->wd->invgamma[i];
+    if (s->boundary) {
+      const PetscReal ig = s->invgamma[i];
       rate.drho *= ig;
       for (PetscInt d = 0; d < dim; d++) {
         rate.du[d] *= ig;
@@ -333,7 +360,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     }
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
-      if (term->renormalized || term->wall) continue;
+      if (term->renormalized) continue;
       if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
       if (term->ops.source) term->ops.source(term, &P, i, &rate);
     }
@@ -344,7 +371,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     f[i * US + 2 * dim] = rate.drho;
   }
   PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
-  if (s->wd) PetscCall(FSSolverWallPass(s, &P, f));
+  if (s->boundary) PetscCall(FSSolverWallPass(s, &P, f));
   if (s->coupled) {
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSSolverCouplingReaction(s, f, reaction));
@@ -432,16 +459,9 @@ PetscErrorCode FSSolverGetParticles(FSSolver s, FSParticles *P)
   P->umax                = s->umax;
   P->background_pressure = s->background_pressure;
   for (PetscInt d = 0; d < 3; d++) P->gravity[d] = s->gravity[d];
-  if (s->wd) {
-    P->nwalls    = s->wd->walls.nwalls;
-    P->gamma     = s->wd->gamma;
-    P->invgamma  = s->wd->invgamma;
-    P->wseg      = s->wd->walls.seg;
-    P->wsegwall  = s->wd->walls.segwall;
-    P->wpressure = s->wd->wp;
-    P->noslip    = s->wd->noslip;
-    P->wallload  = s->wd->load;
-    for (PetscInt d = 0; d < 3; d++) P->loadpoint[d] = s->wd->loadpoint[d];
+  if (s->boundary) {
+    P->gamma    = s->gamma;
+    P->invgamma = s->invgamma;
   }
   PetscFunctionReturn(0);
 }

@@ -2,7 +2,6 @@
    FSSolver: the object that holds a run. Create / SetFromOptions / SetUp / Solve / View / Destroy.
 */
 #include "solver/solverimpl.h"
-#include "boundary/impls/polygon/polygonimpl.h"
 
 PetscClassId FSSOLVER_CLASSID;
 
@@ -226,6 +225,21 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscFunctionReturn(0);
 }
 
+/*
+   FSSolverGetBoundary - the run's walls, created (without a method) on the first call: a case gives
+   them their method and geometry (for polygons FSBoundaryPolygonSetWalls()) from its setup. Without
+   this call the run has no walls.
+
+   Collective on the first call
+*/
+PetscErrorCode FSSolverGetBoundary(FSSolver s, FSBoundary *b)
+{
+  PetscFunctionBegin;
+  if (!s->boundary) PetscCall(FSBoundaryCreate(PetscObjectComm((PetscObject)s), &s->boundary));
+  *b = s->boundary;
+  PetscFunctionReturn(0);
+}
+
 /* FSSolverSetDomain - the domain box and its periodicity (called by the case). */
 PetscErrorCode FSSolverSetDomain(FSSolver s, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[])
 {
@@ -316,7 +330,10 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscCheck(s->caseops.setup, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s has no setup routine", s->casename);
   PetscCall((*s->caseops.setup)(s));
   PetscCheck(s->domain_set, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s did not set the domain (FSSolverSetDomain)", s->casename);
-  PetscCall(FSSolverWallsSetUp(s));
+  if (s->boundary) { /* the walls the case gave */
+    PetscCall(FSBoundarySetFromOptions(s->boundary));
+    PetscCall(FSBoundarySetUp(s->boundary, s->dim, s->dx, s->h, s->kernel.support + s->halo_skin * s->h));
+  }
   PetscCheck(s->nglobal_particles > 0 || s->structure, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s created no particles and there is no structure (-fs_structure none): nothing to compute", s->casename);
 
   width = s->kernel.support + s->halo_skin * s->h;
@@ -434,7 +451,8 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(VecDestroy(&s->Uprev));
   PetscCall(DMDestroy(&s->swarm));
   PetscCall(FSDecompDestroy(&s->decomp));
-  PetscCall(FSSolverWallsDestroy(s));
+  PetscCall(FSBoundaryDestroy(&s->boundary));
+  PetscCall(PetscFree2(s->gamma, s->invgamma));
   PetscCall(FSHaloDestroy(&s->halo));
   PetscCall(FSNeighboursDestroy(&s->nbrs));
   PetscCall(PetscFree4(s->rec, s->aux, s->vol, s->pressure));

@@ -16,6 +16,7 @@
 #include "cases/fscases.h"
 #include "coupling/fscoupling.h"
 #include "io/fsoutput.h"
+#include "boundary/fsboundary.h"
 
 
 #define FS_MAX_GLOBAL 64
@@ -143,7 +144,9 @@ struct _p_FSSolver {
   PetscBool        monitoring;
   PetscReal        t0, last_snapshot_time;
   PetscReal       *field;        /* output staging */
-  struct _n_FSWallData *wd;      /* walls (boundary integrals), NULL without walls: src/boundary/impls/polygon/polygonimpl.h */
+  FSBoundary       boundary;     /* the walls (boundary integrals), NULL without walls */
+  PetscReal       *gamma, *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
+  PetscInt         gammacap;
   PetscInt         fieldcap;
 };
 

@@ -3,7 +3,6 @@
    (TS step -> checks -> migration -> ordering by cell -> halo -> repack -> monitors).
 */
 #include "solver/solverimpl.h"
-#include "boundary/impls/polygon/polygonimpl.h"
 
 /* FSSolverSetUpTS - creates the TS (RK4 by default; -ts_type and friends change it). Called from
    FSSolverSetFromOptions, so that -help shows the TS options with flexslosh's defaults. */
@@ -21,6 +20,86 @@ PetscErrorCode FSSolverSetUpTS(FSSolver s)
   PetscCall(TSSetMaxTime(s->ts, s->final_time));
   PetscCall(TSSetExactFinalTime(s->ts, TS_EXACTFINALTIME_MATCHSTEP));
   PetscCall(TSSetFromOptions(s->ts));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverBoundaryUpdate - the boundary's work of a step (FSBoundaryUpdate): each particle's candidate
+   wall elements, the fluid pairs cut by walls, and the leak check: a particle outside the liquid
+   region stops the run, naming the step, time, particle and nearest wall.
+
+   Collective
+*/
+static PetscErrorCode FSSolverBoundaryUpdate(FSSolver s)
+{
+  MPI_Comm       comm = PetscObjectComm((PetscObject)s);
+  FSBoundaryLeak leak;
+  PetscInt       nleak;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
+  PetscCall(FSBoundaryUpdate(s->boundary, s->nowned, s->rec, s->stride, &s->nbrs, &leak));
+  nleak = leak.particle >= 0 ? 1 : 0;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nleak, 1, MPIU_INT, MPI_SUM, comm));
+  if (leak.particle >= 0) {
+    const PetscInt     i = leak.particle, S = s->stride;
+    PetscInt           step = 0, *id, nwalls;
+    PetscReal          t    = 0;
+    const char *const *names;
+    if (s->ts) {
+      PetscCall(TSGetTime(s->ts, &t));
+      PetscCall(TSGetStepNumber(s->ts, &step));
+    }
+    PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &names));
+    PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
+    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[flexslosh] leak: particle %" PetscInt_FMT " crossed wall \"%s\" at step %" PetscInt_FMT ", time %g: it is at (%g, %g), outside the liquid region\n", id[i], names[leak.wall], step, (double)t, (double)s->rec[i * S], (double)s->rec[i * S + 1]));
+    PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
+  }
+  PetscCheck(!nleak, comm, PETSC_ERR_CONV_FAILED, "Particles crossed a wall on %" PetscInt_FMT " rank(s) (the particle, wall, step and time are named above): reduce -fs_cfl or refine -fs_dx", nleak);
+  PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* the energy of one particle, before and after a wall bounce (FSBoundaryBounce), for the energy budget */
+typedef struct {
+  FSSolver      s;
+  FSEnergyFrame fr;
+} FSBounceEnergy;
+
+static void FSBounceParticleEnergy(void *ctx, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal e[2])
+{
+  FSBounceEnergy *be = (FSBounceEnergy *)ctx;
+  FSEnergyParticle(be->s, &be->fr, x, v, m, e);
+}
+
+/*
+   FSSolverBoundaryBounce - after a step, the particles too close to a wall bounce back
+   (FSBoundaryBounce); de returns this rank's change of the liquid's energy (tank frame, absolute
+   frame), active whether bounces are on.
+
+   Not collective
+*/
+static PetscErrorCode FSSolverBoundaryBounce(FSSolver s, PetscReal de[2], PetscBool *active)
+{
+  FSBounceEnergy be;
+  PetscReal     *x, *v, *m;
+  PetscInt       n;
+
+  PetscFunctionBegin;
+  de[0] = de[1] = 0;
+  *active       = PETSC_FALSE;
+  if (s->boundary) PetscCall(FSBoundaryGetBounce(s->boundary, active));
+  if (!*active) PetscFunctionReturn(0);
+  be.s = s;
+  PetscCall(FSSolverEnergyJumpFrame(s, &be.fr));
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(FSBoundaryBounce(s->boundary, n, s->dim, x, v, m, FSBounceParticleEnergy, &be, de));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscFunctionReturn(0);
 }
 
@@ -82,9 +161,7 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
   PetscCall(FSNeighboursBuildCells(&s->nbrs, s->dim, s->nowned + s->halo.nghost, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
   PetscCall(FSNeighboursBuildCandidates(&s->nbrs, s->nowned, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
-  PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
-  PetscCall(FSSolverWallsUpdate(s));
-  PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
+  if (s->boundary) PetscCall(FSSolverBoundaryUpdate(s));
   PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
   if (s->ts) PetscCall(TSRestartStep(s->ts));
   PetscFunctionReturn(0);
@@ -204,11 +281,10 @@ PetscErrorCode FSSolverStep(FSSolver s)
   TSConvergedReason reason;
   PetscInt          step;
   PetscReal         ejump[2];
-  PetscBool         bounce;
+  PetscBool         bounced;
 
   PetscFunctionBegin;
   PetscCall(FSSolverSetUp(s));
-  bounce = (PetscBool)(s->wd && s->wd->bounce_distance > 0 && s->nglobal_particles > 0);
   PetscCall(PetscLogEventBegin(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverComputeStableDt(s, &dt));
   PetscCall(TSGetTime(s->ts, &t));
@@ -231,11 +307,11 @@ PetscErrorCode FSSolverStep(FSSolver s)
   s->steps_taken++;
   PetscCall(FSSolverCheckState(s));
   PetscCall(FSSolverUnpackState(s));
-  PetscCall(FSSolverWallsBounce(s, ejump)); /* with the bounces' energy changes, for the energy budget */
+  PetscCall(FSSolverBoundaryBounce(s, ejump, &bounced)); /* with the bounces' energy changes, for the energy budget */
   PetscCall(FSSolverMigrate(s, &changed));
   if (step % s->sort_interval == 0) PetscCall(FSSolverSortByCell(s));
   PetscCall(FSSolverResize(s, changed));
-  if (bounce) PetscCall(FSSolverEnergyAddJump(s, ejump));
+  if (bounced && s->nglobal_particles > 0) PetscCall(FSSolverEnergyAddJump(s, ejump));
   PetscCall(PetscLogEventEnd(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverMonitor(s));
   PetscFunctionReturn(0);

@@ -1,6 +1,6 @@
 /* Set-up shared by the cases with walls: a body of liquid on a lattice, hydrostatic, at rest or with a given velocity field. */
 #include "solver/solverimpl.h"
-#include "boundary/impls/polygon/polygonimpl.h"
+#include "boundary/fsboundary.h"
 #include "liquid.h"
 
 /*
@@ -96,7 +96,12 @@ PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0
       }
     }
   }
-  PetscCall(FSSolverSetWalls(s, w));
+  {
+    FSBoundary b;
+    PetscCall(FSSolverGetBoundary(s, &b));
+    PetscCall(FSBoundarySetType(b, FSBOUNDARYPOLYGON));
+    PetscCall(FSBoundaryPolygonSetWalls(b, w));
+  }
   PetscCall(FSSolverAddParticles(s, n, x, u, rho, m));
   PetscCall(PetscFree5(x, u, rho, m, cross));
   PetscFunctionReturn(0);

@@ -1,8 +1,9 @@
 /*
    Wall terms of the boundary-integral method (seed Eq. 14; Calderon-Sanchez et al. 2019; Cercos-Pita
    2015): the boundary parts of the renormalized operators, summed over the wall segments k that face
-   particle i within the kernel support (normal n_k out of the liquid, length s_k, W_ik the kernel at
-   the segment's midpoint). Like the fluid terms they join, they are divided by gamma_i by the core.
+   particle i within the kernel support (normal n_k out of the liquid, length s_k, W_ik the mean kernel
+   value over the segment), from the boundary's view (FSWallView) and the particle's wall
+   neighbourhood. Like the fluid terms they join, they are divided by gamma_i by the core.
    The walls are at rest in the tank's frame (u_k = 0).
 
    wall_continuity:  D rho_i/Dt += -rho_i sum_k (u_k - u_i) . n_k W_ik s_k
@@ -24,59 +25,58 @@
 */
 #include <flexslosh.h>
 
-static void Continuity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+/* In the element rows of the boundary's view: p0 the element's point, c its centroid, n its normal
+   (out of the liquid), a its length (2-D). */
+static void Continuity(FSTerm t, const FSParticles *P, const FSWallView *B, const FSWallNeighbourhood *nb, FSRate *rate)
 {
-  const PetscInt   dim = P->dim;
+  const PetscInt   dim = P->dim, N = B->normal, A = B->measure;
   const PetscReal *ri = &P->rec[nb->i * P->stride];
   PetscReal        sum = 0;
-  (void)t;
-  for (PetscInt q = 0; q < nb->nw; q++) {
-    const PetscReal *sg = &P->wseg[nb->wk[q] * 9];
-    sum += (ri[dim] * sg[6] + ri[dim + 1] * sg[7]) * nb->wW[q] * sg[8];
+  for (PetscInt q = 0; q < nb->n; q++) {
+    const PetscReal *e = &B->element[nb->k[q] * B->stride];
+    sum += (ri[dim] * e[N] + ri[dim + 1] * e[N + 1]) * nb->W[q] * e[A];
   }
   rate->drho += ri[2 * dim] * sum;
   t->power += P->vol[nb->i] * P->pressure[nb->i] * sum;
 }
 
-static void Pressure(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+static void Pressure(FSTerm t, const FSParticles *P, const FSWallView *B, const FSWallNeighbourhood *nb, FSRate *rate)
 {
-  const PetscInt   dim = P->dim, i = nb->i;
+  const PetscInt   dim = P->dim, i = nb->i, N = B->normal, A = B->measure;
   const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim], pi = P->pressure[i];
   PetscReal        acc[2] = {0, 0};
-  (void)t;
-  for (PetscInt q = 0; q < nb->nw; q++) {
-    const PetscInt   k  = nb->wk[q];
-    const PetscReal *sg = &P->wseg[k * 9];
-    const PetscReal  f  = (pi + P->wpressure[k]) * nb->wW[q] * sg[8];
-    acc[0] += f * sg[6];
-    acc[1] += f * sg[7];
+  for (PetscInt q = 0; q < nb->n; q++) {
+    const PetscInt   k = nb->k[q];
+    const PetscReal *e = &B->element[k * B->stride];
+    const PetscReal  f = (pi + B->pressure[k]) * nb->W[q] * e[A];
+    acc[0] += f * e[N];
+    acc[1] += f * e[N + 1];
   }
   rate->du[0] -= acc[0] / rhoi;
   rate->du[1] -= acc[1] / rhoi;
   t->power -= P->vol[i] * P->invgamma[i] * (ri[dim] * acc[0] + ri[dim + 1] * acc[1]);
 }
 
-static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
+static void Viscosity(FSTerm t, const FSParticles *P, const FSWallView *B, const FSWallNeighbourhood *nb, FSRate *rate)
 {
-  const PetscInt   dim = P->dim, i = nb->i;
+  const PetscInt   dim = P->dim, i = nb->i, N = B->normal, A = B->measure, C = B->centroid;
   const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim];
   const PetscReal  c = P->nu * P->rho0 / rhoi, Vi = P->vol[i], dmin = 0.5 * P->dx;
   PetscReal        acc[2] = {0, 0};
-  (void)t;
-  for (PetscInt q = 0; q < nb->nw; q++) {
-    const PetscInt   k  = nb->wk[q];
-    const PetscReal *sg = &P->wseg[k * 9];
+  for (PetscInt q = 0; q < nb->n; q++) {
+    const PetscInt   k = nb->k[q];
+    const PetscReal *e = &B->element[k * B->stride];
     PetscReal        d, f, *L;
-    if (!P->noslip[P->wsegwall[k]]) continue;
-    d = (sg[0] - ri[0]) * sg[6] + (sg[1] - ri[1]) * sg[7];
+    if (!B->noslip[B->elementwall[k]]) continue;
+    d = (e[0] - ri[0]) * e[N] + (e[1] - ri[1]) * e[N + 1];
     if (d <= 0) continue; /* a face turned away (-fs_walls_visibility all): the other side's wall */
-    f = c * nb->wW[q] * sg[8] / PetscMax(d, dmin);
+    f = c * nb->W[q] * e[A] / PetscMax(d, dmin);
     acc[0] -= f * ri[dim];
     acc[1] -= f * ri[dim + 1];
-    L    = &P->wallload[6 * P->wsegwall[k]];
+    L    = &B->load[6 * B->elementwall[k]];
     L[0] += Vi * rhoi * f * ri[dim];
     L[1] += Vi * rhoi * f * ri[dim + 1];
-    L[5] += Vi * rhoi * f * ((sg[4] - P->loadpoint[0]) * ri[dim + 1] - (sg[5] - P->loadpoint[1]) * ri[dim]);
+    L[5] += Vi * rhoi * f * ((e[C] - B->loadpoint[0]) * ri[dim + 1] - (e[C + 1] - B->loadpoint[1]) * ri[dim]);
   }
   rate->du[0] += acc[0];
   rate->du[1] += acc[1];
@@ -86,9 +86,8 @@ static void Viscosity(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb,
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm t)
 {
   PetscFunctionBegin;
-  t->wall         = PETSC_TRUE;
   t->has_power    = PETSC_TRUE;
-  t->ops.interact = Continuity;
+  t->ops.wall     = Continuity;
   PetscFunctionReturn(0);
 }
 
@@ -96,9 +95,8 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_WallPressure(FSTerm t)
 {
   PetscFunctionBegin;
   t->renormalized = PETSC_TRUE;
-  t->wall         = PETSC_TRUE;
   t->has_power    = PETSC_TRUE;
-  t->ops.interact = Pressure;
+  t->ops.wall     = Pressure;
   PetscFunctionReturn(0);
 }
 
@@ -106,8 +104,7 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_WallViscosity(FSTerm t)
 {
   PetscFunctionBegin;
   t->renormalized = PETSC_TRUE;
-  t->wall         = PETSC_TRUE;
   t->has_power    = PETSC_TRUE;
-  t->ops.interact = Viscosity;
+  t->ops.wall     = Viscosity;
   PetscFunctionReturn(0);
 }

@@ -1,12 +1,15 @@
-/* The solver's wall data: geometry, the static cell grid of segments, and the per-step and
-   per-right-hand-side lists of segments near each owned particle. Private to the core. */
+/*
+   Private data of the polygon boundary (src/boundary/impls/polygon): the walls' polygons and segments,
+   the static cell grid of segments, the per-step candidate segments of each owned particle, and the
+   per-right-hand-side wall pressure.
+*/
 #pragma once
+#include "boundary/boundaryimpl.h"
 #include "walls.h"
 
-struct _n_FSWallData {
+typedef struct {
   FSWalls    walls;
-  PetscBool *noslip;        /* per wall */
-  PetscReal  loadpoint[3];  /* moments of the wall loads are taken about this point */
+  const char **names;        /* pointers to the wall names, for the boundary's wallname */
   /* static grid of segments (cell size = candidate radius) */
   PetscReal  glo[2], gcell;
   PetscInt   gnc[2], *gstart, *gseg;
@@ -14,23 +17,8 @@ struct _n_FSWallData {
   PetscInt  *cstart, *cand, ccap, scap;
   PetscBool  occlusion;      /* the walls can hide segments from a particle behind others (a non-convex container or obstacles) */
   PetscBool  visall;         /* -fs_walls_visibility all: no pair cut, no facing filter, no occlusion */
-  /* per right-hand side: facing segments within the support, with W at their midpoints */
-  PetscInt  *wstart, *wnbr, wcap, wscap;
-  PetscReal *wW, *gamma, *invgamma; /* gamma and 1/gamma of the owned and ghost particles */
-  PetscInt   gcap;           /* capacity of gamma (owned and ghosts) */
-  PetscReal  bounce_distance, restitution; /* elastic bounce near walls (FSSolverWallsBounce) */
-  PetscInt64 nbounce;
+  /* per right-hand side: the lists' capacities (the lists are the boundary's wstart, wk, wW) */
+  PetscInt   wcap, wscap;
   PetscReal *wp;             /* per segment: wall pressure interpolated from the liquid; then 2*nseg work */
   PetscReal *wetfull;        /* per segment: the container's Shepard factor at its midpoint, the liquid's sum there when it covers the segment */
-  PetscReal *load;           /* nwalls * 6: force (3), moment (3): this rank's share of the last RHS */
-  PetscReal *loadsum;        /* the same summed over the ranks (FSSolverWallsGetLoads) */
-};
-typedef struct _n_FSWallData FSWallData;
-
-PETSC_INTERN PetscErrorCode FSSolverSetWalls(FSSolver, FSWalls *);
-PETSC_INTERN PetscErrorCode FSSolverWallsSetUp(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverWallsUpdate(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverWallsPrepare(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverWallsBounce(FSSolver, PetscReal de[2]);
-PETSC_INTERN PetscErrorCode FSSolverWallsGetLoads(FSSolver, const PetscReal **);
-PETSC_INTERN PetscErrorCode FSSolverWallsDestroy(FSSolver);
+} FSBoundary_Polygon;

@@ -8,7 +8,7 @@
    so the liquid is outside. The normal of the edge p0 -> p1 is then (dy, -dx)/|p1 - p0| in both cases.
 */
 #pragma once
-#include <petscsys.h>
+#include <flexslosh.h>
 
 typedef struct {
   PetscInt   npoly, nvert, vcap;
@@ -27,6 +27,12 @@ typedef struct {
   PetscReal  lo[2], hi[2]; /* bounding box of all vertices */
 } FSWalls;
 
+/* the reals of a segment's row in seg[] */
+#define FS_SEG_P0     0 /* first end point (2) */
+#define FS_SEG_P1     2 /* second end point (2) */
+#define FS_SEG_MID    4 /* midpoint (2) */
+#define FS_SEG_NORMAL 6 /* unit normal out of the liquid (2) */
+#define FS_SEG_LENGTH 8
 #define FS_SEG_STRIDE 9
 
 /* Squared distance from x to the segment seg (p0, p1 first). */
@@ -56,3 +62,7 @@ PETSC_INTERN PetscReal      FSWallsDistance(const FSWalls *, const PetscReal x[]
    from the segments within the kernel support that face x. */
 PETSC_INTERN void      FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool all, PetscReal *gammak, PetscReal *wint);
 PETSC_INTERN PetscErrorCode FSWallsShepard(const FSWalls *, PetscReal h, const PetscReal x[], PetscBool all, PetscReal *gamma, PetscReal grad[]);
+
+/* The polygon boundary's geometry: gives b (of type "polygon") the walls w, which it then owns (w is
+   zeroed). Called by the cases. */
+PETSC_INTERN PetscErrorCode FSBoundaryPolygonSetWalls(FSBoundary, FSWalls *);

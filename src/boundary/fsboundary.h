@@ -1,0 +1,75 @@
+/*
+   The boundary (src/boundary) as the rest of the library uses it: the FSBoundary object and its
+   stages in a run. The solver drives it; the cases give it its geometry; the coupling reads its loads.
+
+     FSBoundaryCreate / SetType / SetFromOptions / SetUp     from the case's geometry
+     FSBoundaryUpdate     once per step: the candidate wall elements of each particle, the pairs cut
+                          by walls, the leak check
+     FSBoundaryPrepare    at every right-hand side: gamma of the owned particles, each particle's wall
+                          elements within the support, the wall pressure and loads (FSBoundaryGetView)
+     FSBoundaryBounce     after each step: particles too close to a wall bounce back
+     FSBoundaryGetLoads, FSBoundaryDraw, FSBoundaryWriteGeometry, FSBoundarySummary, FSBoundaryView
+
+   Implementations register with FSBoundaryRegister (src/boundary/impls/<name>/) and are chosen with
+   -fs_boundary <name>; the first is "polygon", 2-D boundary integrals on closed polygons.
+*/
+#pragma once
+#include <flexslosh.h>
+#include "io/fsimage.h"
+#include "io/fsoutput.h"
+#include "particles/fsparticles.h"
+
+PETSC_EXTERN PetscClassId FSBOUNDARY_CLASSID;
+
+#define FSBOUNDARYPOLYGON "polygon"
+
+typedef PetscErrorCode (*FSBoundaryCreateFn)(FSBoundary);
+
+/* The particles as a boundary sees them: owned records 0..nowned-1 (position at 0, density at 2 dim;
+   FSParticles' layout), their volumes and pressures, the body acceleration of the tank's frame and
+   the ambient pressure. */
+typedef struct {
+  PetscInt            dim, nowned, stride;
+  const PetscReal    *rec, *vol, *pressure;
+  const FSFrameField *body;
+  PetscReal           background_pressure;
+} FSBoundaryParticles;
+
+/* A particle found outside the liquid region by FSBoundaryUpdate (particle < 0: none on this rank). */
+typedef struct {
+  PetscInt particle, wall;
+} FSBoundaryLeak;
+
+/* The change of a particle's energy (e[0]: tank frame, e[1]: absolute frame) for the bounces' budget */
+typedef void (*FSParticleEnergyFn)(void *ctx, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal e[2]);
+
+/* Where the walls go in the geometry picture: world (x0, y0) at pixel (margin, height - 1 - margin) */
+typedef struct {
+  PetscReal x0, y0, scale;
+  PetscInt  height, margin;
+} FSImageMap;
+
+static inline PetscReal FSImageMapX(const FSImageMap *m, PetscReal x) { return m->margin + (x - m->x0) * m->scale; }
+static inline PetscReal FSImageMapY(const FSImageMap *m, PetscReal y) { return (PetscReal)(m->height - 1 - m->margin) - (y - m->y0) * m->scale; }
+
+PETSC_INTERN PetscErrorCode FSBoundaryRegister(const char[], const char[], FSBoundaryCreateFn);
+PETSC_INTERN PetscErrorCode FSBoundaryRegisterAll(void);
+PETSC_INTERN PetscErrorCode FSBoundaryListView(PetscViewer);
+PETSC_INTERN PetscErrorCode FSBoundaryCreate(MPI_Comm, FSBoundary *);
+PETSC_INTERN PetscErrorCode FSBoundarySetType(FSBoundary, const char[]);
+PETSC_INTERN PetscErrorCode FSBoundarySetFromOptions(FSBoundary);
+PETSC_INTERN PetscErrorCode FSBoundarySetUp(FSBoundary, PetscInt dim, PetscReal dx, PetscReal h, PetscReal radius);
+PETSC_INTERN PetscErrorCode FSBoundaryUpdate(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *, FSBoundaryLeak *);
+PETSC_INTERN PetscErrorCode FSBoundaryPrepare(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[]);
+PETSC_INTERN PetscErrorCode FSBoundaryGetView(FSBoundary, const FSWallView **, const PetscInt **wstart, const PetscInt **wk, const PetscReal **wW);
+PETSC_INTERN PetscErrorCode FSBoundaryGetBounce(FSBoundary, PetscBool *);
+PETSC_INTERN PetscErrorCode FSBoundaryBounce(FSBoundary, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[], const PetscReal m[], FSParticleEnergyFn, void *, PetscReal de[2]);
+PETSC_INTERN PetscErrorCode FSBoundaryGetLoads(FSBoundary, PetscInt *nwalls, const char *names[], const PetscReal **loads);
+PETSC_INTERN PetscErrorCode FSBoundaryGetWallNames(FSBoundary, PetscInt *nwalls, const char *const **names);
+PETSC_INTERN PetscErrorCode FSBoundaryGetBoundingBox(FSBoundary, PetscReal lo[], PetscReal hi[]);
+PETSC_INTERN PetscErrorCode FSBoundaryGetLoadPoint(FSBoundary, PetscReal point[3]);
+PETSC_INTERN PetscErrorCode FSBoundaryDraw(FSBoundary, FSImage *, const FSImageMap *);
+PETSC_INTERN PetscErrorCode FSBoundaryWriteGeometry(FSBoundary, const char dir[]);
+PETSC_INTERN PetscErrorCode FSBoundarySummary(FSBoundary, FSJSON);
+PETSC_INTERN PetscErrorCode FSBoundaryView(FSBoundary, PetscViewer);
+PETSC_INTERN PetscErrorCode FSBoundaryDestroy(FSBoundary *);

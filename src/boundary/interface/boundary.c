@@ -1,0 +1,358 @@
+/*
+   FSBoundary: the walls of a run, as an object with an ops table (boundaryimpl.h) and a registry of
+   implementations (-fs_boundary <name>). This file dispatches to the implementation and holds what
+   every boundary method shares: the wall names, the conditions and loads per wall, the bounce
+   settings, and the view handed to the wall terms.
+*/
+#include "boundary/boundaryimpl.h"
+#include "sys/fssys.h"
+
+PetscClassId FSBOUNDARY_CLASSID;
+
+static FSRegistry FSBoundaries; /* src/sys/registry.c */
+
+PETSC_EXTERN PetscErrorCode FSBoundaryCreate_Polygon(FSBoundary);
+
+/*
+   FSBoundaryRegister - adds a boundary method to the registry.
+
+   Not collective
+
+   Input Parameters:
++  name        - the name used in -fs_boundary
+.  description - one line
+-  create      - fills the boundary's ops and data (FSBoundaryCreate_<Name>)
+*/
+PetscErrorCode FSBoundaryRegister(const char name[], const char description[], FSBoundaryCreateFn create)
+{
+  PetscFunctionBegin;
+  PetscCall(FSRegistryAdd(&FSBoundaries, name, description, (void (*)(void))create));
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryRegisterAll - registers the built-in boundary methods and the class (idempotent). */
+PetscErrorCode FSBoundaryRegisterAll(void)
+{
+  static PetscBool done = PETSC_FALSE;
+
+  PetscFunctionBegin;
+  if (done) PetscFunctionReturn(0);
+  done = PETSC_TRUE;
+  PetscCall(PetscClassIdRegister("FSBoundary", &FSBOUNDARY_CLASSID));
+  PetscCall(FSBoundaryRegister(FSBOUNDARYPOLYGON, "2-D boundary integrals on closed polygons of named walls (Calderon-Sanchez et al. 2019), options -fs_walls_*", FSBoundaryCreate_Polygon));
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryListView - prints every registered boundary method with its description. */
+PetscErrorCode FSBoundaryListView(PetscViewer viewer)
+{
+  PetscFunctionBegin;
+  PetscCall(FSBoundaryRegisterAll());
+  PetscCall(FSRegistryView(&FSBoundaries, viewer, "boundary methods", "select with -fs_boundary name"));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryCreate - creates a boundary without a type; a case gives it its type and geometry
+   (e.g. FSBoundaryPolygonSetWalls()).
+
+   Collective
+*/
+PetscErrorCode FSBoundaryCreate(MPI_Comm comm, FSBoundary *boundary)
+{
+  FSBoundary b;
+
+  PetscFunctionBegin;
+  PetscCall(FSBoundaryRegisterAll());
+  PetscCall(PetscHeaderCreate(b, FSBOUNDARY_CLASSID, "FSBoundary", "walls", "FS", comm, FSBoundaryDestroy, FSBoundaryView));
+  b->bounce_distance = 0.1;
+  b->restitution     = 1.0;
+  *boundary          = b;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundarySetType - chooses the boundary method by its registered name (destroying what an earlier
+   type held).
+
+   Collective
+*/
+PetscErrorCode FSBoundarySetType(FSBoundary b, const char type[])
+{
+  FSBoundaryCreateFn create;
+  PetscBool          same;
+
+  PetscFunctionBegin;
+  PetscCall(PetscObjectTypeCompare((PetscObject)b, type, &same));
+  if (same) PetscFunctionReturn(0);
+  PetscCall(FSRegistryFind(&FSBoundaries, type, (void (**)(void)) & create));
+  if (!create) {
+    char known[1024];
+    PetscCall(FSRegistryNames(&FSBoundaries, known, sizeof(known)));
+    SETERRQ(PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown boundary method \"%s\" given to -fs_boundary: the registered methods are%s", type, known);
+  }
+  if (b->ops->destroy) PetscCall((*b->ops->destroy)(b));
+  PetscCall(PetscMemzero(b->ops, sizeof(*b->ops)));
+  b->data = NULL;
+  PetscCall(PetscObjectChangeTypeName((PetscObject)b, type));
+  PetscCall((*create)(b));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundarySetFromOptions - reads -fs_boundary and the method's own options.
+
+   Collective
+
+   Options Database Key:
+.  -fs_boundary <name> - the boundary method (the case's choice by default; polygon in 2-D)
+*/
+PetscErrorCode FSBoundarySetFromOptions(FSBoundary b)
+{
+  char      type[64];
+  PetscBool set;
+
+  PetscFunctionBegin;
+  PetscCall(PetscStrncpy(type, ((PetscObject)b)->type_name ? ((PetscObject)b)->type_name : FSBOUNDARYPOLYGON, sizeof(type)));
+  PetscObjectOptionsBegin((PetscObject)b);
+  PetscCall(PetscOptionsString("-fs_boundary", "Boundary method of the walls (the case's by default)", "FSBoundarySetType", type, type, sizeof(type), &set));
+  if (set || !((PetscObject)b)->type_name) PetscCall(FSBoundarySetType(b, type));
+  if (b->ops->setfromoptions) PetscCall((*b->ops->setfromoptions)(b, PetscOptionsObject));
+  PetscOptionsEnd();
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundarySetUp - builds the wall elements from the case's geometry for particles of spacing dx and
+   smoothing length h, whose candidate neighbours lie within radius; then reads the wall conditions.
+
+   Collective
+
+   Options Database Keys:
++  -fs_walls_noslip <names>             - the walls with no-slip conditions (the others are free-slip)
+.  -fs_walls_bounce_distance <0.1>      - particles closer to a wall than this (in dx) and moving towards it bounce back
+.  -fs_walls_bounce_restitution <1>     - the fraction of the normal velocity a bounce keeps
+-  -fs_walls_load_point <x,y>           - the point about which the wall moments are taken (the origin)
+*/
+PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscReal h, PetscReal radius)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)b);
+  char    *names[32];
+  PetscInt nnames = 32, np = 3;
+
+  PetscFunctionBegin;
+  if (b->setupcalled) PetscFunctionReturn(0);
+  PetscCheck(((PetscObject)b)->type_name, comm, PETSC_ERR_ARG_WRONGSTATE, "The boundary has no method: the case sets one with its geometry");
+  b->dim    = dim;
+  b->dx     = dx;
+  b->h      = h;
+  b->radius = radius;
+  PetscCall((*b->ops->setup)(b));
+  PetscCall(PetscCalloc1(b->nwalls, &b->noslip));
+  PetscCall(PetscCalloc2(6 * b->nwalls, &b->load, 6 * b->nwalls, &b->loadsum));
+  PetscOptionsBegin(comm, NULL, "Walls (boundary integrals)", "FS");
+  PetscCall(PetscOptionsStringArray("-fs_walls_noslip", "Walls with no-slip conditions, by name (the others are free-slip)", "FSBoundarySetUp", names, &nnames, NULL));
+  PetscCall(PetscOptionsReal("-fs_walls_bounce_distance", "Particles closer to a wall than this (in dx) and moving towards it bounce back (0: never)", "FSBoundaryBounce", b->bounce_distance, &b->bounce_distance, NULL));
+  PetscCall(PetscOptionsReal("-fs_walls_bounce_restitution", "Fraction of the normal velocity kept by a bounce (1: elastic)", "FSBoundaryBounce", b->restitution, &b->restitution, NULL));
+  PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken", "FSBoundarySetUp", b->loadpoint, &np, NULL));
+  PetscOptionsEnd();
+  for (PetscInt k = 0; k < nnames; k++) {
+    PetscBool found = PETSC_FALSE;
+    for (PetscInt q = 0; q < b->nwalls; q++)
+      if (!strcmp(names[k], b->wallname[q])) {
+        b->noslip[q] = PETSC_TRUE;
+        found        = PETSC_TRUE;
+      }
+    PetscCheck(found, comm, PETSC_ERR_ARG_WRONG, "-fs_walls_noslip names wall \"%s\", which this case does not have", names[k]);
+    PetscCall(PetscFree(names[k]));
+  }
+  b->view.dim    = dim;
+  b->view.nwalls = b->nwalls;
+  b->view.noslip = b->noslip;
+  b->view.load   = b->load;
+  for (PetscInt d = 0; d < 3; d++) b->view.loadpoint[d] = b->loadpoint[d];
+  b->setupcalled = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryUpdate - once per step, after the candidate fluid neighbours (nb) of the nowned particles
+   are built: the candidate wall elements of each particle, the fluid candidates that see each other
+   through a wall removed from nb, and the leak check: leak->particle is the first particle of this rank
+   outside the liquid region (-1 if none), leak->wall the wall nearest to it.
+
+   Not collective
+*/
+PetscErrorCode FSBoundaryUpdate(FSBoundary b, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *nb, FSBoundaryLeak *leak)
+{
+  PetscFunctionBegin;
+  leak->particle = leak->wall = -1;
+  PetscCall((*b->ops->update)(b, nowned, rec, stride, nb, leak));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryPrepare - at every right-hand side: gamma of the owned particles into gamma[0..nowned-1],
+   their wall elements within the support (FSBoundaryGetView), the wall pressure interpolated from the
+   liquid, and the pressure loads on the walls (the wall terms add the shear).
+
+   Collective
+*/
+PetscErrorCode FSBoundaryPrepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[])
+{
+  PetscFunctionBegin;
+  PetscCall(PetscArrayzero(b->load, 6 * b->nwalls));
+  PetscCall((*b->ops->prepare)(b, P, gamma));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryGetView - the wall terms' view (elements, wall pressure, conditions, loads) and the wall
+   elements of every owned particle as the last FSBoundaryPrepare left them: particle i's are
+   wk[wstart[i] .. wstart[i+1]-1] with the mean kernel values wW[...].
+
+   Not collective
+*/
+PetscErrorCode FSBoundaryGetView(FSBoundary b, const FSWallView **view, const PetscInt **wstart, const PetscInt **wk, const PetscReal **wW)
+{
+  PetscFunctionBegin;
+  *view   = &b->view;
+  *wstart = b->wstart;
+  *wk     = b->wk;
+  *wW     = b->wW;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryBounce - after each step, a particle closer to a wall than -fs_walls_bounce_distance (in
+   units of dx) and moving towards it is put back at that distance and its normal velocity reversed,
+   scaled by -fs_walls_bounce_restitution. x, v: the n particles' positions and velocities (dim each),
+   changed in place; energy(ctx, x, v, m, e) measures a particle's energy so that de returns this rank's
+   change of the liquid's energy by the bounces.
+
+   Not collective
+*/
+PetscErrorCode FSBoundaryBounce(FSBoundary b, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[], const PetscReal m[], FSParticleEnergyFn energy, void *ctx, PetscReal de[2])
+{
+  PetscFunctionBegin;
+  de[0] = de[1] = 0;
+  if (b->bounce_distance > 0) PetscCall((*b->ops->bounce)(b, n, dim, x, v, m, energy, ctx, de));
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryGetBounce - whether particles bounce off the walls (-fs_walls_bounce_distance > 0). Not collective. */
+PetscErrorCode FSBoundaryGetBounce(FSBoundary b, PetscBool *bounce)
+{
+  PetscFunctionBegin;
+  *bounce = (PetscBool)(b->bounce_distance > 0);
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryGetLoads - the liquid's load on each wall from the last right-hand side, summed over the
+   ranks: per wall the force (3) and the moment (3) about -fs_walls_load_point. names and loads may be
+   NULL; with loads the call is collective.
+*/
+PetscErrorCode FSBoundaryGetLoads(FSBoundary b, PetscInt *nwalls, const char *names[], const PetscReal **loads)
+{
+  PetscFunctionBegin;
+  *nwalls = b->nwalls;
+  if (names)
+    for (PetscInt w = 0; w < b->nwalls; w++) names[w] = b->wallname[w];
+  if (loads) {
+    PetscCallMPI(MPI_Allreduce(b->load, b->loadsum, (PetscMPIInt)(6 * b->nwalls), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
+    *loads = b->loadsum;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryGetWallNames - the walls' names, in the order of the loads. Not collective. */
+PetscErrorCode FSBoundaryGetWallNames(FSBoundary b, PetscInt *nwalls, const char *const **names)
+{
+  PetscFunctionBegin;
+  *nwalls = b->nwalls;
+  *names  = b->wallname;
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryGetBoundingBox - the box around every wall (dim values each). Not collective. */
+PetscErrorCode FSBoundaryGetBoundingBox(FSBoundary b, PetscReal lo[], PetscReal hi[])
+{
+  PetscFunctionBegin;
+  PetscCall((*b->ops->boundingbox)(b, lo, hi));
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryGetLoadPoint - the point about which the wall moments are taken. Not collective. */
+PetscErrorCode FSBoundaryGetLoadPoint(FSBoundary b, PetscReal point[3])
+{
+  PetscFunctionBegin;
+  for (PetscInt d = 0; d < 3; d++) point[d] = b->loadpoint[d];
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryDraw - rank 0: the walls into the geometry picture, placed by map. */
+PetscErrorCode FSBoundaryDraw(FSBoundary b, FSImage *img, const FSImageMap *map)
+{
+  PetscFunctionBegin;
+  if (b->ops->draw) PetscCall((*b->ops->draw)(b, img, map));
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryWriteGeometry - the walls as files for ParaView in dir (collective). */
+PetscErrorCode FSBoundaryWriteGeometry(FSBoundary b, const char dir[])
+{
+  PetscFunctionBegin;
+  if (b->ops->writegeometry) PetscCall((*b->ops->writegeometry)(b, dir));
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundarySummary - the boundary's members of summary.json (collective). */
+PetscErrorCode FSBoundarySummary(FSBoundary b, FSJSON js)
+{
+  PetscInt64 nb = b->nbounce;
+
+  PetscFunctionBegin;
+  /* particles bounced off walls: a measure of how hard the walls are pressed */
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nb, 1, MPIU_INT64, MPI_SUM, PetscObjectComm((PetscObject)b)));
+  PetscCall(FSJSONWriteInt(js, "wall_bounces", nb));
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryView - the method, the walls and their conditions. */
+PetscErrorCode FSBoundaryView(FSBoundary b, PetscViewer viewer)
+{
+  PetscBool isascii;
+
+  PetscFunctionBegin;
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &isascii));
+  if (!isascii) PetscFunctionReturn(0);
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Boundary: %s, %" PetscInt_FMT " wall(s):", ((PetscObject)b)->type_name ? ((PetscObject)b)->type_name : "(no type)", b->nwalls));
+  PetscCall(PetscViewerASCIIUseTabs(viewer, PETSC_FALSE));
+  for (PetscInt w = 0; w < b->nwalls; w++) PetscCall(PetscViewerASCIIPrintf(viewer, " %s (%s)", b->wallname[w], b->noslip && b->noslip[w] ? "no-slip" : "free-slip"));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "\n"));
+  PetscCall(PetscViewerASCIIUseTabs(viewer, PETSC_TRUE));
+  if (b->ops->view) {
+    PetscCall(PetscViewerASCIIPushTab(viewer));
+    PetscCall((*b->ops->view)(b, viewer));
+    PetscCall(PetscViewerASCIIPopTab(viewer));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSBoundaryDestroy(FSBoundary *boundary)
+{
+  FSBoundary b = *boundary;
+
+  PetscFunctionBegin;
+  if (!b) PetscFunctionReturn(0);
+  if (--((PetscObject)b)->refct > 0) {
+    *boundary = NULL;
+    PetscFunctionReturn(0);
+  }
+  if (b->ops->destroy) PetscCall((*b->ops->destroy)(b));
+  PetscCall(PetscFree(b->noslip));
+  PetscCall(PetscFree2(b->load, b->loadsum));
+  PetscCall(PetscHeaderDestroy(boundary));
+  PetscFunctionReturn(0);
+}
