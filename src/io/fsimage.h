@@ -1,7 +1,6 @@
 /*
-   FSImage: a small 8-bit RGB raster with the few drawing operations the geometry view needs, and a
-   PNG writer (src/io/png.c) that depends on nothing but the C library: the zlib stream inside the
-   PNG uses stored (uncompressed) deflate blocks, so no zlib is linked.
+   FSImage: a small 8-bit RGB raster with the few drawing operations the geometry view needs (exact
+   colours, no antialiasing), and a PNG writer through libpng (src/io/png.c).
 
    Pixel (0, 0) is the top-left corner; x grows to the right, y downwards. Drawing outside the image
    is clipped. Private to flexslosh.

@@ -7,62 +7,57 @@
 #include <errno.h>
 #include <string.h>
 #include <stdio.h>
-#include <sys/stat.h>
-#include <sys/types.h>
-#include <unistd.h>
 #include "fsoutput.h"
 
-/* mkdir -p on one rank; returns 0 or an errno value */
-static int FSMkdirParents(const char path[])
+/*
+   mkdir -p on one rank with PETSc's PetscTestDirectory() and PetscMkdir(), then a check that files can
+   be created in path; *err is 0 or an errno value for the message. PetscMkdir() raises a PETSc error
+   without the system's reason: it is caught here unprinted, and errno, which mkdir() set, says why.
+*/
+static PetscErrorCode FSMkdirParents(const char path[], int *err)
 {
-  char        buf[PETSC_MAX_PATH_LEN];
-  size_t      len = strlen(path), i;
-  struct stat st;
+  char      buf[PETSC_MAX_PATH_LEN];
+  size_t    len;
+  PetscBool w, x;
 
-  if (len == 0) return ENOENT;
-  if (len >= sizeof(buf)) return ENAMETOOLONG;
-  memcpy(buf, path, len + 1);
-  for (i = 1; i <= len; i++) {
-    if (buf[i] == '/' || buf[i] == '\0') {
-      char saved = buf[i];
+  PetscFunctionBegin;
+  *err = 0;
+  PetscCall(PetscStrlen(path, &len));
+  if (len == 0) *err = ENOENT;
+  else if (len >= sizeof(buf)) *err = ENAMETOOLONG;
+  if (*err) PetscFunctionReturn(0);
+  PetscCall(PetscStrcpy(buf, path));
+  for (size_t i = 1; i <= len && !*err; i++) {
+    const char saved = buf[i];
+    PetscBool  isdir;
 
-      if (buf[i - 1] == '/') continue; /* repeated separators */
-      buf[i] = '\0';
-      if (mkdir(buf, 0777) != 0 && errno != EEXIST) return errno;
-      buf[i] = saved;
+    if ((saved != '/' && saved != '\0') || buf[i - 1] == '/') continue; /* not the end of a name, or repeated separators */
+    buf[i] = '\0';
+    /* an existing directory that can be entered is kept as it is (it may not be writable, like "/") */
+    PetscCall(PetscTestDirectory(buf, 'x', &isdir));
+    if (!isdir) {
+      PetscErrorCode ierr;
+
+      PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+      errno = 0;
+      ierr  = PetscMkdir(buf);
+      if (ierr) *err = errno ? errno : EIO;
+      PetscCall(PetscPopErrorHandler());
+      if (*err == EEXIST) { /* there, but not a directory that can be entered */
+        PetscBool r;
+
+        PetscCall(PetscTestDirectory(buf, 'r', &r));
+        PetscCall(PetscTestDirectory(buf, 'w', &w));
+        *err = r || w ? EACCES : ENOTDIR;
+      }
     }
+    buf[i] = saved;
   }
-  if (stat(path, &st) != 0) return errno;
-  if (!S_ISDIR(st.st_mode)) return ENOTDIR;
-  return 0;
-}
-
-/* create and remove a probe file inside dir; returns 0 or an errno value */
-static int FSProbeWritable(const char dir[])
-{
-  char  probe[PETSC_MAX_PATH_LEN];
-  FILE *fp;
-  int   n;
-
-  n = snprintf(probe, sizeof(probe), "%s/.fs_write_probe_%ld", dir, (long)getpid());
-  if (n < 0 || (size_t)n >= sizeof(probe)) return ENAMETOOLONG;
-  fp = fopen(probe, "w");
-  if (!fp) return errno;
-  if (fputs("probe\n", fp) == EOF) {
-    int err = errno ? errno : EIO;
-
-    (void)fclose(fp);
-    (void)remove(probe);
-    return err;
-  }
-  if (fclose(fp) != 0) {
-    int err = errno ? errno : EIO;
-
-    (void)remove(probe);
-    return err;
-  }
-  if (remove(probe) != 0) return errno;
-  return 0;
+  if (*err) PetscFunctionReturn(0);
+  PetscCall(PetscTestDirectory(path, 'w', &w));
+  PetscCall(PetscTestDirectory(path, 'x', &x));
+  if (!w || !x) *err = EACCES;
+  PetscFunctionReturn(0);
 }
 
 /*@C
@@ -77,7 +72,8 @@ static int FSProbeWritable(const char dir[])
 -  option - name of the option that set path (e.g. "-fs_output_dir"), quoted in the error message; may be NULL
 
    Notes:
-   Writability is checked by creating and removing a probe file. On failure every rank raises
+   Writability is checked with PetscTestDirectory() (access(2): write and search permission). New
+   directories get PetscMkdir()'s mode, rwxr-x--- less the umask. On failure every rank raises
    PETSC_ERR_FILE_OPEN with the directory, the option and the system's reason.
 @*/
 PetscErrorCode FSMakeDirectory(MPI_Comm comm, const char path[], const char option[])
@@ -88,10 +84,7 @@ PetscErrorCode FSMakeDirectory(MPI_Comm comm, const char path[], const char opti
   PetscFunctionBegin;
   PetscCheck(path, comm, PETSC_ERR_ARG_NULL, "FSMakeDirectory: path is required");
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank == 0) {
-    err = FSMkdirParents(path);
-    if (!err) err = FSProbeWritable(path);
-  }
+  if (rank == 0) PetscCall(FSMkdirParents(path, &err));
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
   PetscCheck(!err, comm, PETSC_ERR_FILE_OPEN, "Cannot create or write output directory \"%s\"%s%s%s: %s", path, option ? " (option " : "", option ? option : "", option ? ")" : "", strerror(err));
   PetscFunctionReturn(0);

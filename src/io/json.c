@@ -1,116 +1,70 @@
 /*
-   FSJSON: a small streaming JSON writer for run summaries. Rank 0 writes "<path>.tmp"; the other
-   ranks do nothing. The document is one top-level object; members are written in call order with
-   commas and nesting tracked here, strings are escaped and non-finite reals become null.
-   FSJSONDestroy closes every open object and renames the file into place.
+   FSJSON: the JSON run summaries, built with json-c (Debian libjson-c-dev). Rank 0 keeps the
+   document, one top-level object, in memory (members in call order; a repeated key replaces the
+   earlier value); the other ranks do nothing. FSJSONDestroy prints it (json-c's pretty format, two
+   spaces per level) to "<path>.tmp", opened by FSJSONCreate so that an unwritable directory fails
+   early, and renames that into place. Non-finite reals become null, as JSON has no NaN or Infinity.
 */
 #include <stdio.h>
 #include <string.h>
 #include <errno.h>
+#include <json-c/json.h>
 #include "fsoutput.h"
 
 #define FS_JSON_MAX_DEPTH 32
+#define FS_JSON_FORMAT    (JSON_C_TO_STRING_PRETTY | JSON_C_TO_STRING_SPACED | JSON_C_TO_STRING_NOSLASHESCAPE)
 
 struct _n_FSJSON {
-  MPI_Comm    comm;
-  PetscMPIInt rank;
-  FILE       *fp;                       /* rank 0 only */
-  char        path[PETSC_MAX_PATH_LEN]; /* final name */
-  char        tmp[PETSC_MAX_PATH_LEN];  /* "<path>.tmp" */
-  PetscInt    depth;                    /* number of open objects (1 = only the root) */
-  PetscBool   first[FS_JSON_MAX_DEPTH]; /* no member written yet at this level */
+  MPI_Comm            comm;
+  PetscMPIInt         rank;
+  FILE               *fp;                       /* rank 0 only: "<path>.tmp", open from create to destroy */
+  char                path[PETSC_MAX_PATH_LEN]; /* final name */
+  char                tmp[PETSC_MAX_PATH_LEN];  /* "<path>.tmp" */
+  PetscInt            depth;                    /* number of open objects (1 = only the root) */
+  struct json_object *open[FS_JSON_MAX_DEPTH];  /* rank 0 only: open[0] is the document, open[depth-1] the innermost */
 };
 
-static PetscErrorCode FSJSONCheckIO(FSJSON js, int status)
+/* adds value (NULL: null) as member key of the innermost open object; takes value over even on error */
+static PetscErrorCode FSJSONAdd(FSJSON js, const char key[], struct json_object *value)
 {
   PetscFunctionBegin;
-  PetscCheck(status >= 0 && !ferror(js->fp), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Error writing JSON file \"%s\": %s", js->tmp, strerror(errno));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode FSJSONIndent(FSJSON js)
-{
-  PetscFunctionBegin;
-  for (PetscInt i = 0; i < js->depth; i++) PetscCall(FSJSONCheckIO(js, fputs("  ", js->fp)));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode FSJSONPutString(FSJSON js, const char s[])
-{
-  const unsigned char *c;
-
-  PetscFunctionBegin;
-  PetscCall(FSJSONCheckIO(js, fputc('"', js->fp)));
-  for (c = (const unsigned char *)s; *c; c++) {
-    int st;
-
-    switch (*c) {
-    case '"':
-      st = fputs("\\\"", js->fp);
-      break;
-    case '\\':
-      st = fputs("\\\\", js->fp);
-      break;
-    case '\n':
-      st = fputs("\\n", js->fp);
-      break;
-    case '\r':
-      st = fputs("\\r", js->fp);
-      break;
-    case '\t':
-      st = fputs("\\t", js->fp);
-      break;
-    case '\b':
-      st = fputs("\\b", js->fp);
-      break;
-    case '\f':
-      st = fputs("\\f", js->fp);
-      break;
-    default:
-      if (*c < 0x20) st = fprintf(js->fp, "\\u%04x", (unsigned)*c);
-      else st = fputc(*c, js->fp); /* bytes >= 0x80 pass through: UTF-8 is assumed */
-    }
-    PetscCall(FSJSONCheckIO(js, st));
-  }
-  PetscCall(FSJSONCheckIO(js, fputc('"', js->fp)));
-  PetscFunctionReturn(0);
-}
-
-/* separator, indentation and "key": for the next member of the innermost open object */
-static PetscErrorCode FSJSONBeginMember(FSJSON js, const char key[])
-{
-  PetscFunctionBegin;
+  if (!key || !key[0]) json_object_put(value);
   PetscCheck(key && key[0], PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "JSON \"%s\": every member of an object needs a non-empty key", js->path);
-  PetscCall(FSJSONCheckIO(js, fputs(js->first[js->depth - 1] ? "\n" : ",\n", js->fp)));
-  js->first[js->depth - 1] = PETSC_FALSE;
-  PetscCall(FSJSONIndent(js));
-  PetscCall(FSJSONPutString(js, key));
-  PetscCall(FSJSONCheckIO(js, fputs(": ", js->fp)));
+  if (json_object_object_add(js->open[js->depth - 1], key, value) != 0) {
+    json_object_put(value);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_MEM, "JSON \"%s\": cannot add member \"%s\"", js->path, key);
+  }
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode FSJSONPutReal(FSJSON js, PetscReal v)
+/* a new json-c value, or an error when json-c could not allocate it */
+static PetscErrorCode FSJSONCheckNew(FSJSON js, const char key[], struct json_object *value)
 {
   PetscFunctionBegin;
-  if (PetscIsInfOrNanReal(v)) PetscCall(FSJSONCheckIO(js, fputs("null", js->fp)));
-  else PetscCall(FSJSONCheckIO(js, fprintf(js->fp, "%.17g", (double)v)));
+  PetscCheck(value, PETSC_COMM_SELF, PETSC_ERR_MEM, "JSON \"%s\": out of memory for \"%s\"", js->path, key ? key : "");
   PetscFunctionReturn(0);
+}
+
+/* a real as json-c's double (printed with 17 significant digits), or NULL (null) when not finite */
+static struct json_object *FSJSONNewReal(PetscReal v)
+{
+  return PetscIsInfOrNanReal(v) ? NULL : json_object_new_double((double)v);
 }
 
 /*@C
-   FSJSONCreate - Starts a JSON document (one top-level object) written by rank 0 to "<path>.tmp".
+   FSJSONCreate - Starts a JSON document (one top-level object) that rank 0 writes to path.
 
    Collective
 
    Input Parameters:
-+  comm - communicator; only rank 0 writes, the other ranks' calls are no-ops
--  path - final file name; the document appears there when FSJSONDestroy() renames it
++  comm - communicator; only rank 0 builds and writes the document, the other ranks' calls are no-ops
+-  path - final file name; the document appears there when FSJSONDestroy() renames "<path>.tmp"
 
    Output Parameter:
 .  js - the writer
 
    Notes:
-   A failure to open the file is raised on every rank.
+   "<path>.tmp" is opened here, so a failure to open it is raised at once, on every rank.
 @*/
 PetscErrorCode FSJSONCreate(MPI_Comm comm, const char path[], FSJSON *js)
 {
@@ -128,24 +82,26 @@ PetscErrorCode FSJSONCreate(MPI_Comm comm, const char path[], FSJSON *js)
   if (w->rank == 0) {
     w->fp = fopen(w->tmp, "w");
     if (!w->fp) err = errno ? errno : EIO;
-    else if (fputc('{', w->fp) == EOF) err = errno ? errno : EIO;
+    else if (!(w->open[0] = json_object_new_object())) err = ENOMEM;
   }
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
   if (err) {
-    if (w->fp) (void)fclose(w->fp);
+    if (w->fp) {
+      (void)fclose(w->fp);
+      (void)remove(w->tmp);
+    }
     PetscCall(PetscFree(w));
     SETERRQ(comm, PETSC_ERR_FILE_OPEN, "Cannot open JSON file \"%s.tmp\" for writing: %s", path, strerror(err));
   }
-  w->depth    = 1;
-  w->first[0] = PETSC_TRUE;
-  *js         = w;
+  w->depth = 1;
+  *js      = w;
   PetscFunctionReturn(0);
 }
 
 /*@C
    FSJSONBeginObject - Opens a nested object as member key of the current object.
 
-   Not Collective (rank 0 writes, other ranks return at once)
+   Not Collective (rank 0 builds, other ranks return at once)
 
    Input Parameters:
 +  js  - the writer
@@ -156,14 +112,16 @@ PetscErrorCode FSJSONCreate(MPI_Comm comm, const char path[], FSJSON *js)
 @*/
 PetscErrorCode FSJSONBeginObject(FSJSON js, const char key[])
 {
+  struct json_object *obj;
+
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
   PetscCheck(js->depth < FS_JSON_MAX_DEPTH, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "JSON \"%s\": objects nested deeper than %d", js->path, FS_JSON_MAX_DEPTH - 1);
-  PetscCall(FSJSONBeginMember(js, key));
-  PetscCall(FSJSONCheckIO(js, fputc('{', js->fp)));
-  js->first[js->depth] = PETSC_TRUE;
-  js->depth++;
+  obj = json_object_new_object();
+  PetscCall(FSJSONCheckNew(js, key, obj));
+  PetscCall(FSJSONAdd(js, key, obj)); /* the parent owns obj now; it stays valid while the parent lives */
+  js->open[js->depth++] = obj;
   PetscFunctionReturn(0);
 }
 
@@ -184,17 +142,12 @@ PetscErrorCode FSJSONEndObject(FSJSON js)
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
   PetscCheck(js->depth > 1, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "JSON \"%s\": FSJSONEndObject() without a matching FSJSONBeginObject()", js->path);
-  js->depth--;
-  if (!js->first[js->depth]) {
-    PetscCall(FSJSONCheckIO(js, fputc('\n', js->fp)));
-    PetscCall(FSJSONIndent(js));
-  }
-  PetscCall(FSJSONCheckIO(js, fputc('}', js->fp)));
+  js->open[--js->depth] = NULL;
   PetscFunctionReturn(0);
 }
 
 /*@C
-   FSJSONWriteString - Writes member key with a string value (escaped as JSON requires).
+   FSJSONWriteString - Writes member key with a string value (json-c escapes it).
 
    Not Collective
 
@@ -205,12 +158,16 @@ PetscErrorCode FSJSONEndObject(FSJSON js)
 @*/
 PetscErrorCode FSJSONWriteString(FSJSON js, const char key[], const char value[])
 {
+  struct json_object *v = NULL;
+
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  PetscCall(FSJSONBeginMember(js, key));
-  if (value) PetscCall(FSJSONPutString(js, value));
-  else PetscCall(FSJSONCheckIO(js, fputs("null", js->fp)));
+  if (value) {
+    v = json_object_new_string(value);
+    PetscCall(FSJSONCheckNew(js, key, v));
+  }
+  PetscCall(FSJSONAdd(js, key, v));
   PetscFunctionReturn(0);
 }
 
@@ -226,17 +183,20 @@ PetscErrorCode FSJSONWriteString(FSJSON js, const char key[], const char value[]
 @*/
 PetscErrorCode FSJSONWriteInt(FSJSON js, const char key[], PetscInt64 value)
 {
+  struct json_object *v;
+
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  PetscCall(FSJSONBeginMember(js, key));
-  PetscCall(FSJSONCheckIO(js, fprintf(js->fp, "%" PetscInt64_FMT, value)));
+  v = json_object_new_int64((int64_t)value);
+  PetscCall(FSJSONCheckNew(js, key, v));
+  PetscCall(FSJSONAdd(js, key, v));
   PetscFunctionReturn(0);
 }
 
 /*@C
    FSJSONWriteReal - Writes member key with a real value (17 significant digits, so it reads back
-   exactly); NaN and infinities are written as null.
+   exactly, with a decimal point or an exponent); NaN and infinities are written as null.
 
    Not Collective
 
@@ -247,11 +207,14 @@ PetscErrorCode FSJSONWriteInt(FSJSON js, const char key[], PetscInt64 value)
 @*/
 PetscErrorCode FSJSONWriteReal(FSJSON js, const char key[], PetscReal value)
 {
+  struct json_object *v;
+
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  PetscCall(FSJSONBeginMember(js, key));
-  PetscCall(FSJSONPutReal(js, value));
+  v = FSJSONNewReal(value);
+  if (!PetscIsInfOrNanReal(value)) PetscCall(FSJSONCheckNew(js, key, v));
+  PetscCall(FSJSONAdd(js, key, v));
   PetscFunctionReturn(0);
 }
 
@@ -268,18 +231,25 @@ PetscErrorCode FSJSONWriteReal(FSJSON js, const char key[], PetscReal value)
 @*/
 PetscErrorCode FSJSONWriteRealArray(FSJSON js, const char key[], PetscInt n, const PetscReal values[])
 {
+  struct json_object *arr;
+
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
   PetscCheck(n >= 0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "JSON \"%s\": negative array length %" PetscInt_FMT " for \"%s\"", js->path, n, key ? key : "");
   PetscCheck(values || n == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "JSON \"%s\": no values for \"%s\"", js->path, key ? key : "");
-  PetscCall(FSJSONBeginMember(js, key));
-  PetscCall(FSJSONCheckIO(js, fputc('[', js->fp)));
+  arr = json_object_new_array_ext((int)n);
+  PetscCall(FSJSONCheckNew(js, key, arr));
   for (PetscInt i = 0; i < n; i++) {
-    if (i) PetscCall(FSJSONCheckIO(js, fputs(", ", js->fp)));
-    PetscCall(FSJSONPutReal(js, values[i]));
+    struct json_object *v = FSJSONNewReal(values[i]);
+
+    if ((!v && !PetscIsInfOrNanReal(values[i])) || json_object_array_add(arr, v) != 0) {
+      json_object_put(v);
+      json_object_put(arr);
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_MEM, "JSON \"%s\": out of memory for \"%s\"", js->path, key ? key : "");
+    }
   }
-  PetscCall(FSJSONCheckIO(js, fputc(']', js->fp)));
+  PetscCall(FSJSONAdd(js, key, arr));
   PetscFunctionReturn(0);
 }
 
@@ -295,16 +265,19 @@ PetscErrorCode FSJSONWriteRealArray(FSJSON js, const char key[], PetscInt n, con
 @*/
 PetscErrorCode FSJSONWriteBool(FSJSON js, const char key[], PetscBool value)
 {
+  struct json_object *v;
+
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  PetscCall(FSJSONBeginMember(js, key));
-  PetscCall(FSJSONCheckIO(js, fputs(value ? "true" : "false", js->fp)));
+  v = json_object_new_boolean(value ? 1 : 0);
+  PetscCall(FSJSONCheckNew(js, key, v));
+  PetscCall(FSJSONAdd(js, key, v));
   PetscFunctionReturn(0);
 }
 
 /*@C
-   FSJSONDestroy - Closes all open objects, closes the file and renames "<path>.tmp" to path.
+   FSJSONDestroy - Closes all open objects, prints the document to "<path>.tmp" and renames it to path.
 
    Collective
 
@@ -323,11 +296,14 @@ PetscErrorCode FSJSONDestroy(FSJSON *js)
   if (!js || !*js) PetscFunctionReturn(0);
   w = *js;
   if (w->rank == 0) {
-    while (w->depth > 1) PetscCall(FSJSONEndObject(w));
-    if (fputs(w->first[0] ? "}\n" : "\n}\n", w->fp) == EOF || ferror(w->fp)) err = errno ? errno : EIO;
+    const char *text = json_object_to_json_string_ext(w->open[0], FS_JSON_FORMAT); /* owned by the document */
+
+    if (!text) err = ENOMEM;
+    else if (fputs(text, w->fp) == EOF || fputc('\n', w->fp) == EOF || ferror(w->fp)) err = errno ? errno : EIO;
     if (fclose(w->fp) != 0 && !err) err = errno ? errno : EIO;
     w->fp = NULL;
     if (!err && rename(w->tmp, w->path) != 0) err = errno ? errno : EIO;
+    (void)json_object_put(w->open[0]); /* frees the whole document */
   }
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, w->comm));
   PetscCheck(!err, w->comm, PETSC_ERR_FILE_WRITE, "Cannot finish JSON file \"%s\" (written as \"%s\"): %s", w->path, w->tmp, strerror(err));

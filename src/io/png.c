@@ -1,91 +1,16 @@
 /*
-   A minimal PNG writer and raster helpers (see fsimage.h), written from the PNG specification
-   (ISO/IEC 15948, W3C PNG 2nd edition) and RFC 1950/1951 for the zlib stream:
-
-     file    = signature (8 bytes) IHDR IDAT IEND
-     chunk   = length (4, big-endian, data only) type (4) data CRC-32 (4, over type and data)
-     IHDR    = width (4) height (4) bit depth 8, colour type 2 (RGB), compression 0, filter 0,
-               interlace 0
-     IDAT    = one zlib stream: CMF 0x78 (deflate, 32K window), FLG 0x01 (no dictionary, fastest;
-               0x7801 is a multiple of 31), stored deflate blocks (a header byte with BFINAL in
-               bit 0 and BTYPE 00, then LEN and ~LEN as 16-bit little-endian, then LEN <= 65535 raw
-               bytes), then the Adler-32 of the raw data (big-endian)
-     raw     = per row: filter type 0 (None), then width*3 bytes R, G, B
-
-   Stored blocks make the file about as large as the raster (3 bytes a pixel), which is fine for the
-   set-up pictures this writes. The same image always gives the same bytes.
+   The raster of the geometry view (see fsimage.h): the few drawing operations it needs, done here
+   pixel by pixel so that every colour stays exact (no antialiasing), and the PNG output through
+   libpng (Debian libpng-dev): 8-bit RGB, not interlaced, libpng's default compression and filters
+   and no time stamp, so the same image always gives the same bytes.
 */
 #define _POSIX_C_SOURCE 200809L
 #include <errno.h>
+#include <setjmp.h>
 #include <stdio.h>
 #include <string.h>
+#include <png.h>
 #include "fsimage.h"
-
-#define FS_PNG_STORED_MAX 65535
-
-/* CRC-32 of PNG and zlib (ISO 3309, reflected polynomial 0xedb88320), table built on first use */
-static unsigned long FSCRCTable[256];
-static int           FSCRCTableReady = 0;
-
-static void FSCRCInitTable(void)
-{
-  for (unsigned long n = 0; n < 256; n++) {
-    unsigned long c = n;
-    for (int k = 0; k < 8; k++) c = (c & 1) ? 0xedb88320UL ^ (c >> 1) : c >> 1;
-    FSCRCTable[n] = c;
-  }
-  FSCRCTableReady = 1;
-}
-
-/* running CRC: start from crc = 0 (the pre- and post-conditioning with 0xffffffff is inside) */
-static unsigned long FSCRC32(unsigned long crc, const unsigned char *buf, size_t len)
-{
-  unsigned long c = crc ^ 0xffffffffUL;
-
-  if (!FSCRCTableReady) FSCRCInitTable();
-  for (size_t i = 0; i < len; i++) c = FSCRCTable[(c ^ buf[i]) & 0xff] ^ (c >> 8);
-  return (c ^ 0xffffffffUL) & 0xffffffffUL;
-}
-
-/* Adler-32 of RFC 1950: start from adler = 1; the sums are reduced modulo 65521 every 5552 bytes,
-   the most that cannot overflow 32 bits */
-static unsigned long FSAdler32(unsigned long adler, const unsigned char *buf, size_t len)
-{
-  unsigned long a = adler & 0xffff, b = (adler >> 16) & 0xffff;
-
-  while (len > 0) {
-    size_t n = len < 5552 ? len : 5552;
-
-    len -= n;
-    while (n--) {
-      a += *buf++;
-      b += a;
-    }
-    a %= 65521;
-    b %= 65521;
-  }
-  return (b << 16) | a;
-}
-
-static unsigned char *FSPut32(unsigned char *p, unsigned long v)
-{
-  p[0] = (unsigned char)((v >> 24) & 0xff);
-  p[1] = (unsigned char)((v >> 16) & 0xff);
-  p[2] = (unsigned char)((v >> 8) & 0xff);
-  p[3] = (unsigned char)(v & 0xff);
-  return p + 4;
-}
-
-/* writes a chunk's length and type at p, expects its len data bytes to follow, then appends the CRC;
-   returns the end of the chunk */
-static unsigned char *FSPutChunk(unsigned char *p, const char type[4], size_t len)
-{
-  unsigned char *t = p + 4;
-
-  p = FSPut32(p, (unsigned long)len);
-  memcpy(t, type, 4);
-  return FSPut32(t + 4 + len, FSCRC32(0, t, len + 4));
-}
 
 /*
    FSImageCreate - allocates a width x height image, filled with black.
@@ -172,82 +97,96 @@ void FSImageDrawDisc(FSImage *img, PetscReal cx, PetscReal cy, PetscReal radius,
       if (PetscSqr((PetscReal)i - cx) + PetscSqr((PetscReal)j - cy) <= radius * radius) FSImageSetPixel(img, i, j, rgb);
 }
 
-/* Rank 0: encodes img and writes it to tmp, then renames tmp to path; returns an errno value */
-static PetscErrorCode FSImageWritePNGFile(const FSImage *img, const char tmp[], const char path[], int *ioerr)
+/* where libpng writes, and the first error's reason */
+typedef struct {
+  FILE *fp;
+  char  msg[256];
+} FSPNGSink;
+
+/* libpng's error callback: keeps the first reason and jumps back to FSPNGEncode's setjmp (an error
+   callback must not return) */
+static void FSPNGError(png_structp png, png_const_charp msg)
 {
-  static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  const size_t               rowlen = 1 + 3 * (size_t)img->width, rawlen = rowlen * (size_t)img->height;
-  const size_t               nblocks = (rawlen + FS_PNG_STORED_MAX - 1) / FS_PNG_STORED_MAX;
-  const size_t               zlen = 2 + 5 * nblocks + rawlen + 4;
-  const size_t               total = 8 + (12 + 13) + (12 + zlen) + 12;
-  unsigned char             *buf, *p, *z, *raw;
-  unsigned long              adler = 1;
-  FILE                      *fp;
+  FSPNGSink *sink = (FSPNGSink *)png_get_error_ptr(png);
 
-  PetscFunctionBegin;
-  *ioerr = 0;
-  PetscCheck(zlen <= 0x7fffffffUL, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ, "Image %" PetscInt_FMT " x %" PetscInt_FMT " is too large for one PNG chunk", img->width, img->height);
-  PetscCall(PetscMalloc2(total, &buf, rowlen, &raw));
-  memcpy(buf, sig, 8);
-  p = buf + 8;
-  /* IHDR */
-  FSPut32(p + 8, (unsigned long)img->width);
-  FSPut32(p + 12, (unsigned long)img->height);
-  p[16] = 8; /* bit depth */
-  p[17] = 2; /* colour type: RGB */
-  p[18] = 0; /* compression: deflate */
-  p[19] = 0; /* filter method 0 */
-  p[20] = 0; /* no interlace */
-  p     = FSPutChunk(p, "IHDR", 13);
-  /* IDAT: the zlib stream, the raw rows fed block by block */
-  z    = p + 8;
-  *z++ = 0x78;
-  *z++ = 0x01;
-  {
-    size_t done = 0, inblock = 0, row = 0, inrow = rowlen; /* inrow = rowlen: the next row must be made */
-    while (done < rawlen) {
-      const size_t blen = rawlen - done < FS_PNG_STORED_MAX ? rawlen - done : FS_PNG_STORED_MAX;
+  if (!sink->msg[0]) (void)snprintf(sink->msg, sizeof(sink->msg), "libpng: %s", msg);
+  png_longjmp(png, 1);
+}
 
-      *z++ = (unsigned char)(done + blen == rawlen ? 1 : 0); /* BFINAL on the last block, BTYPE 00 */
-      *z++ = (unsigned char)(blen & 0xff);
-      *z++ = (unsigned char)(blen >> 8);
-      *z++ = (unsigned char)(~blen & 0xff);
-      *z++ = (unsigned char)((~blen >> 8) & 0xff);
-      for (inblock = 0; inblock < blen;) {
-        size_t n;
+/* libpng's warnings (nothing this writer does should raise one) are not errors: ignored */
+static void FSPNGWarning(png_structp png, png_const_charp msg)
+{
+  (void)png;
+  (void)msg;
+}
 
-        if (inrow == rowlen) { /* next row: filter byte 0, then the pixels */
-          raw[0] = 0;
-          memcpy(raw + 1, &img->rgb[row * 3 * (size_t)img->width], 3 * (size_t)img->width);
-          row++;
-          inrow = 0;
-        }
-        n = rowlen - inrow < blen - inblock ? rowlen - inrow : blen - inblock;
-        memcpy(z, raw + inrow, n);
-        adler = FSAdler32(adler, raw + inrow, n);
-        z += n;
-        inrow += n;
-        inblock += n;
-      }
-      done += blen;
-    }
+/* libpng's output callbacks: stdio, with the system's reason kept when it fails */
+static void FSPNGWrite(png_structp png, png_bytep data, size_t len)
+{
+  FSPNGSink *sink = (FSPNGSink *)png_get_io_ptr(png);
+
+  if (fwrite(data, 1, len, sink->fp) != len) {
+    if (!sink->msg[0]) (void)snprintf(sink->msg, sizeof(sink->msg), "%s", strerror(errno ? errno : EIO));
+    png_error(png, "write failed");
   }
-  z = FSPut32(z, adler);
-  PetscCheck((size_t)(z - (p + 8)) == zlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "PNG encoder: zlib stream is %zu bytes, expected %zu", (size_t)(z - (p + 8)), zlen);
-  p = FSPutChunk(p, "IDAT", zlen);
-  p = FSPutChunk(p, "IEND", 0);
-  PetscCheck((size_t)(p - buf) == total, PETSC_COMM_SELF, PETSC_ERR_PLIB, "PNG encoder: file is %zu bytes, expected %zu", (size_t)(p - buf), total);
+}
 
-  fp = fopen(tmp, "wb");
-  if (!fp) *ioerr = errno ? errno : EIO;
-  else {
-    if (fwrite(buf, 1, total, fp) != total) *ioerr = errno ? errno : EIO;
-    if (fclose(fp) != 0 && !*ioerr) *ioerr = errno ? errno : EIO;
-    if (!*ioerr && rename(tmp, path) != 0) *ioerr = errno ? errno : EIO;
-    if (*ioerr) (void)remove(tmp);
+static void FSPNGFlush(png_structp png)
+{
+  FSPNGSink *sink = (FSPNGSink *)png_get_io_ptr(png);
+
+  if (fflush(sink->fp) != 0) {
+    if (!sink->msg[0]) (void)snprintf(sink->msg, sizeof(sink->msg), "%s", strerror(errno ? errno : EIO));
+    png_error(png, "flush failed");
   }
-  PetscCall(PetscFree2(buf, raw));
-  PetscFunctionReturn(0);
+}
+
+/*
+   Encodes img as PNG into sink->fp; returns 0, or 1 with the reason in sink->msg. libpng reports an
+   error by a longjmp back to the setjmp below, so nothing between them calls PETSc (a jump must not
+   skip a PetscFunctionReturn) or allocates; png and info are set before the setjmp and not changed
+   after it, so they are valid after the jump.
+*/
+static int FSPNGEncode(const FSImage *img, FSPNGSink *sink)
+{
+  png_structp png  = png_create_write_struct(PNG_LIBPNG_VER_STRING, sink, FSPNGError, FSPNGWarning);
+  png_infop   info = png ? png_create_info_struct(png) : NULL;
+
+  if (!png || !info) {
+    png_destroy_write_struct(png ? &png : NULL, NULL);
+    (void)snprintf(sink->msg, sizeof(sink->msg), "libpng: out of memory");
+    return 1;
+  }
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return 1;
+  }
+  png_set_write_fn(png, sink, FSPNGWrite, FSPNGFlush);
+  png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (PetscInt y = 0; y < img->height; y++) png_write_row(png, img->rgb + (size_t)y * 3 * (size_t)img->width);
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+  return 0;
+}
+
+/* Rank 0: writes img to tmp, then renames tmp to path; on failure, removes tmp and leaves the reason
+   in msg (empty on success) */
+static void FSImageWritePNGFile(const FSImage *img, const char tmp[], const char path[], char msg[], size_t len)
+{
+  FSPNGSink sink;
+
+  msg[0]      = '\0';
+  sink.msg[0] = '\0';
+  sink.fp     = fopen(tmp, "wb");
+  if (!sink.fp) {
+    (void)snprintf(msg, len, "%s", strerror(errno ? errno : EIO));
+    return;
+  }
+  if (FSPNGEncode(img, &sink)) (void)snprintf(msg, len, "%s", sink.msg[0] ? sink.msg : "libpng failed");
+  if (fclose(sink.fp) != 0 && !msg[0]) (void)snprintf(msg, len, "%s", strerror(errno ? errno : EIO));
+  if (!msg[0] && rename(tmp, path) != 0) (void)snprintf(msg, len, "%s", strerror(errno ? errno : EIO));
+  if (msg[0]) (void)remove(tmp);
 }
 
 /*
@@ -264,15 +203,14 @@ static PetscErrorCode FSImageWritePNGFile(const FSImage *img, const char tmp[], 
 */
 PetscErrorCode FSImageWritePNG(MPI_Comm comm, const FSImage *img, const char path[])
 {
-  char        tmp[PETSC_MAX_PATH_LEN];
+  char        tmp[PETSC_MAX_PATH_LEN], msg[256] = "";
   PetscMPIInt rank;
-  int         err = 0;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-  if (rank == 0) PetscCall(FSImageWritePNGFile(img, tmp, path, &err));
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
-  PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot write the picture \"%s\": %s", path, strerror(err));
+  if (rank == 0) FSImageWritePNGFile(img, tmp, path, msg, sizeof(msg));
+  PetscCallMPI(MPI_Bcast(msg, (PetscMPIInt)sizeof(msg), MPI_CHAR, 0, comm));
+  PetscCheck(!msg[0], comm, PETSC_ERR_FILE_WRITE, "Cannot write the picture \"%s\": %s", path, msg);
   PetscFunctionReturn(0);
 }

@@ -422,6 +422,7 @@ static PetscErrorCode TestJSON(TestCtx *ctx)
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/summary.json", ctx->dir));
   PetscCall(FSJSONCreate(ctx->comm, path, &js));
   PetscCall(FSJSONWriteString(js, "name", "tank \"A\"\\1\n\ttab\x01"));
+  PetscCall(FSJSONWriteString(js, "dir", "/tmp/caf\xc3\xa9")); /* '/' and UTF-8 as they are */
   PetscCall(FSJSONWriteInt(js, "nparticles", (PetscInt64)12345678901LL));
   PetscCall(FSJSONBeginObject(js, "timing"));
   PetscCall(FSJSONWriteReal(js, "total", 0.25));
@@ -435,17 +436,25 @@ static PetscErrorCode TestJSON(TestCtx *ctx)
   PetscCall(FSJSONDestroy(&js)); /* closes "open" and "timing" */
   if (ctx->rank == 0) {
     char       *text;
-    const char *expect = "{\n"
+    const char *expect = "{\n" /* json-c's pretty format: arrays one value a line, reals with a '.' or an exponent */
                          "  \"name\": \"tank \\\"A\\\"\\\\1\\n\\ttab\\u0001\",\n"
+                         "  \"dir\": \"/tmp/caf\xc3\xa9\",\n"
                          "  \"nparticles\": 12345678901,\n"
                          "  \"timing\": {\n"
                          "    \"total\": 0.25,\n"
                          "    \"bad\": null,\n"
-                         "    \"empty\": {},\n"
+                         "    \"empty\": {\n"
+                         "    },\n"
                          "    \"open\": {\n"
                          "      \"ok\": true,\n"
-                         "      \"values\": [1.5, -2, null, 1.0000000000000001e+300],\n"
-                         "      \"none\": []\n"
+                         "      \"values\": [\n"
+                         "        1.5,\n"
+                         "        -2.0,\n"
+                         "        null,\n"
+                         "        1.0000000000000001e+300\n"
+                         "      ],\n"
+                         "      \"none\": [\n"
+                         "      ]\n"
                          "    }\n"
                          "  }\n"
                          "}\n";
