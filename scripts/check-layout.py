@@ -37,8 +37,6 @@ EXCEPTIONS = {
     ("src/cases/impls/tank.c", "src/solver/solverimpl.h"),
     ("src/cases/impls/taylor_green.c", "src/solver/solverimpl.h"),
     ("src/cases/interface/cases.c", "src/solver/solverimpl.h"),
-    ("src/coupling/coupling.c", "src/solver/solverimpl.h"),
-    ("src/coupling/energy.c", "src/solver/solverimpl.h"),
 }
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')

@@ -18,7 +18,8 @@
           a = R(-theta) g - g - R(-theta) A - alpha e_z x r - 2 omega e_z x u + omega^2 r
         (the gravity term adds g itself), whose power sum_i m_i u_i . a is the work of the tank on
         the liquid, P_ext.
-   Explicit and stable while the liquid is light against the structure (here a few per cent of the
+   FSCoupling holds the frame and the loads; the solver evaluates the structure (src/solver/structure.c)
+   and hands the coupling the motions it gives. Explicit and stable while the liquid is light against the structure (here a few per cent of the
    moving mass): the loads at a stage use the liquid's state, not its acceleration, so the liquid's
    added mass is carried by the loads one stage late. A liquid as heavy as the structure would need
    the added mass moved to the structure's side (or an implicit coupling).
@@ -29,230 +30,230 @@
 .  -fs_tank_width <w>                - the tank's width across the 2-D plane (0.1 m): loads per unit width times w
 -  -fs_tank_reference <x,y>          - the tank's point on the beam, in the tank's frame (default: the middle of the floor)
 */
-#include "solver/solverimpl.h"
+#include "couplingimpl.h"
 
 /* the tank frame's body acceleration field (gravity and the frame's inertia but Coriolis) of a motion */
-static void FrameField(FSSolver s, const FSTankMotion *mo, FSFrameField *ff)
+static void FrameField(FSCoupling c, const FSTankMotion *mo, FSFrameField *ff)
 {
-  const PetscReal c = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
-  const PetscReal gx = s->gravity[0] - mo->acc[0], gy = s->gravity[1] - mo->acc[1];
+  const PetscReal cs = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
+  const PetscReal gx = c->gravity[0] - mo->acc[0], gy = c->gravity[1] - mo->acc[1];
 
-  ff->b[0]   = c * gx + sn * gy;
-  ff->b[1]   = -sn * gx + c * gy;
+  ff->b[0]   = cs * gx + sn * gy;
+  ff->b[1]   = -sn * gx + cs * gy;
   ff->omega  = mo->rate;
   ff->alpha  = mo->angacc;
-  ff->ref[0] = s->tank_ref[0];
-  ff->ref[1] = s->tank_ref[1];
+  ff->ref[0] = c->tank_ref[0];
+  ff->ref[1] = c->tank_ref[1];
+}
+
+/* FSCouplingCreate - a coupling, off until FSCouplingSetUp() decides. Collective. */
+PetscErrorCode FSCouplingCreate(MPI_Comm comm, FSCoupling *coupling)
+{
+  FSCoupling c;
+
+  PetscFunctionBegin;
+  PetscCall(PetscNew(&c));
+  c->comm       = comm;
+  c->tank_width = 0.1;
+  *coupling     = c;
+  PetscFunctionReturn(0);
 }
 
 /*
-   FSSolverCouplingSetUp - decides whether the liquid and the structure are coupled, reads the
-   coupling options and computes the loads of the liquid at rest (weight and its moment about the
-   reference point), which the structure does not see. After the walls and particles, before the
-   structure's set-up (its payload may depend on the liquid's mass).
+   FSCouplingSetUp - decides whether the liquid and the structure are coupled, reads the coupling
+   options and computes the loads of the liquid at rest (weight and its moment about the reference
+   point), which the structure does not see. possible: there is a structure, walls and liquid; b: the
+   walls (the default reference point is the middle of their floor); x, m: this rank's n particles'
+   positions (2-D) and masses. After the walls and particles, before the structure's set-up (its
+   payload may depend on the liquid's mass).
 
    Collective
 */
-PetscErrorCode FSSolverCouplingSetUp(FSSolver s)
+PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, const PetscReal gravity[], FSBoundary b, PetscInt n, const PetscReal x[], const PetscReal m[])
 {
-  MPI_Comm     comm = PetscObjectComm((PetscObject)s);
-  PetscBool    want = PETSC_TRUE, set;
-  PetscReal    ref[2], loc[3] = {0, 0, 0}, glob[3];
-  PetscInt     nref = 2, n, lt = 0;
-  const char  *loadtypes[] = {"reaction", "walls"};
-  PetscReal   *x, *m, lo[3], hi[3];
+  MPI_Comm    comm = c->comm;
+  PetscBool   want = PETSC_TRUE, set;
+  PetscReal   ref[2], loc[3] = {0, 0, 0}, glob[3], lo[3], hi[3];
+  PetscInt    nref = 2, lt = 0;
+  const char *loadtypes[] = {"reaction", "walls"};
 
   PetscFunctionBegin;
-  s->coupled = PETSC_FALSE;
-  PetscCall(PetscMemzero(&s->body, sizeof(s->body))); /* without a coupling the frame's body acceleration is g */
-  s->body.b[0] = s->gravity[0];
-  s->body.b[1] = s->gravity[1];
-  if (!s->structure || !s->boundary || !s->nglobal_particles) PetscFunctionReturn(0);
-  PetscCall(FSBoundaryGetBoundingBox(s->boundary, lo, hi));
-  ref[0]         = 0.5 * (lo[0] + hi[0]);
-  ref[1]         = lo[1];
-  s->tank_width  = 0.1;
+  c->coupled = PETSC_FALSE;
+  for (PetscInt d = 0; d < 3; d++) c->gravity[d] = gravity[d];
+  PetscCall(PetscMemzero(&c->body, sizeof(c->body))); /* without a coupling the frame's body acceleration is g */
+  c->body.b[0] = gravity[0];
+  c->body.b[1] = gravity[1];
+  if (!possible) PetscFunctionReturn(0);
+  PetscCall(FSBoundaryGetBoundingBox(b, lo, hi));
+  ref[0] = 0.5 * (lo[0] + hi[0]);
+  ref[1] = lo[1];
   PetscOptionsBegin(comm, NULL, "Coupling of the liquid and the structure", "FS");
-  PetscCall(PetscOptionsBool("-fs_coupling", "Couple the liquid and the structure (loads to the structure, tank motion to the liquid)", "FSSolverCouplingSetUp", want, &want, NULL));
-  PetscCall(PetscOptionsEList("-fs_coupling_loads", "The liquid's loads the structure receives: reaction (minus the force and moment of all terms but gravity on the particles: Newton's third law) or walls (the integral of the wall pressure and shear)", "FSSolverCouplingSetUp", loadtypes, 2, loadtypes[s->loads_from_walls ? 1 : 0], &lt, NULL));
-  s->loads_from_walls = lt == 1 ? PETSC_TRUE : PETSC_FALSE;
-  PetscCall(PetscOptionsReal("-fs_tank_width", "Width of the tank across the 2-D plane: the liquid's loads per unit width times this", "FSSolverCouplingSetUp", s->tank_width, &s->tank_width, NULL));
-  PetscCall(PetscOptionsRealArray("-fs_tank_reference", "The tank's point on the beam, in the tank's frame (default: the middle of the floor)", "FSSolverCouplingSetUp", ref, &nref, &set));
+  PetscCall(PetscOptionsBool("-fs_coupling", "Couple the liquid and the structure (loads to the structure, tank motion to the liquid)", "FSCouplingSetUp", want, &want, NULL));
+  PetscCall(PetscOptionsEList("-fs_coupling_loads", "The liquid's loads the structure receives: reaction (minus the force and moment of all terms but gravity on the particles: Newton's third law) or walls (the integral of the wall pressure and shear)", "FSCouplingSetUp", loadtypes, 2, loadtypes[c->loads_from_walls ? 1 : 0], &lt, NULL));
+  c->loads_from_walls = lt == 1 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(PetscOptionsReal("-fs_tank_width", "Width of the tank across the 2-D plane: the liquid's loads per unit width times this", "FSCouplingSetUp", c->tank_width, &c->tank_width, NULL));
+  PetscCall(PetscOptionsRealArray("-fs_tank_reference", "The tank's point on the beam, in the tank's frame (default: the middle of the floor)", "FSCouplingSetUp", ref, &nref, &set));
   PetscOptionsEnd();
   PetscCheck(!set || nref == 2, comm, PETSC_ERR_ARG_SIZ, "-fs_tank_reference takes two values x,y; got %" PetscInt_FMT, nref);
-  PetscCheck(s->tank_width > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_width %g must be positive", (double)s->tank_width);
+  PetscCheck(c->tank_width > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_width %g must be positive", (double)c->tank_width);
   if (!want) PetscFunctionReturn(0);
-  s->coupled     = PETSC_TRUE;
-  s->tank_ref[0] = ref[0];
-  s->tank_ref[1] = ref[1];
+  c->coupled     = PETSC_TRUE;
+  c->tank_ref[0] = ref[0];
+  c->tank_ref[1] = ref[1];
   /* the liquid at rest: its weight and the weight's moment about the reference point, per unit width */
-  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
-  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   for (PetscInt p = 0; p < n; p++) {
     loc[0] += m[p];
     loc[1] += m[p] * (x[2 * p] - ref[0]);
     loc[2] += m[p] * (x[2 * p + 1] - ref[1]);
   }
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCallMPI(MPI_Allreduce(loc, glob, 3, MPIU_REAL, MPI_SUM, comm));
-  s->liquid_mass          = glob[0] * s->tank_width;
-  s->static_loads.force[0] = glob[0] * s->gravity[0] * s->tank_width;
-  s->static_loads.force[1] = glob[0] * s->gravity[1] * s->tank_width;
-  s->static_loads.moment[2] = (glob[1] * s->gravity[1] - glob[2] * s->gravity[0]) * s->tank_width;
+  c->liquid_mass            = glob[0] * c->tank_width;
+  c->static_loads.force[0]  = glob[0] * c->gravity[0] * c->tank_width;
+  c->static_loads.force[1]  = glob[0] * c->gravity[1] * c->tank_width;
+  c->static_loads.moment[2] = (glob[1] * c->gravity[1] - glob[2] * c->gravity[0]) * c->tank_width;
   PetscFunctionReturn(0);
 }
 
-/*
-   FSSolverGetLiquidMass - the mass of the liquid the structure carries: the 2-D liquid's mass times
-   the tank's width (-fs_tank_width) when the liquid and the structure are coupled, else 0. Known after
-   the particles are created, in FSSolverSetUp() before the structure's set-up (a structure's
-   payload may depend on it, as -fs_beam_payload_mass does).
-
-   Not collective
-
-.seealso: FSSolverSetUp(), FSStructureGetSolver()
-*/
-PetscErrorCode FSSolverGetLiquidMass(FSSolver s, PetscReal *mass)
+/* FSCouplingGetActive - whether the liquid and the structure are coupled. Not collective. */
+PetscErrorCode FSCouplingGetActive(FSCoupling c, PetscBool *active)
 {
   PetscFunctionBegin;
-  *mass = s->liquid_mass;
+  *active = c->coupled;
   PetscFunctionReturn(0);
 }
 
-/*
-   FSSolverCouplingPredict - at the start of a right-hand side: the structure's state of this stage on
-   every rank, and the tank's motion it gives with the liquid at rest (its dynamic loads left out),
-   the body acceleration field s->body of the tank's frame it gives, and the tank's angle (it depends
-   on the state alone). The walls extrapolate the pressure hydrostatically with that field: it depends on this stage's state alone, so runs stay
-   reproducible (restarts, output intervals), and it misses only the liquid's share of the tank's
-   acceleration.
-
-   Collective
-*/
-PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
+/* FSCouplingGetLiquidMass - the whole tank's liquid mass (the 2-D mass times the width), 0 uncoupled. */
+PetscErrorCode FSCouplingGetLiquidMass(FSCoupling c, PetscReal *mass)
 {
-  FSStructure st   = s->structure;
-  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  PetscMPIInt  rank;
-  FSLoads      none;
-  FSTankMotion predicted;
-
   PetscFunctionBegin;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(FSSolverStructureBroadcastState(s, u));
-  PetscCall(PetscMemzero(&none, sizeof(none)));
-  {
-    PetscErrorCode ierr = 0;
-    if (!rank) {
-      ierr = (*st->ops.rhs)(st, s->rhs_time, s->sy, &none, s->sydot);
-      if (!ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &predicted);
-    }
-    PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&predicted));
-  }
-  s->angle = predicted.angle;
-  FrameField(s, &predicted, &s->body);
+  *mass = c->liquid_mass;
   PetscFunctionReturn(0);
 }
 
-/*
-   FSSolverCouplingRates - the structure's part of a right-hand side when coupled (steps 1-3 above,
-   after FSSolverCouplingPredict): the loads of this stage to the structure, its rate into f (rank 0),
-   and the tank's motion at this stage on every rank (s->motion).
-
-   Collective
-*/
-PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
+/* FSCouplingGetWidth - the factor from the liquid's 2-D energies and loads to the tank's: the tank's
+   width when coupled, else 1. */
+PetscErrorCode FSCouplingGetWidth(FSCoupling c, PetscReal *w)
 {
-  FSStructure st   = s->structure;
-  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  PetscReal   F[2] = {0, 0}, M = 0;
-  const PetscReal c = PetscCosReal(s->angle), sn = PetscSinReal(s->angle);
-  PetscMPIInt rank;
-
   PetscFunctionBegin;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  /* the liquid's loads at this stage, about the reference point, in the global axes */
-  if (s->loads_from_walls) {
-    const PetscReal *L;
-    PetscReal        lp[3];
-    PetscInt         nwalls;
-    PetscCall(FSBoundaryGetLoads(s->boundary, &nwalls, NULL, &L));
-    PetscCall(FSBoundaryGetLoadPoint(s->boundary, lp));
-    for (PetscInt w = 0; w < nwalls; w++) {
-      F[0] += L[6 * w];
-      F[1] += L[6 * w + 1];
-      M += L[6 * w + 5];
-    }
-    M += (lp[0] - s->tank_ref[0]) * F[1] - (lp[1] - s->tank_ref[1]) * F[0];
-  } else {
-    F[0] = -s->reaction[0];
-    F[1] = -s->reaction[1];
-    M    = -s->reaction[2];
-  }
-  s->tank_load[0] = F[0]; /* in the tank's frame, per unit width, about the reference point: for the energy budget */
-  s->tank_load[1] = F[1];
-  s->tank_load[2] = M;
-  PetscCall(PetscMemzero(&s->loads, sizeof(s->loads)));
-  s->loads.force[0]  = (c * F[0] - sn * F[1]) * s->tank_width - s->static_loads.force[0];
-  s->loads.force[1]  = (sn * F[0] + c * F[1]) * s->tank_width - s->static_loads.force[1];
-  s->loads.moment[2] = M * s->tank_width - s->static_loads.moment[2];
-  /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
-  {
-    PetscErrorCode ierr; /* rank 0's: checked with the motion's broadcast, one collective for both */
-    PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f, &ierr));
-    if (!rank && !ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &s->motion);
-    PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&s->motion));
-  }
+  *w = c->coupled ? c->tank_width : 1.0;
+  PetscFunctionReturn(0);
+}
+
+/* FSCouplingGetBody - the body acceleration field of the tank's frame at this stage (gravity uncoupled). */
+PetscErrorCode FSCouplingGetBody(FSCoupling c, const FSFrameField **body)
+{
+  PetscFunctionBegin;
+  *body = &c->body;
   PetscFunctionReturn(0);
 }
 
 /*
-   FSSolverCouplingReaction - after the terms, before the inertial accelerations and the relaxation:
-   the force (2) and moment about the reference point (1) that all terms but gravity put on the
-   particles, sum_i m_i (f_i - g) and sum_i r_i x m_i (f_i - g), per unit width in the tank's frame:
-   this rank's share in local[], the sum over the ranks in s->reaction. Internal forces cancel (up to
-   the renormalization near walls, which the walls take): it is the walls' force on the liquid, whose
+   FSCouplingSetPredictedMotion - at the start of a right-hand side, the tank's motion the structure's
+   state of this stage gives with the liquid at rest (its dynamic loads left out): the body acceleration
+   field of the tank's frame (FSCouplingGetBody) and the tank's angle (it depends on the state alone).
+   The walls extrapolate the pressure hydrostatically with that field: it depends on this stage's
+   state alone, so runs stay reproducible (restarts, output intervals), and it misses only the liquid's
+   share of the tank's acceleration.
+*/
+PetscErrorCode FSCouplingSetPredictedMotion(FSCoupling c, const FSTankMotion *predicted)
+{
+  PetscFunctionBegin;
+  c->angle = predicted->angle;
+  FrameField(c, predicted, &c->body);
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCouplingReaction - after the terms, before the inertial accelerations and the relaxation: the
+   force (2) and moment about the reference point (1) that all terms but gravity put on the particles,
+   sum_i m_i (f_i - g) and sum_i r_i x m_i (f_i - g), per unit width in the tank's frame, from the n
+   owned particles' records rec (stride) and rates f (ustride): this rank's share in local[], the sum
+   over the ranks kept for FSCouplingComputeLoads() and FSCouplingPower(). Internal forces cancel (up
+   to the renormalization near walls, which the walls take): it is the walls' force on the liquid, whose
    reaction the structure receives with -fs_coupling_loads reaction, so that the coupled system keeps
    Newton's third law and the energy the loads give the structure is what the liquid loses.
 
    Collective
 */
-PetscErrorCode FSSolverCouplingReaction(FSSolver s, const PetscReal *f, PetscReal local[3])
+PetscErrorCode FSCouplingReaction(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US, const PetscReal f[], PetscReal local[3])
 {
-  const PetscInt S = s->stride, US = s->ustride, n = s->nowned;
-
   PetscFunctionBegin;
   local[0] = local[1] = local[2] = 0;
   for (PetscInt i = 0; i < n; i++) {
-    const PetscReal *ri = &s->rec[i * S];
-    const PetscReal  rx = ri[0] - s->tank_ref[0], ry = ri[1] - s->tank_ref[1];
-    const PetscReal  fx = ri[5] * (f[i * US + 2] - s->gravity[0]), fy = ri[5] * (f[i * US + 3] - s->gravity[1]);
+    const PetscReal *ri = &rec[i * S];
+    const PetscReal  rx = ri[0] - c->tank_ref[0], ry = ri[1] - c->tank_ref[1];
+    const PetscReal  fx = ri[5] * (f[i * US + 2] - c->gravity[0]), fy = ri[5] * (f[i * US + 3] - c->gravity[1]);
     local[0] += fx;
     local[1] += fy;
     local[2] += rx * fy - ry * fx;
   }
-  PetscCallMPI(MPI_Allreduce(local, s->reaction, 3, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
+  PetscCallMPI(MPI_Allreduce(local, c->reaction, 3, MPIU_REAL, MPI_SUM, c->comm));
   PetscFunctionReturn(0);
 }
 
 /*
-   FSSolverCouplingInertia - step 4: the inertial accelerations of the tank's frame added to the
-   owned particles' rates f; returns their power sum_i m_i u_i . a on this rank (P_ext).
+   FSCouplingComputeLoads - the liquid's loads at this stage for the structure (step 2 above): about the
+   reference point, in the global axes for the tank's angle at this stage, times the tank's width, less the static
+   loads. From the reaction (FSCouplingReaction) or, with -fs_coupling_loads walls, from the walls'
+   loads b (collective then).
 */
-PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *power)
+PetscErrorCode FSCouplingComputeLoads(FSCoupling c, FSBoundary b, FSLoads *loads)
 {
-  const PetscInt S = s->stride, US = s->ustride, n = s->nowned;
-  FSFrameField   ff;
-  PetscReal      pw = 0;
+  PetscReal       F[2] = {0, 0}, M = 0;
+  const PetscReal cs = PetscCosReal(c->angle), sn = PetscSinReal(c->angle);
 
   PetscFunctionBegin;
-  FrameField(s, &s->motion, &ff);
-  ff.b[0] -= s->gravity[0]; /* the gravity term adds g itself */
-  ff.b[1] -= s->gravity[1];
+  if (c->loads_from_walls) {
+    const PetscReal *L;
+    PetscReal        lp[3];
+    PetscInt         nwalls;
+    PetscCall(FSBoundaryGetLoads(b, &nwalls, NULL, &L));
+    PetscCall(FSBoundaryGetLoadPoint(b, lp));
+    for (PetscInt w = 0; w < nwalls; w++) {
+      F[0] += L[6 * w];
+      F[1] += L[6 * w + 1];
+      M += L[6 * w + 5];
+    }
+    M += (lp[0] - c->tank_ref[0]) * F[1] - (lp[1] - c->tank_ref[1]) * F[0];
+  } else {
+    F[0] = -c->reaction[0];
+    F[1] = -c->reaction[1];
+    M    = -c->reaction[2];
+  }
+  c->tank_load[0] = F[0]; /* in the tank's frame, per unit width, about the reference point: for the energy budget */
+  c->tank_load[1] = F[1];
+  c->tank_load[2] = M;
+  PetscCall(PetscMemzero(loads, sizeof(*loads)));
+  loads->force[0]  = (cs * F[0] - sn * F[1]) * c->tank_width - c->static_loads.force[0];
+  loads->force[1]  = (sn * F[0] + cs * F[1]) * c->tank_width - c->static_loads.force[1];
+  loads->moment[2] = M * c->tank_width - c->static_loads.moment[2];
+  PetscFunctionReturn(0);
+}
+
+/* FSCouplingSetMotion - the tank's motion at this stage (step 3 above, from the structure's rate). */
+PetscErrorCode FSCouplingSetMotion(FSCoupling c, const FSTankMotion *motion)
+{
+  PetscFunctionBegin;
+  c->motion = *motion;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCouplingInertia - step 4: the inertial accelerations of the tank's frame for the motion of this
+   stage added to the n owned particles' rates f (ustride; records rec with stride); returns their power
+   sum_i m_i u_i . a on this rank (P_ext).
+*/
+PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US, PetscReal f[], PetscReal *power)
+{
+  FSFrameField ff;
+  PetscReal    pw = 0;
+
+  PetscFunctionBegin;
+  FrameField(c, &c->motion, &ff);
+  ff.b[0] -= c->gravity[0]; /* the gravity term adds g itself */
+  ff.b[1] -= c->gravity[1];
   for (PetscInt i = 0; i < n; i++) {
-    const PetscReal *ri = &s->rec[i * S];
+    const PetscReal *ri = &rec[i * S];
     const PetscReal  ux = ri[2], uy = ri[3];
     PetscReal        a[2];
     FSFrameFieldEval(&ff, ri, a);
@@ -262,5 +263,51 @@ PetscErrorCode FSSolverCouplingInertia(FSSolver s, PetscReal *f, PetscReal *powe
     pw += ri[5] * (ux * ax + uy * ay);
   }
   *power = pw;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCouplingPower - the power of the difference between the loads the structure receives and the
+   reaction R of the walls' forces on the liquid (the sum over the ranks of FSCouplingReaction's local
+   shares): w [(R + L) . R(-theta) V_ref + omega (R_M + L_M)], the energy the coupling creates.
+*/
+PetscErrorCode FSCouplingPower(FSCoupling c, const PetscReal R[3], PetscReal *power)
+{
+  const FSTankMotion *mo = &c->motion;
+  const PetscReal     cs = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
+  const PetscReal     vx = cs * mo->vel[0] + sn * mo->vel[1], vy = -sn * mo->vel[0] + cs * mo->vel[1];
+  const PetscReal    *L  = c->tank_load;
+
+  PetscFunctionBegin;
+  *power = c->tank_width * ((R[0] + L[0]) * vx + (R[1] + L[1]) * vy + mo->rate * (R[2] + L[2]));
+  PetscFunctionReturn(0);
+}
+
+/* FSCouplingAbsoluteEnergy - a particle's kinetic and potential energy in the absolute frame (2-D,
+   coupled), its tank-frame position x and velocity v carried by the tank's motion mo (c, sn: cos and
+   sin of its angle). */
+void FSCouplingAbsoluteEnergy(FSCoupling cp, const FSTankMotion *mo, PetscReal c, PetscReal sn, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal *kin, PetscReal *pot)
+{
+  const PetscReal rx = x[0] - cp->tank_ref[0], ry = x[1] - cp->tank_ref[1];
+  const PetscReal wx = v[0] - mo->rate * ry, wy = v[1] + mo->rate * rx; /* u + omega e_z x r */
+  const PetscReal Vx = mo->vel[0] + c * wx - sn * wy, Vy = mo->vel[1] + sn * wx + c * wy;
+  const PetscReal Xx = cp->tank_ref[0] + mo->disp[0] + c * rx - sn * ry, Xy = cp->tank_ref[1] + mo->disp[1] + sn * rx + c * ry;
+  *kin = 0.5 * m * (Vx * Vx + Vy * Vy);
+  *pot = -m * (cp->gravity[0] * Xx + cp->gravity[1] * Xy);
+}
+
+/* FSCouplingStaticLoadsWork - the potential of the liquid's static loads at the tank's motion mo:
+   L_s . (d, theta) (0 uncoupled). */
+PetscErrorCode FSCouplingStaticLoadsWork(FSCoupling c, const FSTankMotion *mo, PetscReal *w)
+{
+  PetscFunctionBegin;
+  *w = c->coupled ? c->static_loads.force[0] * mo->disp[0] + c->static_loads.force[1] * mo->disp[1] + c->static_loads.moment[2] * mo->angle : 0;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSCouplingDestroy(FSCoupling *c)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscFree(*c));
   PetscFunctionReturn(0);
 }

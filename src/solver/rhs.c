@@ -209,7 +209,7 @@ static PetscErrorCode FSSolverBoundaryPrepare(FSSolver s)
   bp.rec                 = s->rec;
   bp.vol                 = s->vol;
   bp.pressure            = s->pressure;
-  bp.body                = &s->body;
+  PetscCall(FSCouplingGetBody(s->coupling, &bp.body));
   bp.background_pressure = s->background_pressure;
   PetscCall(FSBoundaryPrepare(s->boundary, &bp, s->gamma));
   for (PetscInt g = 0; g < s->halo.nghost; g++) s->gamma[n + g] = 1;
@@ -273,9 +273,11 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   FSParticles    P;
   PetscReal     *dx, *r2, *gw, *ri2, power[FS_MAX_TERMS + 5], reaction[3] = {0, 0, 0};
   PetscInt       maxn = 0, npower = 0;
+  PetscBool      coupled;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_RHS, 0, 0, 0, 0));
+  PetscCall(FSCouplingGetActive(s->coupling, &coupled));
   for (PetscInt i = 0; i < n; i++)
     for (PetscInt a = 0; a < US; a++) s->rec[i * S + a] = u[i * US + a];
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
@@ -307,7 +309,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     s->pressure[k] = s->c0 * s->c0 * (rk[2 * dim] - s->rho0) + s->background_pressure;
   }
 
-  if (s->coupled) {
+  if (coupled) {
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSSolverCouplingPredict(s, u));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
@@ -372,9 +374,9 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   }
   PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
   if (s->boundary) PetscCall(FSSolverWallPass(s, &P, f));
-  if (s->coupled) {
+  if (coupled) {
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
-    PetscCall(FSSolverCouplingReaction(s, f, reaction));
+    PetscCall(FSCouplingReaction(s->coupling, n, S, s->rec, US, f, reaction));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   }
   s->relax_power = 0;
@@ -394,10 +396,10 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
 
   /* the structure's DOFs (first block of the global DOFs, rank 0) */
   s->ext_power = 0;
-  if (s->coupled) { /* loads of this stage to the structure, the tank's motion back to the liquid */
+  if (coupled) { /* loads of this stage to the structure, the tank's motion back to the liquid */
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSSolverCouplingRates(s, f));
-    PetscCall(FSSolverCouplingInertia(s, f, &s->ext_power));
+    PetscCall(FSCouplingInertia(s->coupling, n, S, s->rec, US, f, &s->ext_power));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   } else PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, f, NULL));
   /* powers: the rates of the dissipated energies (the next block) and of the energy block's integrals, rank 0 */
@@ -421,13 +423,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
       fe[FS_ENERGY_WORK_EXT]     = power[npower];
       fe[FS_ENERGY_WORK_RELAX]   = power[npower + 1];
       fe[FS_ENERGY_WORK_DAMPING] = -E[2];
-      if (s->coupled) { /* w [(F_walls + F_L) . R(-theta) V_ref + omega (M_walls + M_L)] */
-        const FSTankMotion *mo = &s->motion;
-        const PetscReal     c = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
-        const PetscReal     vx = c * mo->vel[0] + sn * mo->vel[1], vy = -sn * mo->vel[0] + c * mo->vel[1];
-        const PetscReal    *R = &power[npower + 2], *L = s->tank_load;
-        fe[FS_ENERGY_WORK_COUPLING] = s->tank_width * ((R[0] + L[0]) * vx + (R[1] + L[1]) * vy + mo->rate * (R[2] + L[2]));
-      }
+      if (coupled) PetscCall(FSCouplingPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_COUPLING]));
     }
     if (s->structure && s->structure->ndof && s->structure->ops.energy) PetscCall(FSSolverStructureResultRank0(s, ierr, "energy", 0, NULL));
   }

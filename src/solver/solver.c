@@ -47,6 +47,7 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->final_time            = 1.0;
   s->structure_cfl         = 0.02;
   PetscCall(PetscStrncpy(s->structname, "none", sizeof(s->structname)));
+  PetscCall(FSCouplingCreate(comm, &s->coupling));
   s->halo.rectype          = MPI_DATATYPE_NULL;
   s->halo.auxtype          = MPI_DATATYPE_NULL;
   *solver                  = s;
@@ -317,7 +318,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   MPI_Comm  comm = PetscObjectComm((PetscObject)s);
   PetscReal width;
   PetscBool changed;
-  PetscReal *x;
+  PetscReal *x, *m;
   PetscInt  n;
 
   PetscFunctionBegin;
@@ -347,7 +348,12 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
 
   /* the coupling (the liquid's mass, which the structure's payload may need), the structure, then the
      global DOFs: the structure's state, one dissipated energy per dissipative term */
-  PetscCall(FSSolverCouplingSetUp(s));
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(FSCouplingSetUp(s->coupling, (PetscBool)(s->structure && s->boundary && s->nglobal_particles), s->gravity, s->boundary, n, x, m));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   if (s->structure) {
     FSStructure st = s->structure;
     PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
@@ -452,6 +458,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(DMDestroy(&s->swarm));
   PetscCall(FSDecompDestroy(&s->decomp));
   PetscCall(FSBoundaryDestroy(&s->boundary));
+  PetscCall(FSCouplingDestroy(&s->coupling));
   PetscCall(PetscFree2(s->gamma, s->invgamma));
   PetscCall(FSHaloDestroy(&s->halo));
   PetscCall(FSNeighboursDestroy(&s->nbrs));

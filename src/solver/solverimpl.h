@@ -29,7 +29,7 @@
 
 /* The global DOFs of the state (on rank 0, after the particles) are a short list of blocks:
    the structure's DOFs first, then one dissipated energy per term with a power, then the energy
-   budget's own integrals and constants (FS_ENERGY_*, src/coupling/energy.c). */
+   budget's own integrals and constants (FS_ENERGY_*, src/solver/energy.c). */
 #define FS_MAX_GLOBAL_BLOCKS 4
 typedef struct {
   char     name[32];
@@ -99,19 +99,8 @@ struct _p_FSSolver {
   PetscReal   structure_cfl;  /* dt = structure_cfl * shortest period, when there are no particles */
   FSLoads     loads;          /* liquid loads on the tank (the coupling fills them; zero until then) */
   PetscReal  *sy, *sydot;     /* the structure's state and rate at the last right-hand side, every rank */
-  /* the coupling (src/coupling/coupling.c) */
-  PetscBool    coupled;       /* liquid and structure coupled */
-  PetscReal    tank_width;    /* across the 2-D plane: loads per unit width times this */
-  PetscReal    tank_ref[2];   /* the tank's point on the beam, in the tank frame */
-  PetscReal    liquid_mass;   /* of the whole tank (2-D mass times width) */
-  FSLoads      static_loads;  /* of the liquid at rest in the undeflected tank, subtracted */
-  FSTankMotion motion;        /* the tank's motion at the last right-hand side, every rank */
-  PetscReal    angle;         /* the tank's angle at this stage (from the structure's state) */
-  FSFrameField body;          /* the body acceleration field of the tank's frame predicted for this stage (FSSolverCouplingPredict; g without a coupling) */
+  FSCoupling   coupling;      /* the tank's frame and the loads (src/coupling) */
   PetscReal    ext_power;     /* P_ext of the last right-hand side, this rank's share */
-  PetscReal    reaction[3];   /* force (2) and moment of all terms but gravity on the liquid, tank frame, per unit width, all ranks */
-  PetscBool    loads_from_walls; /* -fs_coupling_loads walls */
-  PetscReal    tank_load[3];  /* the liquid's loads of the last right-hand side in the tank's frame, per unit width: force (2), moment about tank_ref */
   PetscReal    relax_power;   /* power of the start-up relaxation of the last right-hand side, this rank's share */
   PetscReal   rhs_time;       /* time of the right-hand side being evaluated */
   PetscInt    steps_taken;    /* steps taken since set-up (this process) */
@@ -172,7 +161,28 @@ PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetParticles(FSSolver, FSParticles *);
 PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool count);
 
-/* the structure inside the solver (src/solver/structure.c) */
+/* The energy block of the global DOFs: the time integrals of P_ext, of the start-up relaxation's
+   power, of the structure's damping power (negative: energy lost) and of the coupling's power (the work
+   of the difference between the loads the structure receives and the reaction of the walls' forces on
+   the particles: energy the coupling creates), the energy changes of the wall bounces (liquid, whole
+   system; changed between steps, not by the integrator), and the liquid's and the whole
+   system's energies at the start of the run (rate zero: kept through restarts by the checkpoints). */
+enum { FS_ENERGY_WORK_EXT, FS_ENERGY_WORK_RELAX, FS_ENERGY_WORK_DAMPING, FS_ENERGY_WORK_COUPLING, FS_ENERGY_WORK_BOUNCE, FS_ENERGY_WORK_BOUNCE_TOTAL, FS_ENERGY_LIQUID0, FS_ENERGY_TOTAL0, FS_ENERGY_NDOF };
+PETSC_INTERN PetscErrorCode FSSolverEnergyColumns(FSSolver, PetscInt *, const char *[]);
+PETSC_INTERN PetscErrorCode FSSolverEnergyValues(FSSolver, PetscReal[]);
+PETSC_INTERN PetscErrorCode FSSolverEnergyInitial(FSSolver);
+typedef struct {
+  FSTankMotion mo;
+  PetscReal    c, sn;
+  PetscBool    coupled;
+} FSEnergyFrame;
+PETSC_INTERN PetscErrorCode FSSolverEnergyJumpFrame(FSSolver, FSEnergyFrame *);
+PETSC_INTERN void           FSEnergyParticle(FSSolver, const FSEnergyFrame *, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal e[2]);
+PETSC_INTERN PetscErrorCode FSSolverEnergyAddJump(FSSolver, const PetscReal[2]);
+
+/* the structure inside the solver (src/solver/structure.c), with the coupling's stages */
+PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
+PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, PetscReal *f);
 PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast, const PetscReal *u, PetscReal *f, PetscErrorCode *rank0err);
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);

@@ -330,3 +330,78 @@ PetscErrorCode FSSolverStructureSummary(FSSolver s, FSJSON js)
   PetscCall(FSJSONEndObject(js));
   PetscFunctionReturn(0);
 }
+
+/*
+   FSSolverCouplingPredict - at the start of a right-hand side when coupled: the structure's state of
+   this stage on every rank, and the tank's motion it gives with the liquid at rest (its dynamic loads
+   left out), which sets the tank frame's body acceleration and angle of this stage
+   (FSCouplingSetPredictedMotion).
+
+   Collective
+*/
+PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
+{
+  FSStructure  st   = s->structure;
+  MPI_Comm     comm = PetscObjectComm((PetscObject)s);
+  PetscMPIInt  rank;
+  FSLoads      none;
+  FSTankMotion predicted;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(FSSolverStructureBroadcastState(s, u));
+  PetscCall(PetscMemzero(&none, sizeof(none)));
+  {
+    PetscErrorCode ierr = 0;
+    if (!rank) {
+      ierr = (*st->ops.rhs)(st, s->rhs_time, s->sy, &none, s->sydot);
+      if (!ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &predicted);
+    }
+    PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&predicted));
+  }
+  PetscCall(FSCouplingSetPredictedMotion(s->coupling, &predicted));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverCouplingRates - the structure's part of a right-hand side when coupled (after
+   FSSolverCouplingPredict and the terms): the liquid's loads of this stage to the structure
+   (FSCouplingComputeLoads), its rate into f (rank 0), and the tank's motion at this stage to the
+   coupling on every rank.
+
+   Collective
+*/
+PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
+{
+  FSStructure    st = s->structure;
+  PetscMPIInt    rank;
+  FSTankMotion   motion;
+  PetscErrorCode ierr; /* rank 0's: checked with the motion's broadcast, one collective for both */
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCall(FSCouplingComputeLoads(s->coupling, s->boundary, &s->loads));
+  /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
+  PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f, &ierr));
+  if (!rank && !ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &motion);
+  PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&motion));
+  PetscCall(FSCouplingSetMotion(s->coupling, &motion));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetLiquidMass - the mass of the liquid the structure carries: the 2-D liquid's mass times
+   the tank's width (-fs_tank_width) when the liquid and the structure are coupled, else 0. Known after
+   the particles are created, in FSSolverSetUp() before the structure's set-up (a structure's
+   payload may depend on it, as -fs_beam_payload_mass does).
+
+   Not collective
+
+.seealso: FSSolverSetUp(), FSStructureGetSolver()
+*/
+PetscErrorCode FSSolverGetLiquidMass(FSSolver s, PetscReal *mass)
+{
+  PetscFunctionBegin;
+  PetscCall(FSCouplingGetLiquidMass(s->coupling, mass));
+  PetscFunctionReturn(0);
+}

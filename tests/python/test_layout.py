@@ -47,8 +47,8 @@ def test_a_cycle_between_parts_is_refused(tmp_path):
 
 def test_a_stale_exception_is_reported(tmp_path):
     root = copy_tree(tmp_path)
-    f = root / "src" / "coupling" / "energy.c"
+    f = root / "src" / "cases" / "impls" / "tank.c"
     f.write_text(f.read_text().replace('#include "solver/solverimpl.h"', "", 1))
     r = run_check(root)
     assert r.returncode == 1
-    assert "src/coupling/energy.c no longer includes src/solver/solverimpl.h" in r.stderr
+    assert "src/cases/impls/tank.c no longer includes src/solver/solverimpl.h" in r.stderr

@@ -68,18 +68,6 @@ static inline PetscReal FSCompressibilityEnergy(PetscReal rho, PetscReal rho0, P
   return c0 * c0 * (log1p(x) - x / (1 + x)) + pb * x / rho;
 }
 
-/* A particle's kinetic and potential energy in the absolute frame (2-D, coupled), its tank-frame
-   position x and velocity v carried by the tank's motion mo (c, sn: cos and sin of its angle). */
-static inline void AbsoluteEnergy(FSSolver s, const FSTankMotion *mo, PetscReal c, PetscReal sn, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal *kin, PetscReal *pot)
-{
-  const PetscReal rx = x[0] - s->tank_ref[0], ry = x[1] - s->tank_ref[1];
-  const PetscReal wx = v[0] - mo->rate * ry, wy = v[1] + mo->rate * rx; /* u + omega e_z x r */
-  const PetscReal Vx = mo->vel[0] + c * wx - sn * wy, Vy = mo->vel[1] + sn * wx + c * wy;
-  const PetscReal Xx = s->tank_ref[0] + mo->disp[0] + c * rx - sn * ry, Xy = s->tank_ref[1] + mo->disp[1] + sn * rx + c * ry;
-  *kin = 0.5 * m * (Vx * Vx + Vy * Vy);
-  *pot = -m * (s->gravity[0] * Xx + s->gravity[1] * Xy);
-}
-
 /*
    The energies of the current state: the liquid's (every rank) and the structure's (rank 0):
    liq[FS_E_*], st[0..2] structure kinetic, potential, L_s . (d, theta). Collective.
@@ -92,8 +80,10 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
   FSTankMotion       mo;
   PetscReal          loc[FS_E_NLIQ] = {0, 0, 0, 0, 0}, c, sn;
   PetscMPIInt        rank;
+  PetscBool          coupled;
 
   PetscFunctionBegin;
+  PetscCall(FSCouplingGetActive(s->coupling, &coupled));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(FSSolverGetTankMotion(s, &mo)); /* zero without a structure; sets s->sy */
   c  = PetscCosReal(mo.angle);
@@ -110,15 +100,15 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
     loc[FS_E_KIN] += 0.5 * m * v2;
     loc[FS_E_POT] -= m * gx;
     loc[FS_E_COMP] += m * FSCompressibilityEnergy(rho, s->rho0, s->c0, s->background_pressure);
-    if (s->coupled && dim == 2) { /* the absolute frame */
+    if (coupled && dim == 2) { /* the absolute frame */
       PetscReal kin, pot;
-      AbsoluteEnergy(s, &mo, c, sn, x, v, m, &kin, &pot);
+      FSCouplingAbsoluteEnergy(s->coupling, &mo, c, sn, x, v, m, &kin, &pot);
       loc[FS_E_KIN_ABS] += kin;
       loc[FS_E_POT_ABS] += pot;
     }
   }
   PetscCall(VecRestoreArrayRead(s->U, &u));
-  if (!(s->coupled && dim == 2)) {
+  if (!(coupled && dim == 2)) {
     loc[FS_E_KIN_ABS] = loc[FS_E_KIN];
     loc[FS_E_POT_ABS] = loc[FS_E_POT];
   }
@@ -130,17 +120,17 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
     st[0] = E[0];
     st[1] = E[1];
   }
-  if (s->coupled) st[2] = s->static_loads.force[0] * mo.disp[0] + s->static_loads.force[1] * mo.disp[1] + s->static_loads.moment[2] * mo.angle;
+  PetscCall(FSCouplingStaticLoadsWork(s->coupling, &mo, &st[2]));
   PetscFunctionReturn(0);
 }
 
 /* The liquid's energy (tank frame) and the whole system's energy of the current state (valid on rank 0). */
 static PetscErrorCode FSSolverEnergyTotals(FSSolver s, PetscReal e[2])
 {
-  PetscReal       liq[FS_E_NLIQ], st[3];
-  const PetscReal w = s->coupled ? s->tank_width : 1.0;
+  PetscReal liq[FS_E_NLIQ], st[3], w;
 
   PetscFunctionBegin;
+  PetscCall(FSCouplingGetWidth(s->coupling, &w));
   PetscCall(FSSolverEnergyCompute(s, liq, st));
   e[0] = liq[FS_E_KIN] + liq[FS_E_POT] + liq[FS_E_COMP];
   e[1] = w * (liq[FS_E_KIN_ABS] + liq[FS_E_POT_ABS] + liq[FS_E_COMP]) + st[0] + st[1] + st[2];
@@ -156,6 +146,7 @@ PetscErrorCode FSSolverEnergyJumpFrame(FSSolver s, FSEnergyFrame *fr)
 {
   PetscFunctionBegin;
   PetscCall(FSSolverGetTankMotion(s, &fr->mo));
+  PetscCall(FSCouplingGetActive(s->coupling, &fr->coupled));
   fr->c  = PetscCosReal(fr->mo.angle);
   fr->sn = PetscSinReal(fr->mo.angle);
   PetscFunctionReturn(0);
@@ -166,9 +157,9 @@ PetscErrorCode FSSolverEnergyJumpFrame(FSSolver s, FSEnergyFrame *fr)
 void FSEnergyParticle(FSSolver s, const FSEnergyFrame *fr, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal e[2])
 {
   e[0] = 0.5 * m * (v[0] * v[0] + v[1] * v[1]) - m * (s->gravity[0] * x[0] + s->gravity[1] * x[1]);
-  if (s->coupled) {
+  if (fr->coupled) {
     PetscReal kin, pot;
-    AbsoluteEnergy(s, &fr->mo, fr->c, fr->sn, x, v, m, &kin, &pot);
+    FSCouplingAbsoluteEnergy(s->coupling, &fr->mo, fr->c, fr->sn, x, v, m, &kin, &pot);
     e[1] = kin + pot;
   } else e[1] = e[0];
 }
@@ -185,8 +176,9 @@ PetscErrorCode FSSolverEnergyAddJump(FSSolver s, const PetscReal de[2])
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCallMPI(MPI_Reduce(de, sum, 2, MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
   if (!rank) {
-    const PetscReal w = s->coupled ? s->tank_width : 1.0; /* the liquid's energies are per unit width */
-    PetscScalar    *u;
+    PetscReal    w; /* the liquid's energies are per unit width */
+    PetscScalar *u;
+    PetscCall(FSCouplingGetWidth(s->coupling, &w));
     PetscCall(VecGetArray(s->U, &u));
     u[s->nowned * s->ustride + s->genergy + FS_ENERGY_WORK_BOUNCE] += sum[0];
     u[s->nowned * s->ustride + s->genergy + FS_ENERGY_WORK_BOUNCE_TOTAL] += w * sum[1];
@@ -253,7 +245,8 @@ PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
     PetscCall(VecRestoreArrayRead(s->U, &u));
   }
   {
-    const PetscReal w    = s->coupled ? s->tank_width : 1.0;
+    PetscReal w;
+    PetscCall(FSCouplingGetWidth(s->coupling, &w));
     const PetscReal Eliq = liq[FS_E_KIN] + liq[FS_E_POT] + liq[FS_E_COMP], Eabs = liq[FS_E_KIN_ABS] + liq[FS_E_POT_ABS] + liq[FS_E_COMP];
     const PetscReal Etot = w * Eabs + st[0] + st[1] + st[2];
     const PetscReal Wint = work[0] + work[1] + work[2] + eb[FS_ENERGY_WORK_RELAX];
