@@ -28,14 +28,6 @@ INCLUDE_DIRS = [SRC, TOP / "include"]
 
 # (including file, included private header): still to be replaced by the parts' own small APIs
 EXCEPTIONS = {
-    ("src/cases/impls/beam.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/dam_break.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/lattice.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/liquid.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/shear.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/standing_wave.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/tank.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/taylor_green.c", "src/solver/solverimpl.h"),
     ("src/cases/interface/cases.c", "src/solver/solverimpl.h"),
     ("src/coupling/coupling.c", "src/solver/solverimpl.h"),
     ("src/coupling/energy.c", "src/solver/solverimpl.h"),
