@@ -330,7 +330,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
     PetscBool help;
     PetscCall(PetscOptionsHasHelp(NULL, &help));
     if (help) {
-      PetscCall(FSCaseHelpAll(s, PetscOptionsObject));
+      PetscCall(FSCaseHelpAll(s, s->casename, PetscOptionsObject));
       PetscCall(FSTermHelpAll(s, &s->terms, PetscOptionsObject));
       PetscCall(FSStructureHelpAll(s, s->structure, PetscOptionsObject));
     }
