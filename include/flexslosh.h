@@ -47,6 +47,13 @@ PETSC_EXTERN PetscErrorCode FSSolverGeometryView(FSSolver, const char[]);
 PETSC_EXTERN PetscErrorCode FSSolverDestroy(FSSolver *);
 PETSC_EXTERN PetscErrorCode FSSolverGetTS(FSSolver, TS *);
 PETSC_EXTERN PetscErrorCode FSSolverGetSwarm(FSSolver, DM *);
+/* the particles' fields in the swarm (FSSolverGetSwarm(); this rank's owned particles): position and
+   velocity dim reals per particle, density and mass one real, id one PetscInt */
+#define FS_FIELD_POSITION "position"
+#define FS_FIELD_VELOCITY "velocity"
+#define FS_FIELD_DENSITY  "density"
+#define FS_FIELD_MASS     "mass"
+#define FS_FIELD_ID       "id"
 PETSC_EXTERN PetscErrorCode FSSolverGetTime(FSSolver, PetscReal *, PetscInt *);
 PETSC_EXTERN PetscErrorCode FSSolverGetDimension(FSSolver, PetscInt *);
 PETSC_EXTERN PetscErrorCode FSSolverGetLocalSize(FSSolver, PetscInt *);
@@ -197,6 +204,13 @@ PETSC_EXTERN PetscErrorCode FSSolverSetDomain(FSSolver, const PetscReal lo[], co
 PETSC_EXTERN PetscErrorCode FSSolverAddParticles(FSSolver, PetscInt n, const PetscReal x[], const PetscReal u[], const PetscReal rho[], const PetscReal m[]);
 PETSC_EXTERN PetscErrorCode FSSolverGetParameters(FSSolver, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0, PetscReal *nu);
 PETSC_EXTERN PetscErrorCode FSSolverSetDefaultPhysics(FSSolver, PetscReal rho0, PetscReal c0, PetscReal nu, const PetscReal g[]);
+PETSC_EXTERN PetscErrorCode FSSolverSetDefaultSpacing(FSSolver, PetscReal dx);
+PETSC_EXTERN PetscErrorCode FSSolverSetDefaultFinalTime(FSSolver, PetscReal t);
+PETSC_EXTERN PetscErrorCode FSSolverSetDefaultCFL(FSSolver, PetscReal cfl);
+PETSC_EXTERN PetscErrorCode FSSolverSetDefaultTerms(FSSolver, const char terms[]);
+PETSC_EXTERN PetscErrorCode FSSolverSetCaseData(FSSolver, void *data);
+PETSC_EXTERN PetscErrorCode FSSolverGetCaseData(FSSolver, void *dataptr);
+PETSC_EXTERN PetscErrorCode FSSolverGetGravity(FSSolver, PetscReal g[3]);
 
 /* ---------- structures ---------- */
 /*

@@ -11,10 +11,6 @@ the rest of the library. The parts' include graph must have no cycle.
 Exits 1 and names the file, the line and the header for every include that breaks a rule, or the
 parts of a cycle. ``--graph`` prints the parts and what each includes; ``--root`` checks another
 checkout (the tests check a copy with a broken rule).
-
-EXCEPTIONS lists the private includes across parts that are still to be removed (the solver's
-private header in the parts that read the solver's fields directly). It may only shrink: an
-exception that no longer occurs is an error too, so that the list stays true.
 """
 from __future__ import annotations
 
@@ -26,18 +22,6 @@ TOP = Path(sys.argv[sys.argv.index("--root") + 1]).resolve() if "--root" in sys.
 SRC = TOP / "src"
 INCLUDE_DIRS = [SRC, TOP / "include"]
 
-# (including file, included private header): still to be replaced by the parts' own small APIs
-EXCEPTIONS = {
-    ("src/cases/impls/beam.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/dam_break.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/lattice.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/liquid.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/shear.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/standing_wave.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/tank.c", "src/solver/solverimpl.h"),
-    ("src/cases/impls/taylor_green.c", "src/solver/solverimpl.h"),
-    ("src/cases/interface/cases.c", "src/solver/solverimpl.h"),
-}
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 
@@ -56,7 +40,6 @@ def resolve(name: str, where: Path) -> Path | None:
 
 def main() -> int:
     errors: list[str] = []
-    used: set[tuple[str, str]] = set()
     graph: dict[str, set[str]] = {}
     for f in sorted(SRC.rglob("*.[ch]")):
         if len(f.relative_to(SRC).parts) < 2:
@@ -79,14 +62,9 @@ def main() -> int:
                 continue
             key = (str(f.relative_to(TOP)), str(target.relative_to(TOP)))
             if target.name.endswith("impl.h"):
-                if key in EXCEPTIONS:
-                    used.add(key)
-                    continue
                 errors.append(f"{key[0]}:{lineno}: includes {key[1]}, the private header of src/{tpart}/ "
                               f"(use src/{tpart}/'s interface header instead)")
             graph[part].add(tpart)
-    for key in sorted(EXCEPTIONS - used):
-        errors.append(f"{key[0]} no longer includes {key[1]}: remove the pair from EXCEPTIONS in {Path(__file__).name}")
 
     # cycles in the parts' graph (depth-first search, the path on the stack is the cycle)
     state: dict[str, int] = {}
@@ -108,7 +86,6 @@ def main() -> int:
     if "--graph" in sys.argv:
         for p in sorted(graph):
             print(f"{p}: {' '.join(sorted(graph[p])) or '-'}")
-        print(f"{len(used)} private includes across parts still listed as exceptions")
     for e in errors:
         print(e, file=sys.stderr)
     return 1 if errors else 0

@@ -5,4 +5,4 @@
 #include <flexslosh.h>
 
 PETSC_INTERN PetscErrorCode FSCaseFind(const char name[], FSCaseCreateFn *);
-PETSC_INTERN PetscErrorCode FSCaseHelpAll(FSSolver, PetscOptionItems *);
+PETSC_INTERN PetscErrorCode FSCaseHelpAll(FSSolver, const char selected[], PetscOptionItems *);

@@ -69,6 +69,133 @@ PetscErrorCode FSSolverSetDefaultPhysics(FSSolver s, PetscReal rho0, PetscReal c
 }
 
 /*
+   FSSolverSetDefaultSpacing - lets a case set the default of -fs_dx, the particle spacing, before the
+   options are read (called from the case's setfromoptions).
+
+   Not collective
+
+   Input Parameters:
++  s  - the solver
+-  dx - the spacing, positive
+
+.seealso: FSSolverSetDefaultPhysics(), FSSolverGetParameters()
+*/
+PetscErrorCode FSSolverSetDefaultSpacing(FSSolver s, PetscReal dx)
+{
+  PetscFunctionBegin;
+  PetscCheck(dx > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "FSSolverSetDefaultSpacing(): the default particle spacing %g must be positive", (double)dx);
+  s->dx = dx;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetDefaultFinalTime - lets a case set the default final time of the run (-ts_max_time)
+   before the options are read (called from the case's setfromoptions).
+
+   Not collective
+
+   Input Parameters:
++  s - the solver
+-  t - the final time, positive
+
+.seealso: FSSolverSetDefaultSpacing()
+*/
+PetscErrorCode FSSolverSetDefaultFinalTime(FSSolver s, PetscReal t)
+{
+  PetscFunctionBegin;
+  PetscCheck(t > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "FSSolverSetDefaultFinalTime(): the default final time %g must be positive", (double)t);
+  s->final_time = t;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetDefaultCFL - lets a case set the default of -fs_cfl, the acoustic CFL number, before the
+   options are read (called from the case's setfromoptions). A default above 0.4 holds with the RK4
+   integrator only: with any other -ts_type the run uses 0.4 unless -fs_cfl is given.
+
+   Not collective
+
+   Input Parameters:
++  s   - the solver
+-  cfl - the CFL number, in (0, 2] as -fs_cfl
+
+.seealso: FSSolverSetDefaultSpacing()
+*/
+PetscErrorCode FSSolverSetDefaultCFL(FSSolver s, PetscReal cfl)
+{
+  PetscFunctionBegin;
+  PetscCheck(cfl > 0 && cfl <= 2, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "FSSolverSetDefaultCFL(): the default CFL number %g is out of range: expected (0, 2]", (double)cfl);
+  s->cfl = cfl;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetDefaultTerms - lets a case set the default of -fs_terms, the physics terms, before the
+   options are read (called from the case's setfromoptions).
+
+   Not collective
+
+   Input Parameters:
++  s     - the solver
+-  terms - the terms' names, comma separated (-fs_terms_view lists them)
+
+.seealso: FSSolverSetDefaultPhysics(), FSTermRegister()
+*/
+PetscErrorCode FSSolverSetDefaultTerms(FSSolver s, const char terms[])
+{
+  size_t len;
+
+  PetscFunctionBegin;
+  PetscCheck(terms, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_NULL, "FSSolverSetDefaultTerms(): no list of terms given");
+  PetscCall(PetscStrlen(terms, &len));
+  PetscCheck(len < sizeof(s->default_terms), PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_SIZ, "FSSolverSetDefaultTerms(): the list of terms has %d characters, at most %d fit", (int)len, (int)sizeof(s->default_terms) - 1);
+  PetscCall(PetscStrncpy(s->default_terms, terms, sizeof(s->default_terms)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSetCaseData - gives the solver the case's own data (a case calls it from its create
+   routine). The solver frees the data it held before, and the last with PetscFree() when it is
+   destroyed: allocate it with PetscMalloc() or PetscNew().
+
+   Not collective
+
+   Input Parameters:
++  s    - the solver
+-  data - the case's data, or NULL
+
+.seealso: FSSolverGetCaseData(), FSCaseRegister()
+*/
+PetscErrorCode FSSolverSetCaseData(FSSolver s, void *data)
+{
+  PetscFunctionBegin;
+  if (data != s->casedata) PetscCall(PetscFree(s->casedata));
+  s->casedata = data;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetCaseData - the case's own data, as given to FSSolverSetCaseData().
+
+   Not collective
+
+   Input Parameter:
+.  s - the solver
+
+   Output Parameter:
+.  dataptr - the address of a pointer to the data (NULL if none)
+
+.seealso: FSSolverSetCaseData()
+*/
+PetscErrorCode FSSolverGetCaseData(FSSolver s, void *dataptr)
+{
+  PetscFunctionBegin;
+  PetscCheck(dataptr, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_NULL, "FSSolverGetCaseData(): no place given for the data");
+  *(void **)dataptr = s->casedata;
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverSetFromOptions - reads the run's options (prefix -fs_), the case's and the terms'.
 
    Collective
@@ -204,7 +331,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
     PetscBool help;
     PetscCall(PetscOptionsHasHelp(NULL, &help));
     if (help) {
-      PetscCall(FSCaseHelpAll(s, PetscOptionsObject));
+      PetscCall(FSCaseHelpAll(s, s->casename, PetscOptionsObject));
       PetscCall(FSTermHelpAll(s, &s->terms, PetscOptionsObject));
       PetscCall(FSStructureHelpAll(s, s->structure, PetscOptionsObject));
     }
@@ -264,6 +391,26 @@ PetscErrorCode FSSolverGetParameters(FSSolver s, PetscReal *dx, PetscReal *h, Pe
   if (rho0) *rho0 = s->rho0;
   if (c0) *c0 = s->c0;
   if (nu) *nu = s->nu;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetGravity - the body force per unit mass (-fs_gravity, or the case's default).
+
+   Not collective
+
+   Input Parameter:
+.  s - the solver
+
+   Output Parameter:
+.  g - its three components (those beyond the dimension are 0)
+
+.seealso: FSSolverGetParameters(), FSSolverSetDefaultPhysics()
+*/
+PetscErrorCode FSSolverGetGravity(FSSolver s, PetscReal g[3])
+{
+  PetscFunctionBegin;
+  for (PetscInt d = 0; d < 3; d++) g[d] = s->gravity[d];
   PetscFunctionReturn(0);
 }
 

@@ -195,11 +195,3 @@ PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const
 PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureSummary(FSSolver, FSJSON);
-
-
-/* field names in the swarm */
-#define FS_FIELD_POSITION "position"
-#define FS_FIELD_VELOCITY "velocity"
-#define FS_FIELD_DENSITY  "density"
-#define FS_FIELD_MASS     "mass"
-#define FS_FIELD_ID       "id"

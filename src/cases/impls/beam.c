@@ -6,7 +6,7 @@
    -fs_beam_preload), mode studies (-fs_modal_view). The structure defaults to "modal".
    The particle domain is a nominal unit box (no particle is created); the physics terms do nothing.
 */
-#include "solver/solverimpl.h"
+#include <flexslosh.h>
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
@@ -15,18 +15,20 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscFunctionBegin;
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 20.0, 1e-6, g));
   PetscCall(FSSolverSetDefaultStructure(s, "modal"));
-  s->dx         = 0.01;
-  s->final_time = 2.0;
+  PetscCall(FSSolverSetDefaultSpacing(s, 0.01));
+  PetscCall(FSSolverSetDefaultFinalTime(s, 2.0));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode SetUp(FSSolver s)
 {
-  PetscReal lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
-  PetscBool per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+  PetscReal   lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+  PetscBool   per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+  FSStructure st;
 
   PetscFunctionBegin;
-  PetscCheck(s->structure, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONG, "Case beam computes the structure alone: it needs a structure, not -fs_structure none (msd or modal)");
+  PetscCall(FSSolverGetStructure(s, &st));
+  PetscCheck(st, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONG, "Case beam computes the structure alone: it needs a structure, not -fs_structure none (msd or modal)");
   PetscCall(FSSolverSetDomain(s, lo, hi, per));
   PetscFunctionReturn(0);
 }
@@ -34,7 +36,7 @@ static PetscErrorCode SetUp(FSSolver s)
 PETSC_EXTERN PetscErrorCode FSCaseCreate_Beam(FSSolver s, FSCaseOps *ops)
 {
   PetscFunctionBegin;
-  PetscCall(PetscFree(s->casedata));
+  PetscCall(FSSolverSetCaseData(s, NULL));
   ops->setfromoptions = SetFromOptions;
   ops->setup          = SetUp;
   PetscFunctionReturn(0);

@@ -9,7 +9,7 @@
    H/(2a) against tau = t sqrt(g / a). Defaults: a = 1 m, dx = a/40, c0 = 10 sqrt(2 g 2a), rho0 = 1000,
    nu = 1e-6, g = 9.81 down, final time T = 3.
 */
-#include "solver/solverimpl.h"
+#include <flexslosh.h>
 #include "liquid.h"
 
 typedef struct {
@@ -18,10 +18,11 @@ typedef struct {
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
-  DamBreak *db   = (DamBreak *)s->casedata;
+  DamBreak *db;
   PetscReal g[3] = {0, -9.81, 0};
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetCaseData(s, &db));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case dam_break");
   PetscCall(PetscOptionsReal("-fs_dam_width", "Width a of the water column", "", db->a, &db->a, NULL));
   db->height = 2 * db->a;
@@ -35,20 +36,21 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCheck(db->L > db->a, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_tank_length %g must exceed the column width %g", (double)db->L, (double)db->a);
   PetscCheck(db->H >= db->height, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_tank_height %g must be at least the column height %g", (double)db->H, (double)db->height);
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 10 * PetscSqrtReal(2 * 9.81 * db->height), 1e-6, g));
-  PetscCall(PetscStrncpy(s->default_terms, FS_WALL_CASE_TERMS, sizeof(s->default_terms)));
-  s->dx         = db->a / 40;
-  s->cfl        = 1.0; /* RK4: same results as 0.4 on the hydrostatic tank and the dam break; 1.5 blows up at the dam break's wall impact */
-  s->final_time = 3.0 / PetscSqrtReal(2 * 9.81 / db->a);
+  PetscCall(FSSolverSetDefaultTerms(s, FS_WALL_CASE_TERMS));
+  PetscCall(FSSolverSetDefaultSpacing(s, db->a / 40));
+  PetscCall(FSSolverSetDefaultCFL(s, 1.0)); /* RK4: same results as 0.4 on the hydrostatic tank and the dam break; 1.5 blows up at the dam break's wall impact */
+  PetscCall(FSSolverSetDefaultFinalTime(s, 3.0 / PetscSqrtReal(2 * 9.81 / db->a)));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode SetUp(FSSolver s)
 {
-  DamBreak *db   = (DamBreak *)s->casedata;
+  DamBreak *db;
   MPI_Comm  comm = PetscObjectComm((PetscObject)s);
   FSWalls   w;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetCaseData(s, &db));
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, comm, db->L, db->H));
   PetscCall(FSWallsCheck(&w, comm));
@@ -58,22 +60,29 @@ static PetscErrorCode SetUp(FSSolver s)
 
 /* the surge front, the largest x of the particles near the floor (y < a/4), and the height of the
    column at the back wall, the largest y of the particles within dx of it plus dx/2 (the surface lies
-   half a spacing above the top particle: 2a at the start) */
+   half a spacing above the top particle: 2a at the start). The positions are the swarm's: at the
+   monitors they are the state's, packed into it after the step's migration and reordering. */
 static PetscErrorCode Columns(FSSolver s, PetscReal t, PetscReal values[])
 {
-  DamBreak          *db = (DamBreak *)s->casedata;
-  const PetscScalar *u;
-  PetscReal          top[2] = {0, 0};
+  DamBreak  *db;
+  DM         sw;
+  PetscReal *pos, dx, top[2] = {0, 0};
+  PetscInt   dim, n;
 
   PetscFunctionBegin;
   (void)t;
-  PetscCall(VecGetArrayRead(s->U, &u));
-  for (PetscInt p = 0; p < s->nowned; p++) {
-    const PetscReal x = u[p * s->ustride], y = u[p * s->ustride + 1];
+  PetscCall(FSSolverGetCaseData(s, &db));
+  PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
+  PetscCall(FSSolverGetDimension(s, &dim));
+  PetscCall(FSSolverGetSwarm(s, &sw));
+  PetscCall(DMSwarmGetLocalSize(sw, &n));
+  PetscCall(DMSwarmGetField(sw, FS_FIELD_POSITION, NULL, NULL, (void **)&pos));
+  for (PetscInt p = 0; p < n; p++) {
+    const PetscReal x = pos[p * dim], y = pos[p * dim + 1];
     if (y < 0.25 * db->a) top[0] = PetscMax(top[0], x);
-    if (x < s->dx) top[1] = PetscMax(top[1], y + 0.5 * s->dx);
+    if (x < dx) top[1] = PetscMax(top[1], y + 0.5 * dx);
   }
-  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(DMSwarmRestoreField(sw, FS_FIELD_POSITION, NULL, NULL, (void **)&pos));
   PetscCallMPI(MPI_Allreduce(top, values, 2, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
   PetscFunctionReturn(0);
 }
@@ -83,10 +92,9 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_DamBreak(FSSolver s, FSCaseOps *ops)
   DamBreak *db;
 
   PetscFunctionBegin;
-  PetscCall(PetscFree(s->casedata));
   PetscCall(PetscNew(&db));
-  db->a                = 1.0;
-  s->casedata          = db;
+  db->a = 1.0;
+  PetscCall(FSSolverSetCaseData(s, db));
   ops->setfromoptions  = SetFromOptions;
   ops->setup           = SetUp;
   ops->columns         = Columns;

@@ -1,6 +1,6 @@
 /* A lattice of particles filling a box, enumerated globally and split in chunks over the ranks
    (so ids do not depend on the number of ranks). Used by the periodic cases. */
-#include "solver/solverimpl.h"
+#include <flexslosh.h>
 #include "lattice.h"
 
 /*
@@ -12,27 +12,30 @@
 */
 PetscErrorCode FSLatticeCreate(FSSolver s, const PetscReal lo[], const PetscReal hi[], PetscInt *n, PetscReal **x)
 {
-  PetscInt    dim = s->dim, nc[3] = {1, 1, 1};
+  PetscInt    dim, nc[3] = {1, 1, 1};
   PetscInt64  total = 1, first, last;
   PetscMPIInt rank, size;
+  PetscReal   dx;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetDimension(s, &dim));
+  PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
   for (PetscInt d = 0; d < dim; d++) {
-    nc[d] = (PetscInt)PetscFloorReal((hi[d] - lo[d]) / s->dx + 0.5);
-    PetscCheck(nc[d] >= 1, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g is larger than the box (%g) in direction %" PetscInt_FMT, (double)s->dx, (double)(hi[d] - lo[d]), d);
-    PetscCheck(PetscAbsReal(nc[d] * s->dx - (hi[d] - lo[d])) < 1e-8 * (hi[d] - lo[d]), PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g does not divide the periodic box length %g in direction %" PetscInt_FMT ": choose dx = length/N", (double)s->dx, (double)(hi[d] - lo[d]), d);
+    nc[d] = (PetscInt)PetscFloorReal((hi[d] - lo[d]) / dx + 0.5);
+    PetscCheck(nc[d] >= 1, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g is larger than the box (%g) in direction %" PetscInt_FMT, (double)dx, (double)(hi[d] - lo[d]), d);
+    PetscCheck(PetscAbsReal(nc[d] * dx - (hi[d] - lo[d])) < 1e-8 * (hi[d] - lo[d]), PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g does not divide the periodic box length %g in direction %" PetscInt_FMT ": choose dx = length/N", (double)dx, (double)(hi[d] - lo[d]), d);
     total *= nc[d];
   }
-  PetscCheck(total < PETSC_MAX_INT, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g gives %" PetscInt64_FMT " particles, too many", (double)s->dx, total);
+  PetscCheck(total < PETSC_MAX_INT, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g gives %" PetscInt64_FMT " particles, too many", (double)dx, total);
   first = total * rank / size;
   last  = total * (rank + 1) / size;
   *n    = (PetscInt)(last - first);
   PetscCall(PetscMalloc1(*n * dim + 1, x));
   for (PetscInt64 g = first; g < last; g++) {
     PetscInt64 i[3] = {g % nc[0], (g / nc[0]) % nc[1], g / (nc[0] * nc[1])};
-    for (PetscInt d = 0; d < dim; d++) (*x)[(g - first) * dim + d] = lo[d] + (i[d] + 0.5) * s->dx;
+    for (PetscInt d = 0; d < dim; d++) (*x)[(g - first) * dim + d] = lo[d] + (i[d] + 0.5) * dx;
   }
   PetscFunctionReturn(0);
 }

@@ -1,5 +1,5 @@
 /* Set-up shared by the cases with walls: a body of liquid on a lattice, hydrostatic, at rest or with a given velocity field. */
-#include "solver/solverimpl.h"
+#include <flexslosh.h>
 #include "boundary/fsboundary.h"
 #include "liquid.h"
 
@@ -42,21 +42,26 @@ PetscErrorCode FSCaseFillLiquid(FSSolver s, FSWalls *w, PetscReal x0, PetscReal 
 PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf, const char what[], FSCaseVelocityFn velocity, void *ctx)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  PetscReal   lo[3], hi[3], *x, *u, *rho, *m, gmag = PetscSqrtReal(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1]);
+  PetscReal   lo[3], hi[3], *x, *u, *rho, *m, g[3], gmag, dx, h, rho0, c0;
   PetscBool   per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
-  PetscInt    nx = (PetscInt)((x1 - x0) / s->dx + 0.5), ny = (PetscInt)((ysurf - y0) / s->dx + 0.5), n = 0, r0, r1, cap;
+  PetscInt    nx, ny, n = 0, r0, r1, cap;
   PetscReal   hy, *cross;
   PetscMPIInt rank, size;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetGravity(s, g));
+  PetscCall(FSSolverGetParameters(s, &dx, &h, &rho0, &c0, NULL));
+  gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1]);
+  nx   = (PetscInt)((x1 - x0) / dx + 0.5);
+  ny   = (PetscInt)((ysurf - y0) / dx + 0.5);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCheck(nx >= 1 && ny >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fs_dx %g leaves no particle in the liquid region %g x %g", what, (double)s->dx, (double)(x1 - x0), (double)(ysurf - y0));
+  PetscCheck(nx >= 1 && ny >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fs_dx %g leaves no particle in the liquid region %g x %g", what, (double)dx, (double)(x1 - x0), (double)(ysurf - y0));
   hy = (ysurf - y0) / ny;
-  PetscCall(FSWallsDiscretize(w, s->dx)); /* for the distance of the particles to the walls */
+  PetscCall(FSWallsDiscretize(w, dx)); /* for the distance of the particles to the walls */
   for (PetscInt d = 0; d < 2; d++) {
-    lo[d] = w->lo[d] - 4 * s->h;
-    hi[d] = w->hi[d] + 4 * s->h;
+    lo[d] = w->lo[d] - 4 * h;
+    hi[d] = w->hi[d] + 4 * h;
   }
   PetscCall(FSSolverSetDomain(s, lo, hi, per));
   r0  = ny * rank / size;
@@ -79,7 +84,7 @@ PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0
       PetscInt        na;
       PetscReal       hx;
       if (e <= a || !FSWallsInLiquid(w, mid, 0)) continue; /* outside [x0, x1], or inside a wall */
-      na = (PetscInt)((e - a) / s->dx + 0.5);
+      na = (PetscInt)((e - a) / dx + 0.5);
       if (na < 1) continue;
       hx = (e - a) / na;
       for (PetscInt i = 0; i < na; i++) {
@@ -90,7 +95,7 @@ PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0
         u[2 * n]     = 0;
         u[2 * n + 1] = 0;
         if (velocity) PetscCall((*velocity)(p, &u[2 * n], ctx));
-        rho[n] = s->rho0 + s->rho0 * gmag * (ysurf - p[1]) / (s->c0 * s->c0);
+        rho[n] = rho0 + rho0 * gmag * (ysurf - p[1]) / (c0 * c0);
         m[n]   = rho[n] * hx * hy;
         n++;
       }

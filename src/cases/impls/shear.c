@@ -5,7 +5,7 @@
    Options: -fs_shear_U (1), -fs_shear_L (1), -fs_shear_Re (100). Defaults: dx = L/32, rho0 = 1,
    c0 = 10 U, final time L/U.
 */
-#include "solver/solverimpl.h"
+#include <flexslosh.h>
 #include "lattice.h"
 
 typedef struct {
@@ -14,10 +14,11 @@ typedef struct {
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
-  Shear    *sh = (Shear *)s->casedata;
+  Shear    *sh;
   PetscReal g[3] = {0, 0, 0};
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetCaseData(s, &sh));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case shear");
   PetscCall(PetscOptionsReal("-fs_shear_U", "Velocity amplitude U", "", sh->U, &sh->U, NULL));
   PetscCall(PetscOptionsReal("-fs_shear_L", "Box side L", "", sh->L, &sh->L, NULL));
@@ -25,26 +26,30 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscOptionsHeadEnd();
   PetscCheck(sh->U > 0 && sh->L > 0 && sh->Re > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_shear_U %g, -fs_shear_L %g, -fs_shear_Re %g must all be positive", (double)sh->U, (double)sh->L, (double)sh->Re);
   PetscCall(FSSolverSetDefaultPhysics(s, 1.0, 10.0 * sh->U, sh->U * sh->L / sh->Re, g));
-  s->dx         = sh->L / 32;
-  s->final_time = sh->L / sh->U;
+  PetscCall(FSSolverSetDefaultSpacing(s, sh->L / 32));
+  PetscCall(FSSolverSetDefaultFinalTime(s, sh->L / sh->U));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode SetUp(FSSolver s)
 {
-  Shear    *sh = (Shear *)s->casedata;
-  PetscReal lo[3] = {0, 0, 0}, hi[3] = {sh->L, sh->L, sh->L}, *x, *u, *rho, *m, vol = 1, ke = 0;
+  Shear    *sh;
+  PetscReal lo[3] = {0, 0, 0}, hi[3], *x, *u, *rho, *m, vol = 1, ke = 0, dx, rho0;
   PetscBool per[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
-  PetscInt  n, dim = s->dim;
+  PetscInt  n, dim;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetCaseData(s, &sh));
+  PetscCall(FSSolverGetDimension(s, &dim));
+  PetscCall(FSSolverGetParameters(s, &dx, NULL, &rho0, NULL, NULL));
+  for (PetscInt d = 0; d < 3; d++) hi[d] = sh->L;
   PetscCall(FSSolverSetDomain(s, lo, hi, per));
   PetscCall(FSLatticeCreate(s, lo, hi, &n, &x));
   PetscCall(PetscCalloc3(n * dim + 1, &u, n + 1, &rho, n + 1, &m));
-  for (PetscInt d = 0; d < dim; d++) vol *= s->dx;
+  for (PetscInt d = 0; d < dim; d++) vol *= dx;
   for (PetscInt p = 0; p < n; p++) {
     u[p * dim] = sh->U * PetscSinReal(2 * PETSC_PI * x[p * dim + 1] / sh->L);
-    rho[p]     = s->rho0;
+    rho[p]     = rho0;
     m[p]       = rho[p] * vol;
     ke += 0.5 * m[p] * u[p * dim] * u[p * dim];
   }
@@ -57,10 +62,13 @@ static PetscErrorCode SetUp(FSSolver s)
 
 static PetscErrorCode Analytic(FSSolver s, PetscReal t, PetscReal *value)
 {
-  Shear *sh = (Shear *)s->casedata;
+  Shear    *sh;
+  PetscReal nu;
 
   PetscFunctionBegin;
-  *value = sh->ke0 * PetscExpReal(-8 * PETSC_PI * PETSC_PI * s->nu * t / (sh->L * sh->L));
+  PetscCall(FSSolverGetCaseData(s, &sh));
+  PetscCall(FSSolverGetParameters(s, NULL, NULL, NULL, NULL, &nu));
+  *value = sh->ke0 * PetscExpReal(-8 * PETSC_PI * PETSC_PI * nu * t / (sh->L * sh->L));
   PetscFunctionReturn(0);
 }
 
@@ -69,12 +77,11 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_Shear(FSSolver s, FSCaseOps *ops)
   Shear *sh;
 
   PetscFunctionBegin;
-  PetscCall(PetscFree(s->casedata));
   PetscCall(PetscNew(&sh));
   sh->U                = 1;
   sh->L                = 1;
   sh->Re               = 100;
-  s->casedata          = sh;
+  PetscCall(FSSolverSetCaseData(s, sh));
   ops->setfromoptions  = SetFromOptions;
   ops->setup           = SetUp;
   ops->columns         = Analytic;

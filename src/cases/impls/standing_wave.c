@@ -28,7 +28,7 @@
    Defaults: dx = h/50, c0 = 10 sqrt(g h) (the waves' speeds are below 0.1 sqrt(g h)), the wall cases'
    terms (delta-LES-SPH with boundary integrals) and CFL 1.5, final time 20 sqrt(h/g).
 */
-#include "solver/solverimpl.h"
+#include <flexslosh.h>
 #include "liquid.h"
 
 typedef struct {
@@ -38,10 +38,13 @@ typedef struct {
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
-  StandingWave *sw   = (StandingWave *)s->casedata;
+  StandingWave *sw;
   PetscReal     g[3] = {0, -1, 0};
+  PetscInt      dim;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetCaseData(s, &sw));
+  PetscCall(FSSolverGetDimension(s, &dim));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case standing_wave");
   PetscCall(PetscOptionsReal("-fs_sw_length", "Length L of the tank", "", sw->L, &sw->L, NULL));
   PetscCall(PetscOptionsReal("-fs_sw_depth", "Depth h of the liquid", "", sw->h, &sw->h, NULL));
@@ -54,12 +57,12 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCheck(sw->mode >= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_mode %" PetscInt_FMT " must be at least 1", sw->mode);
   PetscCheck(sw->A > 0 && sw->A <= 0.25, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_amplitude %g is out of range: expected A/h in (0, 0.25] (linear theory wants it small)", (double)sw->A);
   PetscCheck(sw->Re > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_reynolds %g must be positive", (double)sw->Re);
-  PetscCheck(s->dim == 2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Case standing_wave is 2-D: -fs_dim %" PetscInt_FMT " is not supported", s->dim);
+  PetscCheck(dim == 2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Case standing_wave is 2-D: -fs_dim %" PetscInt_FMT " is not supported", dim);
   PetscCall(FSSolverSetDefaultPhysics(s, 1.0, 10 * PetscSqrtReal(sw->h), sw->h * PetscSqrtReal(sw->h) / sw->Re, g));
-  PetscCall(PetscStrncpy(s->default_terms, FS_WALL_CASE_TERMS, sizeof(s->default_terms)));
-  s->dx         = sw->h / 50;
-  s->cfl        = 1.5; /* RK4: checked on the hydrostatic tank and the dam break (same results as 0.4) */
-  s->final_time = 20 * PetscSqrtReal(sw->h);
+  PetscCall(FSSolverSetDefaultTerms(s, FS_WALL_CASE_TERMS));
+  PetscCall(FSSolverSetDefaultSpacing(s, sw->h / 50));
+  PetscCall(FSSolverSetDefaultCFL(s, 1.5)); /* RK4: checked on the hydrostatic tank and the dam break (same results as 0.4) */
+  PetscCall(FSSolverSetDefaultFinalTime(s, 20 * PetscSqrtReal(sw->h)));
   PetscFunctionReturn(0);
 }
 
@@ -77,40 +80,48 @@ static PetscErrorCode Velocity(const PetscReal x[], PetscReal u[], void *ctx)
 
 static PetscErrorCode SetUp(FSSolver s)
 {
-  StandingWave *sw   = (StandingWave *)s->casedata;
+  StandingWave *sw;
   MPI_Comm      comm = PetscObjectComm((PetscObject)s);
   FSWalls       w;
-  PetscReal     ke = 0, *u, *m;
+  PetscReal     ke = 0, *u, *m, g[3], rho0, nu;
   PetscInt      n;
+  DM            swarm;
 
   PetscFunctionBegin;
-  PetscCheck(s->gravity[0] == 0 && s->gravity[1] < 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Case standing_wave needs gravity pointing down (-fs_gravity 0,-g), not %g,%g", (double)s->gravity[0], (double)s->gravity[1]);
+  PetscCall(FSSolverGetCaseData(s, &sw));
+  PetscCall(FSSolverGetGravity(s, g));
+  PetscCall(FSSolverGetParameters(s, NULL, NULL, &rho0, NULL, &nu));
+  PetscCheck(g[0] == 0 && g[1] < 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Case standing_wave needs gravity pointing down (-fs_gravity 0,-g), not %g,%g", (double)g[0], (double)g[1]);
   sw->k     = sw->mode * PETSC_PI / sw->L;
-  sw->omega = PetscSqrtReal(-s->gravity[1] * sw->k * PetscTanhReal(sw->k * sw->h));
+  sw->omega = PetscSqrtReal(-g[1] * sw->k * PetscTanhReal(sw->k * sw->h));
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, comm, sw->L, 1.5 * sw->h));
   PetscCall(FSWallsSetEdgeWall(&w, comm, 0, 0, "floor"));
   PetscCall(FSWallsCheck(&w, comm));
   PetscCall(FSCaseFillLiquidWithVelocity(s, &w, 0, sw->L, 0, sw->h, "the liquid (-fs_sw_length x -fs_sw_depth)", Velocity, sw));
   /* the particles' initial kinetic energy, the scale of kinetic_energy_linear */
-  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
-  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
-  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(FSSolverGetSwarm(s, &swarm));
+  PetscCall(DMSwarmGetLocalSize(swarm, &n));
+  PetscCall(DMSwarmGetField(swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
+  PetscCall(DMSwarmGetField(swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   for (PetscInt p = 0; p < n; p++) ke += 0.5 * m[p] * (u[2 * p] * u[2 * p] + u[2 * p + 1] * u[2 * p + 1]);
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
+  PetscCall(DMSwarmRestoreField(swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmRestoreField(swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
   PetscCallMPI(MPI_Allreduce(&ke, &sw->ke0, 1, MPIU_REAL, MPI_SUM, comm));
-  PetscCall(PetscInfo(s, "Standing wave: k = %g, omega = %g, period %g, kinetic energy decay rate 4 nu k^2 = %g, E_k(0) = %g (linear theory %g)\n", (double)sw->k, (double)sw->omega, (double)(2 * PETSC_PI / sw->omega), (double)(4 * s->nu * sw->k * sw->k), (double)sw->ke0,
-                      (double)(s->rho0 * -s->gravity[1] * PetscSqr(sw->A * sw->h) * sw->L / 4)));
+  PetscCall(PetscInfo(s, "Standing wave: k = %g, omega = %g, period %g, kinetic energy decay rate 4 nu k^2 = %g, E_k(0) = %g (linear theory %g)\n", (double)sw->k, (double)sw->omega, (double)(2 * PETSC_PI / sw->omega), (double)(4 * nu * sw->k * sw->k), (double)sw->ke0,
+                      (double)(rho0 * -g[1] * PetscSqr(sw->A * sw->h) * sw->L / 4)));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode Analytic(FSSolver s, PetscReal t, PetscReal *value)
 {
-  StandingWave *sw = (StandingWave *)s->casedata;
+  StandingWave *sw;
+  PetscReal     nu;
 
   PetscFunctionBegin;
-  *value = sw->ke0 * 0.5 * (1 + PetscCosReal(2 * sw->omega * t)) * PetscExpReal(-4 * s->nu * sw->k * sw->k * t);
+  PetscCall(FSSolverGetCaseData(s, &sw));
+  PetscCall(FSSolverGetParameters(s, NULL, NULL, NULL, NULL, &nu));
+  *value = sw->ke0 * 0.5 * (1 + PetscCosReal(2 * sw->omega * t)) * PetscExpReal(-4 * nu * sw->k * sw->k * t);
   PetscFunctionReturn(0);
 }
 
@@ -119,14 +130,13 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_StandingWave(FSSolver s, FSCaseOps *ops
   StandingWave *sw;
 
   PetscFunctionBegin;
-  PetscCall(PetscFree(s->casedata));
   PetscCall(PetscNew(&sw));
   sw->L                = 2;
   sw->h                = 1;
   sw->mode             = 1;
   sw->A                = 0.05;
   sw->Re               = 250;
-  s->casedata          = sw;
+  PetscCall(FSSolverSetCaseData(s, sw));
   ops->setfromoptions  = SetFromOptions;
   ops->setup           = SetUp;
   ops->columns         = Analytic;

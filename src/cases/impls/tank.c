@@ -19,7 +19,7 @@
    0 % point of a fill sweep.
    Defaults: rho0 = 1000, c0 = 20 m/s and h/dx = 2 (seed), nu = 1e-6, g = 9.81 down, dx = H/30.
 */
-#include "solver/solverimpl.h"
+#include <flexslosh.h>
 #include "liquid.h"
 
 typedef struct {
@@ -30,11 +30,12 @@ typedef struct {
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
-  Tank     *tk   = (Tank *)s->casedata;
+  Tank     *tk;
   PetscReal g[3] = {0, -9.81, 0};
   PetscBool rect, baff, file;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetCaseData(s, &tk));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case tank");
   PetscCall(PetscOptionsString("-fs_tank_shape", "Tank shape: rectangular, baffled or file", "", tk->shape, tk->shape, sizeof(tk->shape), NULL));
   PetscCall(PetscOptionsReal("-fs_tank_length", "Length of the rectangular tank", "", tk->L, &tk->L, NULL));
@@ -55,21 +56,22 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCheck(tk->H > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_height %g must be positive", (double)tk->H);
   PetscCheck(tk->fill >= 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_fill %g is outside the tank: expected a fraction in [0, 1] of the tank height", (double)tk->fill);
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 20.0, 1e-6, g));
-  PetscCall(PetscStrncpy(s->default_terms, FS_WALL_CASE_TERMS, sizeof(s->default_terms)));
-  s->dx         = tk->H / 30;
-  s->cfl        = 1.0; /* RK4: same results as 0.4 on the hydrostatic tank and the dam break; 1.5 blows up at the dam break's wall impact */
-  s->final_time = 1.0;
+  PetscCall(FSSolverSetDefaultTerms(s, FS_WALL_CASE_TERMS));
+  PetscCall(FSSolverSetDefaultSpacing(s, tk->H / 30));
+  PetscCall(FSSolverSetDefaultCFL(s, 1.0)); /* RK4: same results as 0.4 on the hydrostatic tank and the dam break; 1.5 blows up at the dam break's wall impact */
+  PetscCall(FSSolverSetDefaultFinalTime(s, 1.0));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode SetUp(FSSolver s)
 {
-  Tank     *tk   = (Tank *)s->casedata;
+  Tank     *tk;
   MPI_Comm  comm = PetscObjectComm((PetscObject)s);
   FSWalls   w;
   PetscBool rect, baff;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetCaseData(s, &tk));
   PetscCall(FSWallsCreate(&w));
   PetscCall(PetscStrcmp(tk->shape, "rectangular", &rect));
   PetscCall(PetscStrcmp(tk->shape, "baffled", &baff));
@@ -79,7 +81,9 @@ static PetscErrorCode SetUp(FSSolver s)
   PetscCall(FSWallsCheck(&w, comm)); /* sets the bounding box used below */
   if (tk->fill > 0) PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
   else { /* an empty tank (the 0 % point of a fill sweep): the structure alone, its payload all ballast */
-    PetscCheck(s->structure, comm, PETSC_ERR_ARG_WRONG, "-fs_fill 0 leaves the tank empty: there is nothing to compute without a structure (-fs_structure msd or modal)");
+    FSStructure st;
+    PetscCall(FSSolverGetStructure(s, &st));
+    PetscCheck(st, comm, PETSC_ERR_ARG_WRONG, "-fs_fill 0 leaves the tank empty: there is nothing to compute without a structure (-fs_structure msd or modal)");
     const PetscReal lo[3] = {w.lo[0], w.lo[1], 0}, hi[3] = {w.hi[0], w.hi[1], 1};
     const PetscBool per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
     PetscCall(FSSolverSetDomain(s, lo, hi, per));
@@ -93,7 +97,6 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_Tank(FSSolver s, FSCaseOps *ops)
   Tank *tk;
 
   PetscFunctionBegin;
-  PetscCall(PetscFree(s->casedata));
   PetscCall(PetscNew(&tk));
   PetscCall(PetscStrncpy(tk->shape, "rectangular", sizeof(tk->shape)));
   tk->L               = 0.7;
@@ -104,7 +107,7 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_Tank(FSSolver s, FSCaseOps *ops)
   tk->gap             = 0.0;
   tk->hb              = 0.045;
   tk->fill            = 0.5;
-  s->casedata         = tk;
+  PetscCall(FSSolverSetCaseData(s, tk));
   ops->setfromoptions = SetFromOptions;
   ops->setup          = SetUp;
   PetscFunctionReturn(0);

@@ -7,7 +7,7 @@
    Options: -fs_tg_U (1), -fs_tg_L (1), -fs_tg_Re (100), -fs_tg_depth (L, 3-D only).
    Defaults: dx = L/50, rho0 = 1, c0 = 10 U, final time L/U.
 */
-#include "solver/solverimpl.h"
+#include <flexslosh.h>
 #include "lattice.h"
 
 typedef struct {
@@ -16,44 +16,53 @@ typedef struct {
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
-  TaylorGreen *tg = (TaylorGreen *)s->casedata;
+  TaylorGreen *tg;
   PetscReal    g[3] = {0, 0, 0};
+  PetscInt     dim;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetCaseData(s, &tg));
+  PetscCall(FSSolverGetDimension(s, &dim));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case taylor_green");
   PetscCall(PetscOptionsReal("-fs_tg_U", "Velocity amplitude U", "", tg->U, &tg->U, NULL));
   PetscCall(PetscOptionsReal("-fs_tg_L", "Box side L", "", tg->L, &tg->L, NULL));
   PetscCall(PetscOptionsReal("-fs_tg_Re", "Reynolds number U L / nu", "", tg->Re, &tg->Re, NULL));
   tg->depth = tg->L;
-  if (s->dim == 3) PetscCall(PetscOptionsReal("-fs_tg_depth", "Periodic depth of the extruded box (3-D)", "", tg->depth, &tg->depth, NULL));
+  if (dim == 3) PetscCall(PetscOptionsReal("-fs_tg_depth", "Periodic depth of the extruded box (3-D)", "", tg->depth, &tg->depth, NULL));
   PetscOptionsHeadEnd();
   PetscCheck(tg->U > 0 && tg->L > 0 && tg->Re > 0 && tg->depth > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tg_U %g, -fs_tg_L %g, -fs_tg_Re %g, -fs_tg_depth %g must all be positive", (double)tg->U, (double)tg->L, (double)tg->Re, (double)tg->depth);
   PetscCall(FSSolverSetDefaultPhysics(s, 1.0, 10.0 * tg->U, tg->U * tg->L / tg->Re, g));
-  s->dx         = tg->L / 50;
-  s->final_time = tg->L / tg->U;
+  PetscCall(FSSolverSetDefaultSpacing(s, tg->L / 50));
+  PetscCall(FSSolverSetDefaultFinalTime(s, tg->L / tg->U));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode SetUp(FSSolver s)
 {
-  TaylorGreen *tg = (TaylorGreen *)s->casedata;
-  PetscReal    lo[3] = {0, 0, 0}, hi[3] = {tg->L, tg->L, tg->depth}, *x, *u, *rho, *m, vol = 1, ke = 0;
+  TaylorGreen *tg;
+  PetscReal    lo[3] = {0, 0, 0}, hi[3], *x, *u, *rho, *m, vol = 1, ke = 0, k, dx, rho0, c0;
   PetscBool    per[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
-  PetscInt     n, dim = s->dim;
-  const PetscReal k = 2 * PETSC_PI / tg->L;
+  PetscInt     n, dim;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetCaseData(s, &tg));
+  PetscCall(FSSolverGetDimension(s, &dim));
+  PetscCall(FSSolverGetParameters(s, &dx, NULL, &rho0, &c0, NULL));
+  hi[0] = tg->L;
+  hi[1] = tg->L;
+  hi[2] = tg->depth;
+  k     = 2 * PETSC_PI / tg->L;
   PetscCall(FSSolverSetDomain(s, lo, hi, per));
   PetscCall(FSLatticeCreate(s, lo, hi, &n, &x));
   PetscCall(PetscMalloc3(n * dim + 1, &u, n + 1, &rho, n + 1, &m));
-  for (PetscInt d = 0; d < dim; d++) vol *= s->dx;
+  for (PetscInt d = 0; d < dim; d++) vol *= dx;
   for (PetscInt p = 0; p < n; p++) {
     const PetscReal X = x[p * dim], Y = x[p * dim + 1];
-    const PetscReal pr = s->rho0 * tg->U * tg->U / 4 * (PetscCosReal(2 * k * X) + PetscCosReal(2 * k * Y));
+    const PetscReal pr = rho0 * tg->U * tg->U / 4 * (PetscCosReal(2 * k * X) + PetscCosReal(2 * k * Y));
     u[p * dim]     = tg->U * PetscSinReal(k * X) * PetscCosReal(k * Y);
     u[p * dim + 1] = -tg->U * PetscCosReal(k * X) * PetscSinReal(k * Y);
     if (dim == 3) u[p * dim + 2] = 0;
-    rho[p] = s->rho0 + pr / (s->c0 * s->c0);
+    rho[p] = rho0 + pr / (c0 * c0);
     m[p]   = rho[p] * vol;
     ke += 0.5 * m[p] * (u[p * dim] * u[p * dim] + u[p * dim + 1] * u[p * dim + 1]);
   }
@@ -66,10 +75,13 @@ static PetscErrorCode SetUp(FSSolver s)
 
 static PetscErrorCode Analytic(FSSolver s, PetscReal t, PetscReal *value)
 {
-  TaylorGreen *tg = (TaylorGreen *)s->casedata;
+  TaylorGreen *tg;
+  PetscReal    nu;
 
   PetscFunctionBegin;
-  *value = tg->ke0 * PetscExpReal(-16 * PETSC_PI * PETSC_PI * s->nu * t / (tg->L * tg->L));
+  PetscCall(FSSolverGetCaseData(s, &tg));
+  PetscCall(FSSolverGetParameters(s, NULL, NULL, NULL, NULL, &nu));
+  *value = tg->ke0 * PetscExpReal(-16 * PETSC_PI * PETSC_PI * nu * t / (tg->L * tg->L));
   PetscFunctionReturn(0);
 }
 
@@ -78,12 +90,11 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_TaylorGreen(FSSolver s, FSCaseOps *ops)
   TaylorGreen *tg;
 
   PetscFunctionBegin;
-  PetscCall(PetscFree(s->casedata));
   PetscCall(PetscNew(&tg));
   tg->U                = 1;
   tg->L                = 1;
   tg->Re               = 100;
-  s->casedata          = tg;
+  PetscCall(FSSolverSetCaseData(s, tg));
   ops->setfromoptions  = SetFromOptions;
   ops->setup           = SetUp;
   ops->columns         = Analytic;

@@ -1,5 +1,7 @@
 /* The registry of cases (set-ups): -fs_case <name>. */
-#include "solver/solverimpl.h"
+#include <flexslosh.h>
+#include "sys/fssys.h"
+#include "cases/fscases.h"
 
 static FSRegistry FSCases; /* src/sys/registry.c */
 
@@ -59,31 +61,31 @@ PetscErrorCode FSCaseListView(PetscViewer viewer)
 }
 
 /*
-   FSCaseHelpAll - with -help, lists the options of every registered case besides the selected one,
-   leaving the solver's parameters as the selected case set them.
-*/
-PetscErrorCode FSCaseHelpAll(FSSolver s, PetscOptionItems *PetscOptionsObject)
-{
-  FSCaseOps keepops = s->caseops;
-  void     *keepdata = s->casedata;
-  PetscReal keep[8] = {s->rho0, s->c0, s->nu, s->gravity[0], s->gravity[1], s->gravity[2], s->dx, s->final_time};
+   FSCaseHelpAll - with -help, lists the options of every registered case besides the selected one.
+   Each case is created and reads its options on a scratch solver of its own, so that the run's
+   solver keeps the parameters its case set. Called inside the solver's options block.
 
+   Collective
+
+   Input Parameters:
++  s                  - the run's solver (its communicator)
+.  selected           - the name of the run's case, whose options the solver lists itself
+-  PetscOptionsObject - the solver's options block
+*/
+PetscErrorCode FSCaseHelpAll(FSSolver s, const char selected[], PetscOptionItems *PetscOptionsObject)
+{
   PetscFunctionBegin;
   for (FSRegistryEntry *info = FSCases.first; info; info = info->next) {
     FSCaseCreateFn create;
     FSCaseOps      ops;
-    if (!strcmp(info->name, s->casename)) continue;
+    FSSolver       scratch;
+    if (!strcmp(info->name, selected)) continue;
     PetscCall(FSRegistryFind(&FSCases, info->name, (void (**)(void)) & create));
     PetscCall(PetscMemzero(&ops, sizeof(ops)));
-    s->casedata = NULL;
-    PetscCall((*create)(s, &ops));
-    if (ops.setfromoptions) PetscCall((*ops.setfromoptions)(s, PetscOptionsObject));
-    PetscCall(PetscFree(s->casedata));
+    PetscCall(FSSolverCreate(PetscObjectComm((PetscObject)s), &scratch));
+    PetscCall((*create)(scratch, &ops));
+    if (ops.setfromoptions) PetscCall((*ops.setfromoptions)(scratch, PetscOptionsObject));
+    PetscCall(FSSolverDestroy(&scratch));
   }
-  s->caseops  = keepops;
-  s->casedata = keepdata;
-  s->rho0 = keep[0]; s->c0 = keep[1]; s->nu = keep[2];
-  s->gravity[0] = keep[3]; s->gravity[1] = keep[4]; s->gravity[2] = keep[5];
-  s->dx = keep[6]; s->final_time = keep[7];
   PetscFunctionReturn(0);
 }
