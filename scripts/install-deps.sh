@@ -3,7 +3,7 @@
 set -euo pipefail
 pkgs=(petsc-dev slepc-dev python3-petsc4py python3-slepc4py python3-mpi4py libhdf5-openmpi-dev
       python3-h5py-mpi python3-pytest python3-numpy python3-matplotlib cmake make gcc pkg-config
-      openmpi-bin libpng-dev libjson-c-dev)
+      openmpi-bin libpng-dev libjson-c-dev python3-cffi python3-dev clang-format)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Makes the flexslosh Python package (python/flexslosh) importable by /usr/bin/python3: a .pth file
 # in the system's site directory that points at this checkout's python/ folder (like `pip install -e`,
-# without pip, which Debian's Python leaves out). The package finds libflexslosh in build/ beside it,
-# or in $FLEXSLOSH_BUILD. Run by `make build` (so by `make demo` and `make test`).
+# without pip, which Debian's Python leaves out; pyproject.toml describes the package). The package
+# finds libflexslosh and its binding _flexslosh_cffi (built by CMake) in build/ beside it, or in
+# $FLEXSLOSH_BUILD. Run by `make build` (so by `make demo` and `make test`).
 set -euo pipefail
 top="$(cd "$(dirname "$0")/.." && pwd)"
 py="${PYTHON:-/usr/bin/python3}"

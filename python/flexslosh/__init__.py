@@ -25,6 +25,6 @@ __all__ = ["__version__", "damping", "output", "figures", "solver", "structure",
 from . import damping  # noqa: E402  (light: numpy only)
 from . import output  # noqa: E402  (numpy; h5py only when a snapshot is read)
 from . import figures  # noqa: E402  (numpy; matplotlib only when a figure is drawn)
-from . import solver, structure, sweep  # noqa: E402  (light: numpy and ctypes; petsc4py is imported on first use)
+from . import solver, structure, sweep  # noqa: E402  (light: numpy; petsc4py and the binding are loaded on first use)
 from .solver import Solver  # noqa: E402
 from .structure import Structure, TankMotion, register_structure  # noqa: E402

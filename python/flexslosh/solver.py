@@ -1,9 +1,10 @@
 """Drive the C core (libflexslosh) from Python through its PETSc objects.
 
 ``Solver`` wraps one FSSolver. PETSc is initialized through petsc4py, and libflexslosh is loaded into
-the same process with ctypes, so the C library and petsc4py share one PETSc: the same options
-database, the same objects. ``Solver.ts`` is the solver's own TS and ``Solver.swarm`` its DMSwarm, as
-petsc4py objects::
+the same process through the binding _flexslosh_cffi (a cffi extension module compiled against
+include/flexslosh.h, built by CMake beside libflexslosh.so; python/ffi_build.py), so the C library and
+petsc4py share one PETSc: the same options database, the same objects. ``Solver.ts`` is the solver's
+own TS and ``Solver.swarm`` its DMSwarm, as petsc4py objects::
 
     from flexslosh import Solver
     with Solver({"fs_case": "tank", "fs_dx": 0.01, "ts_max_time": 0.05, "fs_output": False}) as s:
@@ -13,13 +14,14 @@ petsc4py objects::
         s.run()                               # to -ts_max_time
 
 PETSc's errors in the C core raise ``FlexsloshError`` (a RuntimeError) with PETSc's message; PETSc
-prints its usual error report too. The library is found in $FLEXSLOSH_BUILD, else in <repo>/build.
-petsc4py is imported on first use, not when ``flexslosh`` is imported.
+prints its usual error report too. The library and the binding are found in $FLEXSLOSH_BUILD, else in
+<repo>/build. petsc4py and the binding are loaded on first use, not when ``flexslosh`` is imported.
 """
 from __future__ import annotations
 
 import atexit
-import ctypes
+import importlib.machinery
+import importlib.util
 import os
 import sys
 import weakref
@@ -28,9 +30,10 @@ from typing import Any, Callable, Mapping
 
 import numpy as np
 
-__all__ = ["Solver", "FlexsloshError", "initialize", "library_path", "set_options"]
+__all__ = ["Solver", "FlexsloshError", "initialize", "library_path", "binding_path", "set_options"]
 
 _MISSING = object()
+_BINDING = "_flexslosh_cffi"  # the module python/ffi_build.py generates
 
 
 class FlexsloshError(RuntimeError):
@@ -47,15 +50,48 @@ class FlexsloshError(RuntimeError):
         super().__init__(f"{call}: {message} (PETSc error {ierr})")
 
 
+def _build_dir() -> Path:
+    env = os.environ.get("FLEXSLOSH_BUILD")
+    return Path(env) if env else Path(__file__).resolve().parents[2] / "build"
+
+
 def library_path() -> Path:
     """libflexslosh.so in $FLEXSLOSH_BUILD, else in the build directory of the checkout (<repo>/build)."""
-    env = os.environ.get("FLEXSLOSH_BUILD")
-    build = Path(env) if env else Path(__file__).resolve().parents[2] / "build"
-    return build / "libflexslosh.so"
+    return _build_dir() / "libflexslosh.so"
+
+
+def binding_path() -> Path:
+    """The binding (_flexslosh_cffi.<this Python's extension suffix>) beside libflexslosh.so."""
+    build = _build_dir()
+    paths = [build / (_BINDING + suffix) for suffix in importlib.machinery.EXTENSION_SUFFIXES]
+    return next((p for p in paths if p.exists()), paths[0])
+
+
+def _load_binding(path: Path):
+    """Imports the binding from path (once per process), RTLD_GLOBAL: libflexslosh's symbols are global,
+    for plug-ins loaded later with -dll_append."""
+    module = sys.modules.get(_BINDING)
+    if module is None:
+        spec = importlib.util.spec_from_file_location(_BINDING, path)
+        flags = sys.getdlopenflags()
+        sys.setdlopenflags(flags | os.RTLD_GLOBAL)
+        try:
+            module = importlib.util.module_from_spec(spec)  # dlopen happens here
+            spec.loader.exec_module(module)
+        finally:
+            sys.setdlopenflags(flags)
+        sys.modules[_BINDING] = module
+    return module
 
 
 class _Core:
-    """The loaded library, petsc4py's PETSc module and the C types of this PETSc build."""
+    """petsc4py's PETSc module and the binding: its ``ffi`` (types, memory) and ``lib`` (the C functions
+    of include/flexslosh.h and PETSc the package calls, and the helpers of python/ffi_build.py)."""
+
+    # the functions that take an MPI_Comm, called through a helper of the binding that reads the
+    # communicator from its address (errors keep the C function's name)
+    _VIA_HELPER = {"FSLoadPlugins": "fs_py_load_plugins", "FSSolverCreate": "fs_py_solver_create",
+                   "PetscOptionsInsertFile": "fs_py_options_insert_file"}
 
     def __init__(self, argv):
         import petsc4py
@@ -64,105 +100,82 @@ class _Core:
             petsc4py.init(list(argv) if argv is not None else [sys.argv[0] if sys.argv and sys.argv[0] else "flexslosh"])
         from petsc4py import PETSc
 
-        path = library_path()
+        path, binding = library_path(), binding_path()
         if not path.exists():
             raise FileNotFoundError(
                 f"libflexslosh.so not found at {path}: build the C core (cmake -S . -B build && cmake --build build) "
                 "or set FLEXSLOSH_BUILD to the build directory")
+        if not binding.exists():
+            raise FileNotFoundError(
+                f"the Python binding {binding.name} not found in {binding.parent}: build it with the C core "
+                f"(cmake --build; it needs python3-cffi and python3-dev, for {sys.executable}) or set FLEXSLOSH_BUILD")
         self.PETSc = PETSc
-        # PyDLL: calls keep the GIL, since PETSc may print through petsc4py's Python streams (sys.stdout
-        # replaced, as under pytest) and callbacks into Python may happen at any time
-        self.lib = lib = ctypes.PyDLL(str(path), mode=ctypes.RTLD_GLOBAL)
-        if not ctypes.c_int.in_dll(lib, "PetscInitializeCalled").value:
+        module = _load_binding(binding)
+        self.ffi, self.lib = ffi, lib = module.ffi, module.lib
+        # the calls keep the GIL, since PETSc may print through petsc4py's Python streams (sys.stdout
+        # replaced, as under pytest) and callbacks into Python may happen at any time (ffi_build.py)
+        if not lib.fs_py_gil_held():
+            raise RuntimeError(f"{binding} releases the GIL in its calls: rebuild it (python/ffi_build.py)")
+        if not lib.PetscInitializeCalled:
             raise RuntimeError(f"{path} does not see the PETSc petsc4py initialized: it must be built against the same PETSc "
                                f"({PETSc.__file__})")
-        from mpi4py import MPI
-
-        self.Int = ctypes.c_int64 if np.dtype(PETSc.IntType).itemsize == 8 else ctypes.c_int32
-        self.Comm = ctypes.c_void_p if MPI._sizeof(MPI.Comm) == ctypes.sizeof(ctypes.c_void_p) else ctypes.c_int
-        I, R, P, C = self.Int, ctypes.c_double, ctypes.c_void_p, ctypes.c_char_p
-        pI, pR, pP = ctypes.POINTER(I), ctypes.POINTER(R), ctypes.POINTER(P)
-        pRR = ctypes.POINTER(pR)
-        protos = {
-            "FSInitializePackage": [],
-            "FSCheckPlugins": [self.Comm],
-            "FSLoadPlugins": [self.Comm],
-            "FSSolverCreate": [self.Comm, pP],
-            "FSSolverSetFromOptions": [P],
-            "FSSolverSetUp": [P],
-            "FSSolverStep": [P],
-            "FSSolverSolve": [P],
-            "FSSolverDestroy": [pP],
-            "FSSolverGetTS": [P, pP],
-            "FSSolverGetSwarm": [P, pP],
-            "FSSolverGetTime": [P, pR, pI],
-            "FSSolverGetDimension": [P, pI],
-            "FSSolverGetLocalSize": [P, pI],
-            "FSSolverGetField": [P, C, pI, pI, pRR],
-            "FSSolverRestoreField": [P, C, pI, pI, pRR],
-            "FSSolverGetWallLoads": [P, pI, ctypes.POINTER(C), pRR],
-            "FSSolverGetEnergy": [P, pI, ctypes.POINTER(C), pR],
-            "FSSolverGetStructureState": [P, pI, pR],
-            "FSSolverGetTankMotion": [P, ctypes.POINTER(TankMotionC)],
-            "FSSolverGetLiquidMass": [P, pR],
-            "FSStructureGetSolver": [P, pP],
-            "FSStructureAddColumn": [P, C],
-            "FSStructureCallbacksSetError": [C],
-            "FSStructureRegisterCallbacks": [C, C, P, P],
-            "PetscOptionsInsertFile": [self.Comm, P, C, ctypes.c_int],
-            "PetscErrorMessage": [ctypes.c_int, ctypes.POINTER(C), ctypes.POINTER(C)],
-            "PetscPushErrorHandler": [P, P],
-            "PetscPopErrorHandler": [],
-        }
-        for name, args in protos.items():
-            fn = getattr(lib, name)
-            fn.argtypes, fn.restype = args, ctypes.c_int
+        self.real = np.dtype(f"f{ffi.sizeof('PetscReal')}")  # PetscReal, as numpy sees it
         self.call("FSInitializePackage")
 
     def message(self, ierr: int) -> str:
-        text, specific = ctypes.c_char_p(), ctypes.c_char_p()
-        self.lib.PetscErrorMessage(ierr, ctypes.byref(text), ctypes.byref(specific))
-        return (specific.value or text.value or b"unknown error").decode(errors="replace").strip()
+        ffi = self.ffi
+        text, specific = ffi.new("const char **"), ffi.new("char **")
+        self.lib.PetscErrorMessage(ierr, text, specific)
+        for p in (specific[0], text[0]):
+            s = ffi.string(p) if p else b""
+            if s:
+                return s.decode(errors="replace").strip()
+        return "unknown error"
 
     def call(self, name: str, *args) -> None:
         """Calls a C function returning a PetscErrorCode under FSErrorHandler (PETSc's error report, printed
         by rank 0 of the error's communicator, every error of the session in full; petsc4py's own handler
         prints nothing); a non-zero code raises FlexsloshError on every rank that got it."""
         lib = self.lib
-        lib.PetscPushErrorHandler(ctypes.cast(lib.FSErrorHandler, ctypes.c_void_p), None)
+        fn = getattr(lib, self._VIA_HELPER.get(name, name))
+        lib.fs_py_push_error_handler()
         try:
-            ierr = getattr(lib, name)(*args)
+            ierr = fn(*args)
         finally:
             lib.PetscPopErrorHandler()
         if ierr:
             raise FlexsloshError(ierr, self.message(ierr), name)
 
     def comm(self, comm):
-        """(mpi4py communicator, MPI_Comm handle for C) of comm: None (PETSC_COMM_WORLD), mpi4py or PETSc.Comm."""
+        """(mpi4py communicator, MPI_Comm * for the helpers) of comm: None (PETSC_COMM_WORLD), mpi4py or
+        PETSc.Comm. The pointer points into the mpi4py object: keep that alive while it is used."""
         from mpi4py import MPI
 
         if comm is None:
             comm = self.PETSc.COMM_WORLD.tompi4py()
         elif isinstance(comm, self.PETSc.Comm):
             comm = comm.tompi4py()
-        return comm, self.Comm(MPI._handleof(comm))
+        return comm, self.ffi.cast("MPI_Comm *", MPI._addressof(comm))
 
-    def wrap(self, kind: str, address: int):
-        """A petsc4py object for a C PETSc object, through petsc4py's C API (PyPetsc<kind>_New, which takes
-        its own reference: the Python object and the C core each destroy theirs)."""
-        capsule = self.PETSc.__pyx_capi__[f"PyPetsc{kind}_New"]
-        api = ctypes.pythonapi
-        api.PyCapsule_GetName.argtypes, api.PyCapsule_GetName.restype = [ctypes.py_object], ctypes.c_void_p
-        api.PyCapsule_GetPointer.argtypes, api.PyCapsule_GetPointer.restype = [ctypes.py_object, ctypes.c_void_p], ctypes.c_void_p
-        fn = ctypes.PYFUNCTYPE(ctypes.py_object, ctypes.c_void_p)(api.PyCapsule_GetPointer(capsule, api.PyCapsule_GetName(capsule)))
-        return fn(address)
+    def address(self, ptr) -> int:
+        """The address a C pointer holds (0 for NULL)."""
+        return int(self.ffi.cast("uintptr_t", ptr))
 
+    def array(self, ptr, n: int) -> np.ndarray:
+        """A copy of the n PetscReals at ptr."""
+        if not n:
+            return np.zeros(0)
+        return np.frombuffer(self.ffi.buffer(ptr, n * self.real.itemsize), dtype=self.real).copy()
 
-class TankMotionC(ctypes.Structure):
-    """FSTankMotion."""
-
-    _fields_ = [("disp", ctypes.c_double * 3), ("vel", ctypes.c_double * 3), ("acc", ctypes.c_double * 3),
-                ("angle", ctypes.c_double), ("rate", ctypes.c_double), ("angacc", ctypes.c_double)]
+    def wrap(self, kind: str, obj):
+        """The petsc4py object of a C PETSc object (kind "TS" or "DM"), made by petsc4py's C API
+        (PyPetscTS_New, PyPetscDM_New), which takes its own reference: the Python object and the C core
+        each destroy theirs. The binding appends it to the list it is given (see ffi_build.py)."""
+        out: list = []
+        make = {"TS": self.lib.fs_py_wrap_ts, "DM": self.lib.fs_py_wrap_dm}[kind]
+        if make(obj, self.ffi.cast("void *", id(out))):
+            raise out[0] if out else RuntimeError(f"could not wrap the {kind} for petsc4py")
+        return out[0]
 
 
 _core: _Core | None = None
@@ -225,7 +238,7 @@ class Solver:
 
     def __init__(self, options: Mapping[str, Any] | None = None, options_file: str | os.PathLike | None = None, comm=None):
         core = initialize()
-        self._core, self._h = core, ctypes.c_void_p()
+        self._core, self._h = core, core.ffi.new("FSSolver *")  # NULL until created
         self._ts = self._swarm = None
         self._set: dict[str, tuple[Any, Any]] = {}
         self.comm, self._ccomm = core.comm(comm)
@@ -234,7 +247,7 @@ class Solver:
         before = core.PETSc.Options().getAll()
         try:
             if options_file is not None:
-                core.call("PetscOptionsInsertFile", self._ccomm, None, os.fsencode(options_file), 1)
+                core.call("PetscOptionsInsertFile", self._ccomm, os.fsencode(options_file), True)
             if options:
                 set_options(options)
         finally:
@@ -244,9 +257,9 @@ class Solver:
                     self._set[k] = (before.get(k, _MISSING), after.get(k, _MISSING))
         try:
             core.call("FSLoadPlugins", self._ccomm)  # a -dll_append among the options: its terms and structures
-            core.call("FSSolverCreate", self._ccomm, ctypes.byref(self._h))
+            core.call("FSSolverCreate", self._ccomm, self._h)
             _live.add(self)
-            core.call("FSSolverSetFromOptions", self._h)
+            core.call("FSSolverSetFromOptions", self._h[0])
         except BaseException:
             self.destroy()
             raise
@@ -254,9 +267,9 @@ class Solver:
     # ------------------------------------------------------------------ life cycle
 
     def _call(self, name: str, *args) -> None:
-        if not self._h:
+        if not self._h[0]:
             raise RuntimeError("the solver was destroyed")
-        self._core.call(name, self._h, *args)
+        self._core.call(name, self._h[0], *args)
 
     def set_up(self) -> "Solver":
         """Builds the case, the decomposition and the TS (FSSolverSetUp; idempotent)."""
@@ -310,17 +323,17 @@ class Solver:
         core = self._core
         _live.discard(self)
         if core.PETSc.Sys.isFinalized():
-            self._h = ctypes.c_void_p()
+            self._h[0] = core.ffi.NULL
             return
         try:
-            if self._h:
+            if self._h[0]:
                 for obj in (self._ts, self._swarm):
                     if obj is not None:
                         obj.destroy()  # drops the Python side's reference only
                 self._ts = self._swarm = None
-                core.call("FSSolverDestroy", ctypes.byref(self._h))
+                core.call("FSSolverDestroy", self._h)
         finally:
-            self._h = ctypes.c_void_p()
+            self._h[0] = core.ffi.NULL
             opts, now = core.PETSc.Options(), core.PETSc.Options().getAll()
             for k, (old, new) in self._set.items():
                 if now.get(k, _MISSING) != new:
@@ -347,17 +360,18 @@ class Solver:
 
     @property
     def handle(self) -> int:
-        """The address of the FSSolver (for C calls through ctypes)."""
-        return self._h.value or 0
+        """The address of the FSSolver (0 once destroyed), for C code of one's own."""
+        return self._core.address(self._h[0])
 
     def _wrapped(self, attr: str, getter: str, kind: str):
-        ptr = ctypes.c_void_p()
-        self._call(getter, ctypes.byref(ptr))
+        out = self._core.ffi.new(f"{kind} *")
+        self._call(getter, out)
+        address = self._core.address(out[0])
         obj = getattr(self, attr)
-        if obj is None or obj.handle != (ptr.value or 0):
+        if obj is None or obj.handle != address:
             if obj is not None:
                 obj.destroy()
-            obj = self._core.wrap(kind, ptr.value) if ptr.value else None
+            obj = self._core.wrap(kind, out[0]) if address else None
             setattr(self, attr, obj)
         return obj
 
@@ -379,45 +393,48 @@ class Solver:
         """PETSc's options database (petsc4py PETSc.Options, no prefix)."""
         return self._core.PETSc.Options()
 
+    def _new(self, ctype: str, *init):
+        return self._core.ffi.new(ctype, *init)
+
     @property
     def time(self) -> float:
-        t = ctypes.c_double()
-        self._call("FSSolverGetTime", ctypes.byref(t), None)
-        return t.value
+        t = self._new("PetscReal *")
+        self._call("FSSolverGetTime", t, self._core.ffi.NULL)
+        return t[0]
 
     @property
     def step_number(self) -> int:
-        n = self._core.Int()
-        self._call("FSSolverGetTime", None, ctypes.byref(n))
-        return n.value
+        n = self._new("PetscInt *")
+        self._call("FSSolverGetTime", self._core.ffi.NULL, n)
+        return n[0]
 
     @property
     def dim(self) -> int:
-        d = self._core.Int()
-        self._call("FSSolverGetDimension", ctypes.byref(d))
-        return d.value
+        d = self._new("PetscInt *")
+        self._call("FSSolverGetDimension", d)
+        return d[0]
 
     @property
     def local_size(self) -> int:
         """The number of particles this rank owns."""
-        n = self._core.Int()
-        self._call("FSSolverGetLocalSize", ctypes.byref(n))
-        return n.value
+        n = self._new("PetscInt *")
+        self._call("FSSolverGetLocalSize", n)
+        return n[0]
 
     # ------------------------------------------------------------------ particle fields
 
     FIELDS = ("position", "velocity", "density", "mass", "pressure", "strain_rate", "turbulent_viscosity", "id", "rank")
 
     def _local_field(self, name: str) -> np.ndarray:
-        n, bs, ptr = self._core.Int(), self._core.Int(), ctypes.POINTER(ctypes.c_double)()
+        n, bs, ptr = self._new("PetscInt *"), self._new("PetscInt *"), self._new("const PetscReal **")
         self.set_up()
-        self._call("FSSolverGetField", name.encode(), ctypes.byref(n), ctypes.byref(bs), ctypes.byref(ptr))
+        self._call("FSSolverGetField", name.encode(), n, bs, ptr)
         try:
-            size = n.value * bs.value
-            values = np.ctypeslib.as_array(ptr, shape=(size,)).copy() if size else np.zeros(0)
+            values = self._core.array(ptr[0], n[0] * bs[0])
         finally:
-            self._call("FSSolverRestoreField", name.encode(), None, None, ctypes.byref(ptr))
-        return values.reshape(n.value, bs.value) if bs.value > 1 else values
+            NULL = self._core.ffi.NULL
+            self._call("FSSolverRestoreField", name.encode(), NULL, NULL, ptr)
+        return values.reshape(n[0], bs[0]) if bs[0] > 1 else values
 
     def field(self, name: str, gather: bool = False) -> np.ndarray | None:
         """One field of the particles (see FIELDS; pressure, strain_rate and turbulent_viscosity from a
@@ -470,36 +487,37 @@ class Solver:
     def wall_loads(self) -> dict[str, dict[str, np.ndarray]]:
         """The liquid's load on each wall from the last right-hand side (the wall_* columns of
         timeseries.csv): {wall name: {"force": (3,), "moment": (3,)}}, every rank. Collective."""
-        n, loads = self._core.Int(), ctypes.POINTER(ctypes.c_double)()
-        self._call("FSSolverGetWallLoads", ctypes.byref(n), None, None)
-        names = (ctypes.c_char_p * max(n.value, 1))()
-        self._call("FSSolverGetWallLoads", ctypes.byref(n), names, ctypes.byref(loads))
-        if not n.value:
+        ffi = self._core.ffi
+        n, loads = self._new("PetscInt *"), self._new("const PetscReal **")
+        self._call("FSSolverGetWallLoads", n, ffi.NULL, ffi.NULL)
+        names = self._new("const char *[]", max(n[0], 1))
+        self._call("FSSolverGetWallLoads", n, names, loads)
+        if not n[0]:
             return {}
-        L = np.ctypeslib.as_array(loads, shape=(6 * n.value,)).reshape(n.value, 6).copy()
-        return {names[w].decode(): {"force": L[w, :3], "moment": L[w, 3:]} for w in range(n.value)}
+        L = self._core.array(loads[0], 6 * n[0]).reshape(n[0], 6)
+        return {ffi.string(names[w]).decode(): {"force": L[w, :3], "moment": L[w, 3:]} for w in range(n[0])}
 
     def structure_state(self) -> np.ndarray:
         """The structure's state (its DOFs) at the current state, every rank (empty without a structure). Collective."""
-        n = self._core.Int()
-        self._call("FSSolverGetStructureState", ctypes.byref(n), None)
-        y = np.zeros(n.value)
-        if n.value:
-            self._call("FSSolverGetStructureState", ctypes.byref(n), y.ctypes.data_as(ctypes.POINTER(ctypes.c_double)))
+        ffi, n = self._core.ffi, self._new("PetscInt *")
+        self._call("FSSolverGetStructureState", n, ffi.NULL)
+        y = np.zeros(n[0], dtype=self._core.real)
+        if n[0]:
+            self._call("FSSolverGetStructureState", n, ffi.from_buffer("PetscReal[]", y, require_writable=True))
         return y
 
     def tank_motion(self) -> dict[str, Any]:
         """The tank's motion at the current state (FSSolverGetTankMotion): disp, vel, acc (3 each),
         angle, rate, angacc; zero without a structure. Collective."""
-        m = TankMotionC()
-        self._call("FSSolverGetTankMotion", ctypes.byref(m))
-        return {"disp": np.array(m.disp), "vel": np.array(m.vel), "acc": np.array(m.acc),
+        m = self._new("FSTankMotion *")
+        self._call("FSSolverGetTankMotion", m)
+        return {"disp": np.array(list(m.disp)), "vel": np.array(list(m.vel)), "acc": np.array(list(m.acc)),
                 "angle": m.angle, "rate": m.rate, "angacc": m.angacc}
 
     def energy(self) -> dict[str, float]:
         """The energy budget of the current state: the columns of energy.csv, every rank. Collective."""
-        cap = 64
-        n, names, vals = self._core.Int(), (ctypes.c_char_p * cap)(), (ctypes.c_double * cap)()
+        ffi, cap = self._core.ffi, self._core.lib.FS_ENERGY_MAX_COLUMNS
+        n, names, vals = self._new("PetscInt *"), self._new("const char *[]", cap), self._new("PetscReal[]", cap)
         self.set_up()
-        self._call("FSSolverGetEnergy", ctypes.byref(n), names, vals)
-        return {names[k].decode(): vals[k] for k in range(n.value)}
+        self._call("FSSolverGetEnergy", n, names, vals)
+        return {ffi.string(names[k]).decode(): vals[k] for k in range(n[0])}

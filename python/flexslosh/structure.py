@@ -27,7 +27,6 @@ same options and formulas.
 """
 from __future__ import annotations
 
-import ctypes
 import itertools
 import math
 import sys
@@ -170,15 +169,14 @@ class MassSpringDamper(Structure):
 
 
 # ---------------------------------------------------------------------------- the callbacks
-
-class _LoadsC(ctypes.Structure):
-    _fields_ = [("force", ctypes.c_double * 3), ("moment", ctypes.c_double * 3)]
-
+# The C registry calls the binding's extern "Python" functions fs_py_structure_* (their table,
+# FSStructureCallbacks, is filled in C: python/ffi_build.py), attached to the functions below with
+# ffi.def_extern on the first registration. ctx and impl are integer keys stored as void *.
 
 _factories: dict[int, tuple[str, Callable[[], Structure]]] = {}  # registration id -> (name, factory)
 _instances: dict[int, tuple[str, Structure]] = {}               # instance id (the C side's impl) -> (name, model)
 _ids = itertools.count(1)
-_callbacks = None  # the ctypes callback objects and the FSStructureCallbacks table: kept alive here
+_attached = False  # whether the callbacks are attached to the binding
 
 
 def _guarded(fn):
@@ -194,39 +192,45 @@ def _guarded(fn):
             initialize().lib.FSStructureCallbacksSetError(msg.encode(errors="replace"))
             return 1
 
+    call.__name__ = fn.__name__
     return call
 
 
+def _key(ptr) -> int:
+    return initialize().address(ptr)
+
+
 def _array(ptr, n: int) -> np.ndarray:
-    return np.ctypeslib.as_array(ptr, shape=(n,)).copy() if n else np.zeros(0)
+    return initialize().array(ptr, n)
 
 
 def _store(ptr, n: int, values, what: str) -> None:
-    v = np.asarray(values, dtype=float).ravel()
+    core = initialize()
+    v = np.ascontiguousarray(values, dtype=core.real).ravel()
     if v.shape != (n,):
         raise ValueError(f"{what} returned {v.size} values, expected {n}")
     if n:
-        np.ctypeslib.as_array(ptr, shape=(n,))[:] = v
+        core.ffi.memmove(ptr, v, v.nbytes)
 
 
 @_guarded
 def _create(ctx, st, impl):
-    name, factory = _factories[ctx]
+    name, factory = _factories[_key(ctx)]
     obj = factory()
     if not isinstance(obj, Structure):
         raise TypeError(f"structure {name}: the factory returned {type(obj).__name__}, not a flexslosh.Structure")
     key = next(_ids)
     _instances[key] = (name, obj)
-    impl[0] = key
+    impl[0] = initialize().ffi.cast("void *", key)
 
 
 @_guarded
 def _setup(impl, st, ndof, min_period):
-    core, (name, obj) = initialize(), _instances[impl]
-    solver, mass = ctypes.c_void_p(), ctypes.c_double()
-    core.call("FSStructureGetSolver", st, ctypes.byref(solver))
-    core.call("FSSolverGetLiquidMass", solver, ctypes.byref(mass))
-    obj.setup(StructureContext(name=name, liquid_mass=mass.value, options=core.PETSc.Options(), solver=solver.value or 0))
+    core, (name, obj) = initialize(), _instances[_key(impl)]
+    solver, mass = core.ffi.new("FSSolver *"), core.ffi.new("PetscReal *")
+    core.call("FSStructureGetSolver", st, solver)
+    core.call("FSSolverGetLiquidMass", solver[0], mass)
+    obj.setup(StructureContext(name=name, liquid_mass=mass[0], options=core.PETSc.Options(), solver=core.address(solver[0])))
     n = int(obj.ndof)
     if n <= 0:
         raise ValueError(f"{type(obj).__name__}.ndof is {obj.ndof}: set it (> 0) in the class or in setup()")
@@ -237,71 +241,52 @@ def _setup(impl, st, ndof, min_period):
 
 @_guarded
 def _initial(impl, n, y):
-    _store(y, n, _instances[impl][1].initial_state(), "initial_state()")
+    _store(y, n, _instances[_key(impl)][1].initial_state(), "initial_state()")
 
 
 @_guarded
 def _rhs(impl, t, n, y, loads, ydot):
-    L = loads.contents
-    _store(ydot, n, _instances[impl][1].rhs(t, _array(y, n), Loads(np.array(L.force), np.array(L.moment))), "rhs()")
+    L = Loads(np.array(list(loads.force)), np.array(list(loads.moment)))
+    _store(ydot, n, _instances[_key(impl)][1].rhs(t, _array(y, n), L), "rhs()")
 
 
 @_guarded
 def _motion(impl, n, y, ydot, out):
-    m = _instances[impl][1].motion(_array(y, n), _array(ydot, n))
-    o = out.contents
+    m = _instances[_key(impl)][1].motion(_array(y, n), _array(ydot, n))
     for name in ("disp", "vel", "acc"):
         v = np.asarray(getattr(m, name), dtype=float).ravel()
         if v.shape != (3,):
             raise ValueError(f"motion().{name} has {v.size} values, expected 3")
-        getattr(o, name)[:] = v.tolist()
-    o.angle, o.rate, o.angacc = float(m.angle), float(m.rate), float(m.angacc)
+        setattr(out, name, v.tolist())
+    out.angle, out.rate, out.angacc = float(m.angle), float(m.rate), float(m.angacc)
 
 
 @_guarded
 def _columns(impl, t, n, y, ydot, ncol, vals):
-    _store(vals, ncol, _instances[impl][1].column_values(t, _array(y, n), _array(ydot, n)), "column_values()")
+    _store(vals, ncol, _instances[_key(impl)][1].column_values(t, _array(y, n), _array(ydot, n)), "column_values()")
 
 
 @_guarded
 def _energy(impl, n, y, E):
-    e = _instances[impl][1].energy(_array(y, n))
+    e = _instances[_key(impl)][1].energy(_array(y, n))
     if e is not None:
         _store(E, 3, e, "energy()")
 
 
 @_guarded
 def _destroy(impl):
-    _instances.pop(impl, None)
+    _instances.pop(_key(impl), None)
 
 
-def _table():
-    """The FSStructureCallbacks table of the trampolines above (built once PETSc's types are known)."""
-    global _callbacks
-    if _callbacks is None:
-        core = initialize()
-        I, R, P = core.Int, ctypes.c_double, ctypes.c_void_p
-        pR = ctypes.POINTER(R)
-        from .solver import TankMotionC
-
-        F = ctypes.CFUNCTYPE
-        types = [
-            ("create", F(ctypes.c_int, P, P, ctypes.POINTER(P)), _create),
-            ("setup", F(ctypes.c_int, P, P, ctypes.POINTER(I), pR), _setup),
-            ("initial", F(ctypes.c_int, P, I, pR), _initial),
-            ("rhs", F(ctypes.c_int, P, R, I, pR, ctypes.POINTER(_LoadsC), pR), _rhs),
-            ("motion", F(ctypes.c_int, P, I, pR, pR, ctypes.POINTER(TankMotionC)), _motion),
-            ("columns", F(ctypes.c_int, P, R, I, pR, pR, I, pR), _columns),
-            ("energy", F(ctypes.c_int, P, I, pR, pR), _energy),
-            ("destroy", F(ctypes.c_int, P), _destroy),
-        ]
-
-        class Table(ctypes.Structure):
-            _fields_ = [(name, ftype) for name, ftype, _ in types]
-
-        funcs = {name: ftype(fn) for name, ftype, fn in types}
-        _callbacks = (Table(**funcs), funcs)
-    return _callbacks[0]
+def _attach() -> None:
+    """Attaches the callbacks above to the binding's extern "Python" functions (once)."""
+    global _attached
+    if not _attached:
+        ffi = initialize().ffi
+        for fn in (_create, _setup, _initial, _rhs, _motion, _columns, _energy, _destroy):
+            # error=1: what C gets should an exception escape _guarded after all
+            ffi.def_extern(name="fs_py_structure" + fn.__name__, error=1)(fn)
+        _attached = True
 
 
 def register_structure(name: str, model: type[Structure] | Callable[[], Structure], description: str | None = None) -> None:
@@ -309,8 +294,10 @@ def register_structure(name: str, model: type[Structure] | Callable[[], Structur
     (FSStructureRegisterCallbacks). model: a Structure subclass, or any callable returning a new Structure;
     it is called once for every solver that uses the model. Registering a name again replaces it."""
     core = initialize()
+    _attach()
     key = next(_ids)
 
     _factories[key] = (name, model)
     desc = description or f"Python structure {getattr(model, '__qualname__', repr(model))}"
-    core.call("FSStructureRegisterCallbacks", name.encode(), desc.encode(), ctypes.cast(ctypes.pointer(_table()), ctypes.c_void_p), ctypes.c_void_p(key))
+    core.call("FSStructureRegisterCallbacks", name.encode(), desc.encode(), core.lib.fs_py_structure_callbacks(),
+              core.ffi.cast("void *", key))
