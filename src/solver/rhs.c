@@ -260,24 +260,17 @@ static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscRe
 }
 
 /*
-   FSSolverEvaluateRates - the rates (dx/dt, du/dt, drho/dt) of the owned particles for the packed
-   state u, into f (same layout); the global DOFs' rates (the structure's, at time s->rhs_time,
-   and the dissipated energies) on rank 0.
-   count: add the work to the run's statistics (PETSC_FALSE for evaluations made for output).
-
-   Collective
+   FSSolverGatherRecords - the start of a right-hand side: the owned particles' records from the packed
+   state u, the ghosts' from the halo, the neighbour list (unless the first pass builds it), the
+   neighbourhood scratch, and the volumes and pressures of the owned and ghost particles, which the
+   passes and the terms share.
 */
-PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *f, PetscBool count)
+static PetscErrorCode FSSolverGatherRecords(FSSolver s, const PetscReal *u)
 {
   const PetscInt dim = s->dim, S = s->stride, US = s->ustride, n = s->nowned;
-  FSParticles    P;
-  PetscReal     *dx, *r2, *gw, *ri2, power[FS_MAX_TERMS + 5], reaction[3] = {0, 0, 0};
-  PetscInt       maxn = 0, npower = 0;
-  PetscBool      coupled;
+  PetscInt       maxn = 0;
 
   PetscFunctionBegin;
-  PetscCall(PetscLogEventBegin(FS_RHS, 0, 0, 0, 0));
-  PetscCall(FSCouplingGetActive(s->coupling, &coupled));
   for (PetscInt i = 0; i < n; i++)
     for (PetscInt a = 0; a < US; a++) s->rec[i * S + a] = u[i * US + a];
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
@@ -298,17 +291,146 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     s->scratchcap = PetscMax(maxn, 2 * s->scratchcap);
     PetscCall(PetscMalloc1((2 * dim + 2) * s->scratchcap, &s->scratch));
   }
-  dx  = s->scratch;
-  r2  = dx + dim * s->scratchcap;
-  gw  = r2 + s->scratchcap;
-  ri2 = gw + dim * s->scratchcap;
   /* per-particle volumes and pressures (owned and ghosts), shared by the passes and the terms */
   for (PetscInt k = 0; k < n + s->halo.nghost; k++) {
     const PetscReal *rk = &s->rec[k * S];
     s->vol[k]      = rk[2 * dim + 1] / rk[2 * dim];
     s->pressure[k] = s->c0 * s->c0 * (rk[2 * dim] - s->rho0) + s->background_pressure;
   }
+  PetscFunctionReturn(0);
+}
 
+/*
+   FSSolverPairPass - the terms' pass over the neighbours of every owned particle: the renormalized
+   terms first (their sum divided by gamma_i near walls), then the others; the rates into f.
+*/
+static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscReal *f)
+{
+  const PetscInt dim = s->dim, S = s->stride, US = s->ustride, n = s->nowned;
+  PetscReal     *dx = s->scratch, *r2 = dx + dim * s->scratchcap, *gw = r2 + s->scratchcap, *ri2 = gw + dim * s->scratchcap;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
+  for (PetscInt i = 0; i < n; i++) {
+    FSNeighbourhood nb;
+    FSRate          rate = {0, {0, 0, 0}, {0, 0, 0}};
+    nb.i     = i;
+    nb.n     = FSFillNeighbourhood(s, i, dx, r2, gw, ri2);
+    nb.j     = s->nbrs.nbr + s->nbrs.start[i];
+    nb.dx    = dx;
+    nb.r2    = r2;
+    nb.rinv2 = ri2;
+    nb.gradW = gw;
+    /* renormalized terms (boundary integrals) first: their sum is divided by gamma_i */
+    for (PetscInt t = 0; t < s->terms.nterms; t++) {
+      FSTerm term = s->terms.term[t];
+      if (!term->renormalized) continue;
+      if (term->ops.interact) term->ops.interact(term, P, &nb, &rate);
+      if (term->ops.source) term->ops.source(term, P, i, &rate);
+    }
+    if (s->boundary) {
+      const PetscReal ig = s->invgamma[i];
+      rate.drho *= ig;
+      for (PetscInt d = 0; d < dim; d++) {
+        rate.du[d] *= ig;
+        rate.dx[d] *= ig;
+      }
+    }
+    for (PetscInt t = 0; t < s->terms.nterms; t++) {
+      FSTerm term = s->terms.term[t];
+      if (term->renormalized) continue;
+      if (term->ops.interact) term->ops.interact(term, P, &nb, &rate);
+      if (term->ops.source) term->ops.source(term, P, i, &rate);
+    }
+    for (PetscInt d = 0; d < dim; d++) {
+      f[i * US + d]       = s->rec[i * S + dim + d] + rate.dx[d];
+      f[i * US + dim + d] = rate.du[d];
+    }
+    f[i * US + 2 * dim] = rate.drho;
+  }
+  PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverRelaxation - the start-up relaxation (-fs_relax_time): du/dt -= zeta(t) u, zeta fading
+   smoothly to 0, and its power. */
+static void FSSolverRelaxation(FSSolver s, PetscReal *f)
+{
+  const PetscInt dim = s->dim, S = s->stride, US = s->ustride, n = s->nowned;
+
+  s->relax_power = 0;
+  if (s->rhs_time < s->relax_time) {
+    const PetscReal zeta = 10.0 / s->relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->rhs_time / s->relax_time));
+    for (PetscInt i = 0; i < n; i++)
+      for (PetscInt d = 0; d < dim; d++) {
+        const PetscReal ud = s->rec[i * S + dim + d];
+        f[i * US + dim + d] -= zeta * ud;
+        s->relax_power -= zeta * s->rec[i * S + 2 * dim + 1] * ud * ud;
+      }
+  }
+}
+
+/*
+   FSSolverPowerRates - the rates of the global DOFs after the structure's (rank 0): the dissipated
+   energies of the terms with a power, and the energy block's integrals (P_ext, the relaxation's power,
+   the structure's damping power, the coupling's power) from this rank's shares summed over the ranks;
+   reaction is this rank's share of the reaction of the walls' forces (FSCouplingReaction).
+
+   Collective
+*/
+static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const PetscReal reaction[3], PetscReal *f)
+{
+  const PetscInt US = s->ustride, n = s->nowned;
+  PetscReal      power[FS_MAX_TERMS + 5];
+  PetscInt       npower = 0;
+
+  PetscFunctionBegin;
+  for (PetscInt t = 0; t < s->terms.nterms; t++)
+    if (s->terms.term[t]->has_power) power[npower++] = s->terms.term[t]->power;
+  power[npower]     = s->ext_power;
+  power[npower + 1] = s->relax_power;
+  for (PetscInt c = 0; c < 3; c++) power[npower + 2 + c] = reaction[c];
+  {
+    PetscMPIInt rank;
+    PetscReal  *fe = f + n * US + s->genergy;
+    PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+    PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
+    PetscErrorCode ierr = 0; /* the structure's energy (rank 0): its failure is raised on every rank below */
+    if (!rank) {
+      FSStructure st = s->structure;
+      PetscReal   E[3] = {0, 0, 0};
+      for (PetscInt k = 0; k < npower; k++) f[n * US + s->gdiss + k] = power[k];
+      for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) fe[e] = 0; /* the constants and the bounces' jumps */
+      if (st && st->ndof && st->ops.energy) ierr = (*st->ops.energy)(st, s->sy, E);
+      fe[FS_ENERGY_WORK_EXT]     = power[npower];
+      fe[FS_ENERGY_WORK_RELAX]   = power[npower + 1];
+      fe[FS_ENERGY_WORK_DAMPING] = -E[2];
+      if (coupled) PetscCall(FSCouplingPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_COUPLING]));
+    }
+    if (s->structure && s->structure->ndof && s->structure->ops.energy) PetscCall(FSSolverStructureResultRank0(s, ierr, "energy", 0, NULL));
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverEvaluateRates - the rates (dx/dt, du/dt, drho/dt) of the owned particles for the packed
+   state u, into f (same layout); the global DOFs' rates (the structure's, at time s->rhs_time,
+   and the dissipated energies) on rank 0.
+   count: add the work to the run's statistics (PETSC_FALSE for evaluations made for output).
+
+   Collective
+*/
+PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *f, PetscBool count)
+{
+  const PetscInt S = s->stride, US = s->ustride, n = s->nowned;
+  FSParticles    P;
+  PetscReal      reaction[3] = {0, 0, 0};
+  PetscBool      coupled;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_RHS, 0, 0, 0, 0));
+  PetscCall(FSCouplingGetActive(s->coupling, &coupled));
+  PetscCall(FSSolverGatherRecords(s, u));
   if (coupled) {
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSSolverCouplingPredict(s, u));
@@ -334,61 +456,14 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     for (PetscInt t = 0; t < s->terms.nterms; t++) s->nu_bound = PetscMax(s->nu_bound, s->terms.term[t]->max_viscosity);
   }
 
-  PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
-  for (PetscInt i = 0; i < n; i++) {
-    FSNeighbourhood nb;
-    FSRate          rate = {0, {0, 0, 0}, {0, 0, 0}};
-    nb.i     = i;
-    nb.n     = FSFillNeighbourhood(s, i, dx, r2, gw, ri2);
-    nb.j     = s->nbrs.nbr + s->nbrs.start[i];
-    nb.dx    = dx;
-    nb.r2    = r2;
-    nb.rinv2 = ri2;
-    nb.gradW = gw;
-    /* renormalized terms (boundary integrals) first: their sum is divided by gamma_i */
-    for (PetscInt t = 0; t < s->terms.nterms; t++) {
-      FSTerm term = s->terms.term[t];
-      if (!term->renormalized) continue;
-      if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
-      if (term->ops.source) term->ops.source(term, &P, i, &rate);
-    }
-    if (s->boundary) {
-      const PetscReal ig = s->invgamma[i];
-      rate.drho *= ig;
-      for (PetscInt d = 0; d < dim; d++) {
-        rate.du[d] *= ig;
-        rate.dx[d] *= ig;
-      }
-    }
-    for (PetscInt t = 0; t < s->terms.nterms; t++) {
-      FSTerm term = s->terms.term[t];
-      if (term->renormalized) continue;
-      if (term->ops.interact) term->ops.interact(term, &P, &nb, &rate);
-      if (term->ops.source) term->ops.source(term, &P, i, &rate);
-    }
-    for (PetscInt d = 0; d < dim; d++) {
-      f[i * US + d]       = s->rec[i * S + dim + d] + rate.dx[d];
-      f[i * US + dim + d] = rate.du[d];
-    }
-    f[i * US + 2 * dim] = rate.drho;
-  }
-  PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
+  PetscCall(FSSolverPairPass(s, &P, f));
   if (s->boundary) PetscCall(FSSolverWallPass(s, &P, f));
   if (coupled) {
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSCouplingReaction(s->coupling, n, S, s->rec, US, f, reaction));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   }
-  s->relax_power = 0;
-  if (s->rhs_time < s->relax_time) { /* start-up relaxation: du/dt -= zeta(t) u, zeta fading smoothly to 0 */
-    const PetscReal zeta = 10.0 / s->relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->rhs_time / s->relax_time));
-    for (PetscInt i = 0; i < n; i++)
-      for (PetscInt d = 0; d < dim; d++) {
-        const PetscReal ud = s->rec[i * S + dim + d];
-        f[i * US + dim + d] -= zeta * ud;
-        s->relax_power -= zeta * s->rec[i * S + 2 * dim + 1] * ud * ud;
-      }
-  }
+  FSSolverRelaxation(s, f);
   if (count) {
     s->pair_visits += s->nbrs.npairs;
     s->nrhs++;
@@ -402,31 +477,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     PetscCall(FSCouplingInertia(s->coupling, n, S, s->rec, US, f, &s->ext_power));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   } else PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, f, NULL));
-  /* powers: the rates of the dissipated energies (the next block) and of the energy block's integrals, rank 0 */
-  for (PetscInt t = 0; t < s->terms.nterms; t++)
-    if (s->terms.term[t]->has_power) power[npower++] = s->terms.term[t]->power;
-  power[npower]     = s->ext_power;
-  power[npower + 1] = s->relax_power;
-  for (PetscInt c = 0; c < 3; c++) power[npower + 2 + c] = reaction[c];
-  {
-    PetscMPIInt rank;
-    PetscReal  *fe = f + n * US + s->genergy;
-    PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-    PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
-    PetscErrorCode ierr = 0; /* the structure's energy (rank 0): its failure is raised on every rank below */
-    if (!rank) {
-      FSStructure st = s->structure;
-      PetscReal   E[3] = {0, 0, 0};
-      for (PetscInt k = 0; k < npower; k++) f[n * US + s->gdiss + k] = power[k];
-      for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) fe[e] = 0; /* the constants and the bounces' jumps */
-      if (st && st->ndof && st->ops.energy) ierr = (*st->ops.energy)(st, s->sy, E);
-      fe[FS_ENERGY_WORK_EXT]     = power[npower];
-      fe[FS_ENERGY_WORK_RELAX]   = power[npower + 1];
-      fe[FS_ENERGY_WORK_DAMPING] = -E[2];
-      if (coupled) PetscCall(FSCouplingPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_COUPLING]));
-    }
-    if (s->structure && s->structure->ndof && s->structure->ops.energy) PetscCall(FSSolverStructureResultRank0(s, ierr, "energy", 0, NULL));
-  }
+  PetscCall(FSSolverPowerRates(s, coupled, reaction, f));
   PetscCall(PetscLogEventEnd(FS_RHS, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

@@ -195,6 +195,137 @@ PetscErrorCode FSSolverGetCaseData(FSSolver s, void *dataptr)
   PetscFunctionReturn(0);
 }
 
+/* FSSolverOptionsCase - -fs_case and -fs_dim, then the case's own options and defaults; terms gets
+   the case's default -fs_terms. */
+static PetscErrorCode FSSolverOptionsCase(FSSolver s, PetscOptionItems *PetscOptionsObject, char terms[], size_t len)
+{
+  PetscBool      flg = PETSC_FALSE; /* PetscOptionsBool() leaves flg untouched when -fs_case_view is absent */
+  FSCaseCreateFn create;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsString("-fs_case", "Case to set up (list with -fs_case_view)", "FSSolverSetFromOptions", s->casename, s->casename, sizeof(s->casename), NULL));
+  PetscCall(PetscOptionsBool("-fs_case_view", "List the registered cases", "FSCaseListView", PETSC_FALSE, &flg, NULL));
+  if (flg) PetscCall(FSCaseListView(PETSC_VIEWER_STDOUT_(comm)));
+  PetscCall(FSCaseFind(s->casename, &create));
+  PetscCheck(create, comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown case \"%s\" given to -fs_case: list the registered cases with -fs_case_view", s->casename);
+  PetscCall(PetscOptionsInt("-fs_dim", "Dimension: 2 or 3", "FSSolverSetFromOptions", s->dim, &s->dim, NULL));
+  PetscCheck(s->dim == 2 || s->dim == 3, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dim %" PetscInt_FMT " is not supported: expected 2 or 3", s->dim);
+  PetscCall(PetscMemzero(&s->caseops, sizeof(s->caseops)));
+  PetscCall((*create)(s, &s->caseops));
+  PetscCheck(s->caseops.ncolumns >= 0 && s->caseops.ncolumns <= FS_CASE_MAX_COLUMNS && (!s->caseops.ncolumns || s->caseops.columns), comm, PETSC_ERR_PLIB, "Case \"%s\" declares %" PetscInt_FMT " time-series columns: at most FS_CASE_MAX_COLUMNS = %d, with a columns() routine", s->casename, s->caseops.ncolumns, FS_CASE_MAX_COLUMNS);
+  PetscCall(PetscStrncpy(s->default_terms, FSDefaultTerms, sizeof(s->default_terms)));
+  if (s->caseops.setfromoptions) PetscCall((*s->caseops.setfromoptions)(s, PetscOptionsObject));
+  PetscCall(PetscStrncpy(terms, s->default_terms, len));
+
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverOptionsPhysics - the spacing, the smoothing length, the liquid and the body force. */
+static PetscErrorCode FSSolverOptionsPhysics(FSSolver s, PetscOptionItems *PetscOptionsObject)
+{
+  PetscBool set = PETSC_FALSE;
+  PetscInt  ng  = 3;
+  PetscReal g[3];
+  MPI_Comm  comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsReal("-fs_dx", "Particle spacing", "FSSolverSetFromOptions", s->dx, &s->dx, NULL));
+  PetscCheck(s->dx > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g must be positive", (double)s->dx);
+  PetscCall(PetscOptionsReal("-fs_h_over_dx", "Smoothing length over particle spacing (kernel support is 2h)", "FSSolverSetFromOptions", s->h_over_dx, &s->h_over_dx, NULL));
+  PetscCheck(s->h_over_dx >= 1.0 && s->h_over_dx <= 4.0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_h_over_dx %g is out of range: expected a value in [1, 4] (2 is usual)", (double)s->h_over_dx);
+  PetscCall(PetscOptionsReal("-fs_rho0", "Reference density of the liquid", "FSSolverSetFromOptions", s->rho0, &s->rho0, NULL));
+  PetscCheck(s->rho0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_rho0 %g must be positive", (double)s->rho0);
+  PetscCall(PetscOptionsReal("-fs_c0", "Artificial speed of sound (about 10 times the largest flow speed)", "FSSolverSetFromOptions", s->c0, &s->c0, NULL));
+  PetscCheck(s->c0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_c0 %g must be positive", (double)s->c0);
+  PetscCall(PetscOptionsReal("-fs_nu", "Kinematic viscosity of the liquid", "FSSolverSetFromOptions", s->nu, &s->nu, NULL));
+  PetscCheck(s->nu >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_nu %g must be non-negative", (double)s->nu);
+  for (PetscInt d = 0; d < 3; d++) g[d] = s->gravity[d];
+  PetscCall(PetscOptionsRealArray("-fs_gravity", "Body force per unit mass, one value per dimension", "FSSolverSetFromOptions", g, &ng, &set));
+  if (set) {
+    PetscCheck(ng == s->dim, comm, PETSC_ERR_ARG_SIZ, "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng, s->dim);
+    for (PetscInt d = 0; d < 3; d++) s->gravity[d] = d < ng ? g[d] : 0;
+  }
+  PetscCall(PetscOptionsReal("-fs_background_pressure", "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b", "FSSolverSetFromOptions", s->background_pressure, &s->background_pressure, NULL));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverOptionsNumerics - the time-step limits, the start-up relaxation, the halo, blow-up detection
+   and the particles' ordering. */
+static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *PetscOptionsObject)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsReal("-fs_cfl", "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)", "FSSolverComputeStableDt", s->cfl, &s->cfl, &s->cfl_set));
+  PetscCheck(!s->cfl_set || (s->cfl > 0 && s->cfl <= 2), comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl %g is out of range: expected (0, 2]", (double)s->cfl);
+  PetscCall(PetscOptionsReal("-fs_relax_time", "Start-up relaxation: damp the particle velocities until this time (0: none)", "FSSolverEvaluateRates", s->relax_time, &s->relax_time, NULL));
+  PetscCheck(s->relax_time >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_relax_time %g must be non-negative", (double)s->relax_time);
+  PetscCall(PetscOptionsReal("-fs_cfl_viscous", "Viscous limit: dt <= CFL_v h^2/nu", "FSSolverComputeStableDt", s->cfl_visc, &s->cfl_visc, NULL));
+  PetscCheck(s->cfl_visc > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_viscous %g must be positive", (double)s->cfl_visc);
+  PetscCall(PetscOptionsReal("-fs_cfl_force", "Body-force limit: dt <= CFL_f sqrt(h/|g|)", "FSSolverComputeStableDt", s->cfl_force, &s->cfl_force, NULL));
+  PetscCheck(s->cfl_force > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_force %g must be positive", (double)s->cfl_force);
+  PetscCall(PetscOptionsReal("-fs_halo_skin", "Extra halo width beyond the kernel support, in units of h", "FSHaloBuild", s->halo_skin, &s->halo_skin, NULL));
+  PetscCheck(s->halo_skin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_halo_skin %g must be positive", (double)s->halo_skin);
+  PetscCall(PetscOptionsReal("-fs_max_density_variation", "Stop the run when |rho/rho0 - 1| exceeds this (blow-up detection)", "FSSolverCheckState", s->max_density_variation, &s->max_density_variation, NULL));
+  PetscCall(PetscOptionsInt("-fs_sort_interval", "Steps between reorderings of the particles by cell", "FSSolverSortByCell", s->sort_interval, &s->sort_interval, NULL));
+  PetscCheck(s->sort_interval >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sort_interval %" PetscInt_FMT " must be at least 1", s->sort_interval);
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverOptionsOutput - where and how often the run writes, restarts, the geometry view, progress. */
+static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscOptionsObject)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  {
+    char def[PETSC_MAX_PATH_LEN];
+    PetscCall(PetscSNPrintf(def, sizeof(def), "output/%s", s->casename));
+    if (!s->outdir[0]) PetscCall(PetscStrncpy(s->outdir, def, sizeof(s->outdir)));
+  }
+  PetscCall(PetscOptionsBool("-fs_output", "Write output files (snapshots, time series, summary)", "FSSolverSolve", s->write_output, &s->write_output, NULL));
+  PetscCall(PetscOptionsString("-fs_output_dir", "Output directory (default output/<case>)", "FSSolverSolve", s->outdir, s->outdir, sizeof(s->outdir), NULL));
+  PetscCall(PetscOptionsReal("-fs_output_interval", "Simulated time between particle snapshots (0: first and last only)", "FSSolverWriteSnapshot", s->output_interval, &s->output_interval, NULL));
+  PetscCheck(s->output_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_output_interval %g must be non-negative", (double)s->output_interval);
+  PetscCall(PetscOptionsInt("-fs_checkpoint_interval", "Steps between checkpoints (0: none)", "FSSolverWriteCheckpoint", s->checkpoint_interval, &s->checkpoint_interval, NULL));
+  PetscCheck(s->checkpoint_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->checkpoint_interval);
+  PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint", s->restart, s->restart, sizeof(s->restart), NULL));
+  PetscCall(PetscOptionsBool("-fs_geometry_view", "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 snapshot), then stop without time stepping", "FSSolverGeometryView", s->geometry_view, &s->geometry_view, NULL));
+  PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor", s->progress, &s->progress, NULL));
+  PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor", s->progress_interval, &s->progress_interval, NULL));
+
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverCreateTerms - the terms of the comma-separated list, each reading its options. */
+static PetscErrorCode FSSolverCreateTerms(FSSolver s, PetscOptionItems *PetscOptionsObject, char terms[])
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  for (PetscInt t = 0; t < s->terms.nterms; t++) PetscCall(FSTermDestroy(&s->terms.term[t]));
+  s->terms.nterms = 0;
+  s->terms.needs  = 0;
+  {
+    char *tok, *save = NULL;
+    for (tok = strtok_r(terms, ", ", &save); tok; tok = strtok_r(NULL, ", ", &save)) {
+      FSTerm term;
+      PetscCheck(s->terms.nterms < FS_MAX_TERMS, comm, PETSC_ERR_ARG_OUTOFRANGE, "Too many terms in -fs_terms (at most %d)", FS_MAX_TERMS);
+      for (PetscInt t = 0; t < s->terms.nterms; t++) {
+        PetscBool same;
+        PetscCall(PetscStrcmp(s->terms.term[t]->name, tok, &same));
+        PetscCheck(!same, comm, PETSC_ERR_ARG_WRONG, "Term \"%s\" appears twice in -fs_terms", tok);
+      }
+      PetscCall(FSTermCreate(s, tok, &term));
+      if (term->ops.setfromoptions) PetscCall((*term->ops.setfromoptions)(term, PetscOptionsObject));
+      s->terms.term[s->terms.nterms++] = term;
+      s->terms.needs |= term->needs;
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverSetFromOptions - reads the run's options (prefix -fs_), the case's and the terms'.
 
@@ -223,104 +354,25 @@ PetscErrorCode FSSolverGetCaseData(FSSolver s, void *dataptr)
 */
 PetscErrorCode FSSolverSetFromOptions(FSSolver s)
 {
-  char           terms[1024];
-  PetscBool      flg = PETSC_FALSE, set = PETSC_FALSE; /* PetscOptionsBool() leaves flg untouched when -fs_case_view is absent */
-  PetscInt       ng = 3;
-  PetscReal      g[3];
-  FSCaseCreateFn create;
-  MPI_Comm       comm = PetscObjectComm((PetscObject)s);
+  char     terms[1024];
+  MPI_Comm comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
   PetscCall(FSCaseRegisterAll());
   PetscCall(FSTermRegisterAll());
   PetscCall(FSStructureRegisterAll());
   PetscObjectOptionsBegin((PetscObject)s);
-  PetscCall(PetscOptionsString("-fs_case", "Case to set up (list with -fs_case_view)", "FSSolverSetFromOptions", s->casename, s->casename, sizeof(s->casename), NULL));
-  PetscCall(PetscOptionsBool("-fs_case_view", "List the registered cases", "FSCaseListView", PETSC_FALSE, &flg, NULL));
-  if (flg) PetscCall(FSCaseListView(PETSC_VIEWER_STDOUT_(comm)));
-  PetscCall(FSCaseFind(s->casename, &create));
-  PetscCheck(create, comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown case \"%s\" given to -fs_case: list the registered cases with -fs_case_view", s->casename);
-  PetscCall(PetscOptionsInt("-fs_dim", "Dimension: 2 or 3", "FSSolverSetFromOptions", s->dim, &s->dim, NULL));
-  PetscCheck(s->dim == 2 || s->dim == 3, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dim %" PetscInt_FMT " is not supported: expected 2 or 3", s->dim);
-  PetscCall(PetscMemzero(&s->caseops, sizeof(s->caseops)));
-  PetscCall((*create)(s, &s->caseops));
-  PetscCheck(s->caseops.ncolumns >= 0 && s->caseops.ncolumns <= FS_CASE_MAX_COLUMNS && (!s->caseops.ncolumns || s->caseops.columns), comm, PETSC_ERR_PLIB, "Case \"%s\" declares %" PetscInt_FMT " time-series columns: at most FS_CASE_MAX_COLUMNS = %d, with a columns() routine", s->casename, s->caseops.ncolumns, FS_CASE_MAX_COLUMNS);
-  PetscCall(PetscStrncpy(s->default_terms, FSDefaultTerms, sizeof(s->default_terms)));
-  if (s->caseops.setfromoptions) PetscCall((*s->caseops.setfromoptions)(s, PetscOptionsObject));
-  PetscCall(PetscStrncpy(terms, s->default_terms, sizeof(terms)));
-
-  PetscCall(PetscOptionsReal("-fs_dx", "Particle spacing", "FSSolverSetFromOptions", s->dx, &s->dx, NULL));
-  PetscCheck(s->dx > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g must be positive", (double)s->dx);
-  PetscCall(PetscOptionsReal("-fs_h_over_dx", "Smoothing length over particle spacing (kernel support is 2h)", "FSSolverSetFromOptions", s->h_over_dx, &s->h_over_dx, NULL));
-  PetscCheck(s->h_over_dx >= 1.0 && s->h_over_dx <= 4.0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_h_over_dx %g is out of range: expected a value in [1, 4] (2 is usual)", (double)s->h_over_dx);
-  PetscCall(PetscOptionsReal("-fs_rho0", "Reference density of the liquid", "FSSolverSetFromOptions", s->rho0, &s->rho0, NULL));
-  PetscCheck(s->rho0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_rho0 %g must be positive", (double)s->rho0);
-  PetscCall(PetscOptionsReal("-fs_c0", "Artificial speed of sound (about 10 times the largest flow speed)", "FSSolverSetFromOptions", s->c0, &s->c0, NULL));
-  PetscCheck(s->c0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_c0 %g must be positive", (double)s->c0);
-  PetscCall(PetscOptionsReal("-fs_nu", "Kinematic viscosity of the liquid", "FSSolverSetFromOptions", s->nu, &s->nu, NULL));
-  PetscCheck(s->nu >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_nu %g must be non-negative", (double)s->nu);
-  for (PetscInt d = 0; d < 3; d++) g[d] = s->gravity[d];
-  PetscCall(PetscOptionsRealArray("-fs_gravity", "Body force per unit mass, one value per dimension", "FSSolverSetFromOptions", g, &ng, &set));
-  if (set) {
-    PetscCheck(ng == s->dim, comm, PETSC_ERR_ARG_SIZ, "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng, s->dim);
-    for (PetscInt d = 0; d < 3; d++) s->gravity[d] = d < ng ? g[d] : 0;
-  }
-  PetscCall(PetscOptionsReal("-fs_background_pressure", "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b", "FSSolverSetFromOptions", s->background_pressure, &s->background_pressure, NULL));
+  PetscCall(FSSolverOptionsCase(s, PetscOptionsObject, terms, sizeof(terms)));
+  PetscCall(FSSolverOptionsPhysics(s, PetscOptionsObject));
   PetscCall(PetscOptionsString("-fs_terms", "Physics terms, comma separated (list with -fs_terms_view)", "FSSolverSetFromOptions", terms, terms, sizeof(terms), NULL));
   PetscCall(PetscOptionsBool("-fs_terms_view", "List the registered physics terms", "FSTermListView", s->terms_view, &s->terms_view, NULL));
   PetscCall(PetscOptionsString("-fs_structure", "Structure carrying the tank: none, or a registered model (list with -fs_structure_view)", "FSSolverSetFromOptions", s->structname, s->structname, sizeof(s->structname), NULL));
   PetscCall(PetscOptionsBool("-fs_structure_view", "List the registered structure models", "FSStructureListView", s->structure_view, &s->structure_view, NULL));
   PetscCall(PetscOptionsReal("-fs_structure_cfl", "Without particles: time step as a fraction of the shortest period the structure resolves (-ts_dt overrides)", "FSSolverStructureDt", s->structure_cfl, &s->structure_cfl, NULL));
   PetscCheck(s->structure_cfl > 0 && s->structure_cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_structure_cfl %g is out of range: expected (0, 1]", (double)s->structure_cfl);
-  PetscCall(PetscOptionsReal("-fs_cfl", "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)", "FSSolverComputeStableDt", s->cfl, &s->cfl, &s->cfl_set));
-  PetscCheck(!s->cfl_set || (s->cfl > 0 && s->cfl <= 2), comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl %g is out of range: expected (0, 2]", (double)s->cfl);
-  PetscCall(PetscOptionsReal("-fs_relax_time", "Start-up relaxation: damp the particle velocities until this time (0: none)", "FSSolverEvaluateRates", s->relax_time, &s->relax_time, NULL));
-  PetscCheck(s->relax_time >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_relax_time %g must be non-negative", (double)s->relax_time);
-  PetscCall(PetscOptionsReal("-fs_cfl_viscous", "Viscous limit: dt <= CFL_v h^2/nu", "FSSolverComputeStableDt", s->cfl_visc, &s->cfl_visc, NULL));
-  PetscCheck(s->cfl_visc > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_viscous %g must be positive", (double)s->cfl_visc);
-  PetscCall(PetscOptionsReal("-fs_cfl_force", "Body-force limit: dt <= CFL_f sqrt(h/|g|)", "FSSolverComputeStableDt", s->cfl_force, &s->cfl_force, NULL));
-  PetscCheck(s->cfl_force > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_force %g must be positive", (double)s->cfl_force);
-  PetscCall(PetscOptionsReal("-fs_halo_skin", "Extra halo width beyond the kernel support, in units of h", "FSHaloBuild", s->halo_skin, &s->halo_skin, NULL));
-  PetscCheck(s->halo_skin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_halo_skin %g must be positive", (double)s->halo_skin);
-  PetscCall(PetscOptionsReal("-fs_max_density_variation", "Stop the run when |rho/rho0 - 1| exceeds this (blow-up detection)", "FSSolverCheckState", s->max_density_variation, &s->max_density_variation, NULL));
-  PetscCall(PetscOptionsInt("-fs_sort_interval", "Steps between reorderings of the particles by cell", "FSSolverSortByCell", s->sort_interval, &s->sort_interval, NULL));
-  PetscCheck(s->sort_interval >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sort_interval %" PetscInt_FMT " must be at least 1", s->sort_interval);
-  {
-    char def[PETSC_MAX_PATH_LEN];
-    PetscCall(PetscSNPrintf(def, sizeof(def), "output/%s", s->casename));
-    if (!s->outdir[0]) PetscCall(PetscStrncpy(s->outdir, def, sizeof(s->outdir)));
-  }
-  PetscCall(PetscOptionsBool("-fs_output", "Write output files (snapshots, time series, summary)", "FSSolverSolve", s->write_output, &s->write_output, NULL));
-  PetscCall(PetscOptionsString("-fs_output_dir", "Output directory (default output/<case>)", "FSSolverSolve", s->outdir, s->outdir, sizeof(s->outdir), NULL));
-  PetscCall(PetscOptionsReal("-fs_output_interval", "Simulated time between particle snapshots (0: first and last only)", "FSSolverWriteSnapshot", s->output_interval, &s->output_interval, NULL));
-  PetscCheck(s->output_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_output_interval %g must be non-negative", (double)s->output_interval);
-  PetscCall(PetscOptionsInt("-fs_checkpoint_interval", "Steps between checkpoints (0: none)", "FSSolverWriteCheckpoint", s->checkpoint_interval, &s->checkpoint_interval, NULL));
-  PetscCheck(s->checkpoint_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->checkpoint_interval);
-  PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint", s->restart, s->restart, sizeof(s->restart), NULL));
-  PetscCall(PetscOptionsBool("-fs_geometry_view", "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 snapshot), then stop without time stepping", "FSSolverGeometryView", s->geometry_view, &s->geometry_view, NULL));
-  PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor", s->progress, &s->progress, NULL));
-  PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor", s->progress_interval, &s->progress_interval, NULL));
-
-  /* the terms */
-  for (PetscInt t = 0; t < s->terms.nterms; t++) PetscCall(FSTermDestroy(&s->terms.term[t]));
-  s->terms.nterms = 0;
-  s->terms.needs  = 0;
-  {
-    char *tok, *save = NULL;
-    for (tok = strtok_r(terms, ", ", &save); tok; tok = strtok_r(NULL, ", ", &save)) {
-      FSTerm term;
-      PetscCheck(s->terms.nterms < FS_MAX_TERMS, comm, PETSC_ERR_ARG_OUTOFRANGE, "Too many terms in -fs_terms (at most %d)", FS_MAX_TERMS);
-      for (PetscInt t = 0; t < s->terms.nterms; t++) {
-        PetscBool same;
-        PetscCall(PetscStrcmp(s->terms.term[t]->name, tok, &same));
-        PetscCheck(!same, comm, PETSC_ERR_ARG_WRONG, "Term \"%s\" appears twice in -fs_terms", tok);
-      }
-      PetscCall(FSTermCreate(s, tok, &term));
-      if (term->ops.setfromoptions) PetscCall((*term->ops.setfromoptions)(term, PetscOptionsObject));
-      s->terms.term[s->terms.nterms++] = term;
-      s->terms.needs |= term->needs;
-    }
-  }
+  PetscCall(FSSolverOptionsNumerics(s, PetscOptionsObject));
+  PetscCall(FSSolverOptionsOutput(s, PetscOptionsObject));
+  PetscCall(FSSolverCreateTerms(s, PetscOptionsObject, terms));
   /* the structure */
   PetscCall(FSStructureDestroy(&s->structure));
   if (strcmp(s->structname, "none")) {
