@@ -34,30 +34,11 @@ static PetscErrorCode FSHaloPushSend(FSHalo *hl, PetscInt dim, PetscMPIInt rank,
   PetscFunctionReturn(0);
 }
 
-/*
-   FSHaloBuild - finds the ghosts of every rank and sets up the PetscSF that refreshes them.
-
-   Input Parameters:
-+  comm   - the run's communicator
-.  dd     - the decomposition
-.  nowned - number of owned particles
-.  rec    - owned particle records (position first)
-.  stride - reals per record
--  width  - halo width (kernel support plus skin)
-
-   Notes: collective. Ghost order is deterministic (by source rank, then source order).
-*/
-PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width)
+/* FSHaloFindSends - the owned particles within width of this rank's subdomain faces, each with every
+   neighbouring rank (and periodic shift) that needs a copy of it */
+static PetscErrorCode FSHaloFindSends(FSHalo *hl, const FSDecomp *dd, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width)
 {
-  const PetscInt dim = dd->dim;
-  PetscInt       noff = dim == 2 ? 9 : 27;
-  PetscMPIInt    size = dd->size, nto = 0, nfrom = 0, *toranks, *fromranks = NULL;
-  PetscInt      *counts, *todata, *fromdata = NULL, *perm, *order;
-  PetscReal     *sendbuf, *recvbuf;
-  PetscSF        tmp;
-  PetscSFNode   *remote;
-  PetscInt      *ilocal, nrec = 1 + dim;
-  MPI_Datatype   rtype;
+  const PetscInt dim = dd->dim, noff = dim == 2 ? 9 : 27;
 
   PetscFunctionBegin;
   hl->nsend = 0;
@@ -96,6 +77,54 @@ PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscI
       PetscCall(FSHaloPushSend(hl, dim, FSDecompRankAt(dd, t), p, shift));
     }
   }
+
+  PetscFunctionReturn(0);
+}
+
+/* FSHaloSetTypes - the MPI datatypes of a particle record (stride reals) and of its first-pass quantities (dim + 1) */
+static PetscErrorCode FSHaloSetTypes(FSHalo *hl, PetscInt dim, PetscInt stride)
+{
+  PetscFunctionBegin;
+  if (hl->rectype == MPI_DATATYPE_NULL || hl->recstride != stride) {
+    if (hl->rectype != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&hl->rectype));
+    PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)stride, MPIU_REAL, &hl->rectype));
+    PetscCallMPI(MPI_Type_commit(&hl->rectype));
+    hl->recstride = stride;
+  }
+  if (hl->auxtype == MPI_DATATYPE_NULL) {
+    hl->auxstride = dim + 1;
+    PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)hl->auxstride, MPIU_REAL, &hl->auxtype));
+    PetscCallMPI(MPI_Type_commit(&hl->auxtype));
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSHaloBuild - finds the ghosts of every rank and sets up the PetscSF that refreshes them.
+
+   Input Parameters:
++  comm   - the run's communicator
+.  dd     - the decomposition
+.  nowned - number of owned particles
+.  rec    - owned particle records (position first)
+.  stride - reals per record
+-  width  - halo width (kernel support plus skin)
+
+   Notes: collective. Ghost order is deterministic (by source rank, then source order).
+*/
+PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width)
+{
+  const PetscInt dim = dd->dim;
+  PetscMPIInt    size = dd->size, nto = 0, nfrom = 0, *toranks, *fromranks = NULL;
+  PetscInt      *counts, *todata, *fromdata = NULL, *perm, *order;
+  PetscReal     *sendbuf, *recvbuf;
+  PetscSF        tmp;
+  PetscSFNode   *remote;
+  PetscInt      *ilocal, nrec = 1 + dim;
+  MPI_Datatype   rtype;
+
+  PetscFunctionBegin;
+  PetscCall(FSHaloFindSends(hl, dd, nowned, rec, stride, width));
 
   /* order the sends by destination rank (counting sort, stable) */
   PetscCall(PetscCalloc1(size + 1, &counts));
@@ -172,17 +201,7 @@ PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscI
   PetscCall(PetscSFCreate(comm, &hl->sf));
   PetscCall(PetscSFSetGraph(hl->sf, nowned, hl->nghost, ilocal, PETSC_COPY_VALUES, remote, PETSC_COPY_VALUES));
   PetscCall(PetscSFSetUp(hl->sf));
-  if (hl->rectype == MPI_DATATYPE_NULL || hl->recstride != stride) {
-    if (hl->rectype != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&hl->rectype));
-    PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)stride, MPIU_REAL, &hl->rectype));
-    PetscCallMPI(MPI_Type_commit(&hl->rectype));
-    hl->recstride = stride;
-  }
-  if (hl->auxtype == MPI_DATATYPE_NULL) {
-    hl->auxstride = dim + 1;
-    PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)hl->auxstride, MPIU_REAL, &hl->auxtype));
-    PetscCallMPI(MPI_Type_commit(&hl->auxtype));
-  }
+  PetscCall(FSHaloSetTypes(hl, dim, stride));
   PetscCall(PetscFree3(remote, ilocal, recvbuf));
   PetscCall(PetscFree(order));
   PetscCall(PetscFree(fromranks));
