@@ -13,21 +13,21 @@
 /* The five terms fused by hand: the same formulas as src/terms/impls/{continuity,delta,pressure,viscosity}.c. */
 static void FusedRates(FSSolver s, const PetscReal *delta, const PetscReal *a, PetscReal *f, PetscReal Kvisc)
 {
-  const PetscInt   dim = s->dim, S = s->stride, US = s->ustride, A = s->auxstride;
-  const PetscReal *rec = s->rec, *aux = s->aux, *V = s->vol, *p = s->pressure;
-  const PetscReal  hc = s->h * s->c0, nu = s->nu, rho0 = s->rho0;
+  const PetscInt   dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, A = s->pw.auxstride;
+  const PetscReal *rec = s->pw.rec, *aux = s->pw.aux, *V = s->pw.vol, *p = s->pw.pressure;
+  const PetscReal  hc = s->opt.h * s->opt.c0, nu = s->opt.nu, rho0 = s->opt.rho0;
 
-  for (PetscInt i = 0; i < s->nowned; i++) {
+  for (PetscInt i = 0; i < s->pw.nowned; i++) {
     const PetscReal *ri = &rec[i * S], *xi = ri, *ui = ri + dim, rhoi = ri[2 * dim], *gi = &aux[i * A];
     const PetscReal  di = delta[i], ai = a[i];
     PetscReal        cont = 0, diff = 0, acc_p[3] = {0, 0, 0}, acc_v[3] = {0, 0, 0}, acc_t[3] = {0, 0, 0};
-    for (PetscInt q = s->nbrs.start[i]; q < s->nbrs.start[i + 1]; q++) {
-      const PetscInt   j  = s->nbrs.nbr[q];
+    for (PetscInt q = s->pw.nbrs.start[i]; q < s->pw.nbrs.start[i + 1]; q++) {
+      const PetscInt   j  = s->pw.nbrs.nbr[q];
       const PetscReal *rj = &rec[j * S], *gj = &aux[j * A];
       PetscReal        dx[3], gw[3], r2 = 0, du_dx = 0, du_g = 0, corr = 0, proj = 0;
       for (PetscInt d = 0; d < dim; d++) {
         dx[d] = rj[d] - xi[d];
-        gw[d] = -s->nbrs.F[q] * dx[d];
+        gw[d] = -s->pw.nbrs.F[q] * dx[d];
         r2 += dx[d] * dx[d];
       }
       for (PetscInt d = 0; d < dim; d++) {
@@ -75,12 +75,12 @@ int main(int argc, char **argv)
   PetscCall(FSSolverCreate(PETSC_COMM_WORLD, &s));
   PetscCall(FSSolverSetFromOptions(s));
   PetscCall(FSSolverSetUp(s));
-  n = s->nowned;
-  PetscCall(VecDuplicate(s->U, &F));
-  PetscCall(PetscMalloc2(n + s->halo.nghost, &delta, n + s->halo.nghost, &a));
+  n = s->pw.nowned;
+  PetscCall(VecDuplicate(s->state.U, &F));
+  PetscCall(PetscMalloc2(n + s->pw.halo.nghost, &delta, n + s->pw.halo.nghost, &a));
 
   /* the registry: reps evaluations, pair-pass time from its log event */
-  PetscCall(VecGetArrayRead(s->U, &u));
+  PetscCall(VecGetArrayRead(s->state.U, &u));
   PetscCall(VecGetArray(F, &f));
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE)); /* warm-up; fills lists, aux, volumes, pressures */
   PetscCall(PetscLogEventGetPerfInfo(PETSC_DETERMINE, FS_PairPass, &info));
@@ -90,32 +90,32 @@ int main(int argc, char **argv)
   t1 = info.time;
   {
     const PetscReal treg = (t1 - t0) / reps;
-    const PetscReal L = 2.0 * s->h, cd = 1.5 * 1.5 * L * L / (s->c0 * s->h), ca = 0.12 * 0.12 * L * L * 2.0 * (s->dim + 2) / (s->c0 * s->h);
+    const PetscReal L = 2.0 * s->opt.h, cd = 1.5 * 1.5 * L * L / (s->opt.c0 * s->opt.h), ca = 0.12 * 0.12 * L * L * 2.0 * (s->opt.dim + 2) / (s->opt.c0 * s->opt.h);
     PetscLogDouble  w0, w1;
-    PetscCall(PetscMalloc1(n * s->ustride, &g));
+    PetscCall(PetscMalloc1(n * s->state.ustride, &g));
     PetscCall(PetscTime(&w0));
     for (PetscInt r = 0; r < reps; r++) {
       /* per-particle coefficients, as the terms' prepare does */
-      for (PetscInt k = 0; k < n + s->halo.nghost; k++) {
-        delta[k] = cd * s->aux[k * s->auxstride + s->dim];
-        a[k]     = ca * s->aux[k * s->auxstride + s->dim];
+      for (PetscInt k = 0; k < n + s->pw.halo.nghost; k++) {
+        delta[k] = cd * s->pw.aux[k * s->pw.auxstride + s->opt.dim];
+        a[k]     = ca * s->pw.aux[k * s->pw.auxstride + s->opt.dim];
       }
-      FusedRates(s, delta, a, g, 2.0 * (s->dim + 2));
+      FusedRates(s, delta, a, g, 2.0 * (s->opt.dim + 2));
     }
     PetscCall(PetscTime(&w1));
-    for (PetscInt k = 0; k < n * s->ustride; k++) {
+    for (PetscInt k = 0; k < n * s->state.ustride; k++) {
       err   = PetscMax(err, PetscAbsReal(f[k] - g[k]));
       scale = PetscMax(scale, PetscAbsReal(f[k]));
     }
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "bench_terms: %" PetscInt_FMT " particles, %" PetscInt64_FMT " pairs, %" PetscInt_FMT " repetitions\n", n, s->nbrs.npairs, reps));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  pair pass with the plug-in terms   %.4f s per evaluation (%.3g pair visits/s)\n", treg, (double)s->nbrs.npairs / treg));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  the same terms fused inline        %.4f s per evaluation (%.3g pair visits/s)\n", (w1 - w0) / reps, (double)s->nbrs.npairs / ((w1 - w0) / reps)));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "bench_terms: %" PetscInt_FMT " particles, %" PetscInt64_FMT " pairs, %" PetscInt_FMT " repetitions\n", n, s->pw.nbrs.npairs, reps));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  pair pass with the plug-in terms   %.4f s per evaluation (%.3g pair visits/s)\n", treg, (double)s->pw.nbrs.npairs / treg));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  the same terms fused inline        %.4f s per evaluation (%.3g pair visits/s)\n", (w1 - w0) / reps, (double)s->pw.nbrs.npairs / ((w1 - w0) / reps)));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  cost of the registry: %.2f x the inline loop\n", treg / ((w1 - w0) / reps)));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  largest difference of the rates: %.3g (relative to the largest rate %.3g)\n", (double)(err / scale), (double)scale));
     PetscCall(PetscFree(g));
   }
   PetscCall(VecRestoreArray(F, &f));
-  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
   PetscCheck(err <= 1e-10 * scale, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "The plug-in terms and the inline loop disagree: %g", (double)(err / scale));
   PetscCall(PetscFree2(delta, a));
   PetscCall(VecDestroy(&F));

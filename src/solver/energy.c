@@ -74,8 +74,8 @@ static inline PetscReal FSCompressibilityEnergy(PetscReal rho, PetscReal rho0, P
 */
 static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ], PetscReal st[3])
 {
-  const PetscInt     dim = s->dim, US = s->ustride, S = s->stride;
-  const PetscReal   *g   = s->gravity;
+  const PetscInt     dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride;
+  const PetscReal   *g   = s->opt.gravity;
   const PetscScalar *u;
   FSTankMotion       mo;
   PetscReal          loc[FS_E_NLIQ] = {0, 0, 0, 0, 0}, c, sn;
@@ -88,10 +88,10 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
   PetscCall(FSSolverGetTankMotion(s, &mo)); /* zero without a structure; sets s->sy */
   c  = PetscCosReal(mo.angle);
   sn = PetscSinReal(mo.angle);
-  PetscCall(VecGetArrayRead(s->U, &u));
-  for (PetscInt p = 0; p < s->nowned; p++) {
+  PetscCall(VecGetArrayRead(s->state.U, &u));
+  for (PetscInt p = 0; p < s->pw.nowned; p++) {
     const PetscScalar *x = &u[p * US], *v = x + dim;
-    const PetscReal    m = s->rec[p * S + 2 * dim + 1], rho = x[2 * dim];
+    const PetscReal    m = s->pw.rec[p * S + 2 * dim + 1], rho = x[2 * dim];
     PetscReal          v2 = 0, gx = 0;
     for (PetscInt d = 0; d < dim; d++) {
       v2 += v[d] * v[d];
@@ -99,7 +99,7 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
     }
     loc[FS_E_KIN] += 0.5 * m * v2;
     loc[FS_E_POT] -= m * gx;
-    loc[FS_E_COMP] += m * FSCompressibilityEnergy(rho, s->rho0, s->c0, s->background_pressure);
+    loc[FS_E_COMP] += m * FSCompressibilityEnergy(rho, s->opt.rho0, s->opt.c0, s->opt.background_pressure);
     if (coupled && dim == 2) { /* the absolute frame */
       PetscReal kin, pot;
       FSCouplingAbsoluteEnergy(s->coupling, &mo, c, sn, x, v, m, &kin, &pot);
@@ -107,7 +107,7 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
       loc[FS_E_POT_ABS] += pot;
     }
   }
-  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
   if (!(coupled && dim == 2)) {
     loc[FS_E_KIN_ABS] = loc[FS_E_KIN];
     loc[FS_E_POT_ABS] = loc[FS_E_POT];
@@ -156,7 +156,7 @@ PetscErrorCode FSSolverEnergyJumpFrame(FSSolver s, FSEnergyFrame *fr)
    frame (e[1], the tank's frame without a coupling); compressibility does not change in a bounce. */
 void FSEnergyParticle(FSSolver s, const FSEnergyFrame *fr, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal e[2])
 {
-  e[0] = 0.5 * m * (v[0] * v[0] + v[1] * v[1]) - m * (s->gravity[0] * x[0] + s->gravity[1] * x[1]);
+  e[0] = 0.5 * m * (v[0] * v[0] + v[1] * v[1]) - m * (s->opt.gravity[0] * x[0] + s->opt.gravity[1] * x[1]);
   if (fr->coupled) {
     PetscReal kin, pot;
     FSCouplingAbsoluteEnergy(s->coupling, &fr->mo, fr->c, fr->sn, x, v, m, &kin, &pot);
@@ -179,10 +179,10 @@ PetscErrorCode FSSolverEnergyAddJump(FSSolver s, const PetscReal de[2])
     PetscReal    w; /* the liquid's energies are per unit width */
     PetscScalar *u;
     PetscCall(FSCouplingGetWidth(s->coupling, &w));
-    PetscCall(VecGetArray(s->U, &u));
-    u[s->nowned * s->ustride + s->genergy + FS_ENERGY_WORK_BOUNCE] += sum[0];
-    u[s->nowned * s->ustride + s->genergy + FS_ENERGY_WORK_BOUNCE_TOTAL] += w * sum[1];
-    PetscCall(VecRestoreArray(s->U, &u));
+    PetscCall(VecGetArray(s->state.U, &u));
+    u[s->pw.nowned * s->state.ustride + s->state.genergy + FS_ENERGY_WORK_BOUNCE] += sum[0];
+    u[s->pw.nowned * s->state.ustride + s->state.genergy + FS_ENERGY_WORK_BOUNCE_TOTAL] += w * sum[1];
+    PetscCall(VecRestoreArray(s->state.U, &u));
   }
   PetscFunctionReturn(0);
 }
@@ -203,10 +203,10 @@ PetscErrorCode FSSolverEnergyInitial(FSSolver s)
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   if (!rank) {
     PetscScalar *u;
-    PetscCall(VecGetArray(s->U, &u));
-    u[s->nowned * s->ustride + s->genergy + FS_ENERGY_LIQUID0] = e[0];
-    u[s->nowned * s->ustride + s->genergy + FS_ENERGY_TOTAL0]  = e[1];
-    PetscCall(VecRestoreArray(s->U, &u));
+    PetscCall(VecGetArray(s->state.U, &u));
+    u[s->pw.nowned * s->state.ustride + s->state.genergy + FS_ENERGY_LIQUID0] = e[0];
+    u[s->pw.nowned * s->state.ustride + s->state.genergy + FS_ENERGY_TOTAL0]  = e[1];
+    PetscCall(VecRestoreArray(s->state.U, &u));
   }
   PetscFunctionReturn(0);
 }
@@ -229,20 +229,20 @@ PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
   PetscCall(TSGetTime(s->ts, &t));
   {
     const PetscScalar *u;
-    const PetscInt     off = s->nowned * s->ustride;
+    const PetscInt     off = s->pw.nowned * s->state.ustride;
     PetscInt           q   = 0;
-    PetscCall(VecGetArrayRead(s->U, &u));
+    PetscCall(VecGetArrayRead(s->state.U, &u));
     for (PetscInt tt = 0; tt < s->terms.nterms; tt++) {
       FSTerm          term = s->terms.term[tt];
       const char     *name = term->name;
-      const PetscReal wk   = term->has_power ? u[off + s->gdiss + q++] : 0;
+      const PetscReal wk   = term->has_power ? u[off + s->state.gdiss + q++] : 0;
       if (!term->has_power) continue;
       if (!strcmp(name, "delta")) work[0] += wk;
       else if (!strcmp(name, "continuity") || !strcmp(name, "pressure") || !strncmp(name, "wall_", 5)) work[2] += wk;
       else work[1] += wk;
     }
-    for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) eb[e] = u[off + s->genergy + e];
-    PetscCall(VecRestoreArrayRead(s->U, &u));
+    for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) eb[e] = u[off + s->state.genergy + e];
+    PetscCall(VecRestoreArrayRead(s->state.U, &u));
   }
   {
     PetscReal w;
@@ -304,7 +304,7 @@ PetscErrorCode FSSolverGetEnergy(FSSolver s, PetscInt *n, const char *names[], P
   if (names)
     for (PetscInt c = 0; c < FS_ENERGY_NCOLUMNS; c++) names[c] = FSEnergyNames[c];
   if (values) {
-    if (!s->monitoring && !s->restart[0]) PetscCall(FSSolverEnergyInitial(s)); /* before the run: its initial state */
+    if (!s->mon.monitoring && !s->opt.restart[0]) PetscCall(FSSolverEnergyInitial(s)); /* before the run: its initial state */
     PetscCall(FSSolverEnergyValues(s, values));
     PetscCallMPI(MPI_Bcast(values, (PetscMPIInt)FS_ENERGY_NCOLUMNS, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
   }

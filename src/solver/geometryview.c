@@ -35,7 +35,7 @@ static PetscErrorCode FSGeometryDraw(FSSolver s, PetscInt np, const PetscReal xy
   PetscCall(FSImageCreate(width, height, img));
   FSImageFill(img, FSGeometryWhite);
   /* particles: discs of a quarter of the spacing, at least one pixel, at most 4 pixels in radius */
-  r = PetscMin(4.0, PetscMax(0.5, 0.25 * s->dx * m.scale));
+  r = PetscMin(4.0, PetscMax(0.5, 0.25 * s->opt.dx * m.scale));
   for (PetscInt k = 0; k < np; k++) FSImageDrawDisc(img, FSImageMapX(&m, xy[2 * k]), FSImageMapY(&m, xy[2 * k + 1]), r, FSGeometryParticle);
   if (s->boundary) PetscCall(FSBoundaryDraw(s->boundary, img, &m));
   PetscFunctionReturn(0);
@@ -86,8 +86,8 @@ PetscErrorCode FSSolverGeometryView(FSSolver s, const char dir[])
   PetscCall(PetscMalloc1(2 * n + 1, &mine));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   for (PetscInt k = 0; k < n; k++) {
-    mine[2 * k]     = x[k * s->dim];
-    mine[2 * k + 1] = x[k * s->dim + 1];
+    mine[2 * k]     = x[k * s->opt.dim];
+    mine[2 * k + 1] = x[k * s->opt.dim + 1];
   }
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(PetscMPIIntCast(2 * n, &nl2));
@@ -108,8 +108,8 @@ PetscErrorCode FSSolverGeometryView(FSSolver s, const char dir[])
 
   /* the picture: the walls' bounding box, or the domain's */
   for (PetscInt d = 0; d < 2; d++) {
-    lo[d] = s->lo[d];
-    hi[d] = s->hi[d];
+    lo[d] = s->pw.lo[d];
+    hi[d] = s->pw.hi[d];
   }
   if (s->boundary) {
     PetscCall(FSBoundaryGetBoundingBox(s->boundary, lo, hi));

@@ -11,14 +11,14 @@
 /* Global diagnostics of the current state. vals: kinetic energy, mass, momentum (3), then max |u|. */
 static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscReal *umax)
 {
-  const PetscInt     dim = s->dim, US = s->ustride, S = s->stride;
+  const PetscInt     dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride;
   const PetscScalar *u;
   PetscReal          loc[5] = {0, 0, 0, 0, 0}, vmax = 0;
 
   PetscFunctionBegin;
-  PetscCall(VecGetArrayRead(s->U, &u));
-  for (PetscInt p = 0; p < s->nowned; p++) {
-    const PetscReal m = s->rec[p * S + 2 * dim + 1];
+  PetscCall(VecGetArrayRead(s->state.U, &u));
+  for (PetscInt p = 0; p < s->pw.nowned; p++) {
+    const PetscReal m = s->pw.rec[p * S + 2 * dim + 1];
     PetscReal       v2 = 0;
     for (PetscInt d = 0; d < dim; d++) {
       const PetscReal v = u[p * US + dim + d];
@@ -29,7 +29,7 @@ static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscRe
     loc[1] += m;
     vmax = PetscMax(vmax, v2);
   }
-  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
   PetscCallMPI(MPI_Allreduce(loc, sums, 5, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &vmax, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
   *umax = PetscSqrtReal(vmax);
@@ -44,11 +44,11 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(FSSolverDiagnostics(s, sums, &umax));
-  if (!s->series) PetscFunctionReturn(0);
+  if (!s->mon.series) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
-  if (step > s->step0) { /* the step just taken (TS's own time step is its proposal for the next one) */
+  if (step > s->mon.step0) { /* the step just taken (TS's own time step is its proposal for the next one) */
     PetscReal tprev;
     PetscCall(TSGetPrevTime(s->ts, &tprev));
     dt = t - tprev;
@@ -57,15 +57,15 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   vals[k++] = dt;
   vals[k++] = sums[0];
   vals[k++] = sums[1];
-  for (PetscInt d = 0; d < s->dim; d++) vals[k++] = sums[2 + d];
+  for (PetscInt d = 0; d < s->opt.dim; d++) vals[k++] = sums[2 + d];
   vals[k++] = umax;
-  vals[k++] = s->max_variation;
-  if (!rank && s->ndiss) { /* the dissipated energies */
+  vals[k++] = s->state.max_variation;
+  if (!rank && s->state.ndiss) { /* the dissipated energies */
     const PetscScalar *u;
-    PetscCall(VecGetArrayRead(s->U, &u));
-    for (PetscInt g = s->gdiss; g < s->gdiss + s->ndiss; g++) vals[k++] = u[s->nowned * s->ustride + g];
-    PetscCall(VecRestoreArrayRead(s->U, &u));
-  } else k += s->ndiss;
+    PetscCall(VecGetArrayRead(s->state.U, &u));
+    for (PetscInt g = s->state.gdiss; g < s->state.gdiss + s->state.ndiss; g++) vals[k++] = u[s->pw.nowned * s->state.ustride + g];
+    PetscCall(VecRestoreArrayRead(s->state.U, &u));
+  } else k += s->state.ndiss;
   if (s->caseops.columns) {
     PetscCall((*s->caseops.columns)(s, t, &vals[k]));
     k += s->caseops.ncolumns;
@@ -87,10 +87,10 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
     PetscCall(FSSolverStructureValues(s, &vals[k]));
     k += nc;
   }
-  PetscCall(FSTimeSeriesAppend(s->series, step, vals));
-  if (s->energyseries) { /* energy.csv: the energy budget (src/coupling/energy.c) */
+  PetscCall(FSTimeSeriesAppend(s->mon.series, step, vals));
+  if (s->mon.energyseries) { /* energy.csv: the energy budget (src/coupling/energy.c) */
     PetscCall(FSSolverEnergyValues(s, vals));
-    PetscCall(FSTimeSeriesAppend(s->energyseries, step, vals));
+    PetscCall(FSTimeSeriesAppend(s->mon.energyseries, step, vals));
   }
   PetscFunctionReturn(0);
 }
@@ -109,29 +109,29 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   static const char *mom[] = {"momentum_x", "momentum_y", "momentum_z"};
 
   PetscFunctionBegin;
-  if (s->monitoring) PetscFunctionReturn(0);
+  if (s->mon.monitoring) PetscFunctionReturn(0);
   PetscCall(FSSolverSetUp(s));
-  s->monitoring = PETSC_TRUE;
-  PetscCall(PetscTime(&s->wall_start));
-  s->wall_last_progress = s->wall_start;
+  s->mon.monitoring = PETSC_TRUE;
+  PetscCall(PetscTime(&s->mon.wall_start));
+  s->mon.wall_last_progress = s->mon.wall_start;
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
-  s->step0          = step;
-  s->t0             = t;
-  s->particle_steps = 0;
-  s->steps_taken    = 0;
-  s->pair_visits    = 0;
+  s->mon.step0          = step;
+  s->mon.t0             = t;
+  s->mon.particle_steps = 0;
+  s->mon.steps_taken    = 0;
+  s->mon.pair_visits    = 0;
   /* snapshots at multiples of the interval, also after a restart */
-  s->next_output = s->output_interval > 0 ? (PetscFloorReal(t / s->output_interval + 1e-9) + 1) * s->output_interval : PETSC_MAX_REAL;
-  s->last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
-  if (!s->restart[0]) PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
-  if (!s->write_output) PetscFunctionReturn(0);
-  PetscCall(FSMakeDirectory(comm, s->outdir, "-fs_output_dir"));
+  s->mon.next_output = s->opt.output_interval > 0 ? (PetscFloorReal(t / s->opt.output_interval + 1e-9) + 1) * s->opt.output_interval : PETSC_MAX_REAL;
+  s->mon.last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
+  if (!s->opt.restart[0]) PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
+  if (!s->opt.write_output) PetscFunctionReturn(0);
+  PetscCall(FSMakeDirectory(comm, s->opt.outdir, "-fs_output_dir"));
   names[k++] = "time";
   names[k++] = "dt";
   names[k++] = "kinetic_energy";
   names[k++] = "mass";
-  for (PetscInt d = 0; d < s->dim; d++) names[k++] = mom[d];
+  for (PetscInt d = 0; d < s->opt.dim; d++) names[k++] = mom[d];
   names[k++] = "max_velocity";
   names[k++] = "max_density_variation";
   for (PetscInt g = 0, q = 0; g < s->terms.nterms; g++)
@@ -157,15 +157,15 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
     PetscCall(FSSolverStructureColumns(s, &nc, &names[k]));
     k += nc;
   }
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/timeseries.csv", s->outdir));
-  PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->restart[0] ? step : -1, &s->series));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/timeseries.csv", s->opt.outdir));
+  PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->opt.restart[0] ? step : -1, &s->mon.series));
   PetscCall(FSSolverEnergyColumns(s, &k, names));
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/energy.csv", s->outdir));
-  PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->restart[0] ? step : -1, &s->energyseries));
-  PetscCall(FSSnapshotWriterCreate(comm, s->outdir, s->restart[0] ? t : -1.0, &s->snapshots));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/energy.csv", s->opt.outdir));
+  PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->opt.restart[0] ? step : -1, &s->mon.energyseries));
+  PetscCall(FSSnapshotWriterCreate(comm, s->opt.outdir, s->opt.restart[0] ? t : -1.0, &s->mon.snapshots));
   PetscCall(FSSolverCheckState(s));
   PetscCall(FSSolverAppendSeries(s)); /* on restart, the series was cut just before this row */
-  if (!s->restart[0]) PetscCall(FSSolverWriteSnapshot(s));
+  if (!s->opt.restart[0]) PetscCall(FSSolverWriteSnapshot(s));
   PetscFunctionReturn(0);
 }
 
@@ -177,24 +177,24 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
   PetscLogDouble now;
 
   PetscFunctionBegin;
-  if (!s->monitoring) PetscCall(FSSolverMonitorBegin(s));
+  if (!s->mon.monitoring) PetscCall(FSSolverMonitorBegin(s));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCall(FSSolverAppendSeries(s));
-  if (s->write_output && s->output_interval > 0 && t >= s->next_output - 1e-9 * s->output_interval) {
+  if (s->opt.write_output && s->opt.output_interval > 0 && t >= s->mon.next_output - 1e-9 * s->opt.output_interval) {
     PetscCall(FSSolverWriteSnapshot(s));
-    while (s->next_output <= t + 1e-9 * s->output_interval) s->next_output += s->output_interval;
+    while (s->mon.next_output <= t + 1e-9 * s->opt.output_interval) s->mon.next_output += s->opt.output_interval;
   }
-  if (s->write_output && s->checkpoint_interval > 0 && step % s->checkpoint_interval == 0) PetscCall(FSSolverWriteCheckpoint(s));
+  if (s->opt.write_output && s->opt.checkpoint_interval > 0 && step % s->opt.checkpoint_interval == 0) PetscCall(FSSolverWriteCheckpoint(s));
   PetscCall(PetscTime(&now));
-  if (s->progress && now - s->wall_last_progress >= s->progress_interval) {
+  if (s->opt.progress && now - s->mon.wall_last_progress >= s->opt.progress_interval) {
     PetscReal frac, eta;
     PetscCall(TSGetMaxTime(s->ts, &tmax));
     PetscCall(TSGetTimeStep(s->ts, &dt));
-    frac = tmax > s->t0 ? (t - s->t0) / (tmax - s->t0) : 1;
-    eta  = frac > 0 ? (now - s->wall_start) * (1 - frac) / frac : 0;
-    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s), "step %6" PetscInt_FMT "  t = %-11.5g dt = %-10.4g %5.1f%%  elapsed %7.1f s  left ~%7.1f s\n", step, (double)t, (double)dt, (double)(100 * frac), now - s->wall_start, (double)eta));
-    s->wall_last_progress = now;
+    frac = tmax > s->mon.t0 ? (t - s->mon.t0) / (tmax - s->mon.t0) : 1;
+    eta  = frac > 0 ? (now - s->mon.wall_start) * (1 - frac) / frac : 0;
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s), "step %6" PetscInt_FMT "  t = %-11.5g dt = %-10.4g %5.1f%%  elapsed %7.1f s  left ~%7.1f s\n", step, (double)t, (double)dt, (double)(100 * frac), now - s->mon.wall_start, (double)eta));
+    s->mon.wall_last_progress = now;
   }
   PetscFunctionReturn(0);
 }
@@ -205,9 +205,9 @@ PetscErrorCode FSSolverMonitorEnd(FSSolver s)
   PetscReal t;
 
   PetscFunctionBegin;
-  if (!s->monitoring) PetscFunctionReturn(0);
+  if (!s->mon.monitoring) PetscFunctionReturn(0);
   PetscCall(TSGetTime(s->ts, &t));
-  if (s->write_output && s->last_snapshot_time < t) PetscCall(FSSolverWriteSnapshot(s)); /* unless one was written at t */
-  if (s->write_output) PetscCall(FSSolverWriteSummary(s));
+  if (s->opt.write_output && s->mon.last_snapshot_time < t) PetscCall(FSSolverWriteSnapshot(s)); /* unless one was written at t */
+  if (s->opt.write_output) PetscCall(FSSolverWriteSummary(s));
   PetscFunctionReturn(0);
 }

@@ -8,10 +8,10 @@
 static PetscErrorCode FSSolverEnsureField(FSSolver s, PetscInt n)
 {
   PetscFunctionBegin;
-  if (n > s->fieldcap) {
-    PetscCall(PetscFree(s->field));
-    s->fieldcap = n;
-    PetscCall(PetscMalloc1(n, &s->field));
+  if (n > s->mon.fieldcap) {
+    PetscCall(PetscFree(s->mon.field));
+    s->mon.fieldcap = n;
+    PetscCall(PetscMalloc1(n, &s->mon.field));
   }
   PetscFunctionReturn(0);
 }
@@ -27,7 +27,7 @@ static PetscErrorCode FSSolverEnsureField(FSSolver s, PetscInt n)
 */
 static PetscErrorCode FSSolverDerivedFields(FSSolver s, PetscReal p[], PetscReal nD[], PetscReal nut[])
 {
-  const PetscInt     n = s->nowned, A = s->auxstride;
+  const PetscInt     n = s->pw.nowned, A = s->pw.auxstride;
   const PetscScalar *u;
   PetscScalar       *f;
   Vec                F;
@@ -35,17 +35,17 @@ static PetscErrorCode FSSolverDerivedFields(FSSolver s, PetscReal p[], PetscReal
   FSParticles        P;
 
   PetscFunctionBegin;
-  PetscCall(TSGetTime(s->ts, &s->rhs_time));
-  PetscCall(VecDuplicate(s->U, &F));
-  PetscCall(VecGetArrayRead(s->U, &u));
+  PetscCall(TSGetTime(s->ts, &s->state.rhs_time));
+  PetscCall(VecDuplicate(s->state.U, &F));
+  PetscCall(VecGetArrayRead(s->state.U, &u));
   PetscCall(VecGetArray(F, &f));
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
   PetscCall(VecRestoreArray(F, &f));
-  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
   PetscCall(VecDestroy(&F));
   for (PetscInt k = 0; k < n; k++) {
-    if (p) p[k] = s->pressure[k];
-    if (nD) nD[k] = s->terms.needs ? s->aux[k * A + s->dim] : 0;
+    if (p) p[k] = s->pw.pressure[k];
+    if (nD) nD[k] = s->terms.needs ? s->pw.aux[k * A + s->opt.dim] : 0;
     if (nut) nut[k] = 0;
   }
   if (!nut) PetscFunctionReturn(0);
@@ -64,7 +64,7 @@ static PetscErrorCode FSSolverDerivedFields(FSSolver s, PetscReal p[], PetscReal
 */
 PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
 {
-  const PetscInt dim = s->dim, n = s->nowned, US = s->ustride;
+  const PetscInt dim = s->opt.dim, n = s->pw.nowned, US = s->state.ustride;
   FSOutputField  fields[8];
   PetscReal     *pos, *vel, *rho, *p, *nD, *nut, *rk, *id, t;
   PetscInt      *pid, step;
@@ -77,13 +77,13 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCall(FSSolverStructureSnapshot(s)); /* the structure's own output (e.g. the deflected shape) */
-  if (s->nglobal_particles == 0) {         /* a dry structure: no particle file */
-    s->last_snapshot_time = t;
+  if (s->pw.nglobal_particles == 0) {         /* a dry structure: no particle file */
+    s->mon.last_snapshot_time = t;
     PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
     PetscFunctionReturn(0);
   }
   PetscCall(FSSolverEnsureField(s, n * (2 * dim + 6) + 1));
-  pos = s->field;
+  pos = s->mon.field;
   vel = pos + n * dim;
   rho = vel + n * dim;
   p   = rho + n;
@@ -92,7 +92,7 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   rk  = nut + n;
   id  = rk + n;
   PetscCall(FSSolverDerivedFields(s, p, nD, nut));
-  PetscCall(VecGetArrayRead(s->U, &u));
+  PetscCall(VecGetArrayRead(s->state.U, &u));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
   for (PetscInt k = 0; k < n; k++) {
     for (PetscInt d = 0; d < dim; d++) {
@@ -104,7 +104,7 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
     id[k]  = pid[k];
   }
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
-  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
   fields[0] = (FSOutputField){"position", dim, pos};
   fields[1] = (FSOutputField){"velocity", dim, vel};
   fields[2] = (FSOutputField){"density", 1, rho};
@@ -113,8 +113,8 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   fields[5] = (FSOutputField){"turbulent_viscosity", 1, nut};
   fields[6] = (FSOutputField){"rank", 1, rk};
   fields[7] = (FSOutputField){"id", 1, id};
-  PetscCall(FSSnapshotWriterWrite(s->snapshots, t, step, dim, n, 8, fields));
-  s->last_snapshot_time = t;
+  PetscCall(FSSnapshotWriterWrite(s->mon.snapshots, t, step, dim, n, 8, fields));
+  s->mon.last_snapshot_time = t;
   PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -147,7 +147,7 @@ static const char *FSFieldNames[] = {"position", "velocity", "density", "mass", 
 */
 PetscErrorCode FSSolverGetField(FSSolver s, const char name[], PetscInt *n, PetscInt *bs, const PetscReal *values[])
 {
-  const PetscInt     dim = s->dim, US = s->ustride, S = s->stride, np = s->nowned;
+  const PetscInt     dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride, np = s->pw.nowned;
   PetscInt           k = 0, b = 1, off = -1;
   PetscReal         *v;
   MPI_Comm           comm = PetscObjectComm((PetscObject)s);
@@ -161,12 +161,12 @@ PetscErrorCode FSSolverGetField(FSSolver s, const char name[], PetscInt *n, Pets
   if (k <= 2) off = k * dim; /* the packed state: position, velocity, density */
   if (off >= 0) {
     const PetscScalar *u;
-    PetscCall(VecGetArrayRead(s->U, &u));
+    PetscCall(VecGetArrayRead(s->state.U, &u));
     for (PetscInt i = 0; i < np; i++)
       for (PetscInt d = 0; d < b; d++) v[i * b + d] = u[i * US + off + d];
-    PetscCall(VecRestoreArrayRead(s->U, &u));
+    PetscCall(VecRestoreArrayRead(s->state.U, &u));
   } else if (k == 3) { /* the mass, from the particle records */
-    for (PetscInt i = 0; i < np; i++) v[i] = s->rec[i * S + 2 * dim + 1];
+    for (PetscInt i = 0; i < np; i++) v[i] = s->pw.rec[i * S + 2 * dim + 1];
   } else if (k <= 6) {
     PetscCall(FSSolverDerivedFields(s, k == 4 ? v : NULL, k == 5 ? v : NULL, k == 6 ? v : NULL));
   } else if (k == 7) {
@@ -212,7 +212,7 @@ PetscErrorCode FSSolverRestoreField(FSSolver s, const char name[], PetscInt *n, 
 */
 PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 {
-  const PetscInt     dim = s->dim, n = s->nowned;
+  const PetscInt     dim = s->opt.dim, n = s->pw.nowned;
   FSCheckpointHeader hdr;
   FSOutputField      fields[5];
   PetscReal         *x, *v, *rho, *m, *id;
@@ -227,32 +227,32 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   PetscCall(TSGetTime(s->ts, &hdr.time));
   PetscCall(TSGetStepNumber(s->ts, &hdr.step));
   PetscCall(TSGetTimeStep(s->ts, &hdr.dt));
-  hdr.nglobal = s->nglobaldofs + 2; /* the global DOFs, the viscosity bound of the next step, the structure's DOF count */
-  if (!rank && s->nglobaldofs) {
+  hdr.nglobal = s->state.nglobaldofs + 2; /* the global DOFs, the viscosity bound of the next step, the structure's DOF count */
+  if (!rank && s->state.nglobaldofs) {
     const PetscScalar *u;
     PetscInt           nl;
-    PetscCall(VecGetLocalSize(s->U, &nl));
-    PetscCall(VecGetArrayRead(s->U, &u));
-    for (PetscInt g = 0; g < s->nglobaldofs; g++) hdr.global[g] = u[nl - s->nglobaldofs + g];
-    PetscCall(VecRestoreArrayRead(s->U, &u));
+    PetscCall(VecGetLocalSize(s->state.U, &nl));
+    PetscCall(VecGetArrayRead(s->state.U, &u));
+    for (PetscInt g = 0; g < s->state.nglobaldofs; g++) hdr.global[g] = u[nl - s->state.nglobaldofs + g];
+    PetscCall(VecRestoreArrayRead(s->state.U, &u));
   }
-  PetscCallMPI(MPI_Bcast(hdr.global, (PetscMPIInt)s->nglobaldofs, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
-  PetscCallMPI(MPI_Allreduce(&s->nu_bound, &hdr.global[s->nglobaldofs], 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
-  hdr.global[s->nglobaldofs + 1] = (PetscReal)(s->gdiss - s->gstruct);
+  PetscCallMPI(MPI_Bcast(hdr.global, (PetscMPIInt)s->state.nglobaldofs, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  PetscCallMPI(MPI_Allreduce(&s->state.nu_bound, &hdr.global[s->state.nglobaldofs], 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  hdr.global[s->state.nglobaldofs + 1] = (PetscReal)(s->state.gdiss - s->state.gstruct);
   PetscCall(FSSolverEnsureField(s, n + 1));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
-  id = s->field;
+  id = s->mon.field;
   for (PetscInt k = 0; k < n; k++) id[k] = pid[k];
   fields[0] = (FSOutputField){FS_FIELD_POSITION, dim, x};
   fields[1] = (FSOutputField){FS_FIELD_VELOCITY, dim, v};
   fields[2] = (FSOutputField){FS_FIELD_DENSITY, 1, rho};
   fields[3] = (FSOutputField){FS_FIELD_MASS, 1, m};
   fields[4] = (FSOutputField){FS_FIELD_ID, 1, id};
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt_FMT ".h5", s->outdir, hdr.step));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt_FMT ".h5", s->opt.outdir, hdr.step));
   PetscCall(FSCheckpointWrite(PetscObjectComm((PetscObject)s), path, &hdr, n, 5, fields));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
@@ -270,7 +270,7 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)s);
-  const PetscInt     dim = s->dim;
+  const PetscInt     dim = s->opt.dim;
   FSCheckpointHeader hdr;
   PetscInt           nglob, n;
   PetscMPIInt        nranks;
@@ -278,9 +278,9 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   PetscInt          *pid;
 
   PetscFunctionBegin;
-  PetscCall(FSCheckpointReadHeader(comm, s->restart, &hdr, &nglob, &nranks));
-  PetscCheck(hdr.nglobal == s->nglobaldofs + 2 && hdr.global[hdr.nglobal - 1] == (PetscReal)(s->gdiss - s->gstruct), comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s holds %" PetscInt_FMT " global values (%g of them structure DOFs) but this run needs %" PetscInt_FMT " (%" PetscInt_FMT "): restart with the same -fs_terms and -fs_structure (and its modes) as the run that wrote it", s->restart, hdr.nglobal, hdr.nglobal > 0 ? (double)hdr.global[hdr.nglobal - 1] : 0.0, s->nglobaldofs + 2, s->gdiss - s->gstruct);
-  PetscCall(FSCheckpointGetLocalSize(comm, s->restart, &n));
+  PetscCall(FSCheckpointReadHeader(comm, s->opt.restart, &hdr, &nglob, &nranks));
+  PetscCheck(hdr.nglobal == s->state.nglobaldofs + 2 && hdr.global[hdr.nglobal - 1] == (PetscReal)(s->state.gdiss - s->state.gstruct), comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s holds %" PetscInt_FMT " global values (%g of them structure DOFs) but this run needs %" PetscInt_FMT " (%" PetscInt_FMT "): restart with the same -fs_terms and -fs_structure (and its modes) as the run that wrote it", s->opt.restart, hdr.nglobal, hdr.nglobal > 0 ? (double)hdr.global[hdr.nglobal - 1] : 0.0, s->state.nglobaldofs + 2, s->state.gdiss - s->state.gstruct);
+  PetscCall(FSCheckpointGetLocalSize(comm, s->opt.restart, &n));
   PetscCall(DMSwarmSetLocalSizes(s->swarm, n, 1024));
   PetscCall(FSSolverEnsureField(s, n + 1));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
@@ -288,22 +288,22 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
-  id = s->field;
-  PetscCall(FSCheckpointReadField(comm, s->restart, FS_FIELD_POSITION, dim, n, x));
-  PetscCall(FSCheckpointReadField(comm, s->restart, FS_FIELD_VELOCITY, dim, n, v));
-  PetscCall(FSCheckpointReadField(comm, s->restart, FS_FIELD_DENSITY, 1, n, rho));
-  PetscCall(FSCheckpointReadField(comm, s->restart, FS_FIELD_MASS, 1, n, m));
-  PetscCall(FSCheckpointReadField(comm, s->restart, FS_FIELD_ID, 1, n, id));
+  id = s->mon.field;
+  PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_POSITION, dim, n, x));
+  PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_VELOCITY, dim, n, v));
+  PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_DENSITY, 1, n, rho));
+  PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_MASS, 1, n, m));
+  PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_ID, 1, n, id));
   for (PetscInt k = 0; k < n; k++) pid[k] = (PetscInt)id[k];
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  s->nglobal_particles = nglob;
-  s->restart_hdr       = hdr;
-  for (PetscInt g = 0; g < s->nglobaldofs; g++) s->global0[g] = hdr.global[g];
-  s->nu_bound = hdr.global[s->nglobaldofs];
+  s->pw.nglobal_particles = nglob;
+  s->state.restart_hdr       = hdr;
+  for (PetscInt g = 0; g < s->state.nglobaldofs; g++) s->state.global0[g] = hdr.global[g];
+  s->state.nu_bound = hdr.global[s->state.nglobaldofs];
   PetscFunctionReturn(0);
 }
 
@@ -318,12 +318,12 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscInt       step;
   PetscMPIInt    size;
   struct rusage  ru;
-  PetscInt64     pv = s->pair_visits;
+  PetscInt64     pv = s->mon.pair_visits;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(PetscTime(&now));
-  wall = now - s->wall_start;
+  wall = now - s->mon.wall_start;
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetTimeStep(s->ts, &dt));
   PetscCall(TSGetStepNumber(s->ts, &step));
@@ -331,28 +331,28 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   getrusage(RUSAGE_SELF, &ru);
   mem = (PetscReal)ru.ru_maxrss * 1024.0;
   PetscCallMPI(MPI_Allreduce(&mem, &memsum, 1, MPIU_REAL, MPI_SUM, comm));
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/summary.json", s->outdir));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/summary.json", s->opt.outdir));
   PetscCall(FSJSONCreate(comm, path, &js));
   PetscCall(FSJSONWriteString(js, "program", "flexslosh " FLEXSLOSH_VERSION));
-  PetscCall(FSJSONWriteString(js, "case", s->casename));
-  PetscCall(FSJSONWriteInt(js, "dim", s->dim));
+  PetscCall(FSJSONWriteString(js, "case", s->opt.casename));
+  PetscCall(FSJSONWriteInt(js, "dim", s->opt.dim));
   PetscCall(FSJSONWriteInt(js, "ranks", size));
-  PetscCall(FSJSONWriteInt(js, "particles", s->nglobal_particles));
-  PetscCall(FSJSONWriteInt(js, "steps", step - s->step0));
+  PetscCall(FSJSONWriteInt(js, "particles", s->pw.nglobal_particles));
+  PetscCall(FSJSONWriteInt(js, "steps", step - s->mon.step0));
   PetscCall(FSJSONWriteInt(js, "final_step", step));
-  PetscCall(FSJSONWriteReal(js, "start_time", s->t0));
+  PetscCall(FSJSONWriteReal(js, "start_time", s->mon.t0));
   PetscCall(FSJSONWriteReal(js, "final_time", t));
   PetscCall(FSJSONWriteReal(js, "last_dt", dt));
-  PetscCall(FSJSONWriteReal(js, "dx", s->dx));
-  PetscCall(FSJSONWriteReal(js, "h", s->h));
+  PetscCall(FSJSONWriteReal(js, "dx", s->opt.dx));
+  PetscCall(FSJSONWriteReal(js, "h", s->opt.h));
   PetscCall(FSJSONWriteReal(js, "wall_time", wall));
-  PetscCall(FSJSONWriteReal(js, "particle_steps_per_second", wall > 0 ? (PetscReal)s->particle_steps / wall : 0));
-  PetscCall(FSJSONWriteInt(js, "rhs_evaluations", s->nrhs));
+  PetscCall(FSJSONWriteReal(js, "particle_steps_per_second", wall > 0 ? (PetscReal)s->mon.particle_steps / wall : 0));
+  PetscCall(FSJSONWriteInt(js, "rhs_evaluations", s->mon.nrhs));
   PetscCall(FSJSONWriteInt(js, "pair_visits", pv));
   PetscCall(FSJSONWriteReal(js, "pair_visits_per_second", wall > 0 ? (PetscReal)pv / wall : 0));
   PetscCall(FSJSONWriteReal(js, "peak_memory_bytes", memsum));
-  PetscCall(FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->nglobal_particles, 1)));
-  PetscCall(FSJSONWriteInt(js, "migrations", s->nmigrations));
+  PetscCall(FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->pw.nglobal_particles, 1)));
+  PetscCall(FSJSONWriteInt(js, "migrations", s->mon.nmigrations));
   if (s->boundary) PetscCall(FSBoundarySummary(s->boundary, js));
   PetscCall(FSSolverStructureSummary(s, js));
   PetscCall(FSJSONBeginObject(js, "terms"));

@@ -10,12 +10,12 @@
 /* Fills the neighbourhood scratch of particle i: x_j - x_i, r^2, grad_i W. Returns the count. */
 static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
 {
-  const PetscInt   dim = s->dim, S = s->stride, b = s->nbrs.start[i], n = s->nbrs.start[i + 1] - b;
-  const PetscInt  *nbr = s->nbrs.nbr + b;
-  const PetscReal *F = s->nbrs.F + b, *xi = &s->rec[i * S];
+  const PetscInt   dim = s->opt.dim, S = s->pw.stride, b = s->pw.nbrs.start[i], n = s->pw.nbrs.start[i + 1] - b;
+  const PetscInt  *nbr = s->pw.nbrs.nbr + b;
+  const PetscReal *F = s->pw.nbrs.F + b, *xi = &s->pw.rec[i * S];
   if (dim == 2) {
     for (PetscInt k = 0; k < n; k++) {
-      const PetscReal *xj = &s->rec[nbr[k] * S];
+      const PetscReal *xj = &s->pw.rec[nbr[k] * S];
       const PetscReal  a = xj[0] - xi[0], c = xj[1] - xi[1];
       dx[2 * k]     = a;
       dx[2 * k + 1] = c;
@@ -25,7 +25,7 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
     }
   } else {
     for (PetscInt k = 0; k < n; k++) {
-      const PetscReal *xj = &s->rec[nbr[k] * S];
+      const PetscReal *xj = &s->pw.rec[nbr[k] * S];
       const PetscReal  a = xj[0] - xi[0], c = xj[1] - xi[1], e = xj[2] - xi[2];
       dx[3 * k]     = a;
       dx[3 * k + 1] = c;
@@ -90,16 +90,16 @@ static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscRe
 */
 FS_ALWAYS_INLINE void FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const PetscBool build)
 {
-  FSNeighbours    *nb  = &s->nbrs;
-  const PetscInt   S   = s->stride, A = s->auxstride, n = s->nowned;
-  const PetscReal *rec = s->rec, *vol = s->vol, R2 = s->kernel.support2;
-  PetscReal       *dx  = s->scratch; /* x_j - x_i of the neighbours of i */
+  FSNeighbours    *nb  = &s->pw.nbrs;
+  const PetscInt   S   = s->pw.stride, A = s->pw.auxstride, n = s->pw.nowned;
+  const PetscReal *rec = s->pw.rec, *vol = s->pw.vol, R2 = s->pw.kernel.support2;
+  PetscReal       *dx  = s->pw.scratch; /* x_j - x_i of the neighbours of i */
   PetscInt         np  = 0;
 
   for (PetscInt i = 0; i < n; i++) {
     const PetscReal *ri = &rec[i * S];
     PetscReal        M[9] = {0}, Minv[9], G[3] = {0, 0, 0}, Au[9] = {0}, J[9] = {0}, nrm = 0;
-    PetscReal       *out = &s->aux[i * A];
+    PetscReal       *out = &s->pw.aux[i * A];
     PetscInt         b0, m;
     if (build) {
       /* the candidates within the support, without branches (whether a candidate is inside is as
@@ -122,7 +122,7 @@ FS_ALWAYS_INLINE void FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const
       }
       m = np - b0;
       /* F(r) of the pairs kept (a loop the compiler vectorizes: square roots and divisions in pairs) */
-      for (PetscInt k = b0; k < np; k++) nb->F[k] = FSKernelF(&s->kernel, PetscSqrtReal(nb->F[k]));
+      for (PetscInt k = b0; k < np; k++) nb->F[k] = FSKernelF(&s->pw.kernel, PetscSqrtReal(nb->F[k]));
     } else {
       b0 = nb->start[i];
       m  = nb->start[i + 1] - b0;
@@ -174,8 +174,8 @@ static PetscErrorCode FSSolverFirstPass(FSSolver s, PetscBool build)
 {
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
-  if (build) PetscCall(FSNeighboursReserveList(&s->nbrs));
-  if (s->dim == 2) {
+  if (build) PetscCall(FSNeighboursReserveList(&s->pw.nbrs));
+  if (s->opt.dim == 2) {
     if (build) FSSolverFirstPassDim(s, 2, PETSC_TRUE);
     else FSSolverFirstPassDim(s, 2, PETSC_FALSE);
   } else {
@@ -193,28 +193,28 @@ static PetscErrorCode FSSolverFirstPass(FSSolver s, PetscBool build)
 */
 static PetscErrorCode FSSolverBoundaryPrepare(FSSolver s)
 {
-  const PetscInt      n = s->nowned;
+  const PetscInt      n = s->pw.nowned;
   FSBoundaryParticles bp;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
-  if (s->reccap > s->gammacap) { /* gamma of the owned and ghost particles */
-    PetscCall(PetscFree2(s->gamma, s->invgamma));
-    s->gammacap = s->reccap;
-    PetscCall(PetscMalloc2(s->gammacap, &s->gamma, s->gammacap, &s->invgamma));
+  if (s->pw.reccap > s->pw.gammacap) { /* gamma of the owned and ghost particles */
+    PetscCall(PetscFree2(s->pw.gamma, s->pw.invgamma));
+    s->pw.gammacap = s->pw.reccap;
+    PetscCall(PetscMalloc2(s->pw.gammacap, &s->pw.gamma, s->pw.gammacap, &s->pw.invgamma));
   }
-  bp.dim                 = s->dim;
+  bp.dim                 = s->opt.dim;
   bp.nowned              = n;
-  bp.stride              = s->stride;
-  bp.rec                 = s->rec;
-  bp.vol                 = s->vol;
-  bp.pressure            = s->pressure;
+  bp.stride              = s->pw.stride;
+  bp.rec                 = s->pw.rec;
+  bp.vol                 = s->pw.vol;
+  bp.pressure            = s->pw.pressure;
   PetscCall(FSCouplingGetBody(s->coupling, &bp.body));
-  bp.background_pressure = s->background_pressure;
-  PetscCall(FSBoundaryPrepare(s->boundary, &bp, s->gamma));
-  for (PetscInt g = 0; g < s->halo.nghost; g++) s->gamma[n + g] = 1;
-  PetscCall(FSHaloRefreshScalar(&s->halo, s->gamma));
-  for (PetscInt k = 0; k < n + s->halo.nghost; k++) s->invgamma[k] = 1.0 / s->gamma[k];
+  bp.background_pressure = s->opt.background_pressure;
+  PetscCall(FSBoundaryPrepare(s->boundary, &bp, s->pw.gamma));
+  for (PetscInt g = 0; g < s->pw.halo.nghost; g++) s->pw.gamma[n + g] = 1;
+  PetscCall(FSHaloRefreshScalar(&s->pw.halo, s->pw.gamma));
+  for (PetscInt k = 0; k < n + s->pw.halo.nghost; k++) s->pw.invgamma[k] = 1.0 / s->pw.gamma[k];
   PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -226,7 +226,7 @@ static PetscErrorCode FSSolverBoundaryPrepare(FSSolver s)
 */
 static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscReal *f)
 {
-  const PetscInt        dim = s->dim, US = s->ustride, n = s->nowned;
+  const PetscInt        dim = s->opt.dim, US = s->state.ustride, n = s->pw.nowned;
   const FSWallView *B;
   const PetscInt       *wstart, *wk;
   const PetscReal      *wW;
@@ -248,7 +248,7 @@ static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscRe
       if (!term->ops.wall) continue;
       term->ops.wall(term, P, B, &nb, term->renormalized ? &rn : &ru);
     }
-    ig = s->invgamma[i];
+    ig = s->pw.invgamma[i];
     for (PetscInt d = 0; d < dim; d++) {
       f[i * US + d] += rn.dx[d] * ig + ru.dx[d];
       f[i * US + dim + d] += rn.du[d] * ig + ru.du[d];
@@ -267,35 +267,35 @@ static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscRe
 */
 static PetscErrorCode FSSolverGatherRecords(FSSolver s, const PetscReal *u)
 {
-  const PetscInt dim = s->dim, S = s->stride, US = s->ustride, n = s->nowned;
+  const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
   PetscInt       maxn = 0;
 
   PetscFunctionBegin;
   for (PetscInt i = 0; i < n; i++)
-    for (PetscInt a = 0; a < US; a++) s->rec[i * S + a] = u[i * US + a];
+    for (PetscInt a = 0; a < US; a++) s->pw.rec[i * S + a] = u[i * US + a];
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
-  PetscCall(FSHaloRefresh(&s->halo, dim, n, s->rec));
+  PetscCall(FSHaloRefresh(&s->pw.halo, dim, n, s->pw.rec));
   PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
 
   /* the neighbour list of this right-hand side: built by the first pass when there is one (it visits
      the candidates anyway), else here */
   if (!s->terms.needs) {
     PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
-    PetscCall(FSNeighboursBuildList(&s->nbrs, &s->kernel, n, s->rec, S));
+    PetscCall(FSNeighboursBuildList(&s->pw.nbrs, &s->pw.kernel, n, s->pw.rec, S));
     PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
   }
   /* the scratch holds one particle's neighbours: the candidates bound their number */
-  for (PetscInt i = 0; i < n; i++) maxn = PetscMax(maxn, s->nbrs.cstart[i + 1] - s->nbrs.cstart[i]);
-  if (maxn > s->scratchcap) {
-    PetscCall(PetscFree(s->scratch));
-    s->scratchcap = PetscMax(maxn, 2 * s->scratchcap);
-    PetscCall(PetscMalloc1((2 * dim + 2) * s->scratchcap, &s->scratch));
+  for (PetscInt i = 0; i < n; i++) maxn = PetscMax(maxn, s->pw.nbrs.cstart[i + 1] - s->pw.nbrs.cstart[i]);
+  if (maxn > s->pw.scratchcap) {
+    PetscCall(PetscFree(s->pw.scratch));
+    s->pw.scratchcap = PetscMax(maxn, 2 * s->pw.scratchcap);
+    PetscCall(PetscMalloc1((2 * dim + 2) * s->pw.scratchcap, &s->pw.scratch));
   }
   /* per-particle volumes and pressures (owned and ghosts), shared by the passes and the terms */
-  for (PetscInt k = 0; k < n + s->halo.nghost; k++) {
-    const PetscReal *rk = &s->rec[k * S];
-    s->vol[k]      = rk[2 * dim + 1] / rk[2 * dim];
-    s->pressure[k] = s->c0 * s->c0 * (rk[2 * dim] - s->rho0) + s->background_pressure;
+  for (PetscInt k = 0; k < n + s->pw.halo.nghost; k++) {
+    const PetscReal *rk = &s->pw.rec[k * S];
+    s->pw.vol[k]      = rk[2 * dim + 1] / rk[2 * dim];
+    s->pw.pressure[k] = s->opt.c0 * s->opt.c0 * (rk[2 * dim] - s->opt.rho0) + s->opt.background_pressure;
   }
   PetscFunctionReturn(0);
 }
@@ -306,8 +306,8 @@ static PetscErrorCode FSSolverGatherRecords(FSSolver s, const PetscReal *u)
 */
 static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscReal *f)
 {
-  const PetscInt dim = s->dim, S = s->stride, US = s->ustride, n = s->nowned;
-  PetscReal     *dx = s->scratch, *r2 = dx + dim * s->scratchcap, *gw = r2 + s->scratchcap, *ri2 = gw + dim * s->scratchcap;
+  const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
+  PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * s->pw.scratchcap, *gw = r2 + s->pw.scratchcap, *ri2 = gw + dim * s->pw.scratchcap;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
@@ -316,7 +316,7 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
     FSRate          rate = {0, {0, 0, 0}, {0, 0, 0}};
     nb.i     = i;
     nb.n     = FSFillNeighbourhood(s, i, dx, r2, gw, ri2);
-    nb.j     = s->nbrs.nbr + s->nbrs.start[i];
+    nb.j     = s->pw.nbrs.nbr + s->pw.nbrs.start[i];
     nb.dx    = dx;
     nb.r2    = r2;
     nb.rinv2 = ri2;
@@ -329,7 +329,7 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
       if (term->ops.source) term->ops.source(term, P, i, &rate);
     }
     if (s->boundary) {
-      const PetscReal ig = s->invgamma[i];
+      const PetscReal ig = s->pw.invgamma[i];
       rate.drho *= ig;
       for (PetscInt d = 0; d < dim; d++) {
         rate.du[d] *= ig;
@@ -343,7 +343,7 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
       if (term->ops.source) term->ops.source(term, P, i, &rate);
     }
     for (PetscInt d = 0; d < dim; d++) {
-      f[i * US + d]       = s->rec[i * S + dim + d] + rate.dx[d];
+      f[i * US + d]       = s->pw.rec[i * S + dim + d] + rate.dx[d];
       f[i * US + dim + d] = rate.du[d];
     }
     f[i * US + 2 * dim] = rate.drho;
@@ -356,16 +356,16 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
    smoothly to 0, and its power. */
 static void FSSolverRelaxation(FSSolver s, PetscReal *f)
 {
-  const PetscInt dim = s->dim, S = s->stride, US = s->ustride, n = s->nowned;
+  const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
 
-  s->relax_power = 0;
-  if (s->rhs_time < s->relax_time) {
-    const PetscReal zeta = 10.0 / s->relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->rhs_time / s->relax_time));
+  s->state.relax_power = 0;
+  if (s->state.rhs_time < s->opt.relax_time) {
+    const PetscReal zeta = 10.0 / s->opt.relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->state.rhs_time / s->opt.relax_time));
     for (PetscInt i = 0; i < n; i++)
       for (PetscInt d = 0; d < dim; d++) {
-        const PetscReal ud = s->rec[i * S + dim + d];
+        const PetscReal ud = s->pw.rec[i * S + dim + d];
         f[i * US + dim + d] -= zeta * ud;
-        s->relax_power -= zeta * s->rec[i * S + 2 * dim + 1] * ud * ud;
+        s->state.relax_power -= zeta * s->pw.rec[i * S + 2 * dim + 1] * ud * ud;
       }
   }
 }
@@ -380,26 +380,26 @@ static void FSSolverRelaxation(FSSolver s, PetscReal *f)
 */
 static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const PetscReal reaction[3], PetscReal *f)
 {
-  const PetscInt US = s->ustride, n = s->nowned;
+  const PetscInt US = s->state.ustride, n = s->pw.nowned;
   PetscReal      power[FS_MAX_TERMS + 5];
   PetscInt       npower = 0;
 
   PetscFunctionBegin;
   for (PetscInt t = 0; t < s->terms.nterms; t++)
     if (s->terms.term[t]->has_power) power[npower++] = s->terms.term[t]->power;
-  power[npower]     = s->ext_power;
-  power[npower + 1] = s->relax_power;
+  power[npower]     = s->state.ext_power;
+  power[npower + 1] = s->state.relax_power;
   for (PetscInt c = 0; c < 3; c++) power[npower + 2 + c] = reaction[c];
   {
     PetscMPIInt rank;
-    PetscReal  *fe = f + n * US + s->genergy;
+    PetscReal  *fe = f + n * US + s->state.genergy;
     PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
     PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
     PetscErrorCode ierr = 0; /* the structure's energy (rank 0): its failure is raised on every rank below */
     if (!rank) {
       FSStructure st = s->structure;
       PetscReal   E[3] = {0, 0, 0};
-      for (PetscInt k = 0; k < npower; k++) f[n * US + s->gdiss + k] = power[k];
+      for (PetscInt k = 0; k < npower; k++) f[n * US + s->state.gdiss + k] = power[k];
       for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) fe[e] = 0; /* the constants and the bounces' jumps */
       if (st && st->ndof && st->ops.energy) ierr = (*st->ops.energy)(st, s->sy, E);
       fe[FS_ENERGY_WORK_EXT]     = power[npower];
@@ -414,7 +414,7 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
 
 /*
    FSSolverEvaluateRates - the rates (dx/dt, du/dt, drho/dt) of the owned particles for the packed
-   state u, into f (same layout); the global DOFs' rates (the structure's, at time s->rhs_time,
+   state u, into f (same layout); the global DOFs' rates (the structure's, at time s->state.rhs_time,
    and the dissipated energies) on rank 0.
    count: add the work to the run's statistics (PETSC_FALSE for evaluations made for output).
 
@@ -422,7 +422,7 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
 */
 PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *f, PetscBool count)
 {
-  const PetscInt S = s->stride, US = s->ustride, n = s->nowned;
+  const PetscInt S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
   FSParticles    P;
   PetscReal      reaction[3] = {0, 0, 0};
   PetscBool      coupled;
@@ -442,9 +442,9 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   if (s->terms.needs) {
     PetscCall(FSSolverFirstPass(s, PETSC_TRUE));
     PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
-    PetscCall(FSHaloRefreshAux(&s->halo, s->aux));
+    PetscCall(FSHaloRefreshAux(&s->pw.halo, s->pw.aux));
     PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
-    if (count) s->pair_visits += s->nbrs.npairs;
+    if (count) s->mon.pair_visits += s->pw.nbrs.npairs;
   }
   for (PetscInt t = 0; t < s->terms.nterms; t++) {
     FSTerm term = s->terms.term[t];
@@ -452,29 +452,29 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     if (term->ops.prepare) PetscCall((*term->ops.prepare)(term, &P));
   }
   if (count) { /* the viscosity bound of the next time step comes from the integrator's own evaluations only */
-    s->nu_bound = s->nu;
-    for (PetscInt t = 0; t < s->terms.nterms; t++) s->nu_bound = PetscMax(s->nu_bound, s->terms.term[t]->max_viscosity);
+    s->state.nu_bound = s->opt.nu;
+    for (PetscInt t = 0; t < s->terms.nterms; t++) s->state.nu_bound = PetscMax(s->state.nu_bound, s->terms.term[t]->max_viscosity);
   }
 
   PetscCall(FSSolverPairPass(s, &P, f));
   if (s->boundary) PetscCall(FSSolverWallPass(s, &P, f));
   if (coupled) {
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
-    PetscCall(FSCouplingReaction(s->coupling, n, S, s->rec, US, f, reaction));
+    PetscCall(FSCouplingReaction(s->coupling, n, S, s->pw.rec, US, f, reaction));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   }
   FSSolverRelaxation(s, f);
   if (count) {
-    s->pair_visits += s->nbrs.npairs;
-    s->nrhs++;
+    s->mon.pair_visits += s->pw.nbrs.npairs;
+    s->mon.nrhs++;
   }
 
   /* the structure's DOFs (first block of the global DOFs, rank 0) */
-  s->ext_power = 0;
+  s->state.ext_power = 0;
   if (coupled) { /* loads of this stage to the structure, the tank's motion back to the liquid */
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSSolverCouplingRates(s, f));
-    PetscCall(FSCouplingInertia(s->coupling, n, S, s->rec, US, f, &s->ext_power));
+    PetscCall(FSCouplingInertia(s->coupling, n, S, s->pw.rec, US, f, &s->state.ext_power));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   } else PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, f, NULL));
   PetscCall(FSSolverPowerRates(s, coupled, reaction, f));
@@ -490,25 +490,25 @@ PetscErrorCode FSSolverGetParticles(FSSolver s, FSParticles *P)
 {
   PetscFunctionBegin;
   PetscCall(PetscMemzero(P, sizeof(*P)));
-  P->dim                 = s->dim;
-  P->nowned              = s->nowned;
-  P->nghost              = s->halo.nghost;
-  P->stride              = s->stride;
-  P->rec                 = s->rec;
-  P->aux                 = s->aux;
-  P->vol                 = s->vol;
-  P->pressure            = s->pressure;
-  P->rho0                = s->rho0;
-  P->c0                  = s->c0;
-  P->h                   = s->h;
-  P->nu                  = s->nu;
-  P->dx                  = s->dx;
-  P->umax                = s->umax;
-  P->background_pressure = s->background_pressure;
-  for (PetscInt d = 0; d < 3; d++) P->gravity[d] = s->gravity[d];
+  P->dim                 = s->opt.dim;
+  P->nowned              = s->pw.nowned;
+  P->nghost              = s->pw.halo.nghost;
+  P->stride              = s->pw.stride;
+  P->rec                 = s->pw.rec;
+  P->aux                 = s->pw.aux;
+  P->vol                 = s->pw.vol;
+  P->pressure            = s->pw.pressure;
+  P->rho0                = s->opt.rho0;
+  P->c0                  = s->opt.c0;
+  P->h                   = s->opt.h;
+  P->nu                  = s->opt.nu;
+  P->dx                  = s->opt.dx;
+  P->umax                = s->state.umax;
+  P->background_pressure = s->opt.background_pressure;
+  for (PetscInt d = 0; d < 3; d++) P->gravity[d] = s->opt.gravity[d];
   if (s->boundary) {
-    P->gamma    = s->gamma;
-    P->invgamma = s->invgamma;
+    P->gamma    = s->pw.gamma;
+    P->invgamma = s->pw.invgamma;
   }
   PetscFunctionReturn(0);
 }
@@ -522,7 +522,7 @@ PetscErrorCode FSSolverRHS(TS ts, PetscReal t, Vec U, Vec F, void *ctx)
 
   PetscFunctionBegin;
   (void)ts;
-  s->rhs_time = t;
+  s->state.rhs_time = t;
   PetscCall(VecGetArrayRead(U, &u));
   PetscCall(VecGetArray(F, &f));
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_TRUE));

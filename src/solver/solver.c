@@ -26,30 +26,30 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   PetscFunctionBegin;
   PetscCall(FSInitializePackage());
   PetscCall(PetscHeaderCreate(s, FSSOLVER_CLASSID, "FSSolver", "flexslosh solver", "FS", comm, FSSolverDestroy, FSSolverView));
-  PetscCall(PetscStrncpy(s->casename, "taylor_green", sizeof(s->casename)));
-  s->dim                   = 2;
-  s->dx                    = 0;
-  s->h_over_dx             = 2.0;
-  s->rho0                  = 1000.0;
-  s->c0                    = 20.0;
-  s->nu                    = 1e-6;
-  s->cfl                   = 0.4; /* cases may raise it (RK4 only, see below) */
-  s->cfl_visc              = 0.125;
-  s->cfl_force             = 0.25;
-  s->halo_skin             = 0.5;
-  s->max_density_variation = 0.3;
-  s->output_interval       = 0;
-  s->checkpoint_interval   = 0;
-  s->progress              = PETSC_TRUE;
-  s->progress_interval     = 5.0;
-  s->write_output          = PETSC_TRUE;
-  s->sort_interval         = 1;
-  s->final_time            = 1.0;
-  s->structure_cfl         = 0.02;
-  PetscCall(PetscStrncpy(s->structname, "none", sizeof(s->structname)));
+  PetscCall(PetscStrncpy(s->opt.casename, "taylor_green", sizeof(s->opt.casename)));
+  s->opt.dim                   = 2;
+  s->opt.dx                    = 0;
+  s->opt.h_over_dx             = 2.0;
+  s->opt.rho0                  = 1000.0;
+  s->opt.c0                    = 20.0;
+  s->opt.nu                    = 1e-6;
+  s->opt.cfl                   = 0.4; /* cases may raise it (RK4 only, see below) */
+  s->opt.cfl_visc              = 0.125;
+  s->opt.cfl_force             = 0.25;
+  s->opt.halo_skin             = 0.5;
+  s->opt.max_density_variation = 0.3;
+  s->opt.output_interval       = 0;
+  s->opt.checkpoint_interval   = 0;
+  s->opt.progress              = PETSC_TRUE;
+  s->opt.progress_interval     = 5.0;
+  s->opt.write_output          = PETSC_TRUE;
+  s->opt.sort_interval         = 1;
+  s->opt.final_time            = 1.0;
+  s->opt.structure_cfl         = 0.02;
+  PetscCall(PetscStrncpy(s->opt.structname, "none", sizeof(s->opt.structname)));
   PetscCall(FSCouplingCreate(comm, &s->coupling));
-  s->halo.rectype          = MPI_DATATYPE_NULL;
-  s->halo.auxtype          = MPI_DATATYPE_NULL;
+  s->pw.halo.rectype          = MPI_DATATYPE_NULL;
+  s->pw.halo.auxtype          = MPI_DATATYPE_NULL;
   *solver                  = s;
   PetscFunctionReturn(0);
 }
@@ -61,10 +61,10 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
 PetscErrorCode FSSolverSetDefaultPhysics(FSSolver s, PetscReal rho0, PetscReal c0, PetscReal nu, const PetscReal g[])
 {
   PetscFunctionBegin;
-  s->rho0 = rho0;
-  s->c0   = c0;
-  s->nu   = nu;
-  for (PetscInt d = 0; d < 3; d++) s->gravity[d] = g ? g[d] : 0;
+  s->opt.rho0 = rho0;
+  s->opt.c0   = c0;
+  s->opt.nu   = nu;
+  for (PetscInt d = 0; d < 3; d++) s->opt.gravity[d] = g ? g[d] : 0;
   PetscFunctionReturn(0);
 }
 
@@ -84,7 +84,7 @@ PetscErrorCode FSSolverSetDefaultSpacing(FSSolver s, PetscReal dx)
 {
   PetscFunctionBegin;
   PetscCheck(dx > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "FSSolverSetDefaultSpacing(): the default particle spacing %g must be positive", (double)dx);
-  s->dx = dx;
+  s->opt.dx = dx;
   PetscFunctionReturn(0);
 }
 
@@ -104,7 +104,7 @@ PetscErrorCode FSSolverSetDefaultFinalTime(FSSolver s, PetscReal t)
 {
   PetscFunctionBegin;
   PetscCheck(t > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "FSSolverSetDefaultFinalTime(): the default final time %g must be positive", (double)t);
-  s->final_time = t;
+  s->opt.final_time = t;
   PetscFunctionReturn(0);
 }
 
@@ -125,7 +125,7 @@ PetscErrorCode FSSolverSetDefaultCFL(FSSolver s, PetscReal cfl)
 {
   PetscFunctionBegin;
   PetscCheck(cfl > 0 && cfl <= 2, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "FSSolverSetDefaultCFL(): the default CFL number %g is out of range: expected (0, 2]", (double)cfl);
-  s->cfl = cfl;
+  s->opt.cfl = cfl;
   PetscFunctionReturn(0);
 }
 
@@ -148,8 +148,8 @@ PetscErrorCode FSSolverSetDefaultTerms(FSSolver s, const char terms[])
   PetscFunctionBegin;
   PetscCheck(terms, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_NULL, "FSSolverSetDefaultTerms(): no list of terms given");
   PetscCall(PetscStrlen(terms, &len));
-  PetscCheck(len < sizeof(s->default_terms), PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_SIZ, "FSSolverSetDefaultTerms(): the list of terms has %d characters, at most %d fit", (int)len, (int)sizeof(s->default_terms) - 1);
-  PetscCall(PetscStrncpy(s->default_terms, terms, sizeof(s->default_terms)));
+  PetscCheck(len < sizeof(s->opt.default_terms), PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_SIZ, "FSSolverSetDefaultTerms(): the list of terms has %d characters, at most %d fit", (int)len, (int)sizeof(s->opt.default_terms) - 1);
+  PetscCall(PetscStrncpy(s->opt.default_terms, terms, sizeof(s->opt.default_terms)));
   PetscFunctionReturn(0);
 }
 
@@ -204,19 +204,19 @@ static PetscErrorCode FSSolverOptionsCase(FSSolver s, PetscOptionItems *PetscOpt
   MPI_Comm       comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
-  PetscCall(PetscOptionsString("-fs_case", "Case to set up (list with -fs_case_view)", "FSSolverSetFromOptions", s->casename, s->casename, sizeof(s->casename), NULL));
+  PetscCall(PetscOptionsString("-fs_case", "Case to set up (list with -fs_case_view)", "FSSolverSetFromOptions", s->opt.casename, s->opt.casename, sizeof(s->opt.casename), NULL));
   PetscCall(PetscOptionsBool("-fs_case_view", "List the registered cases", "FSCaseListView", PETSC_FALSE, &flg, NULL));
   if (flg) PetscCall(FSCaseListView(PETSC_VIEWER_STDOUT_(comm)));
-  PetscCall(FSCaseFind(s->casename, &create));
-  PetscCheck(create, comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown case \"%s\" given to -fs_case: list the registered cases with -fs_case_view", s->casename);
-  PetscCall(PetscOptionsInt("-fs_dim", "Dimension: 2 or 3", "FSSolverSetFromOptions", s->dim, &s->dim, NULL));
-  PetscCheck(s->dim == 2 || s->dim == 3, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dim %" PetscInt_FMT " is not supported: expected 2 or 3", s->dim);
+  PetscCall(FSCaseFind(s->opt.casename, &create));
+  PetscCheck(create, comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown case \"%s\" given to -fs_case: list the registered cases with -fs_case_view", s->opt.casename);
+  PetscCall(PetscOptionsInt("-fs_dim", "Dimension: 2 or 3", "FSSolverSetFromOptions", s->opt.dim, &s->opt.dim, NULL));
+  PetscCheck(s->opt.dim == 2 || s->opt.dim == 3, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dim %" PetscInt_FMT " is not supported: expected 2 or 3", s->opt.dim);
   PetscCall(PetscMemzero(&s->caseops, sizeof(s->caseops)));
   PetscCall((*create)(s, &s->caseops));
-  PetscCheck(s->caseops.ncolumns >= 0 && s->caseops.ncolumns <= FS_CASE_MAX_COLUMNS && (!s->caseops.ncolumns || s->caseops.columns), comm, PETSC_ERR_PLIB, "Case \"%s\" declares %" PetscInt_FMT " time-series columns: at most FS_CASE_MAX_COLUMNS = %d, with a columns() routine", s->casename, s->caseops.ncolumns, FS_CASE_MAX_COLUMNS);
-  PetscCall(PetscStrncpy(s->default_terms, FSDefaultTerms, sizeof(s->default_terms)));
+  PetscCheck(s->caseops.ncolumns >= 0 && s->caseops.ncolumns <= FS_CASE_MAX_COLUMNS && (!s->caseops.ncolumns || s->caseops.columns), comm, PETSC_ERR_PLIB, "Case \"%s\" declares %" PetscInt_FMT " time-series columns: at most FS_CASE_MAX_COLUMNS = %d, with a columns() routine", s->opt.casename, s->caseops.ncolumns, FS_CASE_MAX_COLUMNS);
+  PetscCall(PetscStrncpy(s->opt.default_terms, FSDefaultTerms, sizeof(s->opt.default_terms)));
   if (s->caseops.setfromoptions) PetscCall((*s->caseops.setfromoptions)(s, PetscOptionsObject));
-  PetscCall(PetscStrncpy(terms, s->default_terms, len));
+  PetscCall(PetscStrncpy(terms, s->opt.default_terms, len));
 
   PetscFunctionReturn(0);
 }
@@ -230,23 +230,23 @@ static PetscErrorCode FSSolverOptionsPhysics(FSSolver s, PetscOptionItems *Petsc
   MPI_Comm  comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
-  PetscCall(PetscOptionsReal("-fs_dx", "Particle spacing", "FSSolverSetFromOptions", s->dx, &s->dx, NULL));
-  PetscCheck(s->dx > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g must be positive", (double)s->dx);
-  PetscCall(PetscOptionsReal("-fs_h_over_dx", "Smoothing length over particle spacing (kernel support is 2h)", "FSSolverSetFromOptions", s->h_over_dx, &s->h_over_dx, NULL));
-  PetscCheck(s->h_over_dx >= 1.0 && s->h_over_dx <= 4.0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_h_over_dx %g is out of range: expected a value in [1, 4] (2 is usual)", (double)s->h_over_dx);
-  PetscCall(PetscOptionsReal("-fs_rho0", "Reference density of the liquid", "FSSolverSetFromOptions", s->rho0, &s->rho0, NULL));
-  PetscCheck(s->rho0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_rho0 %g must be positive", (double)s->rho0);
-  PetscCall(PetscOptionsReal("-fs_c0", "Artificial speed of sound (about 10 times the largest flow speed)", "FSSolverSetFromOptions", s->c0, &s->c0, NULL));
-  PetscCheck(s->c0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_c0 %g must be positive", (double)s->c0);
-  PetscCall(PetscOptionsReal("-fs_nu", "Kinematic viscosity of the liquid", "FSSolverSetFromOptions", s->nu, &s->nu, NULL));
-  PetscCheck(s->nu >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_nu %g must be non-negative", (double)s->nu);
-  for (PetscInt d = 0; d < 3; d++) g[d] = s->gravity[d];
+  PetscCall(PetscOptionsReal("-fs_dx", "Particle spacing", "FSSolverSetFromOptions", s->opt.dx, &s->opt.dx, NULL));
+  PetscCheck(s->opt.dx > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g must be positive", (double)s->opt.dx);
+  PetscCall(PetscOptionsReal("-fs_h_over_dx", "Smoothing length over particle spacing (kernel support is 2h)", "FSSolverSetFromOptions", s->opt.h_over_dx, &s->opt.h_over_dx, NULL));
+  PetscCheck(s->opt.h_over_dx >= 1.0 && s->opt.h_over_dx <= 4.0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_h_over_dx %g is out of range: expected a value in [1, 4] (2 is usual)", (double)s->opt.h_over_dx);
+  PetscCall(PetscOptionsReal("-fs_rho0", "Reference density of the liquid", "FSSolverSetFromOptions", s->opt.rho0, &s->opt.rho0, NULL));
+  PetscCheck(s->opt.rho0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_rho0 %g must be positive", (double)s->opt.rho0);
+  PetscCall(PetscOptionsReal("-fs_c0", "Artificial speed of sound (about 10 times the largest flow speed)", "FSSolverSetFromOptions", s->opt.c0, &s->opt.c0, NULL));
+  PetscCheck(s->opt.c0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_c0 %g must be positive", (double)s->opt.c0);
+  PetscCall(PetscOptionsReal("-fs_nu", "Kinematic viscosity of the liquid", "FSSolverSetFromOptions", s->opt.nu, &s->opt.nu, NULL));
+  PetscCheck(s->opt.nu >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_nu %g must be non-negative", (double)s->opt.nu);
+  for (PetscInt d = 0; d < 3; d++) g[d] = s->opt.gravity[d];
   PetscCall(PetscOptionsRealArray("-fs_gravity", "Body force per unit mass, one value per dimension", "FSSolverSetFromOptions", g, &ng, &set));
   if (set) {
-    PetscCheck(ng == s->dim, comm, PETSC_ERR_ARG_SIZ, "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng, s->dim);
-    for (PetscInt d = 0; d < 3; d++) s->gravity[d] = d < ng ? g[d] : 0;
+    PetscCheck(ng == s->opt.dim, comm, PETSC_ERR_ARG_SIZ, "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng, s->opt.dim);
+    for (PetscInt d = 0; d < 3; d++) s->opt.gravity[d] = d < ng ? g[d] : 0;
   }
-  PetscCall(PetscOptionsReal("-fs_background_pressure", "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b", "FSSolverSetFromOptions", s->background_pressure, &s->background_pressure, NULL));
+  PetscCall(PetscOptionsReal("-fs_background_pressure", "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b", "FSSolverSetFromOptions", s->opt.background_pressure, &s->opt.background_pressure, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -257,19 +257,19 @@ static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *Pets
   MPI_Comm comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
-  PetscCall(PetscOptionsReal("-fs_cfl", "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)", "FSSolverComputeStableDt", s->cfl, &s->cfl, &s->cfl_set));
-  PetscCheck(!s->cfl_set || (s->cfl > 0 && s->cfl <= 2), comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl %g is out of range: expected (0, 2]", (double)s->cfl);
-  PetscCall(PetscOptionsReal("-fs_relax_time", "Start-up relaxation: damp the particle velocities until this time (0: none)", "FSSolverEvaluateRates", s->relax_time, &s->relax_time, NULL));
-  PetscCheck(s->relax_time >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_relax_time %g must be non-negative", (double)s->relax_time);
-  PetscCall(PetscOptionsReal("-fs_cfl_viscous", "Viscous limit: dt <= CFL_v h^2/nu", "FSSolverComputeStableDt", s->cfl_visc, &s->cfl_visc, NULL));
-  PetscCheck(s->cfl_visc > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_viscous %g must be positive", (double)s->cfl_visc);
-  PetscCall(PetscOptionsReal("-fs_cfl_force", "Body-force limit: dt <= CFL_f sqrt(h/|g|)", "FSSolverComputeStableDt", s->cfl_force, &s->cfl_force, NULL));
-  PetscCheck(s->cfl_force > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_force %g must be positive", (double)s->cfl_force);
-  PetscCall(PetscOptionsReal("-fs_halo_skin", "Extra halo width beyond the kernel support, in units of h", "FSHaloBuild", s->halo_skin, &s->halo_skin, NULL));
-  PetscCheck(s->halo_skin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_halo_skin %g must be positive", (double)s->halo_skin);
-  PetscCall(PetscOptionsReal("-fs_max_density_variation", "Stop the run when |rho/rho0 - 1| exceeds this (blow-up detection)", "FSSolverCheckState", s->max_density_variation, &s->max_density_variation, NULL));
-  PetscCall(PetscOptionsInt("-fs_sort_interval", "Steps between reorderings of the particles by cell", "FSSolverSortByCell", s->sort_interval, &s->sort_interval, NULL));
-  PetscCheck(s->sort_interval >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sort_interval %" PetscInt_FMT " must be at least 1", s->sort_interval);
+  PetscCall(PetscOptionsReal("-fs_cfl", "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)", "FSSolverComputeStableDt", s->opt.cfl, &s->opt.cfl, &s->opt.cfl_set));
+  PetscCheck(!s->opt.cfl_set || (s->opt.cfl > 0 && s->opt.cfl <= 2), comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl %g is out of range: expected (0, 2]", (double)s->opt.cfl);
+  PetscCall(PetscOptionsReal("-fs_relax_time", "Start-up relaxation: damp the particle velocities until this time (0: none)", "FSSolverEvaluateRates", s->opt.relax_time, &s->opt.relax_time, NULL));
+  PetscCheck(s->opt.relax_time >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_relax_time %g must be non-negative", (double)s->opt.relax_time);
+  PetscCall(PetscOptionsReal("-fs_cfl_viscous", "Viscous limit: dt <= CFL_v h^2/nu", "FSSolverComputeStableDt", s->opt.cfl_visc, &s->opt.cfl_visc, NULL));
+  PetscCheck(s->opt.cfl_visc > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_viscous %g must be positive", (double)s->opt.cfl_visc);
+  PetscCall(PetscOptionsReal("-fs_cfl_force", "Body-force limit: dt <= CFL_f sqrt(h/|g|)", "FSSolverComputeStableDt", s->opt.cfl_force, &s->opt.cfl_force, NULL));
+  PetscCheck(s->opt.cfl_force > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_force %g must be positive", (double)s->opt.cfl_force);
+  PetscCall(PetscOptionsReal("-fs_halo_skin", "Extra halo width beyond the kernel support, in units of h", "FSHaloBuild", s->opt.halo_skin, &s->opt.halo_skin, NULL));
+  PetscCheck(s->opt.halo_skin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_halo_skin %g must be positive", (double)s->opt.halo_skin);
+  PetscCall(PetscOptionsReal("-fs_max_density_variation", "Stop the run when |rho/rho0 - 1| exceeds this (blow-up detection)", "FSSolverCheckState", s->opt.max_density_variation, &s->opt.max_density_variation, NULL));
+  PetscCall(PetscOptionsInt("-fs_sort_interval", "Steps between reorderings of the particles by cell", "FSSolverSortByCell", s->opt.sort_interval, &s->opt.sort_interval, NULL));
+  PetscCheck(s->opt.sort_interval >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sort_interval %" PetscInt_FMT " must be at least 1", s->opt.sort_interval);
   PetscFunctionReturn(0);
 }
 
@@ -281,19 +281,19 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
   PetscFunctionBegin;
   {
     char def[PETSC_MAX_PATH_LEN];
-    PetscCall(PetscSNPrintf(def, sizeof(def), "output/%s", s->casename));
-    if (!s->outdir[0]) PetscCall(PetscStrncpy(s->outdir, def, sizeof(s->outdir)));
+    PetscCall(PetscSNPrintf(def, sizeof(def), "output/%s", s->opt.casename));
+    if (!s->opt.outdir[0]) PetscCall(PetscStrncpy(s->opt.outdir, def, sizeof(s->opt.outdir)));
   }
-  PetscCall(PetscOptionsBool("-fs_output", "Write output files (snapshots, time series, summary)", "FSSolverSolve", s->write_output, &s->write_output, NULL));
-  PetscCall(PetscOptionsString("-fs_output_dir", "Output directory (default output/<case>)", "FSSolverSolve", s->outdir, s->outdir, sizeof(s->outdir), NULL));
-  PetscCall(PetscOptionsReal("-fs_output_interval", "Simulated time between particle snapshots (0: first and last only)", "FSSolverWriteSnapshot", s->output_interval, &s->output_interval, NULL));
-  PetscCheck(s->output_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_output_interval %g must be non-negative", (double)s->output_interval);
-  PetscCall(PetscOptionsInt("-fs_checkpoint_interval", "Steps between checkpoints (0: none)", "FSSolverWriteCheckpoint", s->checkpoint_interval, &s->checkpoint_interval, NULL));
-  PetscCheck(s->checkpoint_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->checkpoint_interval);
-  PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint", s->restart, s->restart, sizeof(s->restart), NULL));
-  PetscCall(PetscOptionsBool("-fs_geometry_view", "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 snapshot), then stop without time stepping", "FSSolverGeometryView", s->geometry_view, &s->geometry_view, NULL));
-  PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor", s->progress, &s->progress, NULL));
-  PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor", s->progress_interval, &s->progress_interval, NULL));
+  PetscCall(PetscOptionsBool("-fs_output", "Write output files (snapshots, time series, summary)", "FSSolverSolve", s->opt.write_output, &s->opt.write_output, NULL));
+  PetscCall(PetscOptionsString("-fs_output_dir", "Output directory (default output/<case>)", "FSSolverSolve", s->opt.outdir, s->opt.outdir, sizeof(s->opt.outdir), NULL));
+  PetscCall(PetscOptionsReal("-fs_output_interval", "Simulated time between particle snapshots (0: first and last only)", "FSSolverWriteSnapshot", s->opt.output_interval, &s->opt.output_interval, NULL));
+  PetscCheck(s->opt.output_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_output_interval %g must be non-negative", (double)s->opt.output_interval);
+  PetscCall(PetscOptionsInt("-fs_checkpoint_interval", "Steps between checkpoints (0: none)", "FSSolverWriteCheckpoint", s->opt.checkpoint_interval, &s->opt.checkpoint_interval, NULL));
+  PetscCheck(s->opt.checkpoint_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->opt.checkpoint_interval);
+  PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint", s->opt.restart, s->opt.restart, sizeof(s->opt.restart), NULL));
+  PetscCall(PetscOptionsBool("-fs_geometry_view", "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 snapshot), then stop without time stepping", "FSSolverGeometryView", s->opt.geometry_view, &s->opt.geometry_view, NULL));
+  PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor", s->opt.progress, &s->opt.progress, NULL));
+  PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor", s->opt.progress_interval, &s->opt.progress_interval, NULL));
 
   PetscFunctionReturn(0);
 }
@@ -365,42 +365,42 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscCall(FSSolverOptionsCase(s, PetscOptionsObject, terms, sizeof(terms)));
   PetscCall(FSSolverOptionsPhysics(s, PetscOptionsObject));
   PetscCall(PetscOptionsString("-fs_terms", "Physics terms, comma separated (list with -fs_terms_view)", "FSSolverSetFromOptions", terms, terms, sizeof(terms), NULL));
-  PetscCall(PetscOptionsBool("-fs_terms_view", "List the registered physics terms", "FSTermListView", s->terms_view, &s->terms_view, NULL));
-  PetscCall(PetscOptionsString("-fs_structure", "Structure carrying the tank: none, or a registered model (list with -fs_structure_view)", "FSSolverSetFromOptions", s->structname, s->structname, sizeof(s->structname), NULL));
-  PetscCall(PetscOptionsBool("-fs_structure_view", "List the registered structure models", "FSStructureListView", s->structure_view, &s->structure_view, NULL));
-  PetscCall(PetscOptionsReal("-fs_structure_cfl", "Without particles: time step as a fraction of the shortest period the structure resolves (-ts_dt overrides)", "FSSolverStructureDt", s->structure_cfl, &s->structure_cfl, NULL));
-  PetscCheck(s->structure_cfl > 0 && s->structure_cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_structure_cfl %g is out of range: expected (0, 1]", (double)s->structure_cfl);
+  PetscCall(PetscOptionsBool("-fs_terms_view", "List the registered physics terms", "FSTermListView", s->opt.terms_view, &s->opt.terms_view, NULL));
+  PetscCall(PetscOptionsString("-fs_structure", "Structure carrying the tank: none, or a registered model (list with -fs_structure_view)", "FSSolverSetFromOptions", s->opt.structname, s->opt.structname, sizeof(s->opt.structname), NULL));
+  PetscCall(PetscOptionsBool("-fs_structure_view", "List the registered structure models", "FSStructureListView", s->opt.structure_view, &s->opt.structure_view, NULL));
+  PetscCall(PetscOptionsReal("-fs_structure_cfl", "Without particles: time step as a fraction of the shortest period the structure resolves (-ts_dt overrides)", "FSSolverStructureDt", s->opt.structure_cfl, &s->opt.structure_cfl, NULL));
+  PetscCheck(s->opt.structure_cfl > 0 && s->opt.structure_cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_structure_cfl %g is out of range: expected (0, 1]", (double)s->opt.structure_cfl);
   PetscCall(FSSolverOptionsNumerics(s, PetscOptionsObject));
   PetscCall(FSSolverOptionsOutput(s, PetscOptionsObject));
   PetscCall(FSSolverCreateTerms(s, PetscOptionsObject, terms));
   /* the structure */
   PetscCall(FSStructureDestroy(&s->structure));
-  if (strcmp(s->structname, "none")) {
-    PetscCall(FSStructureCreate(s, s->structname, &s->structure));
+  if (strcmp(s->opt.structname, "none")) {
+    PetscCall(FSStructureCreate(s, s->opt.structname, &s->structure));
     if (s->structure->ops.setfromoptions) PetscCall((*s->structure->ops.setfromoptions)(s->structure, PetscOptionsObject));
   }
   {
     PetscBool help;
     PetscCall(PetscOptionsHasHelp(NULL, &help));
     if (help) {
-      PetscCall(FSCaseHelpAll(s, s->casename, PetscOptionsObject));
+      PetscCall(FSCaseHelpAll(s, s->opt.casename, PetscOptionsObject));
       PetscCall(FSTermHelpAll(s, &s->terms, PetscOptionsObject));
       PetscCall(FSStructureHelpAll(s, s->structure, PetscOptionsObject));
     }
   }
   PetscOptionsEnd();
-  if (s->terms_view) PetscCall(FSTermListView(PETSC_VIEWER_STDOUT_(comm)));
-  if (s->structure_view) PetscCall(FSStructureListView(PETSC_VIEWER_STDOUT_(comm)));
-  s->h = s->h_over_dx * s->dx;
+  if (s->opt.terms_view) PetscCall(FSTermListView(PETSC_VIEWER_STDOUT_(comm)));
+  if (s->opt.structure_view) PetscCall(FSStructureListView(PETSC_VIEWER_STDOUT_(comm)));
+  s->opt.h = s->opt.h_over_dx * s->opt.dx;
   PetscCall(FSSolverSetUpTS(s));
-  if (!s->cfl_set && s->cfl > 0.4) { /* a case's larger default holds for RK4 only (stable on the imaginary axis up to 2.8) */
+  if (!s->opt.cfl_set && s->opt.cfl > 0.4) { /* a case's larger default holds for RK4 only (stable on the imaginary axis up to 2.8) */
     TSType    type;
     TSRKType  rk = NULL;
     PetscBool isrk;
     PetscCall(TSGetType(s->ts, &type));
     PetscCall(PetscStrcmp(type, TSRK, &isrk));
     if (isrk) PetscCall(TSRKGetType(s->ts, &rk));
-    if (!(isrk && rk && !strcmp(rk, TSRK4))) s->cfl = 0.4;
+    if (!(isrk && rk && !strcmp(rk, TSRK4))) s->opt.cfl = 0.4;
   }
   PetscFunctionReturn(0);
 }
@@ -425,12 +425,12 @@ PetscErrorCode FSSolverSetDomain(FSSolver s, const PetscReal lo[], const PetscRe
 {
   PetscFunctionBegin;
   for (PetscInt d = 0; d < 3; d++) {
-    s->lo[d]       = d < s->dim ? lo[d] : 0;
-    s->hi[d]       = d < s->dim ? hi[d] : 1;
-    s->periodic[d] = d < s->dim ? periodic[d] : PETSC_FALSE;
-    PetscCheck(s->hi[d] > s->lo[d], PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "Empty domain in direction %" PetscInt_FMT ": [%g, %g]", d, (double)s->lo[d], (double)s->hi[d]);
+    s->pw.lo[d]       = d < s->opt.dim ? lo[d] : 0;
+    s->pw.hi[d]       = d < s->opt.dim ? hi[d] : 1;
+    s->pw.periodic[d] = d < s->opt.dim ? periodic[d] : PETSC_FALSE;
+    PetscCheck(s->pw.hi[d] > s->pw.lo[d], PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "Empty domain in direction %" PetscInt_FMT ": [%g, %g]", d, (double)s->pw.lo[d], (double)s->pw.hi[d]);
   }
-  s->domain_set = PETSC_TRUE;
+  s->pw.domain_set = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
@@ -438,11 +438,11 @@ PetscErrorCode FSSolverSetDomain(FSSolver s, const PetscReal lo[], const PetscRe
 PetscErrorCode FSSolverGetParameters(FSSolver s, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0, PetscReal *nu)
 {
   PetscFunctionBegin;
-  if (dx) *dx = s->dx;
-  if (h) *h = s->h;
-  if (rho0) *rho0 = s->rho0;
-  if (c0) *c0 = s->c0;
-  if (nu) *nu = s->nu;
+  if (dx) *dx = s->opt.dx;
+  if (h) *h = s->opt.h;
+  if (rho0) *rho0 = s->opt.rho0;
+  if (c0) *c0 = s->opt.c0;
+  if (nu) *nu = s->opt.nu;
   PetscFunctionReturn(0);
 }
 
@@ -462,21 +462,21 @@ PetscErrorCode FSSolverGetParameters(FSSolver s, PetscReal *dx, PetscReal *h, Pe
 PetscErrorCode FSSolverGetGravity(FSSolver s, PetscReal g[3])
 {
   PetscFunctionBegin;
-  for (PetscInt d = 0; d < 3; d++) g[d] = s->gravity[d];
+  for (PetscInt d = 0; d < 3; d++) g[d] = s->opt.gravity[d];
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FSSolverGetDimension(FSSolver s, PetscInt *dim)
 {
   PetscFunctionBegin;
-  *dim = s->dim;
+  *dim = s->opt.dim;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FSSolverGetLocalSize(FSSolver s, PetscInt *n)
 {
   PetscFunctionBegin;
-  *n = s->nowned;
+  *n = s->pw.nowned;
   PetscFunctionReturn(0);
 }
 
@@ -522,27 +522,27 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
 
   PetscFunctionBegin;
   if (s->setupcalled) PetscFunctionReturn(0);
-  PetscCall(FSKernelSetUp(&s->kernel, s->dim, s->h));
-  s->stride    = 2 * s->dim + 2;
-  s->ustride   = 2 * s->dim + 1;
-  s->auxstride = s->dim + 1;
+  PetscCall(FSKernelSetUp(&s->pw.kernel, s->opt.dim, s->opt.h));
+  s->pw.stride    = 2 * s->opt.dim + 2;
+  s->state.ustride   = 2 * s->opt.dim + 1;
+  s->pw.auxstride = s->opt.dim + 1;
   PetscCall(FSSolverCreateSwarm(s));
-  PetscCheck(s->caseops.setup, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s has no setup routine", s->casename);
+  PetscCheck(s->caseops.setup, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s has no setup routine", s->opt.casename);
   PetscCall((*s->caseops.setup)(s));
-  PetscCheck(s->domain_set, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s did not set the domain (FSSolverSetDomain)", s->casename);
+  PetscCheck(s->pw.domain_set, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s did not set the domain (FSSolverSetDomain)", s->opt.casename);
   if (s->boundary) { /* the walls the case gave */
     PetscCall(FSBoundarySetFromOptions(s->boundary));
-    PetscCall(FSBoundarySetUp(s->boundary, s->dim, s->dx, s->h, s->kernel.support + s->halo_skin * s->h));
+    PetscCall(FSBoundarySetUp(s->boundary, s->opt.dim, s->opt.dx, s->opt.h, s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
   }
-  PetscCheck(s->nglobal_particles > 0 || s->structure, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s created no particles and there is no structure (-fs_structure none): nothing to compute", s->casename);
+  PetscCheck(s->pw.nglobal_particles > 0 || s->structure, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s created no particles and there is no structure (-fs_structure none): nothing to compute", s->opt.casename);
 
-  width = s->kernel.support + s->halo_skin * s->h;
-  for (PetscInt d = 0; d < s->dim; d++)
-    PetscCheck(!s->periodic[d] || s->hi[d] - s->lo[d] >= 2 * width, comm, PETSC_ERR_ARG_OUTOFRANGE, "Periodic direction %" PetscInt_FMT " is %g long, less than twice the halo width %g: use a smaller -fs_dx", d, (double)(s->hi[d] - s->lo[d]), (double)width);
-  PetscCall(FSDecompSetUp(&s->decomp, comm, s->dim, s->lo, s->hi, s->periodic, width));
+  width = s->pw.kernel.support + s->opt.halo_skin * s->opt.h;
+  for (PetscInt d = 0; d < s->opt.dim; d++)
+    PetscCheck(!s->pw.periodic[d] || s->pw.hi[d] - s->pw.lo[d] >= 2 * width, comm, PETSC_ERR_ARG_OUTOFRANGE, "Periodic direction %" PetscInt_FMT " is %g long, less than twice the halo width %g: use a smaller -fs_dx", d, (double)(s->pw.hi[d] - s->pw.lo[d]), (double)width);
+  PetscCall(FSDecompSetUp(&s->pw.decomp, comm, s->opt.dim, s->pw.lo, s->pw.hi, s->pw.periodic, width));
   PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  PetscCall(FSDecompBalance(&s->decomp, comm, n, x, width));
+  PetscCall(FSDecompBalance(&s->pw.decomp, comm, n, x, width));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
 
   /* the coupling (the liquid's mass, which the structure's payload may need), the structure, then the
@@ -550,7 +550,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  PetscCall(FSCouplingSetUp(s->coupling, (PetscBool)(s->structure && s->boundary && s->nglobal_particles), s->gravity, s->boundary, n, x, m));
+  PetscCall(FSCouplingSetUp(s->coupling, (PetscBool)(s->structure && s->boundary && s->pw.nglobal_particles), s->opt.gravity, s->boundary, n, x, m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   if (s->structure) {
@@ -563,27 +563,27 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscCall(PetscCalloc2(st->ndof + 1, &s->sy, st->ndof + 1, &s->sydot));
   }
   PetscCall(FSSolverSetUpGlobalBlocks(s));
-  if (s->structure && s->structure->ndof && s->structure->ops.initial) PetscCall((*s->structure->ops.initial)(s->structure, &s->global0[s->gstruct]));
-  if (s->restart[0]) PetscCall(FSSolverLoadCheckpoint(s));
+  if (s->structure && s->structure->ndof && s->structure->ops.initial) PetscCall((*s->structure->ops.initial)(s->structure, &s->state.global0[s->state.gstruct]));
+  if (s->opt.restart[0]) PetscCall(FSSolverLoadCheckpoint(s));
   if (!s->ts) PetscCall(FSSolverSetUpTS(s));
-  if (s->restart[0]) {
-    PetscCall(TSSetTime(s->ts, s->restart_hdr.time));
-    PetscCall(TSSetStepNumber(s->ts, s->restart_hdr.step));
-    PetscCall(TSSetTimeStep(s->ts, s->restart_hdr.dt));
+  if (s->opt.restart[0]) {
+    PetscCall(TSSetTime(s->ts, s->state.restart_hdr.time));
+    PetscCall(TSSetStepNumber(s->ts, s->state.restart_hdr.step));
+    PetscCall(TSSetTimeStep(s->ts, s->state.restart_hdr.dt));
   }
   PetscCall(FSSolverMigrate(s, &changed));
   PetscCall(FSSolverSortByCell(s));
   PetscCall(FSSolverResize(s, PETSC_TRUE));
-  if (!s->restart[0]) {
+  if (!s->opt.restart[0]) {
     PetscReal dt;
     PetscCall(FSSolverComputeStableDt(s, &dt));
     PetscCall(TSSetTimeStep(s->ts, dt));
   }
   s->setupcalled = PETSC_TRUE;
-  if (s->geometry_view) {
-    PetscCall(FSSolverGeometryView(s, s->outdir));
+  if (s->opt.geometry_view) {
+    PetscCall(FSSolverGeometryView(s, s->opt.outdir));
     PetscCall(FSSolverMonitorBegin(s)); /* the particles at step 0: snapshot_000000.h5 in particles.xdmf */
-    if (s->write_output && !s->restart[0] && s->nglobal_particles) PetscCall(PetscPrintf(comm, "Geometry view: the particles at step 0 are in %s/particles.xdmf\n", s->outdir));
+    if (s->opt.write_output && !s->opt.restart[0] && s->pw.nglobal_particles) PetscCall(PetscPrintf(comm, "Geometry view: the particles at step 0 are in %s/particles.xdmf\n", s->opt.outdir));
   }
   PetscFunctionReturn(0);
 }
@@ -606,13 +606,13 @@ PetscErrorCode FSSolverView(FSSolver s, PetscViewer viewer)
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
   PetscCall(PetscObjectPrintClassNamePrefixType((PetscObject)s, viewer));
   PetscCall(PetscViewerASCIIPushTab(viewer));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "case %s, %" PetscInt_FMT "-D, %" PetscInt64_FMT " particles on %d rank(s)\n", s->casename, s->dim, s->nglobal_particles, (int)size));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "dx = %g, h = %g (h/dx = %g), Wendland C2 kernel, support 2h\n", (double)s->dx, (double)s->h, (double)s->h_over_dx));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "rho0 = %g, c0 = %g, nu = %g, gravity = (%g, %g, %g), background pressure %g\n", (double)s->rho0, (double)s->c0, (double)s->nu, (double)s->gravity[0], (double)s->gravity[1], (double)s->gravity[2], (double)s->background_pressure));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "domain [%g, %g] x [%g, %g]", (double)s->lo[0], (double)s->hi[0], (double)s->lo[1], (double)s->hi[1]));
-  if (s->dim == 3) PetscCall(PetscViewerASCIIPrintf(viewer, " x [%g, %g]", (double)s->lo[2], (double)s->hi[2]));
-  PetscCall(PetscViewerASCIIPrintf(viewer, ", periodic (%d, %d, %d), ranks grid %d x %d x %d\n", s->periodic[0], s->periodic[1], s->periodic[2], s->decomp.np[0], s->decomp.np[1], s->decomp.np[2]));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "time step: CFL %g, viscous %g, force %g\n", (double)s->cfl, (double)s->cfl_visc, (double)s->cfl_force));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "case %s, %" PetscInt_FMT "-D, %" PetscInt64_FMT " particles on %d rank(s)\n", s->opt.casename, s->opt.dim, s->pw.nglobal_particles, (int)size));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "dx = %g, h = %g (h/dx = %g), Wendland C2 kernel, support 2h\n", (double)s->opt.dx, (double)s->opt.h, (double)s->opt.h_over_dx));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "rho0 = %g, c0 = %g, nu = %g, gravity = (%g, %g, %g), background pressure %g\n", (double)s->opt.rho0, (double)s->opt.c0, (double)s->opt.nu, (double)s->opt.gravity[0], (double)s->opt.gravity[1], (double)s->opt.gravity[2], (double)s->opt.background_pressure));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "domain [%g, %g] x [%g, %g]", (double)s->pw.lo[0], (double)s->pw.hi[0], (double)s->pw.lo[1], (double)s->pw.hi[1]));
+  if (s->opt.dim == 3) PetscCall(PetscViewerASCIIPrintf(viewer, " x [%g, %g]", (double)s->pw.lo[2], (double)s->pw.hi[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, ", periodic (%d, %d, %d), ranks grid %d x %d x %d\n", s->pw.periodic[0], s->pw.periodic[1], s->pw.periodic[2], s->pw.decomp.np[0], s->pw.decomp.np[1], s->pw.decomp.np[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "time step: CFL %g, viscous %g, force %g\n", (double)s->opt.cfl, (double)s->opt.cfl_visc, (double)s->opt.cfl_force));
   PetscCall(PetscViewerASCIIPrintf(viewer, "terms (%" PetscInt_FMT "):\n", s->terms.nterms));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (PetscInt t = 0; t < s->terms.nterms; t++) {
@@ -648,22 +648,22 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSStructureDestroy(&s->structure));
   PetscCall(PetscFree2(s->sy, s->sydot));
   if (s->casedata) PetscCall(PetscFree(s->casedata));
-  PetscCall(FSSnapshotWriterDestroy(&s->snapshots));
-  PetscCall(FSTimeSeriesDestroy(&s->series));
-  PetscCall(FSTimeSeriesDestroy(&s->energyseries));
+  PetscCall(FSSnapshotWriterDestroy(&s->mon.snapshots));
+  PetscCall(FSTimeSeriesDestroy(&s->mon.series));
+  PetscCall(FSTimeSeriesDestroy(&s->mon.energyseries));
   PetscCall(TSDestroy(&s->ts));
-  PetscCall(VecDestroy(&s->U));
-  PetscCall(VecDestroy(&s->Uprev));
+  PetscCall(VecDestroy(&s->state.U));
+  PetscCall(VecDestroy(&s->state.Uprev));
   PetscCall(DMDestroy(&s->swarm));
-  PetscCall(FSDecompDestroy(&s->decomp));
+  PetscCall(FSDecompDestroy(&s->pw.decomp));
   PetscCall(FSBoundaryDestroy(&s->boundary));
   PetscCall(FSCouplingDestroy(&s->coupling));
-  PetscCall(PetscFree2(s->gamma, s->invgamma));
-  PetscCall(FSHaloDestroy(&s->halo));
-  PetscCall(FSNeighboursDestroy(&s->nbrs));
-  PetscCall(PetscFree4(s->rec, s->aux, s->vol, s->pressure));
-  PetscCall(PetscFree(s->scratch));
-  PetscCall(PetscFree(s->field));
+  PetscCall(PetscFree2(s->pw.gamma, s->pw.invgamma));
+  PetscCall(FSHaloDestroy(&s->pw.halo));
+  PetscCall(FSNeighboursDestroy(&s->pw.nbrs));
+  PetscCall(PetscFree4(s->pw.rec, s->pw.aux, s->pw.vol, s->pw.pressure));
+  PetscCall(PetscFree(s->pw.scratch));
+  PetscCall(PetscFree(s->mon.field));
   PetscCall(PetscHeaderDestroy(solver));
   PetscFunctionReturn(0);
 }

@@ -38,14 +38,8 @@ typedef struct {
 
 
 
-typedef struct _FSSolverOps *FSSolverOps;
-struct _FSSolverOps {
-  PetscErrorCode (*dummy)(void);
-};
-
-struct _p_FSSolver {
-  PETSCHEADER(struct _FSSolverOps);
-  /* options */
+/* The run's options (-fs_*), read by FSSolverSetFromOptions() and the cases' defaults. */
+typedef struct {
   char      casename[64];
   char      default_terms[1024]; /* the case's default for -fs_terms */
   char      outdir[PETSC_MAX_PATH_LEN];
@@ -53,90 +47,103 @@ struct _p_FSSolver {
   PetscInt  dim;
   PetscReal dx, h_over_dx, h, rho0, c0, nu, gravity[3], background_pressure;
   PetscReal cfl, cfl_visc, cfl_force, relax_time;
-  PetscBool cfl_set; /* -fs_cfl given (else chosen by integrator) */
-  PetscReal halo_skin;        /* extra halo width, in units of h */
+  PetscBool cfl_set;   /* -fs_cfl given (else chosen by integrator) */
+  PetscReal halo_skin; /* extra halo width, in units of h */
   PetscReal max_density_variation;
+  PetscReal final_time;
   PetscReal output_interval;
   PetscInt  checkpoint_interval;
   PetscBool progress, write_output;
   PetscReal progress_interval;
-  PetscBool terms_view, setupcalled;
-  PetscBool geometry_view;    /* -fs_geometry_view: write the set-up's picture and walls, then stop */
+  PetscBool terms_view;
+  PetscBool geometry_view; /* -fs_geometry_view: write the set-up's picture and walls, then stop */
   PetscInt  sort_interval;
+  char      structname[64];
+  PetscBool structure_view;
+  PetscReal structure_cfl; /* dt = structure_cfl * shortest period, when there are no particles */
+} FSSolverOptions;
 
-  /* case */
-  FSCaseOps caseops;
-  void     *casedata;
-
-  /* geometry and decomposition */
-  PetscReal lo[3], hi[3];
-  PetscBool periodic[3], domain_set;
-  FSDecomp  decomp;
-  FSKernel  kernel;
-
-  /* particles: DMSwarm (BASIC) with fields position, velocity, density, mass, id */
-  DM       swarm;
-  PetscInt nowned;
-  PetscInt64 nglobal_particles;
-
-  /* work arrays: particle records of owned + ghost particles, derived quantities */
-  PetscInt   stride;    /* 2*dim+2 */
-  PetscInt   auxstride; /* dim+1 */
-  PetscReal *rec, *aux, *vol, *pressure;
-  PetscInt   reccap;
+/* The particles' work: the domain and its decomposition, the records of the owned and ghost particles
+   and the quantities derived from them at each right-hand side, the halo and the neighbour lists. */
+typedef struct {
+  PetscReal    lo[3], hi[3];
+  PetscBool    periodic[3], domain_set;
+  FSDecomp     decomp;
+  FSKernel     kernel;
+  PetscInt     nowned;
+  PetscInt64   nglobal_particles;
+  PetscInt     stride;    /* 2*dim+2 */
+  PetscInt     auxstride; /* dim+1 */
+  PetscReal   *rec, *aux, *vol, *pressure;
+  PetscInt     reccap;
   FSHalo       halo;
   FSNeighbours nbrs;
-  PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW */
+  PetscReal   *scratch; /* per-i neighbourhood scratch: dx, r2, gradW */
   PetscInt     scratchcap;
+  PetscReal   *gamma, *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
+  PetscInt     gammacap;
+} FSParticleWork;
 
-  /* terms */
-  FSTermSet terms;
-
-  /* the structure (NULL with -fs_structure none) */
-  char        structname[64];
-  FSStructure structure;
-  PetscBool   structure_view;
-  PetscReal   structure_cfl;  /* dt = structure_cfl * shortest period, when there are no particles */
-  FSLoads     loads;          /* liquid loads on the tank (the coupling fills them; zero until then) */
-  PetscReal  *sy, *sydot;     /* the structure's state and rate at the last right-hand side, every rank */
-  FSCoupling   coupling;      /* the tank's frame and the loads (src/coupling) */
-  PetscReal    ext_power;     /* P_ext of the last right-hand side, this rank's share */
-  PetscReal    relax_power;   /* power of the start-up relaxation of the last right-hand side, this rank's share */
-  PetscReal   rhs_time;       /* time of the right-hand side being evaluated */
-  PetscInt    steps_taken;    /* steps taken since set-up (this process) */
-
-  /* time stepping: U packs (x, u, rho) per owned particle, then the global DOFs on rank 0 */
-  TS        ts;
-  Vec       U;
-  FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
-  PetscInt  ngblocks;
-  PetscInt  gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
-  PetscInt  ndiss;          /* dissipated energies: one per term with a power */
-  PetscInt  nglobaldofs;
-  PetscReal global0[FS_MAX_GLOBAL];
-  PetscInt  ustride; /* 2*dim+1 */
-  PetscReal dt_stable, final_time, umax, nu_bound;
-  PetscInt  nrhs;
-  Vec       Uprev;               /* state at the start of the step (for the displacement check) */
+/* The TS state: U packs (x, u, rho) per owned particle, then the global DOFs on rank 0 (blocks: the
+   structure's DOFs, the dissipated energies, the energy budget's), and what the stepping keeps. */
+typedef struct {
+  Vec                U;
+  Vec                Uprev; /* state at the start of the step (for the displacement check) */
+  FSGlobalBlock      gblock[FS_MAX_GLOBAL_BLOCKS];
+  PetscInt           ngblocks;
+  PetscInt           gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
+  PetscInt           ndiss;                   /* dissipated energies: one per term with a power */
+  PetscInt           nglobaldofs;
+  PetscReal          global0[FS_MAX_GLOBAL];
+  PetscInt           ustride; /* 2*dim+1 */
+  PetscReal          dt_stable, umax, nu_bound;
   FSCheckpointHeader restart_hdr;
-  PetscReal max_variation;       /* max |rho/rho0 - 1| at the last check */
+  PetscReal          max_variation; /* max |rho/rho0 - 1| at the last check */
+  PetscReal          rhs_time;      /* time of the right-hand side being evaluated */
+  PetscReal          ext_power;     /* P_ext of the last right-hand side, this rank's share */
+  PetscReal          relax_power;   /* power of the start-up relaxation of the last right-hand side, this rank's share */
+} FSSolverState;
 
-  /* monitors and output */
+/* The monitors and output writers, and the run's statistics. */
+typedef struct {
   FSSnapshotWriter snapshots;
   FSTimeSeries     series;
-  FSTimeSeries     energyseries;  /* energy.csv */
+  FSTimeSeries     energyseries; /* energy.csv */
   PetscReal        next_output;
   PetscLogDouble   wall_start, wall_last_progress;
   PetscInt         step0;
   PetscInt64       pair_visits, particle_steps;
-  PetscInt         nmigrations;
+  PetscInt         nmigrations, nrhs;
+  PetscInt         steps_taken; /* steps taken since set-up (this process) */
   PetscBool        monitoring;
   PetscReal        t0, last_snapshot_time;
-  PetscReal       *field;        /* output staging */
-  FSBoundary       boundary;     /* the walls (boundary integrals), NULL without walls */
-  PetscReal       *gamma, *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
-  PetscInt         gammacap;
+  PetscReal       *field; /* output staging */
   PetscInt         fieldcap;
+} FSMonitorData;
+
+typedef struct _FSSolverOps *FSSolverOps;
+struct _FSSolverOps {
+  PetscErrorCode (*dummy)(void);
+};
+
+/* The solver: its options, the swarm, the TS and its state, and its parts. */
+struct _p_FSSolver {
+  PETSCHEADER(struct _FSSolverOps);
+  FSSolverOptions opt;
+  PetscBool       setupcalled;
+  FSCaseOps       caseops; /* the case */
+  void           *casedata;
+  DM              swarm;   /* the particles: DMSwarm (BASIC) with fields position, velocity, density, mass, id */
+  FSParticleWork  pw;
+  FSTermSet       terms;
+  FSStructure     structure; /* NULL with -fs_structure none */
+  FSLoads         loads;     /* liquid loads on the tank (the coupling fills them; zero until then) */
+  PetscReal      *sy, *sydot; /* the structure's state and rate at the last right-hand side, every rank */
+  FSCoupling      coupling;   /* the tank's frame and the loads (src/coupling) */
+  FSBoundary      boundary;   /* the walls (boundary integrals), NULL without walls */
+  TS              ts;
+  FSSolverState   state;
+  FSMonitorData   mon;
 };
 
 /* solver pieces, one file each */

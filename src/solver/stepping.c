@@ -17,7 +17,7 @@ PetscErrorCode FSSolverSetUpTS(FSSolver s)
   PetscCall(TSSetType(s->ts, TSRK));
   PetscCall(TSRKSetType(s->ts, TSRK4));
   PetscCall(TSSetRHSFunction(s->ts, NULL, FSSolverRHS, s));
-  PetscCall(TSSetMaxTime(s->ts, s->final_time));
+  PetscCall(TSSetMaxTime(s->ts, s->opt.final_time));
   PetscCall(TSSetExactFinalTime(s->ts, TS_EXACTFINALTIME_MATCHSTEP));
   PetscCall(TSSetFromOptions(s->ts));
   PetscFunctionReturn(0);
@@ -38,11 +38,11 @@ static PetscErrorCode FSSolverBoundaryUpdate(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
-  PetscCall(FSBoundaryUpdate(s->boundary, s->nowned, s->rec, s->stride, &s->nbrs, &leak));
+  PetscCall(FSBoundaryUpdate(s->boundary, s->pw.nowned, s->pw.rec, s->pw.stride, &s->pw.nbrs, &leak));
   nleak = leak.particle >= 0 ? 1 : 0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nleak, 1, MPIU_INT, MPI_SUM, comm));
   if (leak.particle >= 0) {
-    const PetscInt     i = leak.particle, S = s->stride;
+    const PetscInt     i = leak.particle, S = s->pw.stride;
     PetscInt           step = 0, *id, nwalls;
     PetscReal          t    = 0;
     const char *const *names;
@@ -52,7 +52,7 @@ static PetscErrorCode FSSolverBoundaryUpdate(FSSolver s)
     }
     PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &names));
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
-    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[flexslosh] leak: particle %" PetscInt_FMT " crossed wall \"%s\" at step %" PetscInt_FMT ", time %g: it is at (%g, %g), outside the liquid region\n", id[i], names[leak.wall], step, (double)t, (double)s->rec[i * S], (double)s->rec[i * S + 1]));
+    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[flexslosh] leak: particle %" PetscInt_FMT " crossed wall \"%s\" at step %" PetscInt_FMT ", time %g: it is at (%g, %g), outside the liquid region\n", id[i], names[leak.wall], step, (double)t, (double)s->pw.rec[i * S], (double)s->pw.rec[i * S + 1]));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
   }
   PetscCheck(!nleak, comm, PETSC_ERR_CONV_FAILED, "Particles crossed a wall on %" PetscInt_FMT " rank(s) (the particle, wall, step and time are named above): reduce -fs_cfl or refine -fs_dx", nleak);
@@ -96,7 +96,7 @@ static PetscErrorCode FSSolverBoundaryBounce(FSSolver s, PetscReal de[2], PetscB
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  PetscCall(FSBoundaryBounce(s->boundary, n, s->dim, x, v, m, FSBounceParticleEnergy, &be, de));
+  PetscCall(FSBoundaryBounce(s->boundary, n, s->opt.dim, x, v, m, FSBounceParticleEnergy, &be, de));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
@@ -118,49 +118,49 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (resize || !s->U) {
+  if (resize || !s->state.U) {
     Vec U;
-    nloc = s->nowned * s->ustride + (rank == 0 ? s->nglobaldofs : 0);
-    if (s->U && !rank && s->nglobaldofs) { /* keep the global DOFs */
+    nloc = s->pw.nowned * s->state.ustride + (rank == 0 ? s->state.nglobaldofs : 0);
+    if (s->state.U && !rank && s->state.nglobaldofs) { /* keep the global DOFs */
       const PetscScalar *u;
       PetscInt           n;
-      PetscCall(VecGetLocalSize(s->U, &n));
-      PetscCall(VecGetArrayRead(s->U, &u));
-      for (PetscInt k = 0; k < s->nglobaldofs; k++) s->global0[k] = u[n - s->nglobaldofs + k];
-      PetscCall(VecRestoreArrayRead(s->U, &u));
+      PetscCall(VecGetLocalSize(s->state.U, &n));
+      PetscCall(VecGetArrayRead(s->state.U, &u));
+      for (PetscInt k = 0; k < s->state.nglobaldofs; k++) s->state.global0[k] = u[n - s->state.nglobaldofs + k];
+      PetscCall(VecRestoreArrayRead(s->state.U, &u));
     }
     PetscCall(VecCreateMPI(comm, nloc, PETSC_DETERMINE, &U));
     PetscCall(PetscObjectSetName((PetscObject)U, "state"));
-    if (!rank && s->nglobaldofs) {
+    if (!rank && s->state.nglobaldofs) {
       PetscScalar *u;
       PetscCall(VecGetArray(U, &u));
-      for (PetscInt k = 0; k < s->nglobaldofs; k++) u[nloc - s->nglobaldofs + k] = s->global0[k];
+      for (PetscInt k = 0; k < s->state.nglobaldofs; k++) u[nloc - s->state.nglobaldofs + k] = s->state.global0[k];
       PetscCall(VecRestoreArray(U, &u));
     }
-    PetscCall(VecDestroy(&s->U));
-    PetscCall(VecDestroy(&s->Uprev));
-    s->U = U;
-    PetscCall(VecDuplicate(U, &s->Uprev));
+    PetscCall(VecDestroy(&s->state.U));
+    PetscCall(VecDestroy(&s->state.Uprev));
+    s->state.U = U;
+    PetscCall(VecDuplicate(U, &s->state.Uprev));
     if (s->ts) {
       DM tsdm;
       PetscCall(TSReset(s->ts));
       PetscCall(TSGetDM(s->ts, &tsdm));
       PetscCall(DMClearGlobalVectors(tsdm));
       PetscCall(DMClearLocalVectors(tsdm));
-      PetscCall(TSSetSolution(s->ts, s->U));
+      PetscCall(TSSetSolution(s->ts, s->state.U));
     }
   }
   PetscCall(FSSolverPackState(s));
-  PetscCall(VecCopy(s->U, s->Uprev));
+  PetscCall(VecCopy(s->state.U, s->state.Uprev));
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
-  PetscCall(FSHaloBuild(&s->halo, comm, &s->decomp, s->nowned, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
+  PetscCall(FSHaloBuild(&s->pw.halo, comm, &s->pw.decomp, s->pw.nowned, s->pw.rec, s->pw.stride, s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
   PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
-  PetscCall(FSSolverEnsureWork(s, s->nowned + s->halo.nghost));
+  PetscCall(FSSolverEnsureWork(s, s->pw.nowned + s->pw.halo.nghost));
   /* candidate neighbours for the whole step: kernel support plus the halo skin */
-  PetscCall(FSHaloRefresh(&s->halo, s->dim, s->nowned, s->rec));
+  PetscCall(FSHaloRefresh(&s->pw.halo, s->opt.dim, s->pw.nowned, s->pw.rec));
   PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
-  PetscCall(FSNeighboursBuildCells(&s->nbrs, s->dim, s->nowned + s->halo.nghost, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
-  PetscCall(FSNeighboursBuildCandidates(&s->nbrs, s->nowned, s->rec, s->stride, s->kernel.support + s->halo_skin * s->h));
+  PetscCall(FSNeighboursBuildCells(&s->pw.nbrs, s->opt.dim, s->pw.nowned + s->pw.halo.nghost, s->pw.rec, s->pw.stride, s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
+  PetscCall(FSNeighboursBuildCandidates(&s->pw.nbrs, s->pw.nowned, s->pw.rec, s->pw.stride, s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
   if (s->boundary) PetscCall(FSSolverBoundaryUpdate(s));
   PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
   if (s->ts) PetscCall(TSRestartStep(s->ts));
@@ -180,31 +180,31 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
 */
 PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 {
-  const PetscInt     dim = s->dim, US = s->ustride;
+  const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   const PetscScalar *u;
-  PetscReal          loc[2] = {0, PetscMax(s->nu, s->nu_bound)}, g2 = 0;
+  PetscReal          loc[2] = {0, PetscMax(s->opt.nu, s->state.nu_bound)}, g2 = 0;
 
   PetscFunctionBegin;
-  if (s->nglobal_particles == 0) {
+  if (s->pw.nglobal_particles == 0) {
     PetscCall(FSSolverStructureDt(s, dt));
     PetscFunctionReturn(0);
   }
-  PetscCall(VecGetArrayRead(s->U, &u));
-  for (PetscInt p = 0; p < s->nowned; p++) {
+  PetscCall(VecGetArrayRead(s->state.U, &u));
+  for (PetscInt p = 0; p < s->pw.nowned; p++) {
     PetscReal v2 = 0;
     for (PetscInt d = 0; d < dim; d++) v2 += u[p * US + dim + d] * u[p * US + dim + d];
     loc[0] = PetscMax(loc[0], v2);
   }
-  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
-  s->umax = PetscSqrtReal(loc[0]);
-  *dt     = s->cfl * s->h / (s->c0 + s->umax);
-  if (loc[1] > 0) *dt = PetscMin(*dt, s->cfl_visc * s->h * s->h / loc[1]);
-  if (s->umax > 0) *dt = PetscMin(*dt, 0.4 * s->halo_skin * s->h / s->umax); /* no particle outruns its candidate lists */
-  for (PetscInt d = 0; d < dim; d++) g2 += s->gravity[d] * s->gravity[d];
-  if (g2 > 0) *dt = PetscMin(*dt, s->cfl_force * PetscSqrtReal(s->h / PetscSqrtReal(g2)));
-  if (s->structure && s->structure->min_period > 0) *dt = PetscMin(*dt, s->structure_cfl * s->structure->min_period);
-  s->dt_stable = *dt;
+  s->state.umax = PetscSqrtReal(loc[0]);
+  *dt     = s->opt.cfl * s->opt.h / (s->opt.c0 + s->state.umax);
+  if (loc[1] > 0) *dt = PetscMin(*dt, s->opt.cfl_visc * s->opt.h * s->opt.h / loc[1]);
+  if (s->state.umax > 0) *dt = PetscMin(*dt, 0.4 * s->opt.halo_skin * s->opt.h / s->state.umax); /* no particle outruns its candidate lists */
+  for (PetscInt d = 0; d < dim; d++) g2 += s->opt.gravity[d] * s->opt.gravity[d];
+  if (g2 > 0) *dt = PetscMin(*dt, s->opt.cfl_force * PetscSqrtReal(s->opt.h / PetscSqrtReal(g2)));
+  if (s->structure && s->structure->min_period > 0) *dt = PetscMin(*dt, s->opt.structure_cfl * s->structure->min_period);
+  s->state.dt_stable = *dt;
   PetscFunctionReturn(0);
 }
 
@@ -218,7 +218,7 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 PetscErrorCode FSSolverCheckState(FSSolver s)
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)s);
-  const PetscInt     dim = s->dim, US = s->ustride;
+  const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   const PetscScalar *u, *u0;
   PetscInt          *id, bad = -1, kind = 0, step;
   PetscReal          worst = 0, move = 0, t, glob[3];
@@ -226,9 +226,9 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(VecGetArrayRead(s->U, &u));
-  PetscCall(VecGetArrayRead(s->Uprev, &u0));
-  for (PetscInt p = 0; p < s->nowned; p++) {
+  PetscCall(VecGetArrayRead(s->state.U, &u));
+  PetscCall(VecGetArrayRead(s->state.Uprev, &u0));
+  for (PetscInt p = 0; p < s->pw.nowned; p++) {
     PetscReal d2 = 0, var;
     for (PetscInt a = 0; a < US; a++)
       if (PetscIsInfOrNanReal(u[p * US + a])) {
@@ -236,10 +236,10 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
         kind = 1;
       }
     if (kind == 1) break;
-    var = PetscAbsReal(u[p * US + 2 * dim] / s->rho0 - 1.0);
+    var = PetscAbsReal(u[p * US + 2 * dim] / s->opt.rho0 - 1.0);
     if (var > worst) {
       worst = var;
-      if (var > s->max_density_variation) {
+      if (var > s->opt.max_density_variation) {
         bad  = p;
         kind = 2;
       }
@@ -255,15 +255,15 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   PetscCall(TSGetStepNumber(s->ts, &step));
   if (bad >= 0) {
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
-    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[%d] flexslosh: %s at step %" PetscInt_FMT ", time %g: particle %" PetscInt_FMT " at (%g, %g, %g), density %g (rho0 %g)\n", rank, kind == 1 ? "NaN or Inf in the state" : "density blow-up", step, (double)t, id[bad], (double)u0[bad * US], (double)u0[bad * US + 1], dim == 3 ? (double)u0[bad * US + 2] : 0.0, (double)u[bad * US + 2 * dim], (double)s->rho0));
+    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[%d] flexslosh: %s at step %" PetscInt_FMT ", time %g: particle %" PetscInt_FMT " at (%g, %g, %g), density %g (rho0 %g)\n", rank, kind == 1 ? "NaN or Inf in the state" : "density blow-up", step, (double)t, id[bad], (double)u0[bad * US], (double)u0[bad * US + 1], dim == 3 ? (double)u0[bad * US + 2] : 0.0, (double)u[bad * US + 2 * dim], (double)s->opt.rho0));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
   }
-  PetscCall(VecRestoreArrayRead(s->Uprev, &u0));
-  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecRestoreArrayRead(s->state.Uprev, &u0));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
   PetscCheck(glob[0] != 1, comm, PETSC_ERR_FP, "The run blew up: NaN or Inf at step %" PetscInt_FMT ", time %g (the particle is named above); reduce -fs_cfl or check the set-up", step, (double)t);
-  PetscCheck(glob[0] != 2, comm, PETSC_ERR_CONV_FAILED, "The run blew up: density variation %g above -fs_max_density_variation %g at step %" PetscInt_FMT ", time %g (the particle is named above); reduce -fs_cfl, raise -fs_c0, or check the set-up", (double)glob[1], (double)s->max_density_variation, step, (double)t);
-  PetscCheck(2 * glob[2] <= s->halo_skin * s->h, comm, PETSC_ERR_CONV_FAILED, "A particle moved %g in one step (step %" PetscInt_FMT ", time %g), more than half the halo skin %g: reduce -fs_cfl or raise -fs_halo_skin", (double)glob[2], step, (double)t, (double)(s->halo_skin * s->h));
-  s->max_variation = glob[1];
+  PetscCheck(glob[0] != 2, comm, PETSC_ERR_CONV_FAILED, "The run blew up: density variation %g above -fs_max_density_variation %g at step %" PetscInt_FMT ", time %g (the particle is named above); reduce -fs_cfl, raise -fs_c0, or check the set-up", (double)glob[1], (double)s->opt.max_density_variation, step, (double)t);
+  PetscCheck(2 * glob[2] <= s->opt.halo_skin * s->opt.h, comm, PETSC_ERR_CONV_FAILED, "A particle moved %g in one step (step %" PetscInt_FMT ", time %g), more than half the halo skin %g: reduce -fs_cfl or raise -fs_halo_skin", (double)glob[2], step, (double)t, (double)(s->opt.halo_skin * s->opt.h));
+  s->state.max_variation = glob[1];
   PetscFunctionReturn(0);
 }
 
@@ -294,24 +294,24 @@ PetscErrorCode FSSolverStep(FSSolver s)
   adaptive = (PetscBool)!adaptive;
   if (adaptive) {
     PetscCall(TSGetTimeStep(s->ts, &dtts));
-    if (dtts > 0 && s->steps_taken > 0) dt = PetscMin(dt, dtts);
+    if (dtts > 0 && s->mon.steps_taken > 0) dt = PetscMin(dt, dtts);
   }
   if (t + dt > tmax - 1e-12 * tmax) dt = tmax - t;
   PetscCall(TSSetTimeStep(s->ts, dt));
-  PetscCall(VecCopy(s->U, s->Uprev));
+  PetscCall(VecCopy(s->state.U, s->state.Uprev));
   PetscCall(TSStep(s->ts));
   PetscCall(TSGetConvergedReason(s->ts, &reason));
   PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCheck(reason >= 0, PetscObjectComm((PetscObject)s), PETSC_ERR_CONV_FAILED, "The time integrator failed at step %" PetscInt_FMT ": %s", step, TSConvergedReasons[reason]);
-  s->particle_steps += s->nglobal_particles;
-  s->steps_taken++;
+  s->mon.particle_steps += s->pw.nglobal_particles;
+  s->mon.steps_taken++;
   PetscCall(FSSolverCheckState(s));
   PetscCall(FSSolverUnpackState(s));
   PetscCall(FSSolverBoundaryBounce(s, ejump, &bounced)); /* with the bounces' energy changes, for the energy budget */
   PetscCall(FSSolverMigrate(s, &changed));
-  if (step % s->sort_interval == 0) PetscCall(FSSolverSortByCell(s));
+  if (step % s->opt.sort_interval == 0) PetscCall(FSSolverSortByCell(s));
   PetscCall(FSSolverResize(s, changed));
-  if (bounced && s->nglobal_particles > 0) PetscCall(FSSolverEnergyAddJump(s, ejump));
+  if (bounced && s->pw.nglobal_particles > 0) PetscCall(FSSolverEnergyAddJump(s, ejump));
   PetscCall(PetscLogEventEnd(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverMonitor(s));
   PetscFunctionReturn(0);
@@ -335,8 +335,8 @@ PetscErrorCode FSSolverSolve(FSSolver s)
   PetscFunctionBegin;
   PetscCall(FSSolverSetUp(s));
   PetscCall(FSSolverMonitorBegin(s));
-  if (s->geometry_view) PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s), "-fs_geometry_view: stopping after set-up; run again without it to compute\n"));
-  while (!s->geometry_view) { /* -fs_geometry_view: no time stepping */
+  if (s->opt.geometry_view) PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s), "-fs_geometry_view: stopping after set-up; run again without it to compute\n"));
+  while (!s->opt.geometry_view) { /* -fs_geometry_view: no time stepping */
     PetscCall(TSGetTime(s->ts, &t));
     PetscCall(TSGetMaxTime(s->ts, &tmax));
     PetscCall(TSGetStepNumber(s->ts, &step));

@@ -19,7 +19,7 @@ PetscErrorCode FSSolverGetStructure(FSSolver s, FSStructure *st)
 PetscErrorCode FSSolverSetDefaultStructure(FSSolver s, const char name[])
 {
   PetscFunctionBegin;
-  PetscCall(PetscStrncpy(s->structname, name, sizeof(s->structname)));
+  PetscCall(PetscStrncpy(s->opt.structname, name, sizeof(s->opt.structname)));
   PetscFunctionReturn(0);
 }
 
@@ -46,23 +46,23 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
   PetscFunctionBegin;
   for (PetscInt t = 0; t < s->terms.nterms; t++)
     if (s->terms.term[t]->has_power) ndiss++;
-  s->ngblocks = 0;
-  s->gstruct  = 0;
-  PetscCall(PetscStrncpy(s->gblock[s->ngblocks].name, "structure", sizeof(s->gblock[0].name)));
-  s->gblock[s->ngblocks].offset = 0;
-  s->gblock[s->ngblocks++].n    = s->structure ? s->structure->ndof : 0;
-  s->gdiss                      = s->gblock[0].n;
-  s->ndiss                      = ndiss;
-  PetscCall(PetscStrncpy(s->gblock[s->ngblocks].name, "dissipated_energy", sizeof(s->gblock[0].name)));
-  s->gblock[s->ngblocks].offset = s->gdiss;
-  s->gblock[s->ngblocks++].n    = ndiss;
-  s->genergy                    = s->gdiss + ndiss;
-  PetscCall(PetscStrncpy(s->gblock[s->ngblocks].name, "energy_budget", sizeof(s->gblock[0].name)));
-  s->gblock[s->ngblocks].offset = s->genergy;
-  s->gblock[s->ngblocks++].n    = FS_ENERGY_NDOF;
-  s->nglobaldofs                = s->genergy + FS_ENERGY_NDOF;
+  s->state.ngblocks = 0;
+  s->state.gstruct  = 0;
+  PetscCall(PetscStrncpy(s->state.gblock[s->state.ngblocks].name, "structure", sizeof(s->state.gblock[0].name)));
+  s->state.gblock[s->state.ngblocks].offset = 0;
+  s->state.gblock[s->state.ngblocks++].n    = s->structure ? s->structure->ndof : 0;
+  s->state.gdiss                      = s->state.gblock[0].n;
+  s->state.ndiss                      = ndiss;
+  PetscCall(PetscStrncpy(s->state.gblock[s->state.ngblocks].name, "dissipated_energy", sizeof(s->state.gblock[0].name)));
+  s->state.gblock[s->state.ngblocks].offset = s->state.gdiss;
+  s->state.gblock[s->state.ngblocks++].n    = ndiss;
+  s->state.genergy                    = s->state.gdiss + ndiss;
+  PetscCall(PetscStrncpy(s->state.gblock[s->state.ngblocks].name, "energy_budget", sizeof(s->state.gblock[0].name)));
+  s->state.gblock[s->state.ngblocks].offset = s->state.genergy;
+  s->state.gblock[s->state.ngblocks++].n    = FS_ENERGY_NDOF;
+  s->state.nglobaldofs                = s->state.genergy + FS_ENERGY_NDOF;
   /* the checkpoint header keeps the global DOFs and two more values (FSSolverWriteCheckpoint) */
-  PetscCheck(s->nglobaldofs + 2 <= FS_MAX_GLOBAL, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "The state has %" PetscInt_FMT " global DOFs (structure %" PetscInt_FMT ", dissipated energies %" PetscInt_FMT ", energy budget %d), more than %d: use fewer structure modes", s->nglobaldofs, s->gdiss, ndiss, (int)FS_ENERGY_NDOF, FS_MAX_GLOBAL - 2);
+  PetscCheck(s->state.nglobaldofs + 2 <= FS_MAX_GLOBAL, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "The state has %" PetscInt_FMT " global DOFs (structure %" PetscInt_FMT ", dissipated energies %" PetscInt_FMT ", energy budget %d), more than %d: use fewer structure modes", s->state.nglobaldofs, s->state.gdiss, ndiss, (int)FS_ENERGY_NDOF, FS_MAX_GLOBAL - 2);
   PetscFunctionReturn(0);
 }
 
@@ -114,7 +114,7 @@ PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
-  if (!rank) PetscCall(PetscArraycpy(s->sy, u + s->nowned * s->ustride + s->gstruct, s->structure->ndof));
+  if (!rank) PetscCall(PetscArraycpy(s->sy, u + s->pw.nowned * s->state.ustride + s->state.gstruct, s->structure->ndof));
   if (size > 1) PetscCallMPI(MPI_Bcast(s->sy, (PetscMPIInt)s->structure->ndof, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
   PetscFunctionReturn(0);
 }
@@ -122,7 +122,7 @@ PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
 /*
    FSSolverStructureRates - the structure's part of a right-hand side: rank 0 broadcasts the
    structure's state from the packed state u (its global DOFs) into s->sy on every rank, then
-   computes dy/dt at s->rhs_time with the current loads into f (rank 0).
+   computes dy/dt at s->state.rhs_time with the current loads into f (rank 0).
 
    Collective
    With broadcast PETSC_FALSE s->sy already holds this stage's state on every rank (the coupling
@@ -137,7 +137,7 @@ PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const Pet
 {
   FSStructure st = s->structure;
   PetscMPIInt rank;
-  const PetscInt off = s->nowned * s->ustride + s->gstruct;
+  const PetscInt off = s->pw.nowned * s->state.ustride + s->state.gstruct;
 
   PetscFunctionBegin;
   if (rank0err) *rank0err = 0;
@@ -148,7 +148,7 @@ PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const Pet
   {
     PetscErrorCode ierr = 0;
     if (!rank) {
-      ierr = (*st->ops.rhs)(st, s->rhs_time, s->sy, &s->loads, s->sydot);
+      ierr = (*st->ops.rhs)(st, s->state.rhs_time, s->sy, &s->loads, s->sydot);
       if (!ierr && f) ierr = PetscArraycpy(f + off, s->sydot, st->ndof);
     }
     if (rank0err) *rank0err = ierr;
@@ -167,10 +167,10 @@ static PetscErrorCode FSSolverStructureCurrent(FSSolver s, PetscErrorCode *rank0
 
   PetscFunctionBegin;
   PetscCall(TSGetTime(s->ts, &t));
-  PetscCall(VecGetArrayRead(s->U, &u));
-  s->rhs_time = t;
+  PetscCall(VecGetArrayRead(s->state.U, &u));
+  s->state.rhs_time = t;
   PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, NULL, rank0err));
-  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
   PetscFunctionReturn(0);
 }
 
@@ -228,9 +228,9 @@ PetscErrorCode FSSolverStructureDt(FSSolver s, PetscReal *dt)
     *dt = user;
   } else {
     PetscCheck(s->structure && s->structure->min_period > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE, "A run without particles takes its time step from the structure, but structure %s gives no period: set -ts_dt", s->structure ? s->structure->name : "none");
-    *dt = s->structure_cfl * s->structure->min_period;
+    *dt = s->opt.structure_cfl * s->structure->min_period;
   }
-  s->dt_stable = *dt;
+  s->state.dt_stable = *dt;
   PetscFunctionReturn(0);
 }
 
@@ -250,7 +250,7 @@ PetscErrorCode FSSolverStructureColumns(FSSolver s, PetscInt *n, const char *nam
   *n = 0;
   if (!st) PetscFunctionReturn(0);
   for (PetscInt c = 0; c < 6; c++) names[k++] = motion[c];
-  if (s->dim == 2)
+  if (s->opt.dim == 2)
     for (PetscInt c = 0; c < 3; c++) names[k++] = load2[c];
   else
     for (PetscInt c = 0; c < 6; c++) names[k++] = load3[c];
@@ -281,7 +281,7 @@ PetscErrorCode FSSolverStructureValues(FSSolver s, PetscReal vals[])
   vals[k++] = m.angle;
   vals[k++] = m.rate;
   vals[k++] = m.angacc;
-  if (s->dim == 2) {
+  if (s->opt.dim == 2) {
     vals[k++] = s->loads.force[0];
     vals[k++] = s->loads.force[1];
     vals[k++] = s->loads.moment[2];
@@ -306,7 +306,7 @@ PetscErrorCode FSSolverStructureSnapshot(FSSolver s)
   PetscCall(FSSolverStructureCurrent(s, NULL));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
-  if (!rank) PetscCall((*s->structure->ops.snapshot)(s->structure, s->outdir, t, step, s->sy));
+  if (!rank) PetscCall((*s->structure->ops.snapshot)(s->structure, s->opt.outdir, t, step, s->sy));
   PetscFunctionReturn(0);
 }
 
@@ -354,7 +354,7 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
   {
     PetscErrorCode ierr = 0;
     if (!rank) {
-      ierr = (*st->ops.rhs)(st, s->rhs_time, s->sy, &none, s->sydot);
+      ierr = (*st->ops.rhs)(st, s->state.rhs_time, s->sy, &none, s->sydot);
       if (!ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &predicted);
     }
     PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&predicted));

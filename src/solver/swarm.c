@@ -16,10 +16,10 @@ PetscErrorCode FSSolverCreateSwarm(FSSolver s)
   PetscCall(DMCreate(comm, &s->swarm));
   PetscCall(PetscObjectSetName((PetscObject)s->swarm, "particles"));
   PetscCall(DMSetType(s->swarm, DMSWARM));
-  PetscCall(DMSetDimension(s->swarm, s->dim));
+  PetscCall(DMSetDimension(s->swarm, s->opt.dim));
   PetscCall(DMSwarmSetType(s->swarm, DMSWARM_BASIC));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_POSITION, s->dim, PETSC_REAL));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_VELOCITY, s->dim, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_POSITION, s->opt.dim, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_VELOCITY, s->opt.dim, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_DENSITY, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_MASS, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_ID, 1, PETSC_INT));
@@ -44,7 +44,7 @@ PetscErrorCode FSSolverCreateSwarm(FSSolver s)
 */
 PetscErrorCode FSSolverAddParticles(FSSolver s, PetscInt n, const PetscReal x[], const PetscReal u[], const PetscReal rho[], const PetscReal m[])
 {
-  PetscInt    nold, dim = s->dim;
+  PetscInt    nold, dim = s->opt.dim;
   PetscInt64  first = 0, n64 = n, total;
   PetscReal  *px, *pu, *prho, *pm;
   PetscInt   *pid;
@@ -59,8 +59,8 @@ PetscErrorCode FSSolverAddParticles(FSSolver s, PetscInt n, const PetscReal x[],
     PetscCallMPI(MPI_Comm_rank(comm, &rank));
     if (!rank) first = 0;
   }
-  PetscCheck(s->nglobal_particles + total < PETSC_MAX_INT, comm, PETSC_ERR_SUP, "Too many particles (%" PetscInt64_FMT ") for 32-bit PetscInt ids", s->nglobal_particles + total);
-  first += s->nglobal_particles;
+  PetscCheck(s->pw.nglobal_particles + total < PETSC_MAX_INT, comm, PETSC_ERR_SUP, "Too many particles (%" PetscInt64_FMT ") for 32-bit PetscInt ids", s->pw.nglobal_particles + total);
+  first += s->pw.nglobal_particles;
   PetscCall(DMSwarmGetLocalSize(s->swarm, &nold));
   PetscCall(DMSwarmAddNPoints(s->swarm, n));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&px));
@@ -83,7 +83,7 @@ PetscErrorCode FSSolverAddParticles(FSSolver s, PetscInt n, const PetscReal x[],
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&prho));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&pu));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&px));
-  s->nglobal_particles += total;
+  s->pw.nglobal_particles += total;
   PetscFunctionReturn(0);
 }
 
@@ -100,7 +100,7 @@ PetscErrorCode FSSolverAddParticles(FSSolver s, PetscInt n, const PetscReal x[],
 PetscErrorCode FSSolverMigrate(FSSolver s, PetscBool *changed)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  PetscInt    n, dim = s->dim, nleave = 0, nlost = 0, lost = -1;
+  PetscInt    n, dim = s->opt.dim, nleave = 0, nlost = 0, lost = -1;
   PetscInt64  glob[2], before, after;
   PetscReal  *x;
   PetscInt   *rankf, *id;
@@ -116,16 +116,16 @@ PetscErrorCode FSSolverMigrate(FSSolver s, PetscBool *changed)
     PetscReal  *xp = &x[p * dim];
     PetscMPIInt dest;
     for (PetscInt d = 0; d < dim; d++) {
-      if (s->periodic[d]) {
-        const PetscReal L = s->hi[d] - s->lo[d];
-        if (xp[d] < s->lo[d] || xp[d] >= s->hi[d]) xp[d] -= L * PetscFloorReal((xp[d] - s->lo[d]) / L);
-        if (xp[d] >= s->hi[d]) xp[d] = s->lo[d]; /* round-off at the upper edge */
-      } else if (!(xp[d] >= s->lo[d] && xp[d] <= s->hi[d])) {
+      if (s->pw.periodic[d]) {
+        const PetscReal L = s->pw.hi[d] - s->pw.lo[d];
+        if (xp[d] < s->pw.lo[d] || xp[d] >= s->pw.hi[d]) xp[d] -= L * PetscFloorReal((xp[d] - s->pw.lo[d]) / L);
+        if (xp[d] >= s->pw.hi[d]) xp[d] = s->pw.lo[d]; /* round-off at the upper edge */
+      } else if (!(xp[d] >= s->pw.lo[d] && xp[d] <= s->pw.hi[d])) {
         if (lost < 0) lost = p;
         nlost++;
       }
     }
-    dest     = FSDecompRankOf(&s->decomp, xp);
+    dest     = FSDecompRankOf(&s->pw.decomp, xp);
     rankf[p] = dest;
     if (dest != rank) nleave++;
   }
@@ -138,7 +138,7 @@ PetscErrorCode FSSolverMigrate(FSSolver s, PetscBool *changed)
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
     PetscCall(TSGetTime(s->ts, &t));
     PetscCall(TSGetStepNumber(s->ts, &step));
-    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[%d] flexslosh: particle %" PetscInt_FMT " left the domain at step %" PetscInt_FMT ", time %g, position (%g, %g, %g); domain [%g,%g] x [%g,%g] x [%g,%g]; %" PetscInt_FMT " particle(s) lost on this rank\n", rank, id[lost], step, (double)t, (double)x[lost * dim], (double)x[lost * dim + 1], dim == 3 ? (double)x[lost * dim + 2] : 0.0, (double)s->lo[0], (double)s->hi[0], (double)s->lo[1], (double)s->hi[1], (double)s->lo[2], (double)s->hi[2], nlost));
+    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[%d] flexslosh: particle %" PetscInt_FMT " left the domain at step %" PetscInt_FMT ", time %g, position (%g, %g, %g); domain [%g,%g] x [%g,%g] x [%g,%g]; %" PetscInt_FMT " particle(s) lost on this rank\n", rank, id[lost], step, (double)t, (double)x[lost * dim], (double)x[lost * dim + 1], dim == 3 ? (double)x[lost * dim + 2] : 0.0, (double)s->pw.lo[0], (double)s->pw.hi[0], (double)s->pw.lo[1], (double)s->pw.hi[1], (double)s->pw.lo[2], (double)s->pw.hi[2], nlost));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
   }
   PetscCall(DMSwarmRestoreField(s->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rankf));
@@ -153,9 +153,9 @@ PetscErrorCode FSSolverMigrate(FSSolver s, PetscBool *changed)
     after = n;
     PetscCheck(before == after, comm, PETSC_ERR_PLIB, "Migration lost %" PetscInt64_FMT " particles", before - after);
     *changed = PETSC_TRUE;
-    s->nmigrations++;
+    s->mon.nmigrations++;
   }
-  PetscCall(DMSwarmGetLocalSize(s->swarm, &s->nowned));
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &s->pw.nowned));
   PetscCall(PetscLogEventEnd(FS_Migrate, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -163,7 +163,7 @@ PetscErrorCode FSSolverMigrate(FSSolver s, PetscBool *changed)
 /* FSSolverSortByCell - orders the owned particles by cell (counting sort) so that neighbours are near in memory. */
 PetscErrorCode FSSolverSortByCell(FSSolver s)
 {
-  PetscInt n, dim = s->dim;
+  PetscInt n, dim = s->opt.dim;
   PetscReal *x;
   char      *tmp;
   size_t     maxbytes = 0;
@@ -172,7 +172,7 @@ PetscErrorCode FSSolverSortByCell(FSSolver s)
   PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
   if (n < 2) PetscFunctionReturn(0);
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  PetscCall(FSNeighboursBuildCells(&s->nbrs, dim, n, x, dim, s->kernel.support));
+  PetscCall(FSNeighboursBuildCells(&s->pw.nbrs, dim, n, x, dim, s->pw.kernel.support));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   maxbytes = (size_t)n * dim * sizeof(PetscReal);
   PetscCall(PetscMalloc(maxbytes, &tmp));
@@ -183,7 +183,7 @@ PetscErrorCode FSSolverSortByCell(FSSolver s)
     size_t        sz;
     PetscCall(DMSwarmGetField(s->swarm, FSFieldNames[f], &bs, &type, (void **)&data));
     sz = (type == PETSC_INT ? sizeof(PetscInt) : sizeof(PetscReal)) * (size_t)bs;
-    for (PetscInt p = 0; p < n; p++) memcpy(tmp + p * sz, data + (size_t)s->nbrs.order[p] * sz, sz);
+    for (PetscInt p = 0; p < n; p++) memcpy(tmp + p * sz, data + (size_t)s->pw.nbrs.order[p] * sz, sz);
     memcpy(data, tmp, (size_t)n * sz);
     PetscCall(DMSwarmRestoreField(s->swarm, FSFieldNames[f], &bs, &type, (void **)&data));
   }
@@ -195,18 +195,18 @@ PetscErrorCode FSSolverSortByCell(FSSolver s)
 PetscErrorCode FSSolverEnsureWork(FSSolver s, PetscInt n)
 {
   PetscFunctionBegin;
-  if (n <= s->reccap) PetscFunctionReturn(0);
+  if (n <= s->pw.reccap) PetscFunctionReturn(0);
   {
-    PetscInt   cap = PetscMax(n, (PetscInt)(1.25 * s->reccap));
+    PetscInt   cap = PetscMax(n, (PetscInt)(1.25 * s->pw.reccap));
     PetscReal *rec, *aux, *vol, *p;
-    PetscCall(PetscCalloc4(cap * s->stride, &rec, cap * s->auxstride, &aux, cap, &vol, cap, &p));
-    if (s->rec) PetscCall(PetscArraycpy(rec, s->rec, s->reccap * s->stride));
-    PetscCall(PetscFree4(s->rec, s->aux, s->vol, s->pressure));
-    s->rec      = rec;
-    s->aux      = aux;
-    s->vol      = vol;
-    s->pressure = p;
-    s->reccap = cap;
+    PetscCall(PetscCalloc4(cap * s->pw.stride, &rec, cap * s->pw.auxstride, &aux, cap, &vol, cap, &p));
+    if (s->pw.rec) PetscCall(PetscArraycpy(rec, s->pw.rec, s->pw.reccap * s->pw.stride));
+    PetscCall(PetscFree4(s->pw.rec, s->pw.aux, s->pw.vol, s->pw.pressure));
+    s->pw.rec      = rec;
+    s->pw.aux      = aux;
+    s->pw.vol      = vol;
+    s->pw.pressure = p;
+    s->pw.reccap = cap;
   }
   PetscFunctionReturn(0);
 }
@@ -217,28 +217,28 @@ PetscErrorCode FSSolverEnsureWork(FSSolver s, PetscInt n)
 */
 PetscErrorCode FSSolverPackState(FSSolver s)
 {
-  const PetscInt dim = s->dim, US = s->ustride, S = s->stride;
+  const PetscInt dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride;
   PetscReal     *x, *v, *rho, *m;
   PetscScalar   *u;
 
   PetscFunctionBegin;
-  PetscCall(FSSolverEnsureWork(s, s->nowned));
+  PetscCall(FSSolverEnsureWork(s, s->pw.nowned));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  PetscCall(VecGetArray(s->U, &u));
-  for (PetscInt p = 0; p < s->nowned; p++) {
+  PetscCall(VecGetArray(s->state.U, &u));
+  for (PetscInt p = 0; p < s->pw.nowned; p++) {
     for (PetscInt d = 0; d < dim; d++) {
       u[p * US + d]       = x[p * dim + d];
       u[p * US + dim + d] = v[p * dim + d];
-      s->rec[p * S + d]   = x[p * dim + d];
+      s->pw.rec[p * S + d]   = x[p * dim + d];
     }
     u[p * US + 2 * dim]         = rho[p];
-    s->rec[p * S + 2 * dim]     = rho[p];
-    s->rec[p * S + 2 * dim + 1] = m[p];
+    s->pw.rec[p * S + 2 * dim]     = rho[p];
+    s->pw.rec[p * S + 2 * dim + 1] = m[p];
   }
-  PetscCall(VecRestoreArray(s->U, &u));
+  PetscCall(VecRestoreArray(s->state.U, &u));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
@@ -249,7 +249,7 @@ PetscErrorCode FSSolverPackState(FSSolver s)
 /* FSSolverUnpackState - copies the TS state of the owned particles back into the swarm's fields. */
 PetscErrorCode FSSolverUnpackState(FSSolver s)
 {
-  const PetscInt     dim = s->dim, US = s->ustride;
+  const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   PetscReal         *x, *v, *rho;
   const PetscScalar *u;
 
@@ -257,15 +257,15 @@ PetscErrorCode FSSolverUnpackState(FSSolver s)
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
-  PetscCall(VecGetArrayRead(s->U, &u));
-  for (PetscInt p = 0; p < s->nowned; p++) {
+  PetscCall(VecGetArrayRead(s->state.U, &u));
+  for (PetscInt p = 0; p < s->pw.nowned; p++) {
     for (PetscInt d = 0; d < dim; d++) {
       x[p * dim + d] = u[p * US + d];
       v[p * dim + d] = u[p * US + dim + d];
     }
     rho[p] = u[p * US + 2 * dim];
   }
-  PetscCall(VecRestoreArrayRead(s->U, &u));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));

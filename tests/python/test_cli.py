@@ -21,7 +21,7 @@ def literal_defaults():
     """Field -> literal default assigned in FSSolverCreate (s->cfl = 0.4; ...)."""
     src = SOLVER_C.read_text()
     body = src[src.index("PetscErrorCode FSSolverCreate("):src.index("PetscErrorCode FSSolverSetDefaultPhysics(")]
-    return {f: float(v) for f, v in re.findall(r"s->(\w+)\s*=\s*([-+]?[0-9.]+(?:[eE][-+]?\d+)?)\s*;", body)}
+    return {f: float(v) for f, v in re.findall(r"s->(?:\w+\.)?(\w+)\s*=\s*([-+]?[0-9.]+(?:[eE][-+]?\d+)?)\s*;", body)}
 
 
 @pytest.fixture(scope="module")
@@ -57,7 +57,7 @@ def test_help_shows_defaults(help_output):
         if opt in case_defaults:
             expected = case_defaults[opt]
         else:
-            m = re.match(r"s->(\w+)$", field)
+            m = re.match(r"s->(?:\w+\.)?(\w+)$", field)
             if not m or m.group(1) not in defaults:
                 continue
             expected = defaults[m.group(1)]
