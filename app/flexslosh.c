@@ -1,6 +1,7 @@
-static const char help[] = "flexslosh: liquid sloshing in tanks on flexible structures (delta-LES-SPH, PETSc TS).\n"
-                           "  flexslosh -options_file cases/taylor_green.opts [-fs_dx 0.01 -ts_type ssp ...]\n"
-                           "  -fs_case_view lists the cases, -fs_terms_view the physics terms, -fs_view the set-up.\n\n";
+static const char help[] =
+    "flexslosh: liquid sloshing in tanks on flexible structures (delta-LES-SPH, PETSc TS).\n"
+    "  flexslosh -options_file cases/taylor_green.opts [-fs_dx 0.01 -ts_type ssp ...]\n"
+    "  -fs_case_view lists the cases, -fs_terms_view the physics terms, -fs_view the set-up.\n\n";
 
 #include <flexslosh.h>
 

@@ -37,7 +37,8 @@ static void FusedRates(FSSolver s, const PetscReal *delta, const PetscReal *a, P
         proj += dx[d] * gw[d];
       }
       cont += du_g * V[j];
-      if (di + delta[j] > 0) diff += 2.0 * di * delta[j] / (di + delta[j]) * 2.0 * ((rj[2 * dim] - rhoi) - 0.5 * corr) / r2 * proj * V[j];
+      if (di + delta[j] > 0)
+        diff += 2.0 * di * delta[j] / (di + delta[j]) * 2.0 * ((rj[2 * dim] - rhoi) - 0.5 * corr) / r2 * proj * V[j];
       for (PetscInt d = 0; d < dim; d++) {
         acc_p[d] += (p[i] + p[j]) * V[j] * gw[d];
         acc_v[d] += du_dx / r2 * V[j] * gw[d];
@@ -90,8 +91,9 @@ int main(int argc, char **argv)
   t1 = info.time;
   {
     const PetscReal treg = (t1 - t0) / reps;
-    const PetscReal L = 2.0 * s->opt.h, cd = 1.5 * 1.5 * L * L / (s->opt.c0 * s->opt.h), ca = 0.12 * 0.12 * L * L * 2.0 * (s->opt.dim + 2) / (s->opt.c0 * s->opt.h);
-    PetscLogDouble  w0, w1;
+    const PetscReal L = 2.0 * s->opt.h, cd = 1.5 * 1.5 * L * L / (s->opt.c0 * s->opt.h),
+                    ca = 0.12 * 0.12 * L * L * 2.0 * (s->opt.dim + 2) / (s->opt.c0 * s->opt.h);
+    PetscLogDouble w0, w1;
     PetscCall(PetscMalloc1(n * s->state.ustride, &g));
     PetscCall(PetscTime(&w0));
     for (PetscInt r = 0; r < reps; r++) {
@@ -107,16 +109,27 @@ int main(int argc, char **argv)
       err   = PetscMax(err, PetscAbsReal(f[k] - g[k]));
       scale = PetscMax(scale, PetscAbsReal(f[k]));
     }
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "bench_terms: %" PetscInt_FMT " particles, %" PetscInt64_FMT " pairs, %" PetscInt_FMT " repetitions\n", n, s->pw.nbrs.npairs, reps));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  pair pass with the plug-in terms   %.4f s per evaluation (%.3g pair visits/s)\n", treg, (double)s->pw.nbrs.npairs / treg));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  the same terms fused inline        %.4f s per evaluation (%.3g pair visits/s)\n", (w1 - w0) / reps, (double)s->pw.nbrs.npairs / ((w1 - w0) / reps)));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  cost of the registry: %.2f x the inline loop\n", treg / ((w1 - w0) / reps)));
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "  largest difference of the rates: %.3g (relative to the largest rate %.3g)\n", (double)(err / scale), (double)scale));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "bench_terms: %" PetscInt_FMT " particles, %" PetscInt64_FMT " pairs, %" PetscInt_FMT
+                          " repetitions\n",
+                          n, s->pw.nbrs.npairs, reps));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "  pair pass with the plug-in terms   %.4f s per evaluation (%.3g pair visits/s)\n", treg,
+                          (double)s->pw.nbrs.npairs / treg));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "  the same terms fused inline        %.4f s per evaluation (%.3g pair visits/s)\n",
+                          (w1 - w0) / reps, (double)s->pw.nbrs.npairs / ((w1 - w0) / reps)));
+    PetscCall(
+        PetscPrintf(PETSC_COMM_WORLD, "  cost of the registry: %.2f x the inline loop\n", treg / ((w1 - w0) / reps)));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "  largest difference of the rates: %.3g (relative to the largest rate %.3g)\n",
+                          (double)(err / scale), (double)scale));
     PetscCall(PetscFree(g));
   }
   PetscCall(VecRestoreArray(F, &f));
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  PetscCheck(err <= 1e-10 * scale, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "The plug-in terms and the inline loop disagree: %g", (double)(err / scale));
+  PetscCheck(err <= 1e-10 * scale, PETSC_COMM_WORLD, PETSC_ERR_PLIB,
+             "The plug-in terms and the inline loop disagree: %g", (double)(err / scale));
   PetscCall(PetscFree2(delta, a));
   PetscCall(VecDestroy(&F));
   PetscCall(FSSolverDestroy(&s));

@@ -22,8 +22,8 @@
 
 #define FLEXSLOSH_VERSION "0.1.0"
 
-typedef struct _p_FSSolver *FSSolver;
-typedef struct _p_FSTerm   *FSTerm;
+typedef struct _p_FSSolver    *FSSolver;
+typedef struct _p_FSTerm      *FSTerm;
 typedef struct _p_FSStructure *FSStructure;
 typedef struct _p_FSBoundary  *FSBoundary;
 
@@ -34,7 +34,8 @@ PETSC_EXTERN PetscErrorCode FSInitializePackage(void);
 PETSC_EXTERN PetscErrorCode FSFinalizePackage(void);
 PETSC_EXTERN PetscErrorCode FSCheckPlugins(MPI_Comm);
 PETSC_EXTERN PetscErrorCode FSLoadPlugins(MPI_Comm);
-PETSC_EXTERN PetscErrorCode FSErrorHandler(MPI_Comm, int, const char *, const char *, PetscErrorCode, PetscErrorType, const char *, void *);
+PETSC_EXTERN PetscErrorCode FSErrorHandler(MPI_Comm, int, const char *, const char *, PetscErrorCode, PetscErrorType,
+                                           const char *, void *);
 
 /* ---------- solver ---------- */
 PETSC_EXTERN PetscErrorCode FSSolverCreate(MPI_Comm, FSSolver *);
@@ -69,9 +70,9 @@ PETSC_EXTERN PetscErrorCode FSSolverGetLiquidMass(FSSolver, PetscReal *);
 /* ---------- terms ---------- */
 /* What a term needs the core to compute in the first pass over neighbour pairs. */
 typedef enum {
-  FS_NEED_NONE            = 0,
+  FS_NEED_NONE             = 0,
   FS_NEED_DENSITY_GRADIENT = 1, /* renormalized density gradient <grad rho>^L_i, also on ghosts */
-  FS_NEED_STRAIN_RATE     = 2   /* ||D||_i = sqrt(2 D:D) with the corrected velocity gradient, also on ghosts */
+  FS_NEED_STRAIN_RATE      = 2  /* ||D||_i = sqrt(2 D:D) with the corrected velocity gradient, also on ghosts */
 } FSNeed;
 
 /* Read-only view of the particles a term works on: owned particles 0..nowned-1, then ghost
@@ -115,8 +116,9 @@ typedef struct {
   const PetscInt  *elementwall; /* the wall each element belongs to */
   const PetscReal *pressure;    /* per element: the wall pressure interpolated from the liquid */
   const PetscBool *noslip;      /* per wall: no-slip (else free-slip) */
-  PetscReal       *load;        /* per wall: force (3) and moment about loadpoint (3) of the liquid on the wall, this rank's share, accumulated by the wall terms */
-  PetscReal        loadpoint[3];
+  PetscReal *load; /* per wall: force (3) and moment about loadpoint (3) of the liquid on the wall, this rank's share,
+                      accumulated by the wall terms */
+  PetscReal loadpoint[3];
 } FSWallView;
 
 /* The wall elements k[q] (q < n) of particle i within its kernel support, with the mean kernel value
@@ -137,9 +139,9 @@ typedef struct {
    or 3) is inlined into each branch, so that its loops over d < dim unroll and the accumulators stay in
    registers instead of going through memory as they do with the run-time dimension. */
 #if PetscHasAttribute(always_inline)
-  #define FS_ALWAYS_INLINE static inline __attribute__((always_inline))
+#  define FS_ALWAYS_INLINE static inline __attribute__((always_inline))
 #else
-  #define FS_ALWAYS_INLINE static inline
+#  define FS_ALWAYS_INLINE static inline
 #endif
 
 typedef struct {
@@ -160,16 +162,16 @@ typedef struct {
 } FSTermOps;
 
 struct _p_FSTerm {
-  char       name[64];
-  char       description[256];
-  FSSolver   solver;
-  FSTermOps  ops;
-  PetscInt   needs;      /* FSNeed flags */
-  PetscBool  renormalized; /* the core divides the term's rates by the Shepard factor gamma_i (boundary integrals) */
-  PetscBool  has_power;  /* the term dissipates: it accumulates power */
-  PetscReal  power;      /* dissipation power of the last right-hand side, this rank's share (seed Eq. 38) */
-  PetscReal  max_viscosity; /* largest kinematic viscosity the term applies (time-step limit), set in prepare */
-  void      *data;       /* implementation data */
+  char      name[64];
+  char      description[256];
+  FSSolver  solver;
+  FSTermOps ops;
+  PetscInt  needs;         /* FSNeed flags */
+  PetscBool renormalized;  /* the core divides the term's rates by the Shepard factor gamma_i (boundary integrals) */
+  PetscBool has_power;     /* the term dissipates: it accumulates power */
+  PetscReal power;         /* dissipation power of the last right-hand side, this rank's share (seed Eq. 38) */
+  PetscReal max_viscosity; /* largest kinematic viscosity the term applies (time-step limit), set in prepare */
+  void     *data;          /* implementation data */
 };
 
 typedef PetscErrorCode (*FSTermCreateFn)(FSTerm);
@@ -200,10 +202,14 @@ PETSC_EXTERN PetscErrorCode FSCaseRegisterAll(void);
 PETSC_EXTERN PetscErrorCode FSCaseListView(PetscViewer);
 
 PETSC_EXTERN PetscErrorCode FSSolverGetBoundary(FSSolver, FSBoundary *);
-PETSC_EXTERN PetscErrorCode FSSolverSetDomain(FSSolver, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[]);
-PETSC_EXTERN PetscErrorCode FSSolverAddParticles(FSSolver, PetscInt n, const PetscReal x[], const PetscReal u[], const PetscReal rho[], const PetscReal m[]);
-PETSC_EXTERN PetscErrorCode FSSolverGetParameters(FSSolver, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0, PetscReal *nu);
-PETSC_EXTERN PetscErrorCode FSSolverSetDefaultPhysics(FSSolver, PetscReal rho0, PetscReal c0, PetscReal nu, const PetscReal g[]);
+PETSC_EXTERN PetscErrorCode FSSolverSetDomain(FSSolver, const PetscReal lo[], const PetscReal hi[],
+                                              const PetscBool periodic[]);
+PETSC_EXTERN PetscErrorCode FSSolverAddParticles(FSSolver, PetscInt n, const PetscReal x[], const PetscReal u[],
+                                                 const PetscReal rho[], const PetscReal m[]);
+PETSC_EXTERN PetscErrorCode FSSolverGetParameters(FSSolver, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0,
+                                                  PetscReal *nu);
+PETSC_EXTERN PetscErrorCode FSSolverSetDefaultPhysics(FSSolver, PetscReal rho0, PetscReal c0, PetscReal nu,
+                                                      const PetscReal g[]);
 PETSC_EXTERN PetscErrorCode FSSolverSetDefaultSpacing(FSSolver, PetscReal dx);
 PETSC_EXTERN PetscErrorCode FSSolverSetDefaultFinalTime(FSSolver, PetscReal t);
 PETSC_EXTERN PetscErrorCode FSSolverSetDefaultCFL(FSSolver, PetscReal cfl);
@@ -285,7 +291,7 @@ struct _p_FSStructure {
   PetscReal      min_period; /* shortest period the model resolves (time step without particles), set by setup */
   PetscInt       ncolumns;   /* the model's own time-series columns */
   char           column[FS_STRUCTURE_MAX_COLUMNS][32];
-  void          *data;       /* implementation data */
+  void          *data; /* implementation data */
 };
 
 typedef PetscErrorCode (*FSStructureCreateFn)(FSStructure);
@@ -311,15 +317,20 @@ PETSC_EXTERN PetscErrorCode FSSolverSetDefaultStructure(FSSolver, const char[]);
    initial and destroy on every rank; rhs, motion, columns and energy on rank 0 only.
 */
 typedef struct {
-  PetscErrorCode (*create)(void *ctx, FSStructure, void **impl);                                  /* optional */
-  PetscErrorCode (*setup)(void *impl, FSStructure, PetscInt *ndof, PetscReal *min_period);       /* required */
-  PetscErrorCode (*initial)(void *impl, PetscInt ndof, PetscReal y[]);                            /* optional (else y = 0) */
-  PetscErrorCode (*rhs)(void *impl, PetscReal t, PetscInt ndof, const PetscReal y[], const FSLoads *, PetscReal ydot[]); /* required */
-  PetscErrorCode (*motion)(void *impl, PetscInt ndof, const PetscReal y[], const PetscReal ydot[], FSTankMotion *);       /* required */
-  PetscErrorCode (*columns)(void *impl, PetscReal t, PetscInt ndof, const PetscReal y[], const PetscReal ydot[], PetscInt ncolumns, PetscReal vals[]); /* with columns */
-  PetscErrorCode (*energy)(void *impl, PetscInt ndof, const PetscReal y[], PetscReal E[3]);      /* optional, as FSStructureOps.energy */
-  PetscErrorCode (*destroy)(void *impl);                                                          /* optional */
+  PetscErrorCode (*create)(void *ctx, FSStructure, void **impl);                           /* optional */
+  PetscErrorCode (*setup)(void *impl, FSStructure, PetscInt *ndof, PetscReal *min_period); /* required */
+  PetscErrorCode (*initial)(void *impl, PetscInt ndof, PetscReal y[]);                     /* optional (else y = 0) */
+  PetscErrorCode (*rhs)(void *impl, PetscReal t, PetscInt ndof, const PetscReal y[], const FSLoads *,
+                        PetscReal ydot[]); /* required */
+  PetscErrorCode (*motion)(void *impl, PetscInt ndof, const PetscReal y[], const PetscReal ydot[],
+                           FSTankMotion *); /* required */
+  PetscErrorCode (*columns)(void *impl, PetscReal t, PetscInt ndof, const PetscReal y[], const PetscReal ydot[],
+                            PetscInt ncolumns, PetscReal vals[]); /* with columns */
+  PetscErrorCode (*energy)(void *impl, PetscInt ndof, const PetscReal y[],
+                           PetscReal E[3]); /* optional, as FSStructureOps.energy */
+  PetscErrorCode (*destroy)(void *impl);    /* optional */
 } FSStructureCallbacks;
 
-PETSC_EXTERN PetscErrorCode FSStructureRegisterCallbacks(const char[], const char[], const FSStructureCallbacks *, void *);
+PETSC_EXTERN PetscErrorCode FSStructureRegisterCallbacks(const char[], const char[], const FSStructureCallbacks *,
+                                                         void *);
 PETSC_EXTERN PetscErrorCode FSStructureCallbacksSetError(const char[]);

@@ -31,7 +31,8 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
   PetscOptionsHeadBegin(PetscOptionsObject, "Term drag (plug-in libfsdrag)");
   PetscCall(PetscOptionsReal("-fs_drag_rate", "Linear drag rate k (1/s)", "", ctx->k, &ctx->k, NULL));
   PetscOptionsHeadEnd();
-  PetscCheck(ctx->k >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_drag_rate %g must be non-negative", (double)ctx->k);
+  PetscCheck(ctx->k >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_drag_rate %g must be non-negative",
+             (double)ctx->k);
   PetscFunctionReturn(0);
 }
 

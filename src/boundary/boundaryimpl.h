@@ -13,12 +13,14 @@ struct _FSBoundaryOps {
   /* from the geometry the case gave: elements of about dx, static search structures, the view's layout */
   PetscErrorCode (*setup)(FSBoundary);
   /* once per step, after the fluid candidates are built (FSBoundaryUpdate) */
-  PetscErrorCode (*update)(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *, FSBoundaryLeak *);
+  PetscErrorCode (*update)(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *,
+                           FSBoundaryLeak *);
   /* at every right-hand side (FSBoundaryPrepare): gamma of the owned particles, the wall lists, the
      wall pressure, the pressure loads; collective */
   PetscErrorCode (*prepare)(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[]);
   /* after each step (FSBoundaryBounce); not collective */
-  PetscErrorCode (*bounce)(FSBoundary, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[], const PetscReal m[], FSParticleEnergyFn, void *, PetscReal de[2]);
+  PetscErrorCode (*bounce)(FSBoundary, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[], const PetscReal m[],
+                           FSParticleEnergyFn, void *, PetscReal de[2]);
   PetscErrorCode (*boundingbox)(FSBoundary, PetscReal lo[], PetscReal hi[]);
   /* rank 0: the walls into the geometry picture */
   PetscErrorCode (*draw)(FSBoundary, FSImage *, const FSImageMap *);
@@ -30,20 +32,20 @@ struct _FSBoundaryOps {
 
 struct _p_FSBoundary {
   PETSCHEADER(struct _FSBoundaryOps);
-  PetscBool      setupcalled;
-  PetscInt       dim;
-  PetscReal      dx, h, radius; /* particle spacing, smoothing length, candidate radius (support + halo skin) */
+  PetscBool setupcalled;
+  PetscInt  dim;
+  PetscReal dx, h, radius; /* particle spacing, smoothing length, candidate radius (support + halo skin) */
   /* the walls: names, conditions, loads (set up by the implementation) */
-  PetscInt       nwalls;
-  const char   **wallname;      /* nwalls names, owned by the implementation */
-  PetscBool     *noslip;        /* per wall (-fs_walls_noslip) */
-  PetscReal      loadpoint[3];  /* -fs_walls_load_point */
-  PetscReal     *load, *loadsum; /* per wall 6: this rank's share of the last right-hand side, and the sum over the ranks */
-  PetscReal      bounce_distance, restitution; /* -fs_walls_bounce_distance (in dx), -fs_walls_bounce_restitution */
-  PetscInt64     nbounce;
+  PetscInt     nwalls;
+  const char **wallname;     /* nwalls names, owned by the implementation */
+  PetscBool   *noslip;       /* per wall (-fs_walls_noslip) */
+  PetscReal    loadpoint[3]; /* -fs_walls_load_point */
+  PetscReal *load, *loadsum; /* per wall 6: this rank's share of the last right-hand side, and the sum over the ranks */
+  PetscReal  bounce_distance, restitution; /* -fs_walls_bounce_distance (in dx), -fs_walls_bounce_restitution */
+  PetscInt64 nbounce;
   /* the wall terms' view and each owned particle's wall elements (CSR), filled by ops->prepare */
   FSWallView view;
-  PetscInt      *wstart, *wk;
-  PetscReal     *wW;
-  void          *data;
+  PetscInt  *wstart, *wk;
+  PetscReal *wW;
+  void      *data;
 };

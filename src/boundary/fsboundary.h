@@ -50,7 +50,10 @@ typedef struct {
 } FSImageMap;
 
 static inline PetscReal FSImageMapX(const FSImageMap *m, PetscReal x) { return m->margin + (x - m->x0) * m->scale; }
-static inline PetscReal FSImageMapY(const FSImageMap *m, PetscReal y) { return (PetscReal)(m->height - 1 - m->margin) - (y - m->y0) * m->scale; }
+static inline PetscReal FSImageMapY(const FSImageMap *m, PetscReal y)
+{
+  return (PetscReal)(m->height - 1 - m->margin) - (y - m->y0) * m->scale;
+}
 
 PETSC_INTERN PetscErrorCode FSBoundaryRegister(const char[], const char[], FSBoundaryCreateFn);
 PETSC_INTERN PetscErrorCode FSBoundaryRegisterAll(void);
@@ -59,12 +62,16 @@ PETSC_INTERN PetscErrorCode FSBoundaryCreate(MPI_Comm, FSBoundary *);
 PETSC_INTERN PetscErrorCode FSBoundarySetType(FSBoundary, const char[]);
 PETSC_INTERN PetscErrorCode FSBoundarySetFromOptions(FSBoundary);
 PETSC_INTERN PetscErrorCode FSBoundarySetUp(FSBoundary, PetscInt dim, PetscReal dx, PetscReal h, PetscReal radius);
-PETSC_INTERN PetscErrorCode FSBoundaryUpdate(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *, FSBoundaryLeak *);
+PETSC_INTERN PetscErrorCode FSBoundaryUpdate(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride,
+                                             FSNeighbours *, FSBoundaryLeak *);
 PETSC_INTERN PetscErrorCode FSBoundaryPrepare(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[]);
-PETSC_INTERN PetscErrorCode FSBoundaryGetView(FSBoundary, const FSWallView **, const PetscInt **wstart, const PetscInt **wk, const PetscReal **wW);
+PETSC_INTERN PetscErrorCode FSBoundaryGetView(FSBoundary, const FSWallView **, const PetscInt **wstart,
+                                              const PetscInt **wk, const PetscReal **wW);
 PETSC_INTERN PetscErrorCode FSBoundaryGetBounce(FSBoundary, PetscBool *);
-PETSC_INTERN PetscErrorCode FSBoundaryBounce(FSBoundary, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[], const PetscReal m[], FSParticleEnergyFn, void *, PetscReal de[2]);
-PETSC_INTERN PetscErrorCode FSBoundaryGetLoads(FSBoundary, PetscInt *nwalls, const char *names[], const PetscReal **loads);
+PETSC_INTERN PetscErrorCode FSBoundaryBounce(FSBoundary, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[],
+                                             const PetscReal m[], FSParticleEnergyFn, void *, PetscReal de[2]);
+PETSC_INTERN PetscErrorCode FSBoundaryGetLoads(FSBoundary, PetscInt *nwalls, const char *names[],
+                                               const PetscReal **loads);
 PETSC_INTERN PetscErrorCode FSBoundaryGetWallNames(FSBoundary, PetscInt *nwalls, const char *const **names);
 PETSC_INTERN PetscErrorCode FSBoundaryGetBoundingBox(FSBoundary, PetscReal lo[], PetscReal hi[]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetLoadPoint(FSBoundary, PetscReal point[3]);

@@ -8,10 +8,10 @@
      1. the structure's state y at this stage (rank 0, broadcast) gives the tank's rotation theta;
      2. the liquid's loads at this stage (they depend on the particles only): minus the force and moment
         all terms but gravity put on the particles (by default; Newton's third law, so the coupled system
-        conserves momentum and energy), or the wall-pressure integral; taken about the tank's reference point, turned into the global axes, scaled by
-        the tank's width (the liquid is 2-D: loads per unit width), and their value for the liquid
-        at rest in the undeflected tank is subtracted (the structure's deflections are measured from
-        its static equilibrium under gravity, liquid included);
+        conserves momentum and energy), or the wall-pressure integral; taken about the tank's reference point, turned
+into the global axes, scaled by the tank's width (the liquid is 2-D: loads per unit width), and their value for the
+liquid at rest in the undeflected tank is subtracted (the structure's deflections are measured from its static
+equilibrium under gravity, liquid included);
      3. the structure's rate dy/dt under those loads gives the tank's acceleration A, angular rate
         omega and angular acceleration alpha at this stage;
      4. every particle gets, in the tank frame with r = x - x_ref,
@@ -19,16 +19,18 @@
         (the gravity term adds g itself), whose power sum_i m_i u_i . a is the work of the tank on
         the liquid, P_ext.
    FSCoupling holds the frame and the loads; the solver evaluates the structure (src/solver/structure.c)
-   and hands the coupling the motions it gives. Explicit and stable while the liquid is light against the structure (here a few per cent of the
-   moving mass): the loads at a stage use the liquid's state, not its acceleration, so the liquid's
-   added mass is carried by the loads one stage late. A liquid as heavy as the structure would need
-   the added mass moved to the structure's side (or an implicit coupling).
+   and hands the coupling the motions it gives. Explicit and stable while the liquid is light against the structure
+(here a few per cent of the moving mass): the loads at a stage use the liquid's state, not its acceleration, so the
+liquid's added mass is carried by the loads one stage late. A liquid as heavy as the structure would need the added mass
+moved to the structure's side (or an implicit coupling).
 
    Options Database Keys:
 +  -fs_coupling <bool>               - couple the liquid and the structure (default: when both exist)
-.  -fs_coupling_loads <reaction|walls> - the loads the structure receives: the reaction of the terms' forces on the liquid (default), or the wall-pressure integral
-.  -fs_tank_width <w>                - the tank's width across the 2-D plane (0.1 m): loads per unit width times w
--  -fs_tank_reference <x,y>          - the tank's point on the beam, in the tank's frame (default: the middle of the floor)
+.  -fs_coupling_loads <reaction|walls> - the loads the structure receives: the reaction of the terms' forces on the
+liquid (default), or the wall-pressure integral .  -fs_tank_width <w>                - the tank's width across the 2-D
+plane (0.1 m): loads per unit width times w
+-  -fs_tank_reference <x,y>          - the tank's point on the beam, in the tank's frame (default: the middle of the
+floor)
 */
 #include "couplingimpl.h"
 
@@ -69,7 +71,8 @@ PetscErrorCode FSCouplingCreate(MPI_Comm comm, FSCoupling *coupling)
 
    Collective
 */
-PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, const PetscReal gravity[], FSBoundary b, PetscInt n, const PetscReal x[], const PetscReal m[])
+PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, const PetscReal gravity[], FSBoundary b, PetscInt n,
+                               const PetscReal x[], const PetscReal m[])
 {
   MPI_Comm    comm = c->comm;
   PetscBool   want = PETSC_TRUE, set;
@@ -88,14 +91,26 @@ PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, const PetscReal
   ref[0] = 0.5 * (lo[0] + hi[0]);
   ref[1] = lo[1];
   PetscOptionsBegin(comm, NULL, "Coupling of the liquid and the structure", "FS");
-  PetscCall(PetscOptionsBool("-fs_coupling", "Couple the liquid and the structure (loads to the structure, tank motion to the liquid)", "FSCouplingSetUp", want, &want, NULL));
-  PetscCall(PetscOptionsEList("-fs_coupling_loads", "The liquid's loads the structure receives: reaction (minus the force and moment of all terms but gravity on the particles: Newton's third law) or walls (the integral of the wall pressure and shear)", "FSCouplingSetUp", loadtypes, 2, loadtypes[c->loads_from_walls ? 1 : 0], &lt, NULL));
+  PetscCall(PetscOptionsBool("-fs_coupling",
+                             "Couple the liquid and the structure (loads to the structure, tank motion to the liquid)",
+                             "FSCouplingSetUp", want, &want, NULL));
+  PetscCall(PetscOptionsEList(
+      "-fs_coupling_loads",
+      "The liquid's loads the structure receives: reaction (minus the force and moment of all terms but gravity on the "
+      "particles: Newton's third law) or walls (the integral of the wall pressure and shear)",
+      "FSCouplingSetUp", loadtypes, 2, loadtypes[c->loads_from_walls ? 1 : 0], &lt, NULL));
   c->loads_from_walls = lt == 1 ? PETSC_TRUE : PETSC_FALSE;
-  PetscCall(PetscOptionsReal("-fs_tank_width", "Width of the tank across the 2-D plane: the liquid's loads per unit width times this", "FSCouplingSetUp", c->tank_width, &c->tank_width, NULL));
-  PetscCall(PetscOptionsRealArray("-fs_tank_reference", "The tank's point on the beam, in the tank's frame (default: the middle of the floor)", "FSCouplingSetUp", ref, &nref, &set));
+  PetscCall(PetscOptionsReal("-fs_tank_width",
+                             "Width of the tank across the 2-D plane: the liquid's loads per unit width times this",
+                             "FSCouplingSetUp", c->tank_width, &c->tank_width, NULL));
+  PetscCall(PetscOptionsRealArray(
+      "-fs_tank_reference", "The tank's point on the beam, in the tank's frame (default: the middle of the floor)",
+      "FSCouplingSetUp", ref, &nref, &set));
   PetscOptionsEnd();
-  PetscCheck(!set || nref == 2, comm, PETSC_ERR_ARG_SIZ, "-fs_tank_reference takes two values x,y; got %" PetscInt_FMT, nref);
-  PetscCheck(c->tank_width > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_width %g must be positive", (double)c->tank_width);
+  PetscCheck(!set || nref == 2, comm, PETSC_ERR_ARG_SIZ, "-fs_tank_reference takes two values x,y; got %" PetscInt_FMT,
+             nref);
+  PetscCheck(c->tank_width > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_width %g must be positive",
+             (double)c->tank_width);
   if (!want) PetscFunctionReturn(0);
   c->coupled     = PETSC_TRUE;
   c->tank_ref[0] = ref[0];
@@ -175,7 +190,8 @@ PetscErrorCode FSCouplingSetPredictedMotion(FSCoupling c, const FSTankMotion *pr
 
    Collective
 */
-PetscErrorCode FSCouplingReaction(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US, const PetscReal f[], PetscReal local[3])
+PetscErrorCode FSCouplingReaction(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US,
+                                  const PetscReal f[], PetscReal local[3])
 {
   PetscFunctionBegin;
   local[0] = local[1] = local[2] = 0;
@@ -243,7 +259,8 @@ PetscErrorCode FSCouplingSetMotion(FSCoupling c, const FSTankMotion *motion)
    stage added to the n owned particles' rates f (ustride; records rec with stride); returns their power
    sum_i m_i u_i . a on this rank (P_ext).
 */
-PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US, PetscReal f[], PetscReal *power)
+PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US,
+                                 PetscReal f[], PetscReal *power)
 {
   FSFrameField ff;
   PetscReal    pw = 0;
@@ -276,7 +293,7 @@ PetscErrorCode FSCouplingPower(FSCoupling c, const PetscReal R[3], PetscReal *po
   const FSTankMotion *mo = &c->motion;
   const PetscReal     cs = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
   const PetscReal     vx = cs * mo->vel[0] + sn * mo->vel[1], vy = -sn * mo->vel[0] + cs * mo->vel[1];
-  const PetscReal    *L  = c->tank_load;
+  const PetscReal    *L = c->tank_load;
 
   PetscFunctionBegin;
   *power = c->tank_width * ((R[0] + L[0]) * vx + (R[1] + L[1]) * vy + mo->rate * (R[2] + L[2]));
@@ -286,14 +303,16 @@ PetscErrorCode FSCouplingPower(FSCoupling c, const PetscReal R[3], PetscReal *po
 /* FSCouplingAbsoluteEnergy - a particle's kinetic and potential energy in the absolute frame (2-D,
    coupled), its tank-frame position x and velocity v carried by the tank's motion mo (c, sn: cos and
    sin of its angle). */
-void FSCouplingAbsoluteEnergy(FSCoupling cp, const FSTankMotion *mo, PetscReal c, PetscReal sn, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal *kin, PetscReal *pot)
+void FSCouplingAbsoluteEnergy(FSCoupling cp, const FSTankMotion *mo, PetscReal c, PetscReal sn, const PetscReal x[],
+                              const PetscReal v[], PetscReal m, PetscReal *kin, PetscReal *pot)
 {
   const PetscReal rx = x[0] - cp->tank_ref[0], ry = x[1] - cp->tank_ref[1];
   const PetscReal wx = v[0] - mo->rate * ry, wy = v[1] + mo->rate * rx; /* u + omega e_z x r */
   const PetscReal Vx = mo->vel[0] + c * wx - sn * wy, Vy = mo->vel[1] + sn * wx + c * wy;
-  const PetscReal Xx = cp->tank_ref[0] + mo->disp[0] + c * rx - sn * ry, Xy = cp->tank_ref[1] + mo->disp[1] + sn * rx + c * ry;
-  *kin = 0.5 * m * (Vx * Vx + Vy * Vy);
-  *pot = -m * (cp->gravity[0] * Xx + cp->gravity[1] * Xy);
+  const PetscReal Xx = cp->tank_ref[0] + mo->disp[0] + c * rx - sn * ry,
+                  Xy = cp->tank_ref[1] + mo->disp[1] + sn * rx + c * ry;
+  *kin               = 0.5 * m * (Vx * Vx + Vy * Vy);
+  *pot               = -m * (cp->gravity[0] * Xx + cp->gravity[1] * Xy);
 }
 
 /* FSCouplingStaticLoadsWork - the potential of the liquid's static loads at the tank's motion mo:
@@ -301,7 +320,9 @@ void FSCouplingAbsoluteEnergy(FSCoupling cp, const FSTankMotion *mo, PetscReal c
 PetscErrorCode FSCouplingStaticLoadsWork(FSCoupling c, const FSTankMotion *mo, PetscReal *w)
 {
   PetscFunctionBegin;
-  *w = c->coupled ? c->static_loads.force[0] * mo->disp[0] + c->static_loads.force[1] * mo->disp[1] + c->static_loads.moment[2] * mo->angle : 0;
+  *w = c->coupled ? c->static_loads.force[0] * mo->disp[0] + c->static_loads.force[1] * mo->disp[1] +
+                        c->static_loads.moment[2] * mo->angle
+                  : 0;
   PetscFunctionReturn(0);
 }
 

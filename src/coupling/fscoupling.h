@@ -13,17 +13,24 @@
 typedef struct _p_FSCoupling *FSCoupling;
 
 PETSC_INTERN PetscErrorCode FSCouplingCreate(MPI_Comm, FSCoupling *);
-PETSC_INTERN PetscErrorCode FSCouplingSetUp(FSCoupling, PetscBool possible, const PetscReal gravity[], FSBoundary, PetscInt n, const PetscReal x[], const PetscReal m[]);
+PETSC_INTERN PetscErrorCode FSCouplingSetUp(FSCoupling, PetscBool possible, const PetscReal gravity[], FSBoundary,
+                                            PetscInt n, const PetscReal x[], const PetscReal m[]);
 PETSC_INTERN PetscErrorCode FSCouplingGetActive(FSCoupling, PetscBool *);
 PETSC_INTERN PetscErrorCode FSCouplingGetLiquidMass(FSCoupling, PetscReal *);
 PETSC_INTERN PetscErrorCode FSCouplingGetWidth(FSCoupling, PetscReal *);
 PETSC_INTERN PetscErrorCode FSCouplingGetBody(FSCoupling, const FSFrameField **);
 PETSC_INTERN PetscErrorCode FSCouplingSetPredictedMotion(FSCoupling, const FSTankMotion *);
-PETSC_INTERN PetscErrorCode FSCouplingReaction(FSCoupling, PetscInt n, PetscInt stride, const PetscReal rec[], PetscInt ustride, const PetscReal f[], PetscReal local[3]);
+PETSC_INTERN PetscErrorCode FSCouplingReaction(FSCoupling, PetscInt n, PetscInt stride, const PetscReal rec[],
+                                               PetscInt ustride, const PetscReal f[], PetscReal local[3]);
 PETSC_INTERN PetscErrorCode FSCouplingComputeLoads(FSCoupling, FSBoundary, FSLoads *);
 PETSC_INTERN PetscErrorCode FSCouplingSetMotion(FSCoupling, const FSTankMotion *);
-PETSC_INTERN PetscErrorCode FSCouplingInertia(FSCoupling, PetscInt n, PetscInt stride, const PetscReal rec[], PetscInt ustride, PetscReal f[], PetscReal *power);
+PETSC_INTERN PetscErrorCode FSCouplingInertia(FSCoupling, PetscInt n, PetscInt stride, const PetscReal rec[],
+                                              PetscInt ustride, PetscReal f[], PetscReal *power);
 PETSC_INTERN PetscErrorCode FSCouplingPower(FSCoupling, const PetscReal reaction[3], PetscReal *power);
-PETSC_INTERN void           FSCouplingAbsoluteEnergy(FSCoupling, const FSTankMotion *, PetscReal c, PetscReal sn, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal *kin, PetscReal *pot);
 PETSC_INTERN PetscErrorCode FSCouplingStaticLoadsWork(FSCoupling, const FSTankMotion *, PetscReal *);
 PETSC_INTERN PetscErrorCode FSCouplingDestroy(FSCoupling *);
+
+/* a particle's kinetic and potential energy in the absolute frame */
+PETSC_INTERN void FSCouplingAbsoluteEnergy(FSCoupling, const FSTankMotion *, PetscReal c, PetscReal sn,
+                                           const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal *kin,
+                                           PetscReal *pot);

@@ -20,7 +20,7 @@
 #include "fsoutput.h"
 
 #if defined(PETSC_USE_COMPLEX)
-  #error "flexslosh output wraps PetscReal arrays as PetscScalar: a real PETSc build is required"
+#  error "flexslosh output wraps PetscReal arrays as PetscScalar: a real PETSc build is required"
 #endif
 
 #define FS_CHECKPOINT_FORMAT  "flexslosh-checkpoint"
@@ -43,7 +43,8 @@
    Notes:
    See the file comment of checkpoint.c for the layout.
 @*/
-PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheckpointHeader *hdr, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[])
+PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheckpointHeader *hdr, PetscInt nlocal,
+                                 PetscInt nfields, const FSOutputField fields[])
 {
   char        tmp[PETSC_MAX_PATH_LEN];
   PetscViewer viewer;
@@ -57,7 +58,9 @@ PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheck
   PetscCheck(path && hdr, comm, PETSC_ERR_ARG_NULL, "FSCheckpointWrite: path and header are required");
   PetscCheck(strlen(path) + 5 < sizeof(tmp), comm, PETSC_ERR_ARG_SIZ, "Checkpoint path too long: \"%s\"", path);
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-  PetscCheck(hdr->nglobal >= 0 && hdr->nglobal <= (PetscInt)(sizeof(hdr->global) / sizeof(hdr->global[0])), comm, PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint \"%s\": nglobal %" PetscInt_FMT " must be in [0, %d]", path, hdr->nglobal, (int)(sizeof(hdr->global) / sizeof(hdr->global[0])));
+  PetscCheck(hdr->nglobal >= 0 && hdr->nglobal <= (PetscInt)(sizeof(hdr->global) / sizeof(hdr->global[0])), comm,
+             PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint \"%s\": nglobal %" PetscInt_FMT " must be in [0, %d]", path,
+             hdr->nglobal, (int)(sizeof(hdr->global) / sizeof(hdr->global[0])));
   PetscCall(FSCheckFields_Private(comm, path, 0, nlocal, nfields, fields));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
@@ -85,7 +88,8 @@ PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheck
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nranks", PETSC_INT, &nranks));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nfields", PETSC_INT, &nf));
   if (hdr->nglobal > 0) {
-    PetscCall(VecCreateMPIWithArray(comm, 1, rank == 0 ? hdr->nglobal : 0, hdr->nglobal, (const PetscScalar *)hdr->global, &v));
+    PetscCall(VecCreateMPIWithArray(comm, 1, rank == 0 ? hdr->nglobal : 0, hdr->nglobal,
+                                    (const PetscScalar *)hdr->global, &v));
     PetscCall(PetscObjectSetName((PetscObject)v, "global"));
     PetscCall(PetscViewerHDF5PushGroup(viewer, "/header"));
     PetscCall(VecView(v, viewer));
@@ -117,12 +121,14 @@ static PetscErrorCode FSCheckpointOpen(MPI_Comm comm, const char path[], PetscVi
   PetscCall(PetscViewerHDF5Open(comm, path, FILE_MODE_READ, viewer));
   PetscCall(PetscViewerHDF5HasGroup(*viewer, "/header", &has));
   if (!has) PetscCall(PetscViewerDestroy(viewer));
-  PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\" has no /header group: not a flexslosh checkpoint", path);
+  PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\" has no /header group: not a flexslosh checkpoint",
+             path);
   PetscFunctionReturn(0);
 }
 
 /* Reads a required attribute of /header; its absence is PETSC_ERR_FILE_UNEXPECTED naming the file */
-static PetscErrorCode FSCheckpointReadAttr(PetscViewer viewer, MPI_Comm comm, const char path[], const char name[], PetscDataType type, void *value)
+static PetscErrorCode FSCheckpointReadAttr(PetscViewer viewer, MPI_Comm comm, const char path[], const char name[],
+                                           PetscDataType type, void *value)
 {
   PetscBool has;
 
@@ -134,7 +140,8 @@ static PetscErrorCode FSCheckpointReadAttr(PetscViewer viewer, MPI_Comm comm, co
 }
 
 /* Header of an open checkpoint; any output may be NULL */
-static PetscErrorCode FSCheckpointReadHeader_Viewer(PetscViewer viewer, MPI_Comm comm, const char path[], FSCheckpointHeader *hdr, PetscInt *N, PetscInt *nranks)
+static PetscErrorCode FSCheckpointReadHeader_Viewer(PetscViewer viewer, MPI_Comm comm, const char path[],
+                                                    FSCheckpointHeader *hdr, PetscInt *N, PetscInt *nranks)
 {
   PetscInt           version, np, nr;
   double             t, dt;
@@ -143,7 +150,9 @@ static PetscErrorCode FSCheckpointReadHeader_Viewer(PetscViewer viewer, MPI_Comm
   PetscFunctionBegin;
   PetscCall(PetscMemzero(&h, sizeof(h)));
   PetscCall(FSCheckpointReadAttr(viewer, comm, path, "version", PETSC_INT, &version));
-  PetscCheck(version == FS_CHECKPOINT_VERSION, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\" has format version %" PetscInt_FMT "; this build reads version %d", path, version, FS_CHECKPOINT_VERSION);
+  PetscCheck(version == FS_CHECKPOINT_VERSION, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\" has format version %" PetscInt_FMT "; this build reads version %d", path, version,
+             FS_CHECKPOINT_VERSION);
   PetscCall(FSCheckpointReadAttr(viewer, comm, path, "time", PETSC_DOUBLE, &t));
   PetscCall(FSCheckpointReadAttr(viewer, comm, path, "dt", PETSC_DOUBLE, &dt));
   PetscCall(FSCheckpointReadAttr(viewer, comm, path, "step", PETSC_INT, &h.step));
@@ -152,8 +161,11 @@ static PetscErrorCode FSCheckpointReadHeader_Viewer(PetscViewer viewer, MPI_Comm
   PetscCall(FSCheckpointReadAttr(viewer, comm, path, "nranks", PETSC_INT, &nr));
   h.time = (PetscReal)t;
   h.dt   = (PetscReal)dt;
-  PetscCheck(h.nglobal >= 0 && h.nglobal <= (PetscInt)(sizeof(h.global) / sizeof(h.global[0])), comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": nglobal %" PetscInt_FMT " outside [0, %d]", path, h.nglobal, (int)(sizeof(h.global) / sizeof(h.global[0])));
-  PetscCheck(np >= 0 && nr >= 1, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": invalid nparticles %" PetscInt_FMT " or nranks %" PetscInt_FMT, path, np, nr);
+  PetscCheck(h.nglobal >= 0 && h.nglobal <= (PetscInt)(sizeof(h.global) / sizeof(h.global[0])), comm,
+             PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": nglobal %" PetscInt_FMT " outside [0, %d]", path, h.nglobal,
+             (int)(sizeof(h.global) / sizeof(h.global[0])));
+  PetscCheck(np >= 0 && nr >= 1, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\": invalid nparticles %" PetscInt_FMT " or nranks %" PetscInt_FMT, path, np, nr);
   if (hdr && h.nglobal > 0) {
     PetscMPIInt rank;
     PetscBool   has;
@@ -162,10 +174,13 @@ static PetscErrorCode FSCheckpointReadHeader_Viewer(PetscViewer viewer, MPI_Comm
 
     PetscCallMPI(MPI_Comm_rank(comm, &rank));
     PetscCall(PetscViewerHDF5HasDataset(viewer, "/header/global", &has));
-    PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": dataset /header/global is missing (nglobal = %" PetscInt_FMT ")", path, h.nglobal);
+    PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "Checkpoint \"%s\": dataset /header/global is missing (nglobal = %" PetscInt_FMT ")", path, h.nglobal);
     PetscCall(PetscViewerHDF5PushGroup(viewer, "/header"));
     PetscCall(PetscViewerHDF5ReadSizes(viewer, "global", NULL, &n));
-    PetscCheck(n == h.nglobal, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": /header/global has %" PetscInt_FMT " values, nglobal says %" PetscInt_FMT, path, n, h.nglobal);
+    PetscCheck(n == h.nglobal, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "Checkpoint \"%s\": /header/global has %" PetscInt_FMT " values, nglobal says %" PetscInt_FMT, path, n,
+               h.nglobal);
     PetscCall(VecCreateMPI(comm, rank == 0 ? h.nglobal : 0, h.nglobal, &g));
     PetscCall(PetscObjectSetName((PetscObject)g, "global"));
     PetscCall(VecLoad(g, viewer));
@@ -204,7 +219,8 @@ static PetscErrorCode FSCheckpointReadHeader_Viewer(PetscViewer viewer, MPI_Comm
    A missing file raises PETSC_ERR_FILE_OPEN, a file that is not a checkpoint of this format
    PETSC_ERR_FILE_UNEXPECTED; the message names the file.
 @*/
-PetscErrorCode FSCheckpointReadHeader(MPI_Comm comm, const char path[], FSCheckpointHeader *hdr, PetscInt *nglobal_particles, PetscMPIInt *nranks_written)
+PetscErrorCode FSCheckpointReadHeader(MPI_Comm comm, const char path[], FSCheckpointHeader *hdr,
+                                      PetscInt *nglobal_particles, PetscMPIInt *nranks_written)
 {
   PetscViewer viewer;
   PetscInt    nr;
@@ -256,7 +272,9 @@ PetscErrorCode FSCheckpointGetLocalSize(MPI_Comm comm, const char path[], PetscI
     PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": dataset /layout/nlocal is missing", path);
     PetscCall(PetscViewerHDF5PushGroup(viewer, "/layout"));
     PetscCall(PetscViewerHDF5ReadSizes(viewer, "nlocal", NULL, &n));
-    PetscCheck(n == nr, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": /layout/nlocal has %" PetscInt_FMT " entries, nranks is %" PetscInt_FMT, path, n, nr);
+    PetscCheck(n == nr, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "Checkpoint \"%s\": /layout/nlocal has %" PetscInt_FMT " entries, nranks is %" PetscInt_FMT, path, n,
+               nr);
     PetscCall(VecCreateMPI(comm, 1, size, &v));
     PetscCall(PetscObjectSetName((PetscObject)v, "nlocal"));
     PetscCall(VecLoad(v, viewer));
@@ -266,7 +284,9 @@ PetscErrorCode FSCheckpointGetLocalSize(MPI_Comm comm, const char path[], PetscI
     PetscCall(VecRestoreArrayRead(v, &a));
     PetscCall(VecDestroy(&v));
     PetscCallMPI(MPI_Allreduce(nlocal, &sum, 1, MPIU_INT, MPI_SUM, comm));
-    PetscCheck(sum == N, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": /layout/nlocal sums to %" PetscInt_FMT ", nparticles is %" PetscInt_FMT, path, sum, N);
+    PetscCheck(sum == N, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "Checkpoint \"%s\": /layout/nlocal sums to %" PetscInt_FMT ", nparticles is %" PetscInt_FMT, path, sum,
+               N);
   } else {
     *nlocal = N / size + ((PetscInt)rank < N % size ? 1 : 0);
   }
@@ -294,7 +314,8 @@ PetscErrorCode FSCheckpointGetLocalSize(MPI_Comm comm, const char path[], PetscI
    A missing file is PETSC_ERR_FILE_OPEN; a missing field, a bs that differs from the file's, or a
    sum of nlocal that differs from the number of particles in the file is PETSC_ERR_FILE_UNEXPECTED.
 @*/
-PetscErrorCode FSCheckpointReadField(MPI_Comm comm, const char path[], const char name[], PetscInt bs, PetscInt nlocal, PetscReal data[])
+PetscErrorCode FSCheckpointReadField(MPI_Comm comm, const char path[], const char name[], PetscInt bs, PetscInt nlocal,
+                                     PetscReal data[])
 {
   PetscViewer        viewer;
   char               dset[PETSC_MAX_PATH_LEN];
@@ -305,20 +326,29 @@ PetscErrorCode FSCheckpointReadField(MPI_Comm comm, const char path[], const cha
 
   PetscFunctionBegin;
   PetscCheck(path && name, comm, PETSC_ERR_ARG_NULL, "FSCheckpointReadField: path and field name are required");
-  PetscCheck(bs >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint \"%s\": field \"%s\" requested with bs %" PetscInt_FMT ", expected >= 1", path, name, bs);
-  PetscCheck(nlocal >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint \"%s\": nlocal %" PetscInt_FMT " must be >= 0", path, nlocal);
-  PetscCheck(data || nlocal * bs == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Checkpoint \"%s\": no array to read field \"%s\" into", path, name);
+  PetscCheck(bs >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Checkpoint \"%s\": field \"%s\" requested with bs %" PetscInt_FMT ", expected >= 1", path, name, bs);
+  PetscCheck(nlocal >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint \"%s\": nlocal %" PetscInt_FMT " must be >= 0",
+             path, nlocal);
+  PetscCheck(data || nlocal * bs == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL,
+             "Checkpoint \"%s\": no array to read field \"%s\" into", path, name);
   PetscCall(PetscSNPrintf(dset, sizeof(dset), "/particles/%s", name));
   PetscCallMPI(MPI_Allreduce(&nlocal, &N, 1, MPIU_INT, MPI_SUM, comm));
   PetscCall(FSCheckpointOpen(comm, path, &viewer));
   PetscCall(PetscViewerHDF5HasDataset(viewer, dset, &has));
   if (!has) PetscCall(PetscViewerDestroy(&viewer));
-  PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\" has no field \"%s\" (dataset %s)", path, name, dset);
+  PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\" has no field \"%s\" (dataset %s)", path, name,
+             dset);
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
   PetscCall(PetscViewerHDF5ReadSizes(viewer, name, &fbs, &flen));
   if (fbs != bs || flen != N * bs) PetscCall(PetscViewerDestroy(&viewer));
-  PetscCheck(fbs == bs, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": field \"%s\" has %" PetscInt_FMT " components per particle, expected %" PetscInt_FMT, path, name, fbs, bs);
-  PetscCheck(flen == N * bs, comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint \"%s\": field \"%s\" holds %" PetscInt_FMT " particles, but the local sizes add up to %" PetscInt_FMT, path, name, flen / bs, N);
+  PetscCheck(fbs == bs, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\": field \"%s\" has %" PetscInt_FMT " components per particle, expected %" PetscInt_FMT,
+             path, name, fbs, bs);
+  PetscCheck(flen == N * bs, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\": field \"%s\" holds %" PetscInt_FMT
+             " particles, but the local sizes add up to %" PetscInt_FMT,
+             path, name, flen / bs, N);
   PetscCall(VecCreate(comm, &v));
   PetscCall(VecSetSizes(v, nlocal * bs, PETSC_DETERMINE));
   PetscCall(VecSetBlockSize(v, bs));

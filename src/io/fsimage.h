@@ -17,6 +17,7 @@ PETSC_INTERN PetscErrorCode FSImageCreate(PetscInt width, PetscInt height, FSIma
 PETSC_INTERN PetscErrorCode FSImageDestroy(FSImage *);
 PETSC_INTERN void           FSImageFill(FSImage *, const unsigned char rgb[3]);
 PETSC_INTERN void           FSImageSetPixel(FSImage *, PetscInt x, PetscInt y, const unsigned char rgb[3]);
-PETSC_INTERN void           FSImageDrawLine(FSImage *, PetscInt x0, PetscInt y0, PetscInt x1, PetscInt y1, PetscInt thickness, const unsigned char rgb[3]);
-PETSC_INTERN void           FSImageDrawDisc(FSImage *, PetscReal cx, PetscReal cy, PetscReal radius, const unsigned char rgb[3]);
+PETSC_INTERN void FSImageDrawLine(FSImage *, PetscInt x0, PetscInt y0, PetscInt x1, PetscInt y1, PetscInt thickness,
+                                  const unsigned char rgb[3]);
+PETSC_INTERN void FSImageDrawDisc(FSImage *, PetscReal cx, PetscReal cy, PetscReal radius, const unsigned char rgb[3]);
 PETSC_INTERN PetscErrorCode FSImageWritePNG(MPI_Comm, const FSImage *, const char path[]);

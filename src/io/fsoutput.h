@@ -19,8 +19,10 @@ typedef struct {
 /* ---------------- particle snapshots ---------------- */
 typedef struct _n_FSSnapshotWriter *FSSnapshotWriter;
 
-PETSC_EXTERN PetscErrorCode FSSnapshotWriterCreate(MPI_Comm, const char dir[], PetscReal restart_time, FSSnapshotWriter *);
-PETSC_EXTERN PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter, PetscReal time, PetscInt step, PetscInt dim, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[]);
+PETSC_EXTERN PetscErrorCode FSSnapshotWriterCreate(MPI_Comm, const char dir[], PetscReal restart_time,
+                                                   FSSnapshotWriter *);
+PETSC_EXTERN PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter, PetscReal time, PetscInt step, PetscInt dim,
+                                                  PetscInt nlocal, PetscInt nfields, const FSOutputField fields[]);
 PETSC_EXTERN PetscErrorCode FSSnapshotWriterGetCount(FSSnapshotWriter, PetscInt *);
 PETSC_EXTERN PetscErrorCode FSSnapshotWriterDestroy(FSSnapshotWriter *);
 
@@ -34,15 +36,19 @@ typedef struct {
   PetscReal global[64];
 } FSCheckpointHeader;
 
-PETSC_EXTERN PetscErrorCode FSCheckpointWrite(MPI_Comm, const char path[], const FSCheckpointHeader *, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[]);
-PETSC_EXTERN PetscErrorCode FSCheckpointReadHeader(MPI_Comm, const char path[], FSCheckpointHeader *, PetscInt *nglobal_particles, PetscMPIInt *nranks_written);
-PETSC_EXTERN PetscErrorCode FSCheckpointReadField(MPI_Comm, const char path[], const char name[], PetscInt bs, PetscInt nlocal, PetscReal data[]);
+PETSC_EXTERN PetscErrorCode FSCheckpointWrite(MPI_Comm, const char path[], const FSCheckpointHeader *, PetscInt nlocal,
+                                              PetscInt nfields, const FSOutputField fields[]);
+PETSC_EXTERN PetscErrorCode FSCheckpointReadHeader(MPI_Comm, const char path[], FSCheckpointHeader *,
+                                                   PetscInt *nglobal_particles, PetscMPIInt *nranks_written);
+PETSC_EXTERN PetscErrorCode FSCheckpointReadField(MPI_Comm, const char path[], const char name[], PetscInt bs,
+                                                  PetscInt nlocal, PetscReal data[]);
 PETSC_EXTERN PetscErrorCode FSCheckpointGetLocalSize(MPI_Comm, const char path[], PetscInt *nlocal);
 
 /* ---------------- time series (CSV) ---------------- */
 typedef struct _n_FSTimeSeries *FSTimeSeries;
 
-PETSC_EXTERN PetscErrorCode FSTimeSeriesCreate(MPI_Comm, const char path[], PetscInt ncols, const char *const names[], PetscInt restart_step, FSTimeSeries *);
+PETSC_EXTERN PetscErrorCode FSTimeSeriesCreate(MPI_Comm, const char path[], PetscInt ncols, const char *const names[],
+                                               PetscInt restart_step, FSTimeSeries *);
 PETSC_EXTERN PetscErrorCode FSTimeSeriesAppend(FSTimeSeries, PetscInt step, const PetscReal values[]);
 PETSC_EXTERN PetscErrorCode FSTimeSeriesDestroy(FSTimeSeries *);
 
@@ -65,5 +71,7 @@ PETSC_EXTERN PetscErrorCode FSMakeDirectory(MPI_Comm, const char path[], const c
 /* Internal to the output writers (rank 0 acts, the outcome is broadcast over the communicator). */
 PETSC_INTERN PetscErrorCode FSRenameFile_Private(MPI_Comm, const char from[], const char to[]);
 PETSC_INTERN PetscErrorCode FSTestFile_Private(MPI_Comm, const char path[], PetscBool *exists);
-PETSC_INTERN PetscErrorCode FSCheckFields_Private(MPI_Comm, const char file[], PetscInt dim, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[]);
-PETSC_INTERN PetscErrorCode FSViewFields_Private(PetscViewer, MPI_Comm, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[]);
+PETSC_INTERN PetscErrorCode FSCheckFields_Private(MPI_Comm, const char file[], PetscInt dim, PetscInt nlocal,
+                                                  PetscInt nfields, const FSOutputField fields[]);
+PETSC_INTERN PetscErrorCode FSViewFields_Private(PetscViewer, MPI_Comm, PetscInt nlocal, PetscInt nfields,
+                                                 const FSOutputField fields[]);

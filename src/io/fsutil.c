@@ -31,7 +31,8 @@ static PetscErrorCode FSMkdirParents(const char path[], int *err)
     const char saved = buf[i];
     PetscBool  isdir;
 
-    if ((saved != '/' && saved != '\0') || buf[i - 1] == '/') continue; /* not the end of a name, or repeated separators */
+    if ((saved != '/' && saved != '\0') || buf[i - 1] == '/')
+      continue; /* not the end of a name, or repeated separators */
     buf[i] = '\0';
     /* an existing directory that can be entered is kept as it is (it may not be writable, like "/") */
     PetscCall(PetscTestDirectory(buf, 'x', &isdir));
@@ -86,7 +87,8 @@ PetscErrorCode FSMakeDirectory(MPI_Comm comm, const char path[], const char opti
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank == 0) PetscCall(FSMkdirParents(path, &err));
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
-  PetscCheck(!err, comm, PETSC_ERR_FILE_OPEN, "Cannot create or write output directory \"%s\"%s%s%s: %s", path, option ? " (option " : "", option ? option : "", option ? ")" : "", strerror(err));
+  PetscCheck(!err, comm, PETSC_ERR_FILE_OPEN, "Cannot create or write output directory \"%s\"%s%s%s: %s", path,
+             option ? " (option " : "", option ? option : "", option ? ")" : "", strerror(err));
   PetscFunctionReturn(0);
 }
 

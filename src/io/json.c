@@ -29,7 +29,8 @@ static PetscErrorCode FSJSONAdd(FSJSON js, const char key[], struct json_object 
 {
   PetscFunctionBegin;
   if (!key || !key[0]) json_object_put(value);
-  PetscCheck(key && key[0], PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "JSON \"%s\": every member of an object needs a non-empty key", js->path);
+  PetscCheck(key && key[0], PETSC_COMM_SELF, PETSC_ERR_ARG_NULL,
+             "JSON \"%s\": every member of an object needs a non-empty key", js->path);
   if (json_object_object_add(js->open[js->depth - 1], key, value) != 0) {
     json_object_put(value);
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_MEM, "JSON \"%s\": cannot add member \"%s\"", js->path, key);
@@ -117,7 +118,8 @@ PetscErrorCode FSJSONBeginObject(FSJSON js, const char key[])
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  PetscCheck(js->depth < FS_JSON_MAX_DEPTH, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "JSON \"%s\": objects nested deeper than %d", js->path, FS_JSON_MAX_DEPTH - 1);
+  PetscCheck(js->depth < FS_JSON_MAX_DEPTH, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "JSON \"%s\": objects nested deeper than %d", js->path, FS_JSON_MAX_DEPTH - 1);
   obj = json_object_new_object();
   PetscCall(FSJSONCheckNew(js, key, obj));
   PetscCall(FSJSONAdd(js, key, obj)); /* the parent owns obj now; it stays valid while the parent lives */
@@ -141,7 +143,8 @@ PetscErrorCode FSJSONEndObject(FSJSON js)
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  PetscCheck(js->depth > 1, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "JSON \"%s\": FSJSONEndObject() without a matching FSJSONBeginObject()", js->path);
+  PetscCheck(js->depth > 1, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE,
+             "JSON \"%s\": FSJSONEndObject() without a matching FSJSONBeginObject()", js->path);
   js->open[--js->depth] = NULL;
   PetscFunctionReturn(0);
 }
@@ -236,8 +239,10 @@ PetscErrorCode FSJSONWriteRealArray(FSJSON js, const char key[], PetscInt n, con
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  PetscCheck(n >= 0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "JSON \"%s\": negative array length %" PetscInt_FMT " for \"%s\"", js->path, n, key ? key : "");
-  PetscCheck(values || n == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "JSON \"%s\": no values for \"%s\"", js->path, key ? key : "");
+  PetscCheck(n >= 0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "JSON \"%s\": negative array length %" PetscInt_FMT " for \"%s\"", js->path, n, key ? key : "");
+  PetscCheck(values || n == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "JSON \"%s\": no values for \"%s\"", js->path,
+             key ? key : "");
   arr = json_object_new_array_ext((int)n);
   PetscCall(FSJSONCheckNew(js, key, arr));
   for (PetscInt i = 0; i < n; i++) {
@@ -306,7 +311,8 @@ PetscErrorCode FSJSONDestroy(FSJSON *js)
     (void)json_object_put(w->open[0]); /* frees the whole document */
   }
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, w->comm));
-  PetscCheck(!err, w->comm, PETSC_ERR_FILE_WRITE, "Cannot finish JSON file \"%s\" (written as \"%s\"): %s", w->path, w->tmp, strerror(err));
+  PetscCheck(!err, w->comm, PETSC_ERR_FILE_WRITE, "Cannot finish JSON file \"%s\" (written as \"%s\"): %s", w->path,
+             w->tmp, strerror(err));
   PetscCall(PetscFree(*js));
   PetscFunctionReturn(0);
 }

@@ -20,7 +20,9 @@
 PetscErrorCode FSImageCreate(PetscInt width, PetscInt height, FSImage *img)
 {
   PetscFunctionBegin;
-  PetscCheck(width > 0 && height > 0 && width <= 100000 && height <= 100000, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Image size %" PetscInt_FMT " x %" PetscInt_FMT " is out of range: expected 1 to 100000 pixels a side", width, height);
+  PetscCheck(width > 0 && height > 0 && width <= 100000 && height <= 100000, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "Image size %" PetscInt_FMT " x %" PetscInt_FMT " is out of range: expected 1 to 100000 pixels a side",
+             width, height);
   img->width  = width;
   img->height = height;
   PetscCall(PetscCalloc1((size_t)width * (size_t)height * 3, &img->rgb));
@@ -56,7 +58,8 @@ void FSImageSetPixel(FSImage *img, PetscInt x, PetscInt y, const unsigned char r
    octants, integer arithmetic), with a square pen of thickness x thickness pixels whose top-left
    corner follows the line (thickness 1 or 2 is what the geometry view uses).
 */
-void FSImageDrawLine(FSImage *img, PetscInt x0, PetscInt y0, PetscInt x1, PetscInt y1, PetscInt thickness, const unsigned char rgb[3])
+void FSImageDrawLine(FSImage *img, PetscInt x0, PetscInt y0, PetscInt x1, PetscInt y1, PetscInt thickness,
+                     const unsigned char rgb[3])
 {
   const PetscInt dx = x1 > x0 ? x1 - x0 : x0 - x1, sx = x0 < x1 ? 1 : -1;
   const PetscInt dy = y1 > y0 ? y0 - y1 : y1 - y0, sy = y0 < y1 ? 1 : -1; /* dy <= 0 */
@@ -162,7 +165,8 @@ static int FSPNGEncode(const FSImage *img, FSPNGSink *sink)
     return 1;
   }
   png_set_write_fn(png, sink, FSPNGWrite, FSPNGFlush);
-  png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
   for (PetscInt y = 0; y < img->height; y++) png_write_row(png, img->rgb + (size_t)y * 3 * (size_t)img->width);
   png_write_end(png, info);

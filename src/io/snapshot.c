@@ -26,7 +26,7 @@
 #include "fsoutput.h"
 
 #if defined(PETSC_USE_COMPLEX)
-  #error "flexslosh output wraps PetscReal arrays as PetscScalar: a real PETSc build is required"
+#  error "flexslosh output wraps PetscReal arrays as PetscScalar: a real PETSc build is required"
 #endif
 
 #define FS_SNAPSHOT_INDEX  "snapshots.csv"
@@ -58,27 +58,38 @@ struct _n_FSSnapshotWriter {
    '_', '-' or '.' (they become HDF5 dataset names and XDMF/CSV tokens), unique, bs >= 1 (and 1 or
    dim when dim > 0), data present when there are local values. file names the output in messages.
 */
-PetscErrorCode FSCheckFields_Private(MPI_Comm comm, const char file[], PetscInt dim, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[])
+PetscErrorCode FSCheckFields_Private(MPI_Comm comm, const char file[], PetscInt dim, PetscInt nlocal, PetscInt nfields,
+                                     const FSOutputField fields[])
 {
   PetscFunctionBegin;
-  PetscCheck(nlocal >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Output \"%s\": nlocal %" PetscInt_FMT " must be >= 0", file, nlocal);
-  PetscCheck(nfields >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Output \"%s\": nfields %" PetscInt_FMT " must be >= 0", file, nfields);
+  PetscCheck(nlocal >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Output \"%s\": nlocal %" PetscInt_FMT " must be >= 0", file,
+             nlocal);
+  PetscCheck(nfields >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Output \"%s\": nfields %" PetscInt_FMT " must be >= 0",
+             file, nfields);
   PetscCheck(fields || nfields == 0, comm, PETSC_ERR_ARG_NULL, "Output \"%s\": no field list", file);
   for (PetscInt f = 0; f < nfields; f++) {
     const char *name = fields[f].name;
     size_t      len;
 
-    PetscCheck(name && name[0], comm, PETSC_ERR_ARG_WRONG, "Output \"%s\": field %" PetscInt_FMT " has no name", file, f);
+    PetscCheck(name && name[0], comm, PETSC_ERR_ARG_WRONG, "Output \"%s\": field %" PetscInt_FMT " has no name", file,
+               f);
     PetscCall(PetscStrlen(name, &len));
-    PetscCheck(len < FS_FIELD_NAME_MAX, comm, PETSC_ERR_ARG_WRONG, "Output \"%s\": field name \"%s\" is longer than %d characters", file, name, FS_FIELD_NAME_MAX - 1);
+    PetscCheck(len < FS_FIELD_NAME_MAX, comm, PETSC_ERR_ARG_WRONG,
+               "Output \"%s\": field name \"%s\" is longer than %d characters", file, name, FS_FIELD_NAME_MAX - 1);
     for (size_t c = 0; c < len; c++) {
       unsigned char ch = (unsigned char)name[c];
 
-      PetscCheck(isalnum(ch) || ch == '_' || ch == '-' || ch == '.', comm, PETSC_ERR_ARG_WRONG, "Output \"%s\": field name \"%s\" may contain only letters, digits, '_', '-' and '.'", file, name);
+      PetscCheck(isalnum(ch) || ch == '_' || ch == '-' || ch == '.', comm, PETSC_ERR_ARG_WRONG,
+                 "Output \"%s\": field name \"%s\" may contain only letters, digits, '_', '-' and '.'", file, name);
     }
-    PetscCheck(fields[f].bs >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "Output \"%s\": field \"%s\" has bs %" PetscInt_FMT ", expected >= 1", file, name, fields[f].bs);
-    PetscCheck(dim <= 0 || fields[f].bs == 1 || fields[f].bs == dim, comm, PETSC_ERR_ARG_OUTOFRANGE, "Output \"%s\": field \"%s\" has bs %" PetscInt_FMT ", expected 1 (scalar) or %" PetscInt_FMT " (vector)", file, name, fields[f].bs, dim);
-    PetscCheck(fields[f].data || nlocal == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Output \"%s\": field \"%s\" has no data", file, name);
+    PetscCheck(fields[f].bs >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "Output \"%s\": field \"%s\" has bs %" PetscInt_FMT ", expected >= 1", file, name, fields[f].bs);
+    PetscCheck(dim <= 0 || fields[f].bs == 1 || fields[f].bs == dim, comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "Output \"%s\": field \"%s\" has bs %" PetscInt_FMT ", expected 1 (scalar) or %" PetscInt_FMT
+               " (vector)",
+               file, name, fields[f].bs, dim);
+    PetscCheck(fields[f].data || nlocal == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL,
+               "Output \"%s\": field \"%s\" has no data", file, name);
     for (PetscInt g = 0; g < f; g++) {
       PetscBool same;
 
@@ -93,13 +104,15 @@ PetscErrorCode FSCheckFields_Private(MPI_Comm comm, const char file[], PetscInt 
    FSViewFields_Private - Writes each field as a dataset named after it in the viewer's current
    group: the local array is wrapped (no copy) in an MPI Vec with the field's block size.
 */
-PetscErrorCode FSViewFields_Private(PetscViewer viewer, MPI_Comm comm, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[])
+PetscErrorCode FSViewFields_Private(PetscViewer viewer, MPI_Comm comm, PetscInt nlocal, PetscInt nfields,
+                                    const FSOutputField fields[])
 {
   PetscFunctionBegin;
   for (PetscInt f = 0; f < nfields; f++) {
     Vec v;
 
-    PetscCall(VecCreateMPIWithArray(comm, fields[f].bs, nlocal * fields[f].bs, PETSC_DECIDE, (const PetscScalar *)fields[f].data, &v));
+    PetscCall(VecCreateMPIWithArray(comm, fields[f].bs, nlocal * fields[f].bs, PETSC_DECIDE,
+                                    (const PetscScalar *)fields[f].data, &v));
     PetscCall(PetscObjectSetName((PetscObject)v, fields[f].name));
     PetscCall(VecView(v, viewer));
     PetscCall(VecDestroy(&v));
@@ -165,7 +178,8 @@ static PetscBool FSFieldsStringValid(const char fields[], PetscInt dim)
    Rank 0: reads <dir>/snapshots.csv and keeps the entries with time <= restart_time + 1e-12.
    *ioerr gets an errno value, *badline the number of a malformed line (0 if none).
 */
-static PetscErrorCode FSSnapshotWriterLoadIndex(FSSnapshotWriter w, const char index[], PetscReal restart_time, int *ioerr, long *badline)
+static PetscErrorCode FSSnapshotWriterLoadIndex(FSSnapshotWriter w, const char index[], PetscReal restart_time,
+                                                int *ioerr, long *badline)
 {
   FILE   *fp;
   char   *line = NULL;
@@ -253,7 +267,11 @@ static PetscErrorCode FSSnapshotWriterWriteIndex(FSSnapshotWriter w, const char 
   for (PetscInt i = 0; i < w->count && !*ioerr; i++) {
     const FSSnapshotEntry *e = &w->entries[i];
 
-    if (fprintf(fp, "%" PetscInt_FMT ",%.17g,%" PetscInt_FMT ",snapshot_%06" PetscInt_FMT ".h5,%" PetscInt_FMT ",%" PetscInt_FMT ",%s\n", e->number, (double)e->time, e->step, e->number, e->nparticles, e->dim, e->fields) < 0) *ioerr = errno ? errno : EIO;
+    if (fprintf(fp,
+                "%" PetscInt_FMT ",%.17g,%" PetscInt_FMT ",snapshot_%06" PetscInt_FMT ".h5,%" PetscInt_FMT
+                ",%" PetscInt_FMT ",%s\n",
+                e->number, (double)e->time, e->step, e->number, e->nparticles, e->dim, e->fields) < 0)
+      *ioerr = errno ? errno : EIO;
   }
   if (fclose(fp) != 0 && !*ioerr) *ioerr = errno ? errno : EIO;
   PetscFunctionReturn(0);
@@ -298,16 +316,26 @@ static PetscErrorCode FSSnapshotWriterWriteXDMF(FSSnapshotWriter w, const char t
     PetscCall(PetscSNPrintf(file, sizeof(file), "snapshot_%06" PetscInt_FMT ".h5", e->number));
     st |= fprintf(fp, "      <Grid Name=\"snapshot_%06" PetscInt_FMT "\" GridType=\"Uniform\">\n", e->number) < 0;
     st |= fprintf(fp, "        <Time Value=\"%.17g\"/>\n", (double)e->time) < 0;
-    st |= fprintf(fp, "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%" PetscInt_FMT "\" NodesPerElement=\"1\"/>\n", e->nparticles) < 0;
+    st |= fprintf(fp,
+                  "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%" PetscInt_FMT
+                  "\" NodesPerElement=\"1\"/>\n",
+                  e->nparticles) < 0;
     st |= fprintf(fp, "        <Geometry GeometryType=\"%s\">\n", e->dim == 2 ? "XY" : "XYZ") < 0;
-    st |= fprintf(fp, "          <DataItem Dimensions=\"%" PetscInt_FMT " %" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">%s:/particles/position</DataItem>\n", e->nparticles, e->dim, (int)sizeof(PetscReal), file) < 0;
+    st |= fprintf(fp,
+                  "          <DataItem Dimensions=\"%" PetscInt_FMT " %" PetscInt_FMT
+                  "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">%s:/particles/position</DataItem>\n",
+                  e->nparticles, e->dim, (int)sizeof(PetscReal), file) < 0;
     st |= fprintf(fp, "        </Geometry>\n") < 0;
     while (FSNextFieldToken(&p, name, &bs)) {
       if (!strcmp(name, "position")) continue;
-      st |= fprintf(fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", name, bs == 1 ? "Scalar" : "Vector") < 0;
+      st |= fprintf(fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", name,
+                    bs == 1 ? "Scalar" : "Vector") < 0;
       if (bs == 1) st |= fprintf(fp, "          <DataItem Dimensions=\"%" PetscInt_FMT "\"", e->nparticles) < 0;
-      else st |= fprintf(fp, "          <DataItem Dimensions=\"%" PetscInt_FMT " %" PetscInt_FMT "\"", e->nparticles, bs) < 0;
-      st |= fprintf(fp, " NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">%s:/particles/%s</DataItem>\n", (int)sizeof(PetscReal), file, name) < 0;
+      else
+        st |= fprintf(fp, "          <DataItem Dimensions=\"%" PetscInt_FMT " %" PetscInt_FMT "\"", e->nparticles, bs) <
+              0;
+      st |= fprintf(fp, " NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">%s:/particles/%s</DataItem>\n",
+                    (int)sizeof(PetscReal), file, name) < 0;
       st |= fprintf(fp, "        </Attribute>\n") < 0;
     }
     st |= fprintf(fp, "      </Grid>\n") < 0;
@@ -367,7 +395,8 @@ PetscErrorCode FSSnapshotWriterCreate(MPI_Comm comm, const char dir[], PetscReal
 
   PetscFunctionBegin;
   PetscCheck(dir && w, comm, PETSC_ERR_ARG_NULL, "FSSnapshotWriterCreate: directory and output handle are required");
-  PetscCheck(strlen(dir) + 32 < PETSC_MAX_PATH_LEN, comm, PETSC_ERR_ARG_SIZ, "Snapshot directory name too long: \"%s\"", dir);
+  PetscCheck(strlen(dir) + 32 < PETSC_MAX_PATH_LEN, comm, PETSC_ERR_ARG_SIZ, "Snapshot directory name too long: \"%s\"",
+             dir);
   PetscCall(FSMakeDirectory(comm, dir, NULL));
   PetscCall(PetscNew(&sw));
   sw->comm = comm;
@@ -391,7 +420,9 @@ PetscErrorCode FSSnapshotWriterCreate(MPI_Comm comm, const char dir[], PetscReal
     PetscCall(PetscFree(sw->entries));
     PetscCall(PetscFree(sw));
     PetscCheck(!st[0], comm, PETSC_ERR_FILE_OPEN, "Cannot read snapshot index \"%s\": %s", index, strerror(st[0]));
-    SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "Snapshot index \"%s\": line %d is malformed (expected header \"%s\" then rows of that form)", index, st[1], FS_SNAPSHOT_HEADER);
+    SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+            "Snapshot index \"%s\": line %d is malformed (expected header \"%s\" then rows of that form)", index, st[1],
+            FS_SNAPSHOT_HEADER);
   }
   counts[0] = sw->count;
   counts[1] = sw->next;
@@ -422,7 +453,8 @@ PetscErrorCode FSSnapshotWriterCreate(MPI_Comm comm, const char dir[], PetscReal
    nlocal, in rank order. The group carries the attributes time, step, dim and nparticles.
    The file is written as "<file>.tmp" and renamed by rank 0 once complete.
 @*/
-PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter w, PetscReal time, PetscInt step, PetscInt dim, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[])
+PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter w, PetscReal time, PetscInt step, PetscInt dim, PetscInt nlocal,
+                                     PetscInt nfields, const FSOutputField fields[])
 {
   char        file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
   PetscViewer viewer;
@@ -436,7 +468,8 @@ PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter w, PetscReal time, PetscIn
   number = w->next;
   PetscCall(PetscSNPrintf(file, sizeof(file), "%s/snapshot_%06" PetscInt_FMT ".h5", w->dir, number));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", file));
-  PetscCheck(dim == 2 || dim == 3, w->comm, PETSC_ERR_ARG_OUTOFRANGE, "Snapshot \"%s\": dim %" PetscInt_FMT " must be 2 or 3", file, dim);
+  PetscCheck(dim == 2 || dim == 3, w->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Snapshot \"%s\": dim %" PetscInt_FMT " must be 2 or 3", file, dim);
   PetscCall(FSCheckFields_Private(w->comm, file, dim, nlocal, nfields, fields));
   for (PetscInt f = 0; f < nfields; f++) {
     PetscBool same;
@@ -444,7 +477,10 @@ PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter w, PetscReal time, PetscIn
     PetscCall(PetscStrcmp(fields[f].name, "position", &same));
     if (same && fields[f].bs == dim) haspos = PETSC_TRUE;
   }
-  PetscCheck(haspos, w->comm, PETSC_ERR_ARG_WRONG, "Snapshot \"%s\": a field \"position\" with bs = dim = %" PetscInt_FMT " is required (it is the XDMF geometry)", file, dim);
+  PetscCheck(haspos, w->comm, PETSC_ERR_ARG_WRONG,
+             "Snapshot \"%s\": a field \"position\" with bs = dim = %" PetscInt_FMT
+             " is required (it is the XDMF geometry)",
+             file, dim);
   PetscCallMPI(MPI_Allreduce(&nlocal, &N, 1, MPIU_INT, MPI_SUM, w->comm));
 
   PetscCall(PetscViewerHDF5Open(w->comm, tmp, FILE_MODE_WRITE, &viewer));
@@ -493,7 +529,8 @@ PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter w, PetscReal time, PetscIn
     PetscCall(FSSnapshotWriterFlushIndex(w, &st[0], &st[1]));
   }
   PetscCallMPI(MPI_Bcast(st, 2, MPI_INT, 0, w->comm));
-  PetscCheck(!st[0], w->comm, PETSC_ERR_FILE_WRITE, "Cannot write \"%s/%s\": %s", w->dir, st[1] ? FS_SNAPSHOT_XDMF : FS_SNAPSHOT_INDEX, strerror(st[0]));
+  PetscCheck(!st[0], w->comm, PETSC_ERR_FILE_WRITE, "Cannot write \"%s/%s\": %s", w->dir,
+             st[1] ? FS_SNAPSHOT_XDMF : FS_SNAPSHOT_INDEX, strerror(st[0]));
   PetscCallMPI(MPI_Bcast(&w->count, 1, MPIU_INT, 0, w->comm));
   w->next = number + 1;
   PetscFunctionReturn(0);

@@ -21,14 +21,17 @@ struct _n_FSTimeSeries {
 };
 
 /* Header line (without newline) in a PetscMalloc'ed string */
-static PetscErrorCode FSTimeSeriesBuildHeader(MPI_Comm comm, const char path[], PetscInt ncols, const char *const names[], char **header)
+static PetscErrorCode FSTimeSeriesBuildHeader(MPI_Comm comm, const char path[], PetscInt ncols,
+                                              const char *const names[], char **header)
 {
   size_t len = 5, l;
 
   PetscFunctionBegin;
   for (PetscInt c = 0; c < ncols; c++) {
-    PetscCheck(names[c] && names[c][0], comm, PETSC_ERR_ARG_WRONG, "Time series \"%s\": column %" PetscInt_FMT " has no name", path, c);
-    PetscCheck(!strpbrk(names[c], ",\"\n\r"), comm, PETSC_ERR_ARG_WRONG, "Time series \"%s\": column name \"%s\" contains a comma, quote or newline", path, names[c]);
+    PetscCheck(names[c] && names[c][0], comm, PETSC_ERR_ARG_WRONG,
+               "Time series \"%s\": column %" PetscInt_FMT " has no name", path, c);
+    PetscCheck(!strpbrk(names[c], ",\"\n\r"), comm, PETSC_ERR_ARG_WRONG,
+               "Time series \"%s\": column name \"%s\" contains a comma, quote or newline", path, names[c]);
     PetscCall(PetscStrlen(names[c], &l));
     len += l + 1;
   }
@@ -42,10 +45,12 @@ static PetscErrorCode FSTimeSeriesBuildHeader(MPI_Comm comm, const char path[], 
 }
 
 /*
-   Rank 0: keep the header and the complete rows with step < restart_step (the restarted run writes the row of restart_step again) of an existing file,
-   writing them to "<path>.tmp" and renaming it over path. Sets *ioerr (errno) or *badheader on failure.
+   Rank 0: keep the header and the complete rows with step < restart_step (the restarted run writes the row of
+   restart_step again) of an existing file, writing them to "<path>.tmp" and renaming it over path. Sets *ioerr (errno)
+   or *badheader on failure.
 */
-static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[], PetscInt restart_step, int *ioerr, PetscBool *badheader)
+static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[], PetscInt restart_step, int *ioerr,
+                                           PetscBool *badheader)
 {
   char    tmp[PETSC_MAX_PATH_LEN];
   FILE   *in, *out;
@@ -128,7 +133,8 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
    On restart the existing header must equal the new one, otherwise PETSC_ERR_FILE_UNEXPECTED is
    raised (columns would not line up). Errors are raised on every rank.
 @*/
-PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt ncols, const char *const names[], PetscInt restart_step, FSTimeSeries *ts)
+PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt ncols, const char *const names[],
+                                  PetscInt restart_step, FSTimeSeries *ts)
 {
   FSTimeSeries w;
   char        *header;
@@ -136,7 +142,8 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
 
   PetscFunctionBegin;
   PetscCheck(path && ts, comm, PETSC_ERR_ARG_NULL, "FSTimeSeriesCreate: path and output handle are required");
-  PetscCheck(ncols >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Time series \"%s\": ncols %" PetscInt_FMT " must be >= 0", path, ncols);
+  PetscCheck(ncols >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Time series \"%s\": ncols %" PetscInt_FMT " must be >= 0",
+             path, ncols);
   PetscCheck(names || ncols == 0, comm, PETSC_ERR_ARG_NULL, "Time series \"%s\": no column names", path);
   PetscCheck(strlen(path) + 5 < PETSC_MAX_PATH_LEN, comm, PETSC_ERR_ARG_SIZ, "Time series path too long: \"%s\"", path);
   PetscCall(FSTimeSeriesBuildHeader(comm, path, ncols, names, &header));
@@ -173,7 +180,9 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
     if (w->fp) (void)fclose(w->fp);
     PetscCall(PetscFree(w->row));
     PetscCall(PetscFree(w));
-    PetscCheck(!st[1], comm, PETSC_ERR_FILE_UNEXPECTED, "Time series \"%s\": its header is not \"%s\" (columns changed?); cannot append to it on restart", path, expected);
+    PetscCheck(!st[1], comm, PETSC_ERR_FILE_UNEXPECTED,
+               "Time series \"%s\": its header is not \"%s\" (columns changed?); cannot append to it on restart", path,
+               expected);
     SETERRQ(comm, PETSC_ERR_FILE_OPEN, "Cannot open time series \"%s\" for writing: %s", path, strerror(st[0]));
   }
   PetscCall(PetscFree(header));
@@ -208,13 +217,15 @@ PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscRea
   off = (size_t)n;
   for (PetscInt c = 0; c < ts->ncols; c++) {
     n = snprintf(ts->row + off, ts->rowlen - off, ",%.10e", (double)values[c]);
-    PetscCheck(n > 0 && (size_t)n < ts->rowlen - off, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
+    PetscCheck(n > 0 && (size_t)n < ts->rowlen - off, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "Time series row buffer too small");
     off += (size_t)n;
   }
   PetscCheck(off + 1 < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
   ts->row[off]     = '\n';
   ts->row[off + 1] = '\0';
-  PetscCheck(fprintf(ts->fp, "%s", ts->row) >= 0 && fflush(ts->fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot write to time series \"%s\": %s", ts->path, strerror(errno));
+  PetscCheck(fprintf(ts->fp, "%s", ts->row) >= 0 && fflush(ts->fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
+             "Cannot write to time series \"%s\": %s", ts->path, strerror(errno));
   PetscFunctionReturn(0);
 }
 
@@ -234,7 +245,8 @@ PetscErrorCode FSTimeSeriesDestroy(FSTimeSeries *ts)
   if (!ts || !*ts) PetscFunctionReturn(0);
   if ((*ts)->fp && fclose((*ts)->fp) != 0) err = errno ? errno : EIO;
   (*ts)->fp = NULL;
-  PetscCheck(!err, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot close time series \"%s\": %s", (*ts)->path, strerror(err));
+  PetscCheck(!err, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot close time series \"%s\": %s", (*ts)->path,
+             strerror(err));
   PetscCall(PetscFree((*ts)->row));
   PetscCall(PetscFree(*ts));
   PetscFunctionReturn(0);

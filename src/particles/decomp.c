@@ -41,7 +41,9 @@ static PetscErrorCode FSDecompChooseGrid(FSDecomp *dd, MPI_Comm comm, PetscReal 
     }
   }
   PetscCheck(best < PETSC_MAX_REAL, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "Cannot split the domain (%g x %g x %g) over %d ranks with subdomains at least %g wide (the halo width): use fewer ranks or a larger domain", (double)dd->len[0], (double)dd->len[1], dim == 3 ? (double)dd->len[2] : 0.0, (int)size, (double)minwidth);
+             "Cannot split the domain (%g x %g x %g) over %d ranks with subdomains at least %g wide (the halo width): "
+             "use fewer ranks or a larger domain",
+             (double)dd->len[0], (double)dd->len[1], dim == 3 ? (double)dd->len[2] : 0.0, (int)size, (double)minwidth);
   PetscFunctionReturn(0);
 }
 
@@ -55,7 +57,8 @@ static PetscErrorCode FSDecompChooseGrid(FSDecomp *dd, MPI_Comm comm, PetscReal 
 .  periodic - periodicity per direction
 -  minwidth - the smallest subdomain width allowed (the halo width)
 */
-PetscErrorCode FSDecompSetUp(FSDecomp *dd, MPI_Comm comm, PetscInt dim, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[], PetscReal minwidth)
+PetscErrorCode FSDecompSetUp(FSDecomp *dd, MPI_Comm comm, PetscInt dim, const PetscReal lo[], const PetscReal hi[],
+                             const PetscBool periodic[], PetscReal minwidth)
 {
   PetscMPIInt r;
 
@@ -71,7 +74,7 @@ PetscErrorCode FSDecompSetUp(FSDecomp *dd, MPI_Comm comm, PetscInt dim, const Pe
     dd->periodic[d] = d < dim ? periodic[d] : PETSC_FALSE;
   }
   PetscCall(FSDecompChooseGrid(dd, comm, minwidth));
-  r = dd->rank;
+  r            = dd->rank;
   dd->coord[0] = r % dd->np[0];
   dd->coord[1] = (r / dd->np[0]) % dd->np[1];
   dd->coord[2] = r / (dd->np[0] * dd->np[1]);
@@ -97,8 +100,8 @@ PetscErrorCode FSDecompBalance(FSDecomp *dd, MPI_Comm comm, PetscInt n, const Pe
   PetscFunctionBegin;
   PetscCall(PetscMalloc1(nbins, &hist));
   for (PetscInt d = 0; d < dd->dim; d++) {
-    PetscInt64 acc = 0;
-    PetscMPIInt k = 1;
+    PetscInt64  acc = 0;
+    PetscMPIInt k   = 1;
     if (dd->np[d] == 1) continue;
     PetscCall(PetscArrayzero(hist, nbins));
     for (PetscInt p = 0; p < n; p++) {
@@ -118,7 +121,8 @@ PetscErrorCode FSDecompBalance(FSDecomp *dd, MPI_Comm comm, PetscInt n, const Pe
     }
     /* enforce the minimum width, sweeping forward then backward */
     for (PetscMPIInt i = 1; i < dd->np[d]; i++) dd->cut[d][i] = PetscMax(dd->cut[d][i], dd->cut[d][i - 1] + minwidth);
-    for (PetscMPIInt i = dd->np[d] - 1; i > 0; i--) dd->cut[d][i] = PetscMin(dd->cut[d][i], dd->cut[d][i + 1] - minwidth);
+    for (PetscMPIInt i = dd->np[d] - 1; i > 0; i--)
+      dd->cut[d][i] = PetscMin(dd->cut[d][i], dd->cut[d][i + 1] - minwidth);
   }
   PetscCall(PetscFree(hist));
   PetscFunctionReturn(0);
@@ -143,7 +147,7 @@ PetscMPIInt FSDecompRankOf(const FSDecomp *dd, const PetscReal x[])
 {
   PetscMPIInt c[3] = {0, 0, 0};
   for (PetscInt d = 0; d < dd->dim; d++) {
-    PetscMPIInt i = 0, np = dd->np[d];
+    PetscMPIInt      i = 0, np = dd->np[d];
     const PetscReal *cut = dd->cut[d];
     while (i < np - 1 && x[d] >= cut[i + 1]) i++;
     c[d] = i;

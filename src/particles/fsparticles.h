@@ -15,7 +15,7 @@ typedef struct {
 } FSKernel;
 
 PETSC_INTERN PetscErrorCode FSKernelSetUp(FSKernel *, PetscInt dim, PetscReal h);
-static inline PetscReal FSKernelW(const FSKernel *k, PetscReal r)
+static inline PetscReal     FSKernelW(const FSKernel *k, PetscReal r)
 {
   const PetscReal q = r / k->h, a = 1.0 - 0.5 * q;
   return q >= 2.0 ? 0.0 : k->wnorm * a * a * a * a * (2.0 * q + 1.0);
@@ -39,7 +39,8 @@ typedef struct {
   PetscReal  *cut[3];   /* np[d]+1 cut positions per direction */
 } FSDecomp;
 
-PETSC_INTERN PetscErrorCode FSDecompSetUp(FSDecomp *, MPI_Comm, PetscInt dim, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[], PetscReal minwidth);
+PETSC_INTERN PetscErrorCode FSDecompSetUp(FSDecomp *, MPI_Comm, PetscInt dim, const PetscReal lo[],
+                                          const PetscReal hi[], const PetscBool periodic[], PetscReal minwidth);
 PETSC_INTERN PetscErrorCode FSDecompBalance(FSDecomp *, MPI_Comm, PetscInt n, const PetscReal x[], PetscReal minwidth);
 PETSC_INTERN PetscErrorCode FSDecompDestroy(FSDecomp *);
 PETSC_INTERN PetscMPIInt    FSDecompRankOf(const FSDecomp *, const PetscReal x[]);
@@ -48,19 +49,20 @@ PETSC_INTERN PetscMPIInt    FSDecompRankAt(const FSDecomp *, const PetscMPIInt c
 /* Ghost particles: copies of owned particles of other ranks (or periodic images of this rank's)
    within the halo width of this rank's subdomain. Refreshed through a PetscSF each RHS. */
 typedef struct {
-  PetscInt   nghost, cap;
-  PetscReal *shift; /* nghost*dim periodic shift added after each refresh */
-  PetscSF    sf;    /* roots: owned records, leaves: ghost records */
+  PetscInt     nghost, cap;
+  PetscReal   *shift; /* nghost*dim periodic shift added after each refresh */
+  PetscSF      sf;    /* roots: owned records, leaves: ghost records */
   MPI_Datatype rectype, auxtype;
-  PetscInt   recstride, auxstride;
+  PetscInt     recstride, auxstride;
   /* send-side work for building */
-  PetscInt   nsend, sendcap;
-  PetscInt  *send_index;
+  PetscInt     nsend, sendcap;
+  PetscInt    *send_index;
   PetscMPIInt *send_rank;
-  PetscReal *send_shift;
+  PetscReal   *send_shift;
 } FSHalo;
 
-PETSC_INTERN PetscErrorCode FSHaloBuild(FSHalo *, MPI_Comm, const FSDecomp *, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width);
+PETSC_INTERN PetscErrorCode FSHaloBuild(FSHalo *, MPI_Comm, const FSDecomp *, PetscInt nowned, const PetscReal rec[],
+                                        PetscInt stride, PetscReal width);
 PETSC_INTERN PetscErrorCode FSHaloRefresh(FSHalo *, PetscInt dim, PetscInt nowned, PetscReal rec[]);
 PETSC_INTERN PetscErrorCode FSHaloRefreshAux(FSHalo *, PetscReal aux[]);
 PETSC_INTERN PetscErrorCode FSHaloRefreshScalar(FSHalo *, PetscReal a[]);
@@ -68,27 +70,30 @@ PETSC_INTERN PetscErrorCode FSHaloDestroy(FSHalo *);
 
 /* Cell-linked list (counting sort) and the full neighbour list of owned particles (CSR). */
 typedef struct {
-  PetscInt   dim;
-  PetscReal  lo[3], cellsize;
-  PetscInt   nc[3], ncells;
-  PetscInt  *cellstart; /* ncells+1 */
-  PetscInt  *cellof;    /* cell of each particle */
-  PetscInt  *order;     /* particles sorted by cell */
-  PetscInt   ncap, ccap;
+  PetscInt  dim;
+  PetscReal lo[3], cellsize;
+  PetscInt  nc[3], ncells;
+  PetscInt *cellstart; /* ncells+1 */
+  PetscInt *cellof;    /* cell of each particle */
+  PetscInt *order;     /* particles sorted by cell */
+  PetscInt  ncap, ccap;
   /* candidate (Verlet) list, built once per step */
-  PetscInt  *cstart;    /* nowned+1 */
-  PetscInt  *cand;
-  PetscInt   ccandcap, ncand;
+  PetscInt *cstart; /* nowned+1 */
+  PetscInt *cand;
+  PetscInt  ccandcap, ncand;
   /* neighbour list, built at every right-hand side */
-  PetscInt  *start;     /* nowned+1 */
-  PetscInt  *nbr;       /* neighbour index per pair */
-  PetscReal *F;         /* kernel gradient factor per pair */
+  PetscInt  *start; /* nowned+1 */
+  PetscInt  *nbr;   /* neighbour index per pair */
+  PetscReal *F;     /* kernel gradient factor per pair */
   PetscInt   scap, pcap;
   PetscInt64 npairs;
 } FSNeighbours;
 
-PETSC_INTERN PetscErrorCode FSNeighboursBuildCells(FSNeighbours *, PetscInt dim, PetscInt n, const PetscReal rec[], PetscInt stride, PetscReal cellsize);
-PETSC_INTERN PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal radius);
+PETSC_INTERN PetscErrorCode FSNeighboursBuildCells(FSNeighbours *, PetscInt dim, PetscInt n, const PetscReal rec[],
+                                                   PetscInt stride, PetscReal cellsize);
+PETSC_INTERN PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *, PetscInt nowned, const PetscReal rec[],
+                                                        PetscInt stride, PetscReal radius);
 PETSC_INTERN PetscErrorCode FSNeighboursReserveList(FSNeighbours *);
-PETSC_INTERN PetscErrorCode FSNeighboursBuildList(FSNeighbours *, const FSKernel *, PetscInt nowned, const PetscReal rec[], PetscInt stride);
+PETSC_INTERN PetscErrorCode FSNeighboursBuildList(FSNeighbours *, const FSKernel *, PetscInt nowned,
+                                                  const PetscReal rec[], PetscInt stride);
 PETSC_INTERN PetscErrorCode FSNeighboursDestroy(FSNeighbours *);

@@ -9,7 +9,8 @@
 */
 #include "particles/fsparticles.h"
 
-static PetscErrorCode FSHaloPushSend(FSHalo *hl, PetscInt dim, PetscMPIInt rank, PetscInt index, const PetscReal shift[])
+static PetscErrorCode FSHaloPushSend(FSHalo *hl, PetscInt dim, PetscMPIInt rank, PetscInt index,
+                                     const PetscReal shift[])
 {
   PetscFunctionBegin;
   if (hl->nsend == hl->sendcap) {
@@ -36,7 +37,8 @@ static PetscErrorCode FSHaloPushSend(FSHalo *hl, PetscInt dim, PetscMPIInt rank,
 
 /* FSHaloFindSends - the owned particles within width of this rank's subdomain faces, each with every
    neighbouring rank (and periodic shift) that needs a copy of it */
-static PetscErrorCode FSHaloFindSends(FSHalo *hl, const FSDecomp *dd, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width)
+static PetscErrorCode FSHaloFindSends(FSHalo *hl, const FSDecomp *dd, PetscInt nowned, const PetscReal rec[],
+                                      PetscInt stride, PetscReal width)
 {
   const PetscInt dim = dd->dim, noff = dim == 2 ? 9 : 27;
 
@@ -52,8 +54,8 @@ static PetscErrorCode FSHaloFindSends(FSHalo *hl, const FSDecomp *dd, PetscInt n
     if (dim == 2 && !(low[0] || low[1] || high[0] || high[1])) continue;
     if (dim == 3 && !(low[0] || low[1] || low[2] || high[0] || high[1] || high[2])) continue;
     for (PetscInt o = 0; o < noff; o++) {
-      PetscInt    off[3] = {o % 3 - 1, (o / 3) % 3 - 1, o / 9 - 1};
-      PetscMPIInt t[3]   = {0, 0, 0};
+      PetscInt    off[3]   = {o % 3 - 1, (o / 3) % 3 - 1, o / 9 - 1};
+      PetscMPIInt t[3]     = {0, 0, 0};
       PetscReal   shift[3] = {0, 0, 0};
       PetscBool   use = PETSC_TRUE, any = PETSC_FALSE;
       for (PetscInt d = 0; d < dim && use; d++) {
@@ -112,9 +114,10 @@ static PetscErrorCode FSHaloSetTypes(FSHalo *hl, PetscInt dim, PetscInt stride)
 
    Notes: collective. Ghost order is deterministic (by source rank, then source order).
 */
-PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal width)
+PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscInt nowned, const PetscReal rec[],
+                           PetscInt stride, PetscReal width)
 {
-  const PetscInt dim = dd->dim;
+  const PetscInt dim  = dd->dim;
   PetscMPIInt    size = dd->size, nto = 0, nfrom = 0, *toranks, *fromranks = NULL;
   PetscInt      *counts, *todata, *fromdata = NULL, *perm, *order;
   PetscReal     *sendbuf, *recvbuf;
@@ -135,7 +138,7 @@ PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscI
   for (PetscMPIInt r = size; r > 0; r--) counts[r] = counts[r - 1];
   counts[0] = 0;
   for (PetscInt k = 0; k < hl->nsend; k++) {
-    PetscInt q = perm[k];
+    PetscInt q        = perm[k];
     sendbuf[k * nrec] = (PetscReal)hl->send_index[q];
     for (PetscInt d = 0; d < dim; d++) sendbuf[k * nrec + 1 + d] = hl->send_shift[q * dim + d];
   }

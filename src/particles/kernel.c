@@ -16,7 +16,8 @@
 PetscErrorCode FSKernelSetUp(FSKernel *k, PetscInt dim, PetscReal h)
 {
   PetscFunctionBegin;
-  PetscCheck(dim == 2 || dim == 3, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Kernel dimension %" PetscInt_FMT " not supported: expected 2 or 3", dim);
+  PetscCheck(dim == 2 || dim == 3, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "Kernel dimension %" PetscInt_FMT " not supported: expected 2 or 3", dim);
   PetscCheck(h > 0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Smoothing length %g must be positive", (double)h);
   k->dim      = dim;
   k->h        = h;

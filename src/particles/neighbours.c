@@ -16,10 +16,12 @@
 .  stride   - reals per record
 -  cellsize - cell size (the kernel support)
 */
-PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n, const PetscReal rec[], PetscInt stride, PetscReal cellsize)
+PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n, const PetscReal rec[],
+                                      PetscInt stride, PetscReal cellsize)
 {
-  PetscReal lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
-  PetscInt  ncells = 1;
+  PetscReal lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL},
+            hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
+  PetscInt ncells = 1;
 
   PetscFunctionBegin;
   nb->dim      = dim;
@@ -34,13 +36,17 @@ PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n
   for (PetscInt d = 0; d < 3; d++) {
     if (d < dim) {
       PetscReal span = (hi[d] - lo[d]) / cellsize;
-      PetscCheck(span < 1e8, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Particles spread over %g cells in direction %" PetscInt_FMT ": a particle has run away (NaN or huge velocity)", (double)span, d);
+      PetscCheck(span < 1e8, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                 "Particles spread over %g cells in direction %" PetscInt_FMT
+                 ": a particle has run away (NaN or huge velocity)",
+                 (double)span, d);
       nb->nc[d] = (PetscInt)span + 1;
       nb->lo[d] = lo[d];
     } else nb->nc[d] = 1;
     ncells *= nb->nc[d];
   }
-  PetscCheck(ncells < 400000000, PETSC_COMM_SELF, PETSC_ERR_MEM, "Cell list of %" PetscInt_FMT " cells is too large: particles are spread too thinly", ncells);
+  PetscCheck(ncells < 400000000, PETSC_COMM_SELF, PETSC_ERR_MEM,
+             "Cell list of %" PetscInt_FMT " cells is too large: particles are spread too thinly", ncells);
   nb->ncells = ncells;
   if (ncells + 1 > nb->ccap) {
     PetscCall(PetscFree(nb->cellstart));
@@ -78,7 +84,8 @@ static PetscErrorCode FSNeighboursGrow(FSNeighbours *nb, PetscInt64 need)
   PetscInt64 cap = PetscMax(need, (PetscInt64)(1.5 * nb->pcap));
 
   PetscFunctionBegin;
-  PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP, "More than %d neighbour pairs on one rank: use more ranks", PETSC_MAX_INT);
+  PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "More than %d neighbour pairs on one rank: use more ranks", PETSC_MAX_INT);
   PetscCall(PetscMalloc2(cap, &nbr, cap, &F));
   PetscCall(PetscArraycpy(nbr, nb->nbr, nb->pcap));
   PetscCall(PetscArraycpy(F, nb->F, nb->pcap));
@@ -95,7 +102,8 @@ static PetscErrorCode FSNeighboursGrowCandidates(FSNeighbours *nb, PetscInt64 ne
   PetscInt64 cap = PetscMax(need, (PetscInt64)(1.5 * nb->ccandcap));
 
   PetscFunctionBegin;
-  PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP, "More than %d candidate pairs on one rank: use more ranks", PETSC_MAX_INT);
+  PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "More than %d candidate pairs on one rank: use more ranks", PETSC_MAX_INT);
   PetscCall(PetscMalloc1(cap, &cand));
   PetscCall(PetscArraycpy(cand, nb->cand, nb->ccandcap));
   PetscCall(PetscFree(nb->cand));
@@ -111,15 +119,17 @@ static PetscErrorCode FSNeighboursGrowCandidates(FSNeighbours *nb, PetscInt64 ne
    As long as no two particles approach each other by more than the skin during the step, every
    pair within the kernel support at any stage is among the candidates (a Verlet list).
 */
-PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, const PetscReal rec[], PetscInt stride, PetscReal radius)
+PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, const PetscReal rec[], PetscInt stride,
+                                           PetscReal radius)
 {
   const PetscInt  dim = nb->dim, nx = nb->nc[0], ny = nb->nc[1], nz = nb->nc[2];
   const PetscReal R2 = radius * radius, inv = 1.0 / nb->cellsize;
   const PetscInt  room = dim == 2 ? 256 : 1024;
-  PetscInt        nc = 0;
+  PetscInt        nc   = 0;
 
   PetscFunctionBegin;
-  PetscCheck(radius <= nb->cellsize * (1 + 1e-12), PETSC_COMM_SELF, PETSC_ERR_PLIB, "Candidate radius %g exceeds the cell size %g", (double)radius, (double)nb->cellsize);
+  PetscCheck(radius <= nb->cellsize * (1 + 1e-12), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "Candidate radius %g exceeds the cell size %g", (double)radius, (double)nb->cellsize);
   if (nowned + 1 > nb->scap) {
     PetscCall(PetscFree2(nb->start, nb->cstart));
     nb->scap = PetscMax(nowned + 1, (PetscInt)(1.25 * nb->scap));
@@ -127,17 +137,19 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
   }
   if (!nb->ccandcap) PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nowned * (dim == 2 ? 96 : 400) + room));
   for (PetscInt i = 0; i < nowned; i++) {
-    const PetscReal *xi = &rec[i * stride];
+    const PetscReal *xi    = &rec[i * stride];
     PetscInt         ci[3] = {0, 0, 0};
-    nb->cstart[i] = nc;
+    nb->cstart[i]          = nc;
     for (PetscInt d = 0; d < dim; d++) ci[d] = (PetscInt)((xi[d] - nb->lo[d]) * inv);
-    for (PetscInt cz = (dim == 3 ? PetscMax(ci[2] - 1, 0) : 0); cz <= (dim == 3 ? PetscMin(ci[2] + 1, nz - 1) : 0); cz++) {
+    for (PetscInt cz = (dim == 3 ? PetscMax(ci[2] - 1, 0) : 0); cz <= (dim == 3 ? PetscMin(ci[2] + 1, nz - 1) : 0);
+         cz++) {
       for (PetscInt cy = PetscMax(ci[1] - 1, 0); cy <= PetscMin(ci[1] + 1, ny - 1); cy++) {
         const PetscInt row = nx * (cy + ny * cz);
         const PetscInt c0 = row + PetscMax(ci[0] - 1, 0), c1 = row + PetscMin(ci[0] + 1, nx - 1);
         /* the cells of one row are contiguous in the sorted order */
         const PetscInt q0 = nb->cellstart[c0], q1 = nb->cellstart[c1 + 1];
-        if (nc + (q1 - q0) > nb->ccandcap) PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nc + (q1 - q0) + room * 16));
+        if (nc + (q1 - q0) > nb->ccandcap)
+          PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nc + (q1 - q0) + room * 16));
         /* without branches (whether a particle is within the radius is as good as random): each one is
            written at the end of the list, which moves on only for those within */
         if (dim == 2)
@@ -145,14 +157,15 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
             const PetscInt   j  = nb->order[q];
             const PetscReal *xj = &rec[j * stride];
             const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]);
-            nb->cand[nc] = j;
+            nb->cand[nc]        = j;
             nc += (r2 < R2) & (j != i);
           }
         else
           for (PetscInt q = q0; q < q1; q++) {
             const PetscInt   j  = nb->order[q];
             const PetscReal *xj = &rec[j * stride];
-            const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]) + (xi[2] - xj[2]) * (xi[2] - xj[2]);
+            const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]) +
+                                 (xi[2] - xj[2]) * (xi[2] - xj[2]);
             nb->cand[nc] = j;
             nc += (r2 < R2) & (j != i);
           }
@@ -181,7 +194,8 @@ PetscErrorCode FSNeighboursReserveList(FSNeighbours *nb)
    at the current positions, picked from the candidates, with F(r_ij) such that grad_i W = F (x_i - x_j).
    Needs FSNeighboursBuildCandidates at the start of the step.
 */
-PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *kern, PetscInt nowned, const PetscReal rec[], PetscInt stride)
+PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *kern, PetscInt nowned, const PetscReal rec[],
+                                     PetscInt stride)
 {
   const PetscInt  dim = nb->dim;
   const PetscReal R2  = kern->support2;

@@ -39,16 +39,35 @@
    forces cancel, except where gamma_i renormalizes them). With the default loads, the exact reaction
    (-fs_coupling_loads reaction), P_coupling vanishes; with the wall-pressure integral (walls) it is the
    energy the coupling creates or destroys (a few per cent of the structure's energy in a free decay),
-   while residual_total is the quadrature error only. work_bounce_total is the bounces' share (in the absolute frame a bounce is an
-   impulse from the tank that the structure does not receive). Without coupling, w = 1, E_liquid_abs = E_liquid and L_s = 0: the sum of
-   the two separate budgets.
+   while residual_total is the quadrature error only. work_bounce_total is the bounces' share (in the absolute frame a
+   bounce is an impulse from the tank that the structure does not receive). Without coupling, w = 1, E_liquid_abs =
+   E_liquid and L_s = 0: the sum of the two separate budgets.
 */
 #include <math.h>
 #include "solver/solverimpl.h"
 
 enum { FS_E_KIN, FS_E_POT, FS_E_COMP, FS_E_KIN_ABS, FS_E_POT_ABS, FS_E_NLIQ };
 
-static const char *FSEnergyNames[] = {"time", "E_kin", "E_pot", "E_comp", "E_liquid", "work_delta", "work_alpha", "work_wall", "work_ext", "work_relax", "residual_liquid", "E_struct_kin", "E_struct_elastic", "work_struct_damping", "work_coupling", "work_bounce", "work_bounce_total", "E_liquid_abs", "E_total", "residual_total"};
+static const char *FSEnergyNames[] = {"time",
+                                      "E_kin",
+                                      "E_pot",
+                                      "E_comp",
+                                      "E_liquid",
+                                      "work_delta",
+                                      "work_alpha",
+                                      "work_wall",
+                                      "work_ext",
+                                      "work_relax",
+                                      "residual_liquid",
+                                      "E_struct_kin",
+                                      "E_struct_elastic",
+                                      "work_struct_damping",
+                                      "work_coupling",
+                                      "work_bounce",
+                                      "work_bounce_total",
+                                      "E_liquid_abs",
+                                      "E_total",
+                                      "residual_total"};
 #define FS_ENERGY_NCOLUMNS ((PetscInt)(sizeof(FSEnergyNames) / sizeof(FSEnergyNames[0])))
 
 /* FSSolverEnergyColumns - the names of the columns of energy.csv. */
@@ -75,7 +94,7 @@ static inline PetscReal FSCompressibilityEnergy(PetscReal rho, PetscReal rho0, P
 static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ], PetscReal st[3])
 {
   const PetscInt     dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride;
-  const PetscReal   *g   = s->opt.gravity;
+  const PetscReal   *g = s->opt.gravity;
   const PetscScalar *u;
   FSTankMotion       mo;
   PetscReal          loc[FS_E_NLIQ] = {0, 0, 0, 0, 0}, c, sn;
@@ -116,7 +135,8 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
   st[0] = st[1] = st[2] = 0;
   if (s->structure && s->structure->ndof && s->structure->ops.energy) {
     PetscReal E[3] = {0, 0, 0};
-    PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : (*s->structure->ops.energy)(s->structure, s->sy, E), "energy", 0, NULL));
+    PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : (*s->structure->ops.energy)(s->structure, s->sy, E), "energy",
+                                           0, NULL));
     st[0] = E[0];
     st[1] = E[1];
   }
@@ -154,7 +174,8 @@ PetscErrorCode FSSolverEnergyJumpFrame(FSSolver s, FSEnergyFrame *fr)
 
 /* FSEnergyParticle - one 2-D particle's mechanical energy in the tank's frame (e[0]) and in the absolute
    frame (e[1], the tank's frame without a coupling); compressibility does not change in a bounce. */
-void FSEnergyParticle(FSSolver s, const FSEnergyFrame *fr, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal e[2])
+void FSEnergyParticle(FSSolver s, const FSEnergyFrame *fr, const PetscReal x[], const PetscReal v[], PetscReal m,
+                      PetscReal e[2])
 {
   e[0] = 0.5 * m * (v[0] * v[0] + v[1] * v[1]) - m * (s->opt.gravity[0] * x[0] + s->opt.gravity[1] * x[1]);
   if (fr->coupled) {
@@ -247,29 +268,31 @@ PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
   {
     PetscReal w;
     PetscCall(FSCouplingGetWidth(s->coupling, &w));
-    const PetscReal Eliq = liq[FS_E_KIN] + liq[FS_E_POT] + liq[FS_E_COMP], Eabs = liq[FS_E_KIN_ABS] + liq[FS_E_POT_ABS] + liq[FS_E_COMP];
+    const PetscReal Eliq = liq[FS_E_KIN] + liq[FS_E_POT] + liq[FS_E_COMP],
+                    Eabs = liq[FS_E_KIN_ABS] + liq[FS_E_POT_ABS] + liq[FS_E_COMP];
     const PetscReal Etot = w * Eabs + st[0] + st[1] + st[2];
     const PetscReal Wint = work[0] + work[1] + work[2] + eb[FS_ENERGY_WORK_RELAX];
-    vals[k++] = t;
-    vals[k++] = liq[FS_E_KIN];
-    vals[k++] = liq[FS_E_POT];
-    vals[k++] = liq[FS_E_COMP];
-    vals[k++] = Eliq;
-    vals[k++] = work[0];
-    vals[k++] = work[1];
-    vals[k++] = work[2];
-    vals[k++] = eb[FS_ENERGY_WORK_EXT];
-    vals[k++] = eb[FS_ENERGY_WORK_RELAX];
-    vals[k++] = Eliq - eb[FS_ENERGY_LIQUID0] - Wint - eb[FS_ENERGY_WORK_EXT] - eb[FS_ENERGY_WORK_BOUNCE];
-    vals[k++] = st[0];
-    vals[k++] = st[1];
-    vals[k++] = eb[FS_ENERGY_WORK_DAMPING];
-    vals[k++] = eb[FS_ENERGY_WORK_COUPLING];
-    vals[k++] = eb[FS_ENERGY_WORK_BOUNCE];
-    vals[k++] = eb[FS_ENERGY_WORK_BOUNCE_TOTAL];
-    vals[k++] = Eabs;
-    vals[k++] = Etot;
-    vals[k++] = Etot - eb[FS_ENERGY_TOTAL0] - w * Wint - eb[FS_ENERGY_WORK_DAMPING] - eb[FS_ENERGY_WORK_COUPLING] - eb[FS_ENERGY_WORK_BOUNCE_TOTAL];
+    vals[k++]            = t;
+    vals[k++]            = liq[FS_E_KIN];
+    vals[k++]            = liq[FS_E_POT];
+    vals[k++]            = liq[FS_E_COMP];
+    vals[k++]            = Eliq;
+    vals[k++]            = work[0];
+    vals[k++]            = work[1];
+    vals[k++]            = work[2];
+    vals[k++]            = eb[FS_ENERGY_WORK_EXT];
+    vals[k++]            = eb[FS_ENERGY_WORK_RELAX];
+    vals[k++]            = Eliq - eb[FS_ENERGY_LIQUID0] - Wint - eb[FS_ENERGY_WORK_EXT] - eb[FS_ENERGY_WORK_BOUNCE];
+    vals[k++]            = st[0];
+    vals[k++]            = st[1];
+    vals[k++]            = eb[FS_ENERGY_WORK_DAMPING];
+    vals[k++]            = eb[FS_ENERGY_WORK_COUPLING];
+    vals[k++]            = eb[FS_ENERGY_WORK_BOUNCE];
+    vals[k++]            = eb[FS_ENERGY_WORK_BOUNCE_TOTAL];
+    vals[k++]            = Eabs;
+    vals[k++]            = Etot;
+    vals[k++] = Etot - eb[FS_ENERGY_TOTAL0] - w * Wint - eb[FS_ENERGY_WORK_DAMPING] - eb[FS_ENERGY_WORK_COUPLING] -
+                eb[FS_ENERGY_WORK_BOUNCE_TOTAL];
   }
   PetscFunctionReturn(0);
 }
@@ -298,13 +321,16 @@ PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
 PetscErrorCode FSSolverGetEnergy(FSSolver s, PetscInt *n, const char *names[], PetscReal values[])
 {
   PetscFunctionBegin;
-  PetscCheck(s->setupcalled, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE, "FSSolverGetEnergy(): call FSSolverSetUp() first");
-  PetscCheck(FS_ENERGY_NCOLUMNS <= FS_ENERGY_MAX_COLUMNS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "energy.csv has %" PetscInt_FMT " columns, more than FS_ENERGY_MAX_COLUMNS", FS_ENERGY_NCOLUMNS);
+  PetscCheck(s->setupcalled, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
+             "FSSolverGetEnergy(): call FSSolverSetUp() first");
+  PetscCheck(FS_ENERGY_NCOLUMNS <= FS_ENERGY_MAX_COLUMNS, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "energy.csv has %" PetscInt_FMT " columns, more than FS_ENERGY_MAX_COLUMNS", FS_ENERGY_NCOLUMNS);
   *n = FS_ENERGY_NCOLUMNS;
   if (names)
     for (PetscInt c = 0; c < FS_ENERGY_NCOLUMNS; c++) names[c] = FSEnergyNames[c];
   if (values) {
-    if (!s->mon.monitoring && !s->opt.restart[0]) PetscCall(FSSolverEnergyInitial(s)); /* before the run: its initial state */
+    if (!s->mon.monitoring && !s->opt.restart[0])
+      PetscCall(FSSolverEnergyInitial(s)); /* before the run: its initial state */
     PetscCall(FSSolverEnergyValues(s, values));
     PetscCallMPI(MPI_Bcast(values, (PetscMPIInt)FS_ENERGY_NCOLUMNS, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
   }

@@ -17,7 +17,8 @@ static const unsigned char FSGeometryParticle[3] = {30, 90, 220};
 static inline PetscInt FSGeometryRound(PetscReal v) { return (PetscInt)PetscFloorReal(v + 0.5); }
 
 /* Rank 0: the picture of the box lo-hi, the particles (x, y pairs), then the walls */
-static PetscErrorCode FSGeometryDraw(FSSolver s, PetscInt np, const PetscReal xy[], const PetscReal lo[], const PetscReal hi[], FSImage *img)
+static PetscErrorCode FSGeometryDraw(FSSolver s, PetscInt np, const PetscReal xy[], const PetscReal lo[],
+                                     const PetscReal hi[], FSImage *img)
 {
   const PetscReal span = PetscMax(hi[0] - lo[0], hi[1] - lo[1]);
   FSImageMap      m;
@@ -36,7 +37,8 @@ static PetscErrorCode FSGeometryDraw(FSSolver s, PetscInt np, const PetscReal xy
   FSImageFill(img, FSGeometryWhite);
   /* particles: discs of a quarter of the spacing, at least one pixel, at most 4 pixels in radius */
   r = PetscMin(4.0, PetscMax(0.5, 0.25 * s->opt.dx * m.scale));
-  for (PetscInt k = 0; k < np; k++) FSImageDrawDisc(img, FSImageMapX(&m, xy[2 * k]), FSImageMapY(&m, xy[2 * k + 1]), r, FSGeometryParticle);
+  for (PetscInt k = 0; k < np; k++)
+    FSImageDrawDisc(img, FSImageMapX(&m, xy[2 * k]), FSImageMapY(&m, xy[2 * k + 1]), r, FSGeometryParticle);
   if (s->boundary) PetscCall(FSBoundaryDraw(s->boundary, img, &m));
   PetscFunctionReturn(0);
 }
@@ -67,17 +69,18 @@ static PetscErrorCode FSGeometryDraw(FSSolver s, PetscInt np, const PetscReal xy
 */
 PetscErrorCode FSSolverGeometryView(FSSolver s, const char dir[])
 {
-  MPI_Comm     comm = PetscObjectComm((PetscObject)s);
-  PetscMPIInt  rank, size, nl2, *counts = NULL, *displs = NULL;
-  PetscInt     n, ntot = 0;
-  PetscReal   *x, *mine, *all = NULL, lo[2], hi[2];
-  FSImage      img = {0, 0, NULL};
-  PetscInt     nwalls = 0;
+  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
+  PetscMPIInt        rank, size, nl2, *counts = NULL, *displs = NULL;
+  PetscInt           n, ntot = 0;
+  PetscReal         *x, *mine, *all = NULL, lo[2], hi[2];
+  FSImage            img    = {0, 0, NULL};
+  PetscInt           nwalls = 0;
   const char *const *names;
-  char         path[PETSC_MAX_PATH_LEN];
+  char               path[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBegin;
-  PetscCheck(s->setupcalled, comm, PETSC_ERR_ARG_WRONGSTATE, "FSSolverGeometryView needs the solver set up (FSSolverSetUp)");
+  PetscCheck(s->setupcalled, comm, PETSC_ERR_ARG_WRONGSTATE,
+             "FSSolverGeometryView needs the solver set up (FSSolverSetUp)");
   PetscCall(FSMakeDirectory(comm, dir, "-fs_output_dir"));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
@@ -96,7 +99,8 @@ PetscErrorCode FSSolverGeometryView(FSSolver s, const char dir[])
   if (rank == 0) {
     displs[0] = 0;
     for (PetscMPIInt r = 0; r < size; r++) {
-      PetscCheck((PetscInt64)displs[r] + counts[r] <= PETSC_MPI_INT_MAX, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ, "-fs_geometry_view: too many particles to gather on one rank");
+      PetscCheck((PetscInt64)displs[r] + counts[r] <= PETSC_MPI_INT_MAX, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ,
+                 "-fs_geometry_view: too many particles to gather on one rank");
       displs[r + 1] = displs[r] + counts[r];
     }
     ntot = displs[size] / 2;
@@ -120,8 +124,11 @@ PetscErrorCode FSSolverGeometryView(FSSolver s, const char dir[])
   PetscCall(FSImageWritePNG(comm, &img, path));
   PetscCallMPI(MPI_Bcast(&img.width, 1, MPIU_INT, 0, comm));
   PetscCallMPI(MPI_Bcast(&img.height, 1, MPIU_INT, 0, comm));
-  PetscCall(PetscPrintf(comm, "Geometry view: %s (%" PetscInt_FMT " x %" PetscInt_FMT " pixels, %" PetscInt_FMT " particles in blue", path, img.width, img.height, ntot));
-  if (s->boundary) PetscCall(PetscPrintf(comm, ", %" PetscInt_FMT " wall(s) with ticks on the side away from the liquid", nwalls));
+  PetscCall(PetscPrintf(
+      comm, "Geometry view: %s (%" PetscInt_FMT " x %" PetscInt_FMT " pixels, %" PetscInt_FMT " particles in blue",
+      path, img.width, img.height, ntot));
+  if (s->boundary)
+    PetscCall(PetscPrintf(comm, ", %" PetscInt_FMT " wall(s) with ticks on the side away from the liquid", nwalls));
   PetscCall(PetscPrintf(comm, ")\n"));
   if (rank == 0) PetscCall(FSImageDestroy(&img));
   PetscCall(PetscFree2(counts, displs));

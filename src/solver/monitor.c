@@ -5,8 +5,9 @@
 */
 #include "solver/solverimpl.h"
 
-#define FS_MAX_WALL_COLUMNS 16 /* walls whose loads go into the time series */
-#define FS_MAX_COLUMNS      (32 + FS_CASE_MAX_COLUMNS + FS_MAX_TERMS + FS_STRUCTURE_MAX_COLUMNS + 3 * FS_MAX_WALL_COLUMNS)
+#define FS_MAX_WALL_COLUMNS  16 /* walls whose loads go into the time series */
+#define FS_MAX_FLUID_COLUMNS (32 + FS_CASE_MAX_COLUMNS + FS_MAX_TERMS)
+#define FS_MAX_COLUMNS       (FS_MAX_FLUID_COLUMNS + FS_STRUCTURE_MAX_COLUMNS + 3 * FS_MAX_WALL_COLUMNS)
 
 /* Global diagnostics of the current state. vals: kinetic energy, mass, momentum (3), then max |u|. */
 static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscReal *umax)
@@ -18,7 +19,7 @@ static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscRe
   PetscFunctionBegin;
   PetscCall(VecGetArrayRead(s->state.U, &u));
   for (PetscInt p = 0; p < s->pw.nowned; p++) {
-    const PetscReal m = s->pw.rec[p * S + 2 * dim + 1];
+    const PetscReal m  = s->pw.rec[p * S + 2 * dim + 1];
     PetscReal       v2 = 0;
     for (PetscInt d = 0; d < dim; d++) {
       const PetscReal v = u[p * US + dim + d];
@@ -63,7 +64,8 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   if (!rank && s->state.ndiss) { /* the dissipated energies */
     const PetscScalar *u;
     PetscCall(VecGetArrayRead(s->state.U, &u));
-    for (PetscInt g = s->state.gdiss; g < s->state.gdiss + s->state.ndiss; g++) vals[k++] = u[s->pw.nowned * s->state.ustride + g];
+    for (PetscInt g = s->state.gdiss; g < s->state.gdiss + s->state.ndiss; g++)
+      vals[k++] = u[s->pw.nowned * s->state.ustride + g];
     PetscCall(VecRestoreArrayRead(s->state.U, &u));
   } else k += s->state.ndiss;
   if (s->caseops.columns) {
@@ -101,11 +103,11 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
 */
 PetscErrorCode FSSolverMonitorBegin(FSSolver s)
 {
-  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  const char *names[FS_MAX_COLUMNS];
-  char        namebuf[FS_MAX_TERMS][80], wallbuf[3 * FS_MAX_WALL_COLUMNS][80], path[PETSC_MAX_PATH_LEN];
-  PetscInt    k = 0, step;
-  PetscReal   t;
+  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
+  const char        *names[FS_MAX_COLUMNS];
+  char               namebuf[FS_MAX_TERMS][80], wallbuf[3 * FS_MAX_WALL_COLUMNS][80], path[PETSC_MAX_PATH_LEN];
+  PetscInt           k = 0, step;
+  PetscReal          t;
   static const char *mom[] = {"momentum_x", "momentum_y", "momentum_z"};
 
   PetscFunctionBegin;
@@ -122,9 +124,12 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.steps_taken    = 0;
   s->mon.pair_visits    = 0;
   /* snapshots at multiples of the interval, also after a restart */
-  s->mon.next_output = s->opt.output_interval > 0 ? (PetscFloorReal(t / s->opt.output_interval + 1e-9) + 1) * s->opt.output_interval : PETSC_MAX_REAL;
+  s->mon.next_output        = s->opt.output_interval > 0
+                                  ? (PetscFloorReal(t / s->opt.output_interval + 1e-9) + 1) * s->opt.output_interval
+                                  : PETSC_MAX_REAL;
   s->mon.last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
-  if (!s->opt.restart[0]) PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
+  if (!s->opt.restart[0])
+    PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
   if (!s->opt.write_output) PetscFunctionReturn(0);
   PetscCall(FSMakeDirectory(comm, s->opt.outdir, "-fs_output_dir"));
   names[k++] = "time";
@@ -185,7 +190,8 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
     PetscCall(FSSolverWriteSnapshot(s));
     while (s->mon.next_output <= t + 1e-9 * s->opt.output_interval) s->mon.next_output += s->opt.output_interval;
   }
-  if (s->opt.write_output && s->opt.checkpoint_interval > 0 && step % s->opt.checkpoint_interval == 0) PetscCall(FSSolverWriteCheckpoint(s));
+  if (s->opt.write_output && s->opt.checkpoint_interval > 0 && step % s->opt.checkpoint_interval == 0)
+    PetscCall(FSSolverWriteCheckpoint(s));
   PetscCall(PetscTime(&now));
   if (s->opt.progress && now - s->mon.wall_last_progress >= s->opt.progress_interval) {
     PetscReal frac, eta;
@@ -193,7 +199,9 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
     PetscCall(TSGetTimeStep(s->ts, &dt));
     frac = tmax > s->mon.t0 ? (t - s->mon.t0) / (tmax - s->mon.t0) : 1;
     eta  = frac > 0 ? (now - s->mon.wall_start) * (1 - frac) / frac : 0;
-    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s), "step %6" PetscInt_FMT "  t = %-11.5g dt = %-10.4g %5.1f%%  elapsed %7.1f s  left ~%7.1f s\n", step, (double)t, (double)dt, (double)(100 * frac), now - s->mon.wall_start, (double)eta));
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s),
+                          "step %6" PetscInt_FMT "  t = %-11.5g dt = %-10.4g %5.1f%%  elapsed %7.1f s  left ~%7.1f s\n",
+                          step, (double)t, (double)dt, (double)(100 * frac), now - s->mon.wall_start, (double)eta));
     s->mon.wall_last_progress = now;
   }
   PetscFunctionReturn(0);
@@ -207,7 +215,8 @@ PetscErrorCode FSSolverMonitorEnd(FSSolver s)
   PetscFunctionBegin;
   if (!s->mon.monitoring) PetscFunctionReturn(0);
   PetscCall(TSGetTime(s->ts, &t));
-  if (s->opt.write_output && s->mon.last_snapshot_time < t) PetscCall(FSSolverWriteSnapshot(s)); /* unless one was written at t */
+  if (s->opt.write_output && s->mon.last_snapshot_time < t)
+    PetscCall(FSSolverWriteSnapshot(s)); /* unless one was written at t */
   if (s->opt.write_output) PetscCall(FSSolverWriteSummary(s));
   PetscFunctionReturn(0);
 }

@@ -64,11 +64,11 @@ static PetscErrorCode FSSolverDerivedFields(FSSolver s, PetscReal p[], PetscReal
 */
 PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
 {
-  const PetscInt dim = s->opt.dim, n = s->pw.nowned, US = s->state.ustride;
-  FSOutputField  fields[8];
-  PetscReal     *pos, *vel, *rho, *p, *nD, *nut, *rk, *id, t;
-  PetscInt      *pid, step;
-  PetscMPIInt    rank;
+  const PetscInt     dim = s->opt.dim, n = s->pw.nowned, US = s->state.ustride;
+  FSOutputField      fields[8];
+  PetscReal         *pos, *vel, *rho, *p, *nD, *nut, *rk, *id, t;
+  PetscInt          *pid, step;
+  PetscMPIInt        rank;
   const PetscScalar *u;
 
   PetscFunctionBegin;
@@ -77,7 +77,7 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCall(FSSolverStructureSnapshot(s)); /* the structure's own output (e.g. the deflected shape) */
-  if (s->pw.nglobal_particles == 0) {         /* a dry structure: no particle file */
+  if (s->pw.nglobal_particles == 0) {      /* a dry structure: no particle file */
     s->mon.last_snapshot_time = t;
     PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
     PetscFunctionReturn(0);
@@ -119,7 +119,8 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   PetscFunctionReturn(0);
 }
 
-static const char *FSFieldNames[] = {"position", "velocity", "density", "mass", "pressure", "strain_rate", "turbulent_viscosity", "id", "rank"};
+static const char *FSFieldNames[] = {
+    "position", "velocity", "density", "mass", "pressure", "strain_rate", "turbulent_viscosity", "id", "rank"};
 
 /*
    FSSolverGetField - a copy of one per-particle field of this rank's owned particles at the current
@@ -147,15 +148,18 @@ static const char *FSFieldNames[] = {"position", "velocity", "density", "mass", 
 */
 PetscErrorCode FSSolverGetField(FSSolver s, const char name[], PetscInt *n, PetscInt *bs, const PetscReal *values[])
 {
-  const PetscInt     dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride, np = s->pw.nowned;
-  PetscInt           k = 0, b = 1, off = -1;
-  PetscReal         *v;
-  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
+  const PetscInt dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride, np = s->pw.nowned;
+  PetscInt       k = 0, b = 1, off = -1;
+  PetscReal     *v;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
   PetscCheck(s->setupcalled, comm, PETSC_ERR_ARG_WRONGSTATE, "FSSolverGetField(): call FSSolverSetUp() first");
   while (k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames) && strcmp(name, FSFieldNames[k])) k++;
-  PetscCheck(k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames), comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown particle field \"%s\": expected position, velocity, density, mass, pressure, strain_rate, turbulent_viscosity, id or rank", name);
+  PetscCheck(k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames), comm, PETSC_ERR_ARG_UNKNOWN_TYPE,
+             "Unknown particle field \"%s\": expected position, velocity, density, mass, pressure, strain_rate, "
+             "turbulent_viscosity, id or rank",
+             name);
   if (k < 2) b = dim;
   PetscCall(PetscMalloc1(np * b + 1, &v));
   if (k <= 2) off = k * dim; /* the packed state: position, velocity, density */
@@ -227,7 +231,8 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   PetscCall(TSGetTime(s->ts, &hdr.time));
   PetscCall(TSGetStepNumber(s->ts, &hdr.step));
   PetscCall(TSGetTimeStep(s->ts, &hdr.dt));
-  hdr.nglobal = s->state.nglobaldofs + 2; /* the global DOFs, the viscosity bound of the next step, the structure's DOF count */
+  hdr.nglobal = s->state.nglobaldofs +
+                2; /* the global DOFs, the viscosity bound of the next step, the structure's DOF count */
   if (!rank && s->state.nglobaldofs) {
     const PetscScalar *u;
     PetscInt           nl;
@@ -237,7 +242,8 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
     PetscCall(VecRestoreArrayRead(s->state.U, &u));
   }
   PetscCallMPI(MPI_Bcast(hdr.global, (PetscMPIInt)s->state.nglobaldofs, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
-  PetscCallMPI(MPI_Allreduce(&s->state.nu_bound, &hdr.global[s->state.nglobaldofs], 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  PetscCallMPI(MPI_Allreduce(&s->state.nu_bound, &hdr.global[s->state.nglobaldofs], 1, MPIU_REAL, MPI_MAX,
+                             PetscObjectComm((PetscObject)s)));
   hdr.global[s->state.nglobaldofs + 1] = (PetscReal)(s->state.gdiss - s->state.gstruct);
   PetscCall(FSSolverEnsureField(s, n + 1));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
@@ -270,7 +276,7 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)s);
-  const PetscInt     dim = s->opt.dim;
+  const PetscInt     dim  = s->opt.dim;
   FSCheckpointHeader hdr;
   PetscInt           nglob, n;
   PetscMPIInt        nranks;
@@ -279,7 +285,14 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(FSCheckpointReadHeader(comm, s->opt.restart, &hdr, &nglob, &nranks));
-  PetscCheck(hdr.nglobal == s->state.nglobaldofs + 2 && hdr.global[hdr.nglobal - 1] == (PetscReal)(s->state.gdiss - s->state.gstruct), comm, PETSC_ERR_FILE_UNEXPECTED, "Checkpoint %s holds %" PetscInt_FMT " global values (%g of them structure DOFs) but this run needs %" PetscInt_FMT " (%" PetscInt_FMT "): restart with the same -fs_terms and -fs_structure (and its modes) as the run that wrote it", s->opt.restart, hdr.nglobal, hdr.nglobal > 0 ? (double)hdr.global[hdr.nglobal - 1] : 0.0, s->state.nglobaldofs + 2, s->state.gdiss - s->state.gstruct);
+  PetscCheck(hdr.nglobal == s->state.nglobaldofs + 2 &&
+                 hdr.global[hdr.nglobal - 1] == (PetscReal)(s->state.gdiss - s->state.gstruct),
+             comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint %s holds %" PetscInt_FMT
+             " global values (%g of them structure DOFs) but this run needs %" PetscInt_FMT " (%" PetscInt_FMT
+             "): restart with the same -fs_terms and -fs_structure (and its modes) as the run that wrote it",
+             s->opt.restart, hdr.nglobal, hdr.nglobal > 0 ? (double)hdr.global[hdr.nglobal - 1] : 0.0,
+             s->state.nglobaldofs + 2, s->state.gdiss - s->state.gstruct);
   PetscCall(FSCheckpointGetLocalSize(comm, s->opt.restart, &n));
   PetscCall(DMSwarmSetLocalSizes(s->swarm, n, 1024));
   PetscCall(FSSolverEnsureField(s, n + 1));
@@ -301,7 +314,7 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   s->pw.nglobal_particles = nglob;
-  s->state.restart_hdr       = hdr;
+  s->state.restart_hdr    = hdr;
   for (PetscInt g = 0; g < s->state.nglobaldofs; g++) s->state.global0[g] = hdr.global[g];
   s->state.nu_bound = hdr.global[s->state.nglobaldofs];
   PetscFunctionReturn(0);
@@ -351,7 +364,8 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSJSONWriteInt(js, "pair_visits", pv));
   PetscCall(FSJSONWriteReal(js, "pair_visits_per_second", wall > 0 ? (PetscReal)pv / wall : 0));
   PetscCall(FSJSONWriteReal(js, "peak_memory_bytes", memsum));
-  PetscCall(FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->pw.nglobal_particles, 1)));
+  PetscCall(
+      FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->pw.nglobal_particles, 1)));
   PetscCall(FSJSONWriteInt(js, "migrations", s->mon.nmigrations));
   if (s->boundary) PetscCall(FSBoundarySummary(s->boundary, js));
   PetscCall(FSSolverStructureSummary(s, js));

@@ -8,7 +8,8 @@
 #include "solver/solverimpl.h"
 
 /* Fills the neighbourhood scratch of particle i: x_j - x_i, r^2, grad_i W. Returns the count. */
-static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
+static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscReal *dx, PetscReal *r2, PetscReal *gw,
+                                           PetscReal *ri2)
 {
   const PetscInt   dim = s->opt.dim, S = s->pw.stride, b = s->pw.nbrs.start[i], n = s->pw.nbrs.start[i + 1] - b;
   const PetscInt  *nbr = s->pw.nbrs.nbr + b;
@@ -90,14 +91,14 @@ static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscRe
 */
 FS_ALWAYS_INLINE void FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const PetscBool build)
 {
-  FSNeighbours    *nb  = &s->pw.nbrs;
-  const PetscInt   S   = s->pw.stride, A = s->pw.auxstride, n = s->pw.nowned;
+  FSNeighbours    *nb = &s->pw.nbrs;
+  const PetscInt   S = s->pw.stride, A = s->pw.auxstride, n = s->pw.nowned;
   const PetscReal *rec = s->pw.rec, *vol = s->pw.vol, R2 = s->pw.kernel.support2;
-  PetscReal       *dx  = s->pw.scratch; /* x_j - x_i of the neighbours of i */
-  PetscInt         np  = 0;
+  PetscReal       *dx = s->pw.scratch; /* x_j - x_i of the neighbours of i */
+  PetscInt         np = 0;
 
   for (PetscInt i = 0; i < n; i++) {
-    const PetscReal *ri = &rec[i * S];
+    const PetscReal *ri   = &rec[i * S];
     PetscReal        M[9] = {0}, Minv[9], G[3] = {0, 0, 0}, Au[9] = {0}, J[9] = {0}, nrm = 0;
     PetscReal       *out = &s->pw.aux[i * A];
     PetscInt         b0, m;
@@ -112,7 +113,7 @@ FS_ALWAYS_INLINE void FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const
         const PetscReal *rj = &rec[j * S];
         PetscReal        r2 = 0;
         for (PetscInt a = 0; a < dim; a++) {
-          const PetscReal d = rj[a] - ri[a];
+          const PetscReal d       = rj[a] - ri[a];
           dx[(np - b0) * dim + a] = d;
           r2 += d * d;
         }
@@ -203,12 +204,12 @@ static PetscErrorCode FSSolverBoundaryPrepare(FSSolver s)
     s->pw.gammacap = s->pw.reccap;
     PetscCall(PetscMalloc2(s->pw.gammacap, &s->pw.gamma, s->pw.gammacap, &s->pw.invgamma));
   }
-  bp.dim                 = s->opt.dim;
-  bp.nowned              = n;
-  bp.stride              = s->pw.stride;
-  bp.rec                 = s->pw.rec;
-  bp.vol                 = s->pw.vol;
-  bp.pressure            = s->pw.pressure;
+  bp.dim      = s->opt.dim;
+  bp.nowned   = n;
+  bp.stride   = s->pw.stride;
+  bp.rec      = s->pw.rec;
+  bp.vol      = s->pw.vol;
+  bp.pressure = s->pw.pressure;
   PetscCall(FSCouplingGetBody(s->coupling, &bp.body));
   bp.background_pressure = s->opt.background_pressure;
   PetscCall(FSBoundaryPrepare(s->boundary, &bp, s->pw.gamma));
@@ -226,10 +227,10 @@ static PetscErrorCode FSSolverBoundaryPrepare(FSSolver s)
 */
 static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscReal *f)
 {
-  const PetscInt        dim = s->opt.dim, US = s->state.ustride, n = s->pw.nowned;
+  const PetscInt    dim = s->opt.dim, US = s->state.ustride, n = s->pw.nowned;
   const FSWallView *B;
-  const PetscInt       *wstart, *wk;
-  const PetscReal      *wW;
+  const PetscInt   *wstart, *wk;
+  const PetscReal  *wW;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_WallPass, 0, 0, 0, 0));
@@ -294,8 +295,8 @@ static PetscErrorCode FSSolverGatherRecords(FSSolver s, const PetscReal *u)
   /* per-particle volumes and pressures (owned and ghosts), shared by the passes and the terms */
   for (PetscInt k = 0; k < n + s->pw.halo.nghost; k++) {
     const PetscReal *rk = &s->pw.rec[k * S];
-    s->pw.vol[k]      = rk[2 * dim + 1] / rk[2 * dim];
-    s->pw.pressure[k] = s->opt.c0 * s->opt.c0 * (rk[2 * dim] - s->opt.rho0) + s->opt.background_pressure;
+    s->pw.vol[k]        = rk[2 * dim + 1] / rk[2 * dim];
+    s->pw.pressure[k]   = s->opt.c0 * s->opt.c0 * (rk[2 * dim] - s->opt.rho0) + s->opt.background_pressure;
   }
   PetscFunctionReturn(0);
 }
@@ -307,20 +308,21 @@ static PetscErrorCode FSSolverGatherRecords(FSSolver s, const PetscReal *u)
 static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscReal *f)
 {
   const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
-  PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * s->pw.scratchcap, *gw = r2 + s->pw.scratchcap, *ri2 = gw + dim * s->pw.scratchcap;
+  PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * s->pw.scratchcap, *gw = r2 + s->pw.scratchcap,
+            *ri2 = gw + dim * s->pw.scratchcap;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
   for (PetscInt i = 0; i < n; i++) {
     FSNeighbourhood nb;
     FSRate          rate = {0, {0, 0, 0}, {0, 0, 0}};
-    nb.i     = i;
-    nb.n     = FSFillNeighbourhood(s, i, dx, r2, gw, ri2);
-    nb.j     = s->pw.nbrs.nbr + s->pw.nbrs.start[i];
-    nb.dx    = dx;
-    nb.r2    = r2;
-    nb.rinv2 = ri2;
-    nb.gradW = gw;
+    nb.i                 = i;
+    nb.n                 = FSFillNeighbourhood(s, i, dx, r2, gw, ri2);
+    nb.j                 = s->pw.nbrs.nbr + s->pw.nbrs.start[i];
+    nb.dx                = dx;
+    nb.r2                = r2;
+    nb.rinv2             = ri2;
+    nb.gradW             = gw;
     /* renormalized terms (boundary integrals) first: their sum is divided by gamma_i */
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
@@ -360,7 +362,8 @@ static void FSSolverRelaxation(FSSolver s, PetscReal *f)
 
   s->state.relax_power = 0;
   if (s->state.rhs_time < s->opt.relax_time) {
-    const PetscReal zeta = 10.0 / s->opt.relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->state.rhs_time / s->opt.relax_time));
+    const PetscReal zeta = 10.0 / s->opt.relax_time * 0.5 *
+                           (1 + PetscCosReal(PETSC_PI * s->state.rhs_time / s->opt.relax_time));
     for (PetscInt i = 0; i < n; i++)
       for (PetscInt d = 0; d < dim; d++) {
         const PetscReal ud = s->pw.rec[i * S + dim + d];
@@ -394,10 +397,11 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
     PetscMPIInt rank;
     PetscReal  *fe = f + n * US + s->state.genergy;
     PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-    PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
+    PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0,
+                            PetscObjectComm((PetscObject)s)));
     PetscErrorCode ierr = 0; /* the structure's energy (rank 0): its failure is raised on every rank below */
     if (!rank) {
-      FSStructure st = s->structure;
+      FSStructure st   = s->structure;
       PetscReal   E[3] = {0, 0, 0};
       for (PetscInt k = 0; k < npower; k++) f[n * US + s->state.gdiss + k] = power[k];
       for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) fe[e] = 0; /* the constants and the bounces' jumps */
@@ -407,7 +411,8 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
       fe[FS_ENERGY_WORK_DAMPING] = -E[2];
       if (coupled) PetscCall(FSCouplingPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_COUPLING]));
     }
-    if (s->structure && s->structure->ndof && s->structure->ops.energy) PetscCall(FSSolverStructureResultRank0(s, ierr, "energy", 0, NULL));
+    if (s->structure && s->structure->ndof && s->structure->ops.energy)
+      PetscCall(FSSolverStructureResultRank0(s, ierr, "energy", 0, NULL));
   }
   PetscFunctionReturn(0);
 }
@@ -453,7 +458,8 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   }
   if (count) { /* the viscosity bound of the next time step comes from the integrator's own evaluations only */
     s->state.nu_bound = s->opt.nu;
-    for (PetscInt t = 0; t < s->terms.nterms; t++) s->state.nu_bound = PetscMax(s->state.nu_bound, s->terms.term[t]->max_viscosity);
+    for (PetscInt t = 0; t < s->terms.nterms; t++)
+      s->state.nu_bound = PetscMax(s->state.nu_bound, s->terms.term[t]->max_viscosity);
   }
 
   PetscCall(FSSolverPairPass(s, &P, f));

@@ -25,7 +25,8 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
 
   PetscFunctionBegin;
   PetscCall(FSInitializePackage());
-  PetscCall(PetscHeaderCreate(s, FSSOLVER_CLASSID, "FSSolver", "flexslosh solver", "FS", comm, FSSolverDestroy, FSSolverView));
+  PetscCall(PetscHeaderCreate(s, FSSOLVER_CLASSID, "FSSolver", "flexslosh solver", "FS", comm, FSSolverDestroy,
+                              FSSolverView));
   PetscCall(PetscStrncpy(s->opt.casename, "taylor_green", sizeof(s->opt.casename)));
   s->opt.dim                   = 2;
   s->opt.dx                    = 0;
@@ -48,9 +49,9 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.structure_cfl         = 0.02;
   PetscCall(PetscStrncpy(s->opt.structname, "none", sizeof(s->opt.structname)));
   PetscCall(FSCouplingCreate(comm, &s->coupling));
-  s->pw.halo.rectype          = MPI_DATATYPE_NULL;
-  s->pw.halo.auxtype          = MPI_DATATYPE_NULL;
-  *solver                  = s;
+  s->pw.halo.rectype = MPI_DATATYPE_NULL;
+  s->pw.halo.auxtype = MPI_DATATYPE_NULL;
+  *solver            = s;
   PetscFunctionReturn(0);
 }
 
@@ -83,7 +84,8 @@ PetscErrorCode FSSolverSetDefaultPhysics(FSSolver s, PetscReal rho0, PetscReal c
 PetscErrorCode FSSolverSetDefaultSpacing(FSSolver s, PetscReal dx)
 {
   PetscFunctionBegin;
-  PetscCheck(dx > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "FSSolverSetDefaultSpacing(): the default particle spacing %g must be positive", (double)dx);
+  PetscCheck(dx > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+             "FSSolverSetDefaultSpacing(): the default particle spacing %g must be positive", (double)dx);
   s->opt.dx = dx;
   PetscFunctionReturn(0);
 }
@@ -103,7 +105,8 @@ PetscErrorCode FSSolverSetDefaultSpacing(FSSolver s, PetscReal dx)
 PetscErrorCode FSSolverSetDefaultFinalTime(FSSolver s, PetscReal t)
 {
   PetscFunctionBegin;
-  PetscCheck(t > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "FSSolverSetDefaultFinalTime(): the default final time %g must be positive", (double)t);
+  PetscCheck(t > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+             "FSSolverSetDefaultFinalTime(): the default final time %g must be positive", (double)t);
   s->opt.final_time = t;
   PetscFunctionReturn(0);
 }
@@ -124,7 +127,8 @@ PetscErrorCode FSSolverSetDefaultFinalTime(FSSolver s, PetscReal t)
 PetscErrorCode FSSolverSetDefaultCFL(FSSolver s, PetscReal cfl)
 {
   PetscFunctionBegin;
-  PetscCheck(cfl > 0 && cfl <= 2, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "FSSolverSetDefaultCFL(): the default CFL number %g is out of range: expected (0, 2]", (double)cfl);
+  PetscCheck(cfl > 0 && cfl <= 2, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+             "FSSolverSetDefaultCFL(): the default CFL number %g is out of range: expected (0, 2]", (double)cfl);
   s->opt.cfl = cfl;
   PetscFunctionReturn(0);
 }
@@ -146,9 +150,12 @@ PetscErrorCode FSSolverSetDefaultTerms(FSSolver s, const char terms[])
   size_t len;
 
   PetscFunctionBegin;
-  PetscCheck(terms, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_NULL, "FSSolverSetDefaultTerms(): no list of terms given");
+  PetscCheck(terms, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_NULL,
+             "FSSolverSetDefaultTerms(): no list of terms given");
   PetscCall(PetscStrlen(terms, &len));
-  PetscCheck(len < sizeof(s->opt.default_terms), PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_SIZ, "FSSolverSetDefaultTerms(): the list of terms has %d characters, at most %d fit", (int)len, (int)sizeof(s->opt.default_terms) - 1);
+  PetscCheck(len < sizeof(s->opt.default_terms), PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_SIZ,
+             "FSSolverSetDefaultTerms(): the list of terms has %d characters, at most %d fit", (int)len,
+             (int)sizeof(s->opt.default_terms) - 1);
   PetscCall(PetscStrncpy(s->opt.default_terms, terms, sizeof(s->opt.default_terms)));
   PetscFunctionReturn(0);
 }
@@ -190,7 +197,8 @@ PetscErrorCode FSSolverSetCaseData(FSSolver s, void *data)
 PetscErrorCode FSSolverGetCaseData(FSSolver s, void *dataptr)
 {
   PetscFunctionBegin;
-  PetscCheck(dataptr, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_NULL, "FSSolverGetCaseData(): no place given for the data");
+  PetscCheck(dataptr, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_NULL,
+             "FSSolverGetCaseData(): no place given for the data");
   *(void **)dataptr = s->casedata;
   PetscFunctionReturn(0);
 }
@@ -204,16 +212,24 @@ static PetscErrorCode FSSolverOptionsCase(FSSolver s, PetscOptionItems *PetscOpt
   MPI_Comm       comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
-  PetscCall(PetscOptionsString("-fs_case", "Case to set up (list with -fs_case_view)", "FSSolverSetFromOptions", s->opt.casename, s->opt.casename, sizeof(s->opt.casename), NULL));
+  PetscCall(PetscOptionsString("-fs_case", "Case to set up (list with -fs_case_view)", "FSSolverSetFromOptions",
+                               s->opt.casename, s->opt.casename, sizeof(s->opt.casename), NULL));
   PetscCall(PetscOptionsBool("-fs_case_view", "List the registered cases", "FSCaseListView", PETSC_FALSE, &flg, NULL));
   if (flg) PetscCall(FSCaseListView(PETSC_VIEWER_STDOUT_(comm)));
   PetscCall(FSCaseFind(s->opt.casename, &create));
-  PetscCheck(create, comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown case \"%s\" given to -fs_case: list the registered cases with -fs_case_view", s->opt.casename);
+  PetscCheck(create, comm, PETSC_ERR_ARG_UNKNOWN_TYPE,
+             "Unknown case \"%s\" given to -fs_case: list the registered cases with -fs_case_view", s->opt.casename);
   PetscCall(PetscOptionsInt("-fs_dim", "Dimension: 2 or 3", "FSSolverSetFromOptions", s->opt.dim, &s->opt.dim, NULL));
-  PetscCheck(s->opt.dim == 2 || s->opt.dim == 3, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dim %" PetscInt_FMT " is not supported: expected 2 or 3", s->opt.dim);
+  PetscCheck(s->opt.dim == 2 || s->opt.dim == 3, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_dim %" PetscInt_FMT " is not supported: expected 2 or 3", s->opt.dim);
   PetscCall(PetscMemzero(&s->caseops, sizeof(s->caseops)));
   PetscCall((*create)(s, &s->caseops));
-  PetscCheck(s->caseops.ncolumns >= 0 && s->caseops.ncolumns <= FS_CASE_MAX_COLUMNS && (!s->caseops.ncolumns || s->caseops.columns), comm, PETSC_ERR_PLIB, "Case \"%s\" declares %" PetscInt_FMT " time-series columns: at most FS_CASE_MAX_COLUMNS = %d, with a columns() routine", s->opt.casename, s->caseops.ncolumns, FS_CASE_MAX_COLUMNS);
+  PetscCheck(s->caseops.ncolumns >= 0 && s->caseops.ncolumns <= FS_CASE_MAX_COLUMNS &&
+                 (!s->caseops.ncolumns || s->caseops.columns),
+             comm, PETSC_ERR_PLIB,
+             "Case \"%s\" declares %" PetscInt_FMT
+             " time-series columns: at most FS_CASE_MAX_COLUMNS = %d, with a columns() routine",
+             s->opt.casename, s->caseops.ncolumns, FS_CASE_MAX_COLUMNS);
   PetscCall(PetscStrncpy(s->opt.default_terms, FSDefaultTerms, sizeof(s->opt.default_terms)));
   if (s->caseops.setfromoptions) PetscCall((*s->caseops.setfromoptions)(s, PetscOptionsObject));
   PetscCall(PetscStrncpy(terms, s->opt.default_terms, len));
@@ -232,21 +248,31 @@ static PetscErrorCode FSSolverOptionsPhysics(FSSolver s, PetscOptionItems *Petsc
   PetscFunctionBegin;
   PetscCall(PetscOptionsReal("-fs_dx", "Particle spacing", "FSSolverSetFromOptions", s->opt.dx, &s->opt.dx, NULL));
   PetscCheck(s->opt.dx > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g must be positive", (double)s->opt.dx);
-  PetscCall(PetscOptionsReal("-fs_h_over_dx", "Smoothing length over particle spacing (kernel support is 2h)", "FSSolverSetFromOptions", s->opt.h_over_dx, &s->opt.h_over_dx, NULL));
-  PetscCheck(s->opt.h_over_dx >= 1.0 && s->opt.h_over_dx <= 4.0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_h_over_dx %g is out of range: expected a value in [1, 4] (2 is usual)", (double)s->opt.h_over_dx);
-  PetscCall(PetscOptionsReal("-fs_rho0", "Reference density of the liquid", "FSSolverSetFromOptions", s->opt.rho0, &s->opt.rho0, NULL));
+  PetscCall(PetscOptionsReal("-fs_h_over_dx", "Smoothing length over particle spacing (kernel support is 2h)",
+                             "FSSolverSetFromOptions", s->opt.h_over_dx, &s->opt.h_over_dx, NULL));
+  PetscCheck(s->opt.h_over_dx >= 1.0 && s->opt.h_over_dx <= 4.0, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_h_over_dx %g is out of range: expected a value in [1, 4] (2 is usual)", (double)s->opt.h_over_dx);
+  PetscCall(PetscOptionsReal("-fs_rho0", "Reference density of the liquid", "FSSolverSetFromOptions", s->opt.rho0,
+                             &s->opt.rho0, NULL));
   PetscCheck(s->opt.rho0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_rho0 %g must be positive", (double)s->opt.rho0);
-  PetscCall(PetscOptionsReal("-fs_c0", "Artificial speed of sound (about 10 times the largest flow speed)", "FSSolverSetFromOptions", s->opt.c0, &s->opt.c0, NULL));
+  PetscCall(PetscOptionsReal("-fs_c0", "Artificial speed of sound (about 10 times the largest flow speed)",
+                             "FSSolverSetFromOptions", s->opt.c0, &s->opt.c0, NULL));
   PetscCheck(s->opt.c0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_c0 %g must be positive", (double)s->opt.c0);
-  PetscCall(PetscOptionsReal("-fs_nu", "Kinematic viscosity of the liquid", "FSSolverSetFromOptions", s->opt.nu, &s->opt.nu, NULL));
+  PetscCall(PetscOptionsReal("-fs_nu", "Kinematic viscosity of the liquid", "FSSolverSetFromOptions", s->opt.nu,
+                             &s->opt.nu, NULL));
   PetscCheck(s->opt.nu >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_nu %g must be non-negative", (double)s->opt.nu);
   for (PetscInt d = 0; d < 3; d++) g[d] = s->opt.gravity[d];
-  PetscCall(PetscOptionsRealArray("-fs_gravity", "Body force per unit mass, one value per dimension", "FSSolverSetFromOptions", g, &ng, &set));
+  PetscCall(PetscOptionsRealArray("-fs_gravity", "Body force per unit mass, one value per dimension",
+                                  "FSSolverSetFromOptions", g, &ng, &set));
   if (set) {
-    PetscCheck(ng == s->opt.dim, comm, PETSC_ERR_ARG_SIZ, "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng, s->opt.dim);
+    PetscCheck(ng == s->opt.dim, comm, PETSC_ERR_ARG_SIZ,
+               "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng,
+               s->opt.dim);
     for (PetscInt d = 0; d < 3; d++) s->opt.gravity[d] = d < ng ? g[d] : 0;
   }
-  PetscCall(PetscOptionsReal("-fs_background_pressure", "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b", "FSSolverSetFromOptions", s->opt.background_pressure, &s->opt.background_pressure, NULL));
+  PetscCall(PetscOptionsReal("-fs_background_pressure",
+                             "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b",
+                             "FSSolverSetFromOptions", s->opt.background_pressure, &s->opt.background_pressure, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -257,19 +283,35 @@ static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *Pets
   MPI_Comm comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
-  PetscCall(PetscOptionsReal("-fs_cfl", "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)", "FSSolverComputeStableDt", s->opt.cfl, &s->opt.cfl, &s->opt.cfl_set));
-  PetscCheck(!s->opt.cfl_set || (s->opt.cfl > 0 && s->opt.cfl <= 2), comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl %g is out of range: expected (0, 2]", (double)s->opt.cfl);
-  PetscCall(PetscOptionsReal("-fs_relax_time", "Start-up relaxation: damp the particle velocities until this time (0: none)", "FSSolverEvaluateRates", s->opt.relax_time, &s->opt.relax_time, NULL));
-  PetscCheck(s->opt.relax_time >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_relax_time %g must be non-negative", (double)s->opt.relax_time);
-  PetscCall(PetscOptionsReal("-fs_cfl_viscous", "Viscous limit: dt <= CFL_v h^2/nu", "FSSolverComputeStableDt", s->opt.cfl_visc, &s->opt.cfl_visc, NULL));
-  PetscCheck(s->opt.cfl_visc > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_viscous %g must be positive", (double)s->opt.cfl_visc);
-  PetscCall(PetscOptionsReal("-fs_cfl_force", "Body-force limit: dt <= CFL_f sqrt(h/|g|)", "FSSolverComputeStableDt", s->opt.cfl_force, &s->opt.cfl_force, NULL));
-  PetscCheck(s->opt.cfl_force > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_force %g must be positive", (double)s->opt.cfl_force);
-  PetscCall(PetscOptionsReal("-fs_halo_skin", "Extra halo width beyond the kernel support, in units of h", "FSHaloBuild", s->opt.halo_skin, &s->opt.halo_skin, NULL));
-  PetscCheck(s->opt.halo_skin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_halo_skin %g must be positive", (double)s->opt.halo_skin);
-  PetscCall(PetscOptionsReal("-fs_max_density_variation", "Stop the run when |rho/rho0 - 1| exceeds this (blow-up detection)", "FSSolverCheckState", s->opt.max_density_variation, &s->opt.max_density_variation, NULL));
-  PetscCall(PetscOptionsInt("-fs_sort_interval", "Steps between reorderings of the particles by cell", "FSSolverSortByCell", s->opt.sort_interval, &s->opt.sort_interval, NULL));
-  PetscCheck(s->opt.sort_interval >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sort_interval %" PetscInt_FMT " must be at least 1", s->opt.sort_interval);
+  PetscCall(PetscOptionsReal("-fs_cfl",
+                             "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)",
+                             "FSSolverComputeStableDt", s->opt.cfl, &s->opt.cfl, &s->opt.cfl_set));
+  PetscCheck(!s->opt.cfl_set || (s->opt.cfl > 0 && s->opt.cfl <= 2), comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_cfl %g is out of range: expected (0, 2]", (double)s->opt.cfl);
+  PetscCall(PetscOptionsReal("-fs_relax_time",
+                             "Start-up relaxation: damp the particle velocities until this time (0: none)",
+                             "FSSolverEvaluateRates", s->opt.relax_time, &s->opt.relax_time, NULL));
+  PetscCheck(s->opt.relax_time >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_relax_time %g must be non-negative",
+             (double)s->opt.relax_time);
+  PetscCall(PetscOptionsReal("-fs_cfl_viscous", "Viscous limit: dt <= CFL_v h^2/nu", "FSSolverComputeStableDt",
+                             s->opt.cfl_visc, &s->opt.cfl_visc, NULL));
+  PetscCheck(s->opt.cfl_visc > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_viscous %g must be positive",
+             (double)s->opt.cfl_visc);
+  PetscCall(PetscOptionsReal("-fs_cfl_force", "Body-force limit: dt <= CFL_f sqrt(h/|g|)", "FSSolverComputeStableDt",
+                             s->opt.cfl_force, &s->opt.cfl_force, NULL));
+  PetscCheck(s->opt.cfl_force > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_force %g must be positive",
+             (double)s->opt.cfl_force);
+  PetscCall(PetscOptionsReal("-fs_halo_skin", "Extra halo width beyond the kernel support, in units of h",
+                             "FSHaloBuild", s->opt.halo_skin, &s->opt.halo_skin, NULL));
+  PetscCheck(s->opt.halo_skin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_halo_skin %g must be positive",
+             (double)s->opt.halo_skin);
+  PetscCall(PetscOptionsReal("-fs_max_density_variation",
+                             "Stop the run when |rho/rho0 - 1| exceeds this (blow-up detection)", "FSSolverCheckState",
+                             s->opt.max_density_variation, &s->opt.max_density_variation, NULL));
+  PetscCall(PetscOptionsInt("-fs_sort_interval", "Steps between reorderings of the particles by cell",
+                            "FSSolverSortByCell", s->opt.sort_interval, &s->opt.sort_interval, NULL));
+  PetscCheck(s->opt.sort_interval >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_sort_interval %" PetscInt_FMT " must be at least 1", s->opt.sort_interval);
   PetscFunctionReturn(0);
 }
 
@@ -284,16 +326,29 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
     PetscCall(PetscSNPrintf(def, sizeof(def), "output/%s", s->opt.casename));
     if (!s->opt.outdir[0]) PetscCall(PetscStrncpy(s->opt.outdir, def, sizeof(s->opt.outdir)));
   }
-  PetscCall(PetscOptionsBool("-fs_output", "Write output files (snapshots, time series, summary)", "FSSolverSolve", s->opt.write_output, &s->opt.write_output, NULL));
-  PetscCall(PetscOptionsString("-fs_output_dir", "Output directory (default output/<case>)", "FSSolverSolve", s->opt.outdir, s->opt.outdir, sizeof(s->opt.outdir), NULL));
-  PetscCall(PetscOptionsReal("-fs_output_interval", "Simulated time between particle snapshots (0: first and last only)", "FSSolverWriteSnapshot", s->opt.output_interval, &s->opt.output_interval, NULL));
-  PetscCheck(s->opt.output_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_output_interval %g must be non-negative", (double)s->opt.output_interval);
-  PetscCall(PetscOptionsInt("-fs_checkpoint_interval", "Steps between checkpoints (0: none)", "FSSolverWriteCheckpoint", s->opt.checkpoint_interval, &s->opt.checkpoint_interval, NULL));
-  PetscCheck(s->opt.checkpoint_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->opt.checkpoint_interval);
-  PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint", s->opt.restart, s->opt.restart, sizeof(s->opt.restart), NULL));
-  PetscCall(PetscOptionsBool("-fs_geometry_view", "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 snapshot), then stop without time stepping", "FSSolverGeometryView", s->opt.geometry_view, &s->opt.geometry_view, NULL));
-  PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor", s->opt.progress, &s->opt.progress, NULL));
-  PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor", s->opt.progress_interval, &s->opt.progress_interval, NULL));
+  PetscCall(PetscOptionsBool("-fs_output", "Write output files (snapshots, time series, summary)", "FSSolverSolve",
+                             s->opt.write_output, &s->opt.write_output, NULL));
+  PetscCall(PetscOptionsString("-fs_output_dir", "Output directory (default output/<case>)", "FSSolverSolve",
+                               s->opt.outdir, s->opt.outdir, sizeof(s->opt.outdir), NULL));
+  PetscCall(PetscOptionsReal("-fs_output_interval",
+                             "Simulated time between particle snapshots (0: first and last only)",
+                             "FSSolverWriteSnapshot", s->opt.output_interval, &s->opt.output_interval, NULL));
+  PetscCheck(s->opt.output_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_output_interval %g must be non-negative",
+             (double)s->opt.output_interval);
+  PetscCall(PetscOptionsInt("-fs_checkpoint_interval", "Steps between checkpoints (0: none)", "FSSolverWriteCheckpoint",
+                            s->opt.checkpoint_interval, &s->opt.checkpoint_interval, NULL));
+  PetscCheck(s->opt.checkpoint_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->opt.checkpoint_interval);
+  PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint",
+                               s->opt.restart, s->opt.restart, sizeof(s->opt.restart), NULL));
+  PetscCall(PetscOptionsBool("-fs_geometry_view",
+                             "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 "
+                             "snapshot), then stop without time stepping",
+                             "FSSolverGeometryView", s->opt.geometry_view, &s->opt.geometry_view, NULL));
+  PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor",
+                             s->opt.progress, &s->opt.progress, NULL));
+  PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor",
+                             s->opt.progress_interval, &s->opt.progress_interval, NULL));
 
   PetscFunctionReturn(0);
 }
@@ -311,7 +366,8 @@ static PetscErrorCode FSSolverCreateTerms(FSSolver s, PetscOptionItems *PetscOpt
     char *tok, *save = NULL;
     for (tok = strtok_r(terms, ", ", &save); tok; tok = strtok_r(NULL, ", ", &save)) {
       FSTerm term;
-      PetscCheck(s->terms.nterms < FS_MAX_TERMS, comm, PETSC_ERR_ARG_OUTOFRANGE, "Too many terms in -fs_terms (at most %d)", FS_MAX_TERMS);
+      PetscCheck(s->terms.nterms < FS_MAX_TERMS, comm, PETSC_ERR_ARG_OUTOFRANGE,
+                 "Too many terms in -fs_terms (at most %d)", FS_MAX_TERMS);
       for (PetscInt t = 0; t < s->terms.nterms; t++) {
         PetscBool same;
         PetscCall(PetscStrcmp(s->terms.term[t]->name, tok, &same));
@@ -341,15 +397,15 @@ static PetscErrorCode FSSolverCreateTerms(FSSolver s, PetscOptionItems *PetscOpt
 .  -fs_background_pressure <0>     - constant added to the equation of state
 .  -fs_terms <list>                - physics terms, by name (-fs_terms_view lists them)
 .  -fs_structure <none|msd|modal>  - the structure carrying the tank (-fs_structure_view lists the models)
-.  -fs_structure_cfl <0.02>        - without particles: time step as a fraction of the shortest period the structure resolves (or -ts_dt)
-.  -fs_cfl, -fs_cfl_viscous, -fs_cfl_force - time-step limits: CFL h/(c0+|u|max), CFL_v h^2/nu, CFL_f sqrt(h/|g|)
-                                     (CFL 0.4; the wall cases use 1.0 with the default RK4)
-.  -fs_relax_time <0>              - start-up relaxation: the velocities are damped until this time
-.  -fs_output_dir <dir>            - output directory (default output/<case>)
-.  -fs_output_interval <t>         - simulated time between particle snapshots (0: first and last only)
+.  -fs_structure_cfl <0.02>        - without particles: time step as a fraction of the shortest period the structure
+resolves (or -ts_dt) .  -fs_cfl, -fs_cfl_viscous, -fs_cfl_force - time-step limits: CFL h/(c0+|u|max), CFL_v h^2/nu,
+CFL_f sqrt(h/|g|) (CFL 0.4; the wall cases use 1.0 with the default RK4) .  -fs_relax_time <0>              - start-up
+relaxation: the velocities are damped until this time .  -fs_output_dir <dir>            - output directory (default
+output/<case>) .  -fs_output_interval <t>         - simulated time between particle snapshots (0: first and last only)
 .  -fs_checkpoint_interval <n>     - steps between checkpoints (0: none)
 .  -fs_restart <file>              - continue from a checkpoint
-.  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) and stop after set-up
+.  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) and
+stop after set-up
 -  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
 */
 PetscErrorCode FSSolverSetFromOptions(FSSolver s)
@@ -364,12 +420,21 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscObjectOptionsBegin((PetscObject)s);
   PetscCall(FSSolverOptionsCase(s, PetscOptionsObject, terms, sizeof(terms)));
   PetscCall(FSSolverOptionsPhysics(s, PetscOptionsObject));
-  PetscCall(PetscOptionsString("-fs_terms", "Physics terms, comma separated (list with -fs_terms_view)", "FSSolverSetFromOptions", terms, terms, sizeof(terms), NULL));
-  PetscCall(PetscOptionsBool("-fs_terms_view", "List the registered physics terms", "FSTermListView", s->opt.terms_view, &s->opt.terms_view, NULL));
-  PetscCall(PetscOptionsString("-fs_structure", "Structure carrying the tank: none, or a registered model (list with -fs_structure_view)", "FSSolverSetFromOptions", s->opt.structname, s->opt.structname, sizeof(s->opt.structname), NULL));
-  PetscCall(PetscOptionsBool("-fs_structure_view", "List the registered structure models", "FSStructureListView", s->opt.structure_view, &s->opt.structure_view, NULL));
-  PetscCall(PetscOptionsReal("-fs_structure_cfl", "Without particles: time step as a fraction of the shortest period the structure resolves (-ts_dt overrides)", "FSSolverStructureDt", s->opt.structure_cfl, &s->opt.structure_cfl, NULL));
-  PetscCheck(s->opt.structure_cfl > 0 && s->opt.structure_cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_structure_cfl %g is out of range: expected (0, 1]", (double)s->opt.structure_cfl);
+  PetscCall(PetscOptionsString("-fs_terms", "Physics terms, comma separated (list with -fs_terms_view)",
+                               "FSSolverSetFromOptions", terms, terms, sizeof(terms), NULL));
+  PetscCall(PetscOptionsBool("-fs_terms_view", "List the registered physics terms", "FSTermListView", s->opt.terms_view,
+                             &s->opt.terms_view, NULL));
+  PetscCall(PetscOptionsString(
+      "-fs_structure", "Structure carrying the tank: none, or a registered model (list with -fs_structure_view)",
+      "FSSolverSetFromOptions", s->opt.structname, s->opt.structname, sizeof(s->opt.structname), NULL));
+  PetscCall(PetscOptionsBool("-fs_structure_view", "List the registered structure models", "FSStructureListView",
+                             s->opt.structure_view, &s->opt.structure_view, NULL));
+  PetscCall(PetscOptionsReal(
+      "-fs_structure_cfl",
+      "Without particles: time step as a fraction of the shortest period the structure resolves (-ts_dt overrides)",
+      "FSSolverStructureDt", s->opt.structure_cfl, &s->opt.structure_cfl, NULL));
+  PetscCheck(s->opt.structure_cfl > 0 && s->opt.structure_cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_structure_cfl %g is out of range: expected (0, 1]", (double)s->opt.structure_cfl);
   PetscCall(FSSolverOptionsNumerics(s, PetscOptionsObject));
   PetscCall(FSSolverOptionsOutput(s, PetscOptionsObject));
   PetscCall(FSSolverCreateTerms(s, PetscOptionsObject, terms));
@@ -377,7 +442,8 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscCall(FSStructureDestroy(&s->structure));
   if (strcmp(s->opt.structname, "none")) {
     PetscCall(FSStructureCreate(s, s->opt.structname, &s->structure));
-    if (s->structure->ops.setfromoptions) PetscCall((*s->structure->ops.setfromoptions)(s->structure, PetscOptionsObject));
+    if (s->structure->ops.setfromoptions)
+      PetscCall((*s->structure->ops.setfromoptions)(s->structure, PetscOptionsObject));
   }
   {
     PetscBool help;
@@ -393,7 +459,8 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   if (s->opt.structure_view) PetscCall(FSStructureListView(PETSC_VIEWER_STDOUT_(comm)));
   s->opt.h = s->opt.h_over_dx * s->opt.dx;
   PetscCall(FSSolverSetUpTS(s));
-  if (!s->opt.cfl_set && s->opt.cfl > 0.4) { /* a case's larger default holds for RK4 only (stable on the imaginary axis up to 2.8) */
+  if (!s->opt.cfl_set &&
+      s->opt.cfl > 0.4) { /* a case's larger default holds for RK4 only (stable on the imaginary axis up to 2.8) */
     TSType    type;
     TSRKType  rk = NULL;
     PetscBool isrk;
@@ -428,14 +495,16 @@ PetscErrorCode FSSolverSetDomain(FSSolver s, const PetscReal lo[], const PetscRe
     s->pw.lo[d]       = d < s->opt.dim ? lo[d] : 0;
     s->pw.hi[d]       = d < s->opt.dim ? hi[d] : 1;
     s->pw.periodic[d] = d < s->opt.dim ? periodic[d] : PETSC_FALSE;
-    PetscCheck(s->pw.hi[d] > s->pw.lo[d], PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "Empty domain in direction %" PetscInt_FMT ": [%g, %g]", d, (double)s->pw.lo[d], (double)s->pw.hi[d]);
+    PetscCheck(s->pw.hi[d] > s->pw.lo[d], PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+               "Empty domain in direction %" PetscInt_FMT ": [%g, %g]", d, (double)s->pw.lo[d], (double)s->pw.hi[d]);
   }
   s->pw.domain_set = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
 /* FSSolverGetParameters - the particle spacing, smoothing length and liquid parameters (for cases and terms). */
-PetscErrorCode FSSolverGetParameters(FSSolver s, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0, PetscReal *nu)
+PetscErrorCode FSSolverGetParameters(FSSolver s, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0,
+                                     PetscReal *nu)
 {
   PetscFunctionBegin;
   if (dx) *dx = s->opt.dx;
@@ -514,31 +583,38 @@ PetscErrorCode FSSolverGetTime(FSSolver s, PetscReal *t, PetscInt *step)
 */
 PetscErrorCode FSSolverSetUp(FSSolver s)
 {
-  MPI_Comm  comm = PetscObjectComm((PetscObject)s);
-  PetscReal width;
-  PetscBool changed;
+  MPI_Comm   comm = PetscObjectComm((PetscObject)s);
+  PetscReal  width;
+  PetscBool  changed;
   PetscReal *x, *m;
-  PetscInt  n;
+  PetscInt   n;
 
   PetscFunctionBegin;
   if (s->setupcalled) PetscFunctionReturn(0);
   PetscCall(FSKernelSetUp(&s->pw.kernel, s->opt.dim, s->opt.h));
-  s->pw.stride    = 2 * s->opt.dim + 2;
-  s->state.ustride   = 2 * s->opt.dim + 1;
-  s->pw.auxstride = s->opt.dim + 1;
+  s->pw.stride     = 2 * s->opt.dim + 2;
+  s->state.ustride = 2 * s->opt.dim + 1;
+  s->pw.auxstride  = s->opt.dim + 1;
   PetscCall(FSSolverCreateSwarm(s));
   PetscCheck(s->caseops.setup, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s has no setup routine", s->opt.casename);
   PetscCall((*s->caseops.setup)(s));
-  PetscCheck(s->pw.domain_set, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s did not set the domain (FSSolverSetDomain)", s->opt.casename);
+  PetscCheck(s->pw.domain_set, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s did not set the domain (FSSolverSetDomain)",
+             s->opt.casename);
   if (s->boundary) { /* the walls the case gave */
     PetscCall(FSBoundarySetFromOptions(s->boundary));
-    PetscCall(FSBoundarySetUp(s->boundary, s->opt.dim, s->opt.dx, s->opt.h, s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
+    PetscCall(FSBoundarySetUp(s->boundary, s->opt.dim, s->opt.dx, s->opt.h,
+                              s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
   }
-  PetscCheck(s->pw.nglobal_particles > 0 || s->structure, comm, PETSC_ERR_ARG_WRONGSTATE, "Case %s created no particles and there is no structure (-fs_structure none): nothing to compute", s->opt.casename);
+  PetscCheck(s->pw.nglobal_particles > 0 || s->structure, comm, PETSC_ERR_ARG_WRONGSTATE,
+             "Case %s created no particles and there is no structure (-fs_structure none): nothing to compute",
+             s->opt.casename);
 
   width = s->pw.kernel.support + s->opt.halo_skin * s->opt.h;
   for (PetscInt d = 0; d < s->opt.dim; d++)
-    PetscCheck(!s->pw.periodic[d] || s->pw.hi[d] - s->pw.lo[d] >= 2 * width, comm, PETSC_ERR_ARG_OUTOFRANGE, "Periodic direction %" PetscInt_FMT " is %g long, less than twice the halo width %g: use a smaller -fs_dx", d, (double)(s->pw.hi[d] - s->pw.lo[d]), (double)width);
+    PetscCheck(!s->pw.periodic[d] || s->pw.hi[d] - s->pw.lo[d] >= 2 * width, comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "Periodic direction %" PetscInt_FMT
+               " is %g long, less than twice the halo width %g: use a smaller -fs_dx",
+               d, (double)(s->pw.hi[d] - s->pw.lo[d]), (double)width);
   PetscCall(FSDecompSetUp(&s->pw.decomp, comm, s->opt.dim, s->pw.lo, s->pw.hi, s->pw.periodic, width));
   PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
@@ -550,7 +626,8 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  PetscCall(FSCouplingSetUp(s->coupling, (PetscBool)(s->structure && s->boundary && s->pw.nglobal_particles), s->opt.gravity, s->boundary, n, x, m));
+  PetscCall(FSCouplingSetUp(s->coupling, (PetscBool)(s->structure && s->boundary && s->pw.nglobal_particles),
+                            s->opt.gravity, s->boundary, n, x, m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   if (s->structure) {
@@ -558,12 +635,15 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
     if (st->ops.setup) PetscCall((*st->ops.setup)(st));
     PetscCall(PetscLogEventEnd(FS_Structure, 0, 0, 0, 0));
-    PetscCheck(st->ndof >= 0 && (st->ndof == 0 || (st->ops.rhs && st->ops.motion)), comm, PETSC_ERR_PLIB, "Structure %s: the model must set ndof and provide rhs and motion", st->name);
-    PetscCheck(!st->ncolumns || st->ops.columns, comm, PETSC_ERR_PLIB, "Structure %s adds time-series columns but has no columns routine", st->name);
+    PetscCheck(st->ndof >= 0 && (st->ndof == 0 || (st->ops.rhs && st->ops.motion)), comm, PETSC_ERR_PLIB,
+               "Structure %s: the model must set ndof and provide rhs and motion", st->name);
+    PetscCheck(!st->ncolumns || st->ops.columns, comm, PETSC_ERR_PLIB,
+               "Structure %s adds time-series columns but has no columns routine", st->name);
     PetscCall(PetscCalloc2(st->ndof + 1, &s->sy, st->ndof + 1, &s->sydot));
   }
   PetscCall(FSSolverSetUpGlobalBlocks(s));
-  if (s->structure && s->structure->ndof && s->structure->ops.initial) PetscCall((*s->structure->ops.initial)(s->structure, &s->state.global0[s->state.gstruct]));
+  if (s->structure && s->structure->ndof && s->structure->ops.initial)
+    PetscCall((*s->structure->ops.initial)(s->structure, &s->state.global0[s->state.gstruct]));
   if (s->opt.restart[0]) PetscCall(FSSolverLoadCheckpoint(s));
   if (!s->ts) PetscCall(FSSolverSetUpTS(s));
   if (s->opt.restart[0]) {
@@ -583,7 +663,8 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   if (s->opt.geometry_view) {
     PetscCall(FSSolverGeometryView(s, s->opt.outdir));
     PetscCall(FSSolverMonitorBegin(s)); /* the particles at step 0: snapshot_000000.h5 in particles.xdmf */
-    if (s->opt.write_output && !s->opt.restart[0] && s->pw.nglobal_particles) PetscCall(PetscPrintf(comm, "Geometry view: the particles at step 0 are in %s/particles.xdmf\n", s->opt.outdir));
+    if (s->opt.write_output && !s->opt.restart[0] && s->pw.nglobal_particles)
+      PetscCall(PetscPrintf(comm, "Geometry view: the particles at step 0 are in %s/particles.xdmf\n", s->opt.outdir));
   }
   PetscFunctionReturn(0);
 }
@@ -606,13 +687,24 @@ PetscErrorCode FSSolverView(FSSolver s, PetscViewer viewer)
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
   PetscCall(PetscObjectPrintClassNamePrefixType((PetscObject)s, viewer));
   PetscCall(PetscViewerASCIIPushTab(viewer));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "case %s, %" PetscInt_FMT "-D, %" PetscInt64_FMT " particles on %d rank(s)\n", s->opt.casename, s->opt.dim, s->pw.nglobal_particles, (int)size));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "dx = %g, h = %g (h/dx = %g), Wendland C2 kernel, support 2h\n", (double)s->opt.dx, (double)s->opt.h, (double)s->opt.h_over_dx));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "rho0 = %g, c0 = %g, nu = %g, gravity = (%g, %g, %g), background pressure %g\n", (double)s->opt.rho0, (double)s->opt.c0, (double)s->opt.nu, (double)s->opt.gravity[0], (double)s->opt.gravity[1], (double)s->opt.gravity[2], (double)s->opt.background_pressure));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "domain [%g, %g] x [%g, %g]", (double)s->pw.lo[0], (double)s->pw.hi[0], (double)s->pw.lo[1], (double)s->pw.hi[1]));
-  if (s->opt.dim == 3) PetscCall(PetscViewerASCIIPrintf(viewer, " x [%g, %g]", (double)s->pw.lo[2], (double)s->pw.hi[2]));
-  PetscCall(PetscViewerASCIIPrintf(viewer, ", periodic (%d, %d, %d), ranks grid %d x %d x %d\n", s->pw.periodic[0], s->pw.periodic[1], s->pw.periodic[2], s->pw.decomp.np[0], s->pw.decomp.np[1], s->pw.decomp.np[2]));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "time step: CFL %g, viscous %g, force %g\n", (double)s->opt.cfl, (double)s->opt.cfl_visc, (double)s->opt.cfl_force));
+  PetscCall(PetscViewerASCIIPrintf(viewer,
+                                   "case %s, %" PetscInt_FMT "-D, %" PetscInt64_FMT " particles on %d rank(s)\n",
+                                   s->opt.casename, s->opt.dim, s->pw.nglobal_particles, (int)size));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "dx = %g, h = %g (h/dx = %g), Wendland C2 kernel, support 2h\n",
+                                   (double)s->opt.dx, (double)s->opt.h, (double)s->opt.h_over_dx));
+  PetscCall(
+      PetscViewerASCIIPrintf(viewer, "rho0 = %g, c0 = %g, nu = %g, gravity = (%g, %g, %g), background pressure %g\n",
+                             (double)s->opt.rho0, (double)s->opt.c0, (double)s->opt.nu, (double)s->opt.gravity[0],
+                             (double)s->opt.gravity[1], (double)s->opt.gravity[2], (double)s->opt.background_pressure));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "domain [%g, %g] x [%g, %g]", (double)s->pw.lo[0], (double)s->pw.hi[0],
+                                   (double)s->pw.lo[1], (double)s->pw.hi[1]));
+  if (s->opt.dim == 3)
+    PetscCall(PetscViewerASCIIPrintf(viewer, " x [%g, %g]", (double)s->pw.lo[2], (double)s->pw.hi[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, ", periodic (%d, %d, %d), ranks grid %d x %d x %d\n", s->pw.periodic[0],
+                                   s->pw.periodic[1], s->pw.periodic[2], s->pw.decomp.np[0], s->pw.decomp.np[1],
+                                   s->pw.decomp.np[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "time step: CFL %g, viscous %g, force %g\n", (double)s->opt.cfl,
+                                   (double)s->opt.cfl_visc, (double)s->opt.cfl_force));
   PetscCall(PetscViewerASCIIPrintf(viewer, "terms (%" PetscInt_FMT "):\n", s->terms.nterms));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (PetscInt t = 0; t < s->terms.nterms; t++) {
@@ -622,7 +714,8 @@ PetscErrorCode FSSolverView(FSSolver s, PetscViewer viewer)
   }
   PetscCall(PetscViewerASCIIPopTab(viewer));
   if (s->structure) {
-    PetscCall(PetscViewerASCIIPrintf(viewer, "structure %s, %" PetscInt_FMT " DOFs\n", s->structure->name, s->structure->ndof));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "structure %s, %" PetscInt_FMT " DOFs\n", s->structure->name,
+                                     s->structure->ndof));
     PetscCall(PetscViewerASCIIPushTab(viewer));
     if (s->structure->ops.view) PetscCall((*s->structure->ops.view)(s->structure, viewer));
     PetscCall(PetscViewerASCIIPopTab(viewer));

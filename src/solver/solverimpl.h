@@ -18,14 +18,7 @@
 #include "io/fsoutput.h"
 #include "boundary/fsboundary.h"
 
-
 #define FS_MAX_GLOBAL 64
-
-
-
-
-
-
 
 /* The global DOFs of the state (on rank 0, after the particles) are a short list of blocks:
    the structure's DOFs first, then one dissipated energy per term with a power, then the energy
@@ -35,8 +28,6 @@ typedef struct {
   char     name[32];
   PetscInt offset, n;
 } FSGlobalBlock;
-
-
 
 /* The run's options (-fs_*), read by FSSolverSetFromOptions() and the cases' defaults. */
 typedef struct {
@@ -80,28 +71,29 @@ typedef struct {
   FSNeighbours nbrs;
   PetscReal   *scratch; /* per-i neighbourhood scratch: dx, r2, gradW */
   PetscInt     scratchcap;
-  PetscReal   *gamma, *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
-  PetscInt     gammacap;
+  PetscReal   *gamma,
+      *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
+  PetscInt gammacap;
 } FSParticleWork;
 
 /* The TS state: U packs (x, u, rho) per owned particle, then the global DOFs on rank 0 (blocks: the
    structure's DOFs, the dissipated energies, the energy budget's), and what the stepping keeps. */
 typedef struct {
-  Vec                U;
-  Vec                Uprev; /* state at the start of the step (for the displacement check) */
-  FSGlobalBlock      gblock[FS_MAX_GLOBAL_BLOCKS];
-  PetscInt           ngblocks;
-  PetscInt           gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
-  PetscInt           ndiss;                   /* dissipated energies: one per term with a power */
-  PetscInt           nglobaldofs;
-  PetscReal          global0[FS_MAX_GLOBAL];
-  PetscInt           ustride; /* 2*dim+1 */
-  PetscReal          dt_stable, umax, nu_bound;
+  Vec           U;
+  Vec           Uprev; /* state at the start of the step (for the displacement check) */
+  FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
+  PetscInt      ngblocks;
+  PetscInt  gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
+  PetscInt  ndiss;                   /* dissipated energies: one per term with a power */
+  PetscInt  nglobaldofs;
+  PetscReal global0[FS_MAX_GLOBAL];
+  PetscInt  ustride; /* 2*dim+1 */
+  PetscReal dt_stable, umax, nu_bound;
   FSCheckpointHeader restart_hdr;
   PetscReal          max_variation; /* max |rho/rho0 - 1| at the last check */
   PetscReal          rhs_time;      /* time of the right-hand side being evaluated */
   PetscReal          ext_power;     /* P_ext of the last right-hand side, this rank's share */
-  PetscReal          relax_power;   /* power of the start-up relaxation of the last right-hand side, this rank's share */
+  PetscReal          relax_power; /* power of the start-up relaxation of the last right-hand side, this rank's share */
 } FSSolverState;
 
 /* The monitors and output writers, and the run's statistics. */
@@ -133,11 +125,11 @@ struct _p_FSSolver {
   PetscBool       setupcalled;
   FSCaseOps       caseops; /* the case */
   void           *casedata;
-  DM              swarm;   /* the particles: DMSwarm (BASIC) with fields position, velocity, density, mass, id */
+  DM              swarm; /* the particles: DMSwarm (BASIC) with fields position, velocity, density, mass, id */
   FSParticleWork  pw;
   FSTermSet       terms;
-  FSStructure     structure; /* NULL with -fs_structure none */
-  FSLoads         loads;     /* liquid loads on the tank (the coupling fills them; zero until then) */
+  FSStructure     structure;  /* NULL with -fs_structure none */
+  FSLoads         loads;      /* liquid loads on the tank (the coupling fills them; zero until then) */
   PetscReal      *sy, *sydot; /* the structure's state and rate at the last right-hand side, every rank */
   FSCoupling      coupling;   /* the tank's frame and the loads (src/coupling) */
   FSBoundary      boundary;   /* the walls (boundary integrals), NULL without walls */
@@ -174,7 +166,17 @@ PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, 
    the particles: energy the coupling creates), the energy changes of the wall bounces (liquid, whole
    system; changed between steps, not by the integrator), and the liquid's and the whole
    system's energies at the start of the run (rate zero: kept through restarts by the checkpoints). */
-enum { FS_ENERGY_WORK_EXT, FS_ENERGY_WORK_RELAX, FS_ENERGY_WORK_DAMPING, FS_ENERGY_WORK_COUPLING, FS_ENERGY_WORK_BOUNCE, FS_ENERGY_WORK_BOUNCE_TOTAL, FS_ENERGY_LIQUID0, FS_ENERGY_TOTAL0, FS_ENERGY_NDOF };
+enum {
+  FS_ENERGY_WORK_EXT,
+  FS_ENERGY_WORK_RELAX,
+  FS_ENERGY_WORK_DAMPING,
+  FS_ENERGY_WORK_COUPLING,
+  FS_ENERGY_WORK_BOUNCE,
+  FS_ENERGY_WORK_BOUNCE_TOTAL,
+  FS_ENERGY_LIQUID0,
+  FS_ENERGY_TOTAL0,
+  FS_ENERGY_NDOF
+};
 PETSC_INTERN PetscErrorCode FSSolverEnergyColumns(FSSolver, PetscInt *, const char *[]);
 PETSC_INTERN PetscErrorCode FSSolverEnergyValues(FSSolver, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverEnergyInitial(FSSolver);
@@ -184,14 +186,16 @@ typedef struct {
   PetscBool    coupled;
 } FSEnergyFrame;
 PETSC_INTERN PetscErrorCode FSSolverEnergyJumpFrame(FSSolver, FSEnergyFrame *);
-PETSC_INTERN void           FSEnergyParticle(FSSolver, const FSEnergyFrame *, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal e[2]);
+PETSC_INTERN void           FSEnergyParticle(FSSolver, const FSEnergyFrame *, const PetscReal x[], const PetscReal v[],
+                                             PetscReal m, PetscReal e[2]);
 PETSC_INTERN PetscErrorCode FSSolverEnergyAddJump(FSSolver, const PetscReal[2]);
 
 /* the structure inside the solver (src/solver/structure.c), with the coupling's stages */
 PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, PetscReal *f);
 PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast, const PetscReal *u, PetscReal *f, PetscErrorCode *rank0err);
+PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast, const PetscReal *u, PetscReal *f,
+                                                   PetscErrorCode *rank0err);
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
 /* the reals of an FSTankMotion, and the most a structure routine's result broadcast carries */
 #define FS_MOTION_NREAL ((PetscInt)(sizeof(FSTankMotion) / sizeof(PetscReal)))

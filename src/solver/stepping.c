@@ -52,10 +52,17 @@ static PetscErrorCode FSSolverBoundaryUpdate(FSSolver s)
     }
     PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &names));
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
-    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[flexslosh] leak: particle %" PetscInt_FMT " crossed wall \"%s\" at step %" PetscInt_FMT ", time %g: it is at (%g, %g), outside the liquid region\n", id[i], names[leak.wall], step, (double)t, (double)s->pw.rec[i * S], (double)s->pw.rec[i * S + 1]));
+    PetscCall(PetscPrintf(PETSC_COMM_SELF,
+                          "[flexslosh] leak: particle %" PetscInt_FMT " crossed wall \"%s\" at step %" PetscInt_FMT
+                          ", time %g: it is at (%g, %g), outside the liquid region\n",
+                          id[i], names[leak.wall], step, (double)t, (double)s->pw.rec[i * S],
+                          (double)s->pw.rec[i * S + 1]));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
   }
-  PetscCheck(!nleak, comm, PETSC_ERR_CONV_FAILED, "Particles crossed a wall on %" PetscInt_FMT " rank(s) (the particle, wall, step and time are named above): reduce -fs_cfl or refine -fs_dx", nleak);
+  PetscCheck(!nleak, comm, PETSC_ERR_CONV_FAILED,
+             "Particles crossed a wall on %" PetscInt_FMT
+             " rank(s) (the particle, wall, step and time are named above): reduce -fs_cfl or refine -fs_dx",
+             nleak);
   PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -153,14 +160,17 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   PetscCall(FSSolverPackState(s));
   PetscCall(VecCopy(s->state.U, s->state.Uprev));
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
-  PetscCall(FSHaloBuild(&s->pw.halo, comm, &s->pw.decomp, s->pw.nowned, s->pw.rec, s->pw.stride, s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
+  PetscCall(FSHaloBuild(&s->pw.halo, comm, &s->pw.decomp, s->pw.nowned, s->pw.rec, s->pw.stride,
+                        s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
   PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
   PetscCall(FSSolverEnsureWork(s, s->pw.nowned + s->pw.halo.nghost));
   /* candidate neighbours for the whole step: kernel support plus the halo skin */
   PetscCall(FSHaloRefresh(&s->pw.halo, s->opt.dim, s->pw.nowned, s->pw.rec));
   PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
-  PetscCall(FSNeighboursBuildCells(&s->pw.nbrs, s->opt.dim, s->pw.nowned + s->pw.halo.nghost, s->pw.rec, s->pw.stride, s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
-  PetscCall(FSNeighboursBuildCandidates(&s->pw.nbrs, s->pw.nowned, s->pw.rec, s->pw.stride, s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
+  PetscCall(FSNeighboursBuildCells(&s->pw.nbrs, s->opt.dim, s->pw.nowned + s->pw.halo.nghost, s->pw.rec, s->pw.stride,
+                                   s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
+  PetscCall(FSNeighboursBuildCandidates(&s->pw.nbrs, s->pw.nowned, s->pw.rec, s->pw.stride,
+                                        s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
   if (s->boundary) PetscCall(FSSolverBoundaryUpdate(s));
   PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
   if (s->ts) PetscCall(TSRestartStep(s->ts));
@@ -198,12 +208,15 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
   s->state.umax = PetscSqrtReal(loc[0]);
-  *dt     = s->opt.cfl * s->opt.h / (s->opt.c0 + s->state.umax);
+  *dt           = s->opt.cfl * s->opt.h / (s->opt.c0 + s->state.umax);
   if (loc[1] > 0) *dt = PetscMin(*dt, s->opt.cfl_visc * s->opt.h * s->opt.h / loc[1]);
-  if (s->state.umax > 0) *dt = PetscMin(*dt, 0.4 * s->opt.halo_skin * s->opt.h / s->state.umax); /* no particle outruns its candidate lists */
+  if (s->state.umax > 0)
+    *dt = PetscMin(*dt,
+                   0.4 * s->opt.halo_skin * s->opt.h / s->state.umax); /* no particle outruns its candidate lists */
   for (PetscInt d = 0; d < dim; d++) g2 += s->opt.gravity[d] * s->opt.gravity[d];
   if (g2 > 0) *dt = PetscMin(*dt, s->opt.cfl_force * PetscSqrtReal(s->opt.h / PetscSqrtReal(g2)));
-  if (s->structure && s->structure->min_period > 0) *dt = PetscMin(*dt, s->opt.structure_cfl * s->structure->min_period);
+  if (s->structure && s->structure->min_period > 0)
+    *dt = PetscMin(*dt, s->opt.structure_cfl * s->structure->min_period);
   s->state.dt_stable = *dt;
   PetscFunctionReturn(0);
 }
@@ -255,14 +268,28 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   PetscCall(TSGetStepNumber(s->ts, &step));
   if (bad >= 0) {
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
-    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[%d] flexslosh: %s at step %" PetscInt_FMT ", time %g: particle %" PetscInt_FMT " at (%g, %g, %g), density %g (rho0 %g)\n", rank, kind == 1 ? "NaN or Inf in the state" : "density blow-up", step, (double)t, id[bad], (double)u0[bad * US], (double)u0[bad * US + 1], dim == 3 ? (double)u0[bad * US + 2] : 0.0, (double)u[bad * US + 2 * dim], (double)s->opt.rho0));
+    PetscCall(PetscPrintf(PETSC_COMM_SELF,
+                          "[%d] flexslosh: %s at step %" PetscInt_FMT ", time %g: particle %" PetscInt_FMT
+                          " at (%g, %g, %g), density %g (rho0 %g)\n",
+                          rank, kind == 1 ? "NaN or Inf in the state" : "density blow-up", step, (double)t, id[bad],
+                          (double)u0[bad * US], (double)u0[bad * US + 1], dim == 3 ? (double)u0[bad * US + 2] : 0.0,
+                          (double)u[bad * US + 2 * dim], (double)s->opt.rho0));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
   }
   PetscCall(VecRestoreArrayRead(s->state.Uprev, &u0));
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  PetscCheck(glob[0] != 1, comm, PETSC_ERR_FP, "The run blew up: NaN or Inf at step %" PetscInt_FMT ", time %g (the particle is named above); reduce -fs_cfl or check the set-up", step, (double)t);
-  PetscCheck(glob[0] != 2, comm, PETSC_ERR_CONV_FAILED, "The run blew up: density variation %g above -fs_max_density_variation %g at step %" PetscInt_FMT ", time %g (the particle is named above); reduce -fs_cfl, raise -fs_c0, or check the set-up", (double)glob[1], (double)s->opt.max_density_variation, step, (double)t);
-  PetscCheck(2 * glob[2] <= s->opt.halo_skin * s->opt.h, comm, PETSC_ERR_CONV_FAILED, "A particle moved %g in one step (step %" PetscInt_FMT ", time %g), more than half the halo skin %g: reduce -fs_cfl or raise -fs_halo_skin", (double)glob[2], step, (double)t, (double)(s->opt.halo_skin * s->opt.h));
+  PetscCheck(glob[0] != 1, comm, PETSC_ERR_FP,
+             "The run blew up: NaN or Inf at step %" PetscInt_FMT
+             ", time %g (the particle is named above); reduce -fs_cfl or check the set-up",
+             step, (double)t);
+  PetscCheck(glob[0] != 2, comm, PETSC_ERR_CONV_FAILED,
+             "The run blew up: density variation %g above -fs_max_density_variation %g at step %" PetscInt_FMT
+             ", time %g (the particle is named above); reduce -fs_cfl, raise -fs_c0, or check the set-up",
+             (double)glob[1], (double)s->opt.max_density_variation, step, (double)t);
+  PetscCheck(2 * glob[2] <= s->opt.halo_skin * s->opt.h, comm, PETSC_ERR_CONV_FAILED,
+             "A particle moved %g in one step (step %" PetscInt_FMT
+             ", time %g), more than half the halo skin %g: reduce -fs_cfl or raise -fs_halo_skin",
+             (double)glob[2], step, (double)t, (double)(s->opt.halo_skin * s->opt.h));
   s->state.max_variation = glob[1];
   PetscFunctionReturn(0);
 }
@@ -302,7 +329,8 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscCall(TSStep(s->ts));
   PetscCall(TSGetConvergedReason(s->ts, &reason));
   PetscCall(TSGetStepNumber(s->ts, &step));
-  PetscCheck(reason >= 0, PetscObjectComm((PetscObject)s), PETSC_ERR_CONV_FAILED, "The time integrator failed at step %" PetscInt_FMT ": %s", step, TSConvergedReasons[reason]);
+  PetscCheck(reason >= 0, PetscObjectComm((PetscObject)s), PETSC_ERR_CONV_FAILED,
+             "The time integrator failed at step %" PetscInt_FMT ": %s", step, TSConvergedReasons[reason]);
   s->mon.particle_steps += s->pw.nglobal_particles;
   s->mon.steps_taken++;
   PetscCall(FSSolverCheckState(s));
@@ -335,7 +363,9 @@ PetscErrorCode FSSolverSolve(FSSolver s)
   PetscFunctionBegin;
   PetscCall(FSSolverSetUp(s));
   PetscCall(FSSolverMonitorBegin(s));
-  if (s->opt.geometry_view) PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s), "-fs_geometry_view: stopping after set-up; run again without it to compute\n"));
+  if (s->opt.geometry_view)
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s),
+                          "-fs_geometry_view: stopping after set-up; run again without it to compute\n"));
   while (!s->opt.geometry_view) { /* -fs_geometry_view: no time stepping */
     PetscCall(TSGetTime(s->ts, &t));
     PetscCall(TSGetMaxTime(s->ts, &tmax));

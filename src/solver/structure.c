@@ -51,18 +51,22 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
   PetscCall(PetscStrncpy(s->state.gblock[s->state.ngblocks].name, "structure", sizeof(s->state.gblock[0].name)));
   s->state.gblock[s->state.ngblocks].offset = 0;
   s->state.gblock[s->state.ngblocks++].n    = s->structure ? s->structure->ndof : 0;
-  s->state.gdiss                      = s->state.gblock[0].n;
-  s->state.ndiss                      = ndiss;
-  PetscCall(PetscStrncpy(s->state.gblock[s->state.ngblocks].name, "dissipated_energy", sizeof(s->state.gblock[0].name)));
+  s->state.gdiss                            = s->state.gblock[0].n;
+  s->state.ndiss                            = ndiss;
+  PetscCall(
+      PetscStrncpy(s->state.gblock[s->state.ngblocks].name, "dissipated_energy", sizeof(s->state.gblock[0].name)));
   s->state.gblock[s->state.ngblocks].offset = s->state.gdiss;
   s->state.gblock[s->state.ngblocks++].n    = ndiss;
-  s->state.genergy                    = s->state.gdiss + ndiss;
+  s->state.genergy                          = s->state.gdiss + ndiss;
   PetscCall(PetscStrncpy(s->state.gblock[s->state.ngblocks].name, "energy_budget", sizeof(s->state.gblock[0].name)));
   s->state.gblock[s->state.ngblocks].offset = s->state.genergy;
   s->state.gblock[s->state.ngblocks++].n    = FS_ENERGY_NDOF;
-  s->state.nglobaldofs                = s->state.genergy + FS_ENERGY_NDOF;
+  s->state.nglobaldofs                      = s->state.genergy + FS_ENERGY_NDOF;
   /* the checkpoint header keeps the global DOFs and two more values (FSSolverWriteCheckpoint) */
-  PetscCheck(s->state.nglobaldofs + 2 <= FS_MAX_GLOBAL, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "The state has %" PetscInt_FMT " global DOFs (structure %" PetscInt_FMT ", dissipated energies %" PetscInt_FMT ", energy budget %d), more than %d: use fewer structure modes", s->state.nglobaldofs, s->state.gdiss, ndiss, (int)FS_ENERGY_NDOF, FS_MAX_GLOBAL - 2);
+  PetscCheck(s->state.nglobaldofs + 2 <= FS_MAX_GLOBAL, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+             "The state has %" PetscInt_FMT " global DOFs (structure %" PetscInt_FMT
+             ", dissipated energies %" PetscInt_FMT ", energy budget %d), more than %d: use fewer structure modes",
+             s->state.nglobaldofs, s->state.gdiss, ndiss, (int)FS_ENERGY_NDOF, FS_MAX_GLOBAL - 2);
   PetscFunctionReturn(0);
 }
 
@@ -74,7 +78,8 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
 
    Collective
 */
-PetscErrorCode FSSolverStructureResultRank0(FSSolver s, PetscErrorCode ierr, const char what[], PetscInt n, PetscReal buf[])
+PetscErrorCode FSSolverStructureResultRank0(FSSolver s, PetscErrorCode ierr, const char what[], PetscInt n,
+                                            PetscReal buf[])
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   PetscMPIInt size, rank;
@@ -85,7 +90,8 @@ PetscErrorCode FSSolverStructureResultRank0(FSSolver s, PetscErrorCode ierr, con
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   if (size == 1) PetscFunctionReturn(ierr); /* the error as raised, its message first */
-  PetscCheck(n <= FS_RANK0_MAX, comm, PETSC_ERR_PLIB, "FSSolverStructureResultRank0: %" PetscInt_FMT " values, at most %d", n, FS_RANK0_MAX);
+  PetscCheck(n <= FS_RANK0_MAX, comm, PETSC_ERR_PLIB,
+             "FSSolverStructureResultRank0: %" PetscInt_FMT " values, at most %d", n, FS_RANK0_MAX);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   pack[0] = (PetscReal)ierr;
   if (!rank)
@@ -103,10 +109,12 @@ PetscErrorCode FSSolverStructureResultRank0(FSSolver s, PetscErrorCode ierr, con
   }
   PetscCallMPI(MPI_Bcast(msg, (PetscMPIInt)sizeof(msg), MPI_CHAR, 0, comm));
   if (!rank) PetscFunctionReturn(ierr); /* rank 0 keeps the error as raised */
-  SETERRQ(comm, (PetscErrorCode)code, "Structure %s: its %s failed on rank 0, where the structure lives: %s", s->structure->name, what, msg);
+  SETERRQ(comm, (PetscErrorCode)code, "Structure %s: its %s failed on rank 0, where the structure lives: %s",
+          s->structure->name, what, msg);
 }
 
-/* FSSolverStructureBroadcastState - the structure's state from the packed state u (rank 0) into s->sy on every rank. Collective. */
+/* FSSolverStructureBroadcastState - the structure's state from the packed state u (rank 0) into s->sy on every rank.
+ * Collective. */
 PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
 {
   PetscMPIInt rank, size;
@@ -114,8 +122,10 @@ PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
-  if (!rank) PetscCall(PetscArraycpy(s->sy, u + s->pw.nowned * s->state.ustride + s->state.gstruct, s->structure->ndof));
-  if (size > 1) PetscCallMPI(MPI_Bcast(s->sy, (PetscMPIInt)s->structure->ndof, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  if (!rank)
+    PetscCall(PetscArraycpy(s->sy, u + s->pw.nowned * s->state.ustride + s->state.gstruct, s->structure->ndof));
+  if (size > 1)
+    PetscCallMPI(MPI_Bcast(s->sy, (PetscMPIInt)s->structure->ndof, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
   PetscFunctionReturn(0);
 }
 
@@ -133,10 +143,11 @@ PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
    caller that broadcasts a result of its own next, to check it there (FSSolverStructureResultRank0)
    without a broadcast of its own.
 */
-PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const PetscReal *u, PetscReal *f, PetscErrorCode *rank0err)
+PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const PetscReal *u, PetscReal *f,
+                                      PetscErrorCode *rank0err)
 {
-  FSStructure st = s->structure;
-  PetscMPIInt rank;
+  FSStructure    st = s->structure;
+  PetscMPIInt    rank;
   const PetscInt off = s->pw.nowned * s->state.ustride + s->state.gstruct;
 
   PetscFunctionBegin;
@@ -224,10 +235,14 @@ PetscErrorCode FSSolverStructureDt(FSSolver s, PetscReal *dt)
   PetscFunctionBegin;
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-ts_dt", &user, &set));
   if (set) {
-    PetscCheck(user > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-ts_dt %g must be positive", (double)user);
+    PetscCheck(user > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-ts_dt %g must be positive",
+               (double)user);
     *dt = user;
   } else {
-    PetscCheck(s->structure && s->structure->min_period > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE, "A run without particles takes its time step from the structure, but structure %s gives no period: set -ts_dt", s->structure ? s->structure->name : "none");
+    PetscCheck(
+        s->structure && s->structure->min_period > 0, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
+        "A run without particles takes its time step from the structure, but structure %s gives no period: set -ts_dt",
+        s->structure ? s->structure->name : "none");
     *dt = s->opt.structure_cfl * s->structure->min_period;
   }
   s->state.dt_stable = *dt;
@@ -240,9 +255,11 @@ PetscErrorCode FSSolverStructureDt(FSSolver s, PetscReal *dt)
 */
 PetscErrorCode FSSolverStructureColumns(FSSolver s, PetscInt *n, const char *names[])
 {
-  static const char *motion[] = {"tip_displacement", "tip_velocity", "tip_acceleration", "tank_rotation", "tank_rotation_rate", "tank_angular_acceleration"};
+  static const char *motion[] = {"tip_displacement", "tip_velocity",       "tip_acceleration",
+                                 "tank_rotation",    "tank_rotation_rate", "tank_angular_acceleration"};
   static const char *load2[]  = {"load_force_x", "load_force_y", "load_moment_z"};
-  static const char *load3[]  = {"load_force_x", "load_force_y", "load_force_z", "load_moment_x", "load_moment_y", "load_moment_z"};
+  static const char *load3[]  = {"load_force_x",  "load_force_y",  "load_force_z",
+                                 "load_moment_x", "load_moment_y", "load_moment_z"};
   FSStructure        st       = s->structure;
   PetscInt           k        = 0;
 
@@ -357,7 +374,8 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
       ierr = (*st->ops.rhs)(st, s->state.rhs_time, s->sy, &none, s->sydot);
       if (!ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &predicted);
     }
-    PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&predicted));
+    PetscCall(
+        FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&predicted));
   }
   PetscCall(FSCouplingSetPredictedMotion(s->coupling, &predicted));
   PetscFunctionReturn(0);

@@ -5,7 +5,8 @@
 */
 #include "solver/solverimpl.h"
 
-static const char *FSFieldNames[] = {FS_FIELD_POSITION, FS_FIELD_VELOCITY, FS_FIELD_DENSITY, FS_FIELD_MASS, FS_FIELD_ID};
+static const char *FSFieldNames[] = {FS_FIELD_POSITION, FS_FIELD_VELOCITY, FS_FIELD_DENSITY, FS_FIELD_MASS,
+                                     FS_FIELD_ID};
 
 /* FSSolverCreateSwarm - the DMSwarm with fields position, velocity (dim), density, mass, id. */
 PetscErrorCode FSSolverCreateSwarm(FSSolver s)
@@ -42,13 +43,14 @@ PetscErrorCode FSSolverCreateSwarm(FSSolver s)
 .  rho - densities (n)
 -  m   - masses (n)
 */
-PetscErrorCode FSSolverAddParticles(FSSolver s, PetscInt n, const PetscReal x[], const PetscReal u[], const PetscReal rho[], const PetscReal m[])
+PetscErrorCode FSSolverAddParticles(FSSolver s, PetscInt n, const PetscReal x[], const PetscReal u[],
+                                    const PetscReal rho[], const PetscReal m[])
 {
-  PetscInt    nold, dim = s->opt.dim;
-  PetscInt64  first = 0, n64 = n, total;
-  PetscReal  *px, *pu, *prho, *pm;
-  PetscInt   *pid;
-  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  PetscInt   nold, dim = s->opt.dim;
+  PetscInt64 first = 0, n64 = n, total;
+  PetscReal *px, *pu, *prho, *pm;
+  PetscInt  *pid;
+  MPI_Comm   comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
   PetscCheck(s->swarm, comm, PETSC_ERR_ORDER, "FSSolverAddParticles() must be called from a case's setup");
@@ -59,7 +61,8 @@ PetscErrorCode FSSolverAddParticles(FSSolver s, PetscInt n, const PetscReal x[],
     PetscCallMPI(MPI_Comm_rank(comm, &rank));
     if (!rank) first = 0;
   }
-  PetscCheck(s->pw.nglobal_particles + total < PETSC_MAX_INT, comm, PETSC_ERR_SUP, "Too many particles (%" PetscInt64_FMT ") for 32-bit PetscInt ids", s->pw.nglobal_particles + total);
+  PetscCheck(s->pw.nglobal_particles + total < PETSC_MAX_INT, comm, PETSC_ERR_SUP,
+             "Too many particles (%" PetscInt64_FMT ") for 32-bit PetscInt ids", s->pw.nglobal_particles + total);
   first += s->pw.nglobal_particles;
   PetscCall(DMSwarmGetLocalSize(s->swarm, &nold));
   PetscCall(DMSwarmAddNPoints(s->swarm, n));
@@ -76,7 +79,9 @@ PetscErrorCode FSSolverAddParticles(FSSolver s, PetscInt n, const PetscReal x[],
     prho[nold + p] = rho[p];
     pm[nold + p]   = m[p];
     pid[nold + p]  = (PetscInt)(first + p);
-    PetscCheck(rho[p] > 0 && m[p] > 0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "Particle %" PetscInt64_FMT " created with density %g and mass %g: both must be positive", first + p, (double)rho[p], (double)m[p]);
+    PetscCheck(rho[p] > 0 && m[p] > 0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+               "Particle %" PetscInt64_FMT " created with density %g and mass %g: both must be positive", first + p,
+               (double)rho[p], (double)m[p]);
   }
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&pm));
@@ -138,12 +143,21 @@ PetscErrorCode FSSolverMigrate(FSSolver s, PetscBool *changed)
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
     PetscCall(TSGetTime(s->ts, &t));
     PetscCall(TSGetStepNumber(s->ts, &step));
-    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[%d] flexslosh: particle %" PetscInt_FMT " left the domain at step %" PetscInt_FMT ", time %g, position (%g, %g, %g); domain [%g,%g] x [%g,%g] x [%g,%g]; %" PetscInt_FMT " particle(s) lost on this rank\n", rank, id[lost], step, (double)t, (double)x[lost * dim], (double)x[lost * dim + 1], dim == 3 ? (double)x[lost * dim + 2] : 0.0, (double)s->pw.lo[0], (double)s->pw.hi[0], (double)s->pw.lo[1], (double)s->pw.hi[1], (double)s->pw.lo[2], (double)s->pw.hi[2], nlost));
+    PetscCall(PetscPrintf(PETSC_COMM_SELF,
+                          "[%d] flexslosh: particle %" PetscInt_FMT " left the domain at step %" PetscInt_FMT
+                          ", time %g, position (%g, %g, %g); domain [%g,%g] x [%g,%g] x [%g,%g]; %" PetscInt_FMT
+                          " particle(s) lost on this rank\n",
+                          rank, id[lost], step, (double)t, (double)x[lost * dim], (double)x[lost * dim + 1],
+                          dim == 3 ? (double)x[lost * dim + 2] : 0.0, (double)s->pw.lo[0], (double)s->pw.hi[0],
+                          (double)s->pw.lo[1], (double)s->pw.hi[1], (double)s->pw.lo[2], (double)s->pw.hi[2], nlost));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
   }
   PetscCall(DMSwarmRestoreField(s->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rankf));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  PetscCheck(glob[1] == 0, comm, PETSC_ERR_CONV_FAILED, "%" PetscInt64_FMT " particle(s) left the domain through a non-periodic side (see the message above for where): the flow is unstable or the domain too small", glob[1]);
+  PetscCheck(glob[1] == 0, comm, PETSC_ERR_CONV_FAILED,
+             "%" PetscInt64_FMT " particle(s) left the domain through a non-periodic side (see the message above for "
+             "where): the flow is unstable or the domain too small",
+             glob[1]);
   *changed = PETSC_FALSE;
   if (glob[0]) {
     PetscCall(DMSwarmGetSize(s->swarm, &n));
@@ -163,7 +177,7 @@ PetscErrorCode FSSolverMigrate(FSSolver s, PetscBool *changed)
 /* FSSolverSortByCell - orders the owned particles by cell (counting sort) so that neighbours are near in memory. */
 PetscErrorCode FSSolverSortByCell(FSSolver s)
 {
-  PetscInt n, dim = s->opt.dim;
+  PetscInt   n, dim = s->opt.dim;
   PetscReal *x;
   char      *tmp;
   size_t     maxbytes = 0;
@@ -206,7 +220,7 @@ PetscErrorCode FSSolverEnsureWork(FSSolver s, PetscInt n)
     s->pw.aux      = aux;
     s->pw.vol      = vol;
     s->pw.pressure = p;
-    s->pw.reccap = cap;
+    s->pw.reccap   = cap;
   }
   PetscFunctionReturn(0);
 }
@@ -230,11 +244,11 @@ PetscErrorCode FSSolverPackState(FSSolver s)
   PetscCall(VecGetArray(s->state.U, &u));
   for (PetscInt p = 0; p < s->pw.nowned; p++) {
     for (PetscInt d = 0; d < dim; d++) {
-      u[p * US + d]       = x[p * dim + d];
-      u[p * US + dim + d] = v[p * dim + d];
-      s->pw.rec[p * S + d]   = x[p * dim + d];
+      u[p * US + d]        = x[p * dim + d];
+      u[p * US + dim + d]  = v[p * dim + d];
+      s->pw.rec[p * S + d] = x[p * dim + d];
     }
-    u[p * US + 2 * dim]         = rho[p];
+    u[p * US + 2 * dim]            = rho[p];
     s->pw.rec[p * S + 2 * dim]     = rho[p];
     s->pw.rec[p * S + 2 * dim + 1] = m[p];
   }

@@ -23,4 +23,5 @@ PETSC_INTERN PetscErrorCode FSRegistryNames(FSRegistry *, char[], size_t);
 
 /* log events */
 PETSC_EXTERN PetscLogEvent FS_Structure, FS_Coupling;
-PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls, FS_Migrate, FS_Output, FS_RHS;
+PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls,
+    FS_Migrate, FS_Output, FS_RHS;

@@ -5,8 +5,8 @@
 static PetscBool FSPackageInitialized = PETSC_FALSE;
 
 PetscLogEvent FS_Structure, FS_Coupling;
-PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls, FS_Migrate, FS_Output, FS_RHS;
-
+PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls, FS_Migrate, FS_Output,
+    FS_RHS;
 
 static PetscErrorCode FSFinalizePackageCallback(void)
 {
@@ -65,7 +65,8 @@ PetscErrorCode FSFinalizePackage(void)
 
 .seealso: PetscPushErrorHandler(), PetscTraceBackErrorHandler(), PetscErrorMessage()
 */
-PetscErrorCode FSErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
+PetscErrorCode FSErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n,
+                              PetscErrorType p, const char *mess, void *ctx)
 {
   static PetscBool print = PETSC_TRUE;
   static int       frame = 1;
@@ -79,7 +80,8 @@ PetscErrorCode FSErrorHandler(MPI_Comm comm, int line, const char *fun, const ch
     print = (PetscBool)(rank == 0);
     frame = 1;
     if (print) {
-      (void)(*PetscErrorPrintf)("--------------------- Error Message --------------------------------------------------------------\n");
+      (void)(*PetscErrorPrintf)(
+          "--------------------- Error Message --------------------------------------------------------------\n");
       (void)PetscErrorMessage(n, &text, NULL);
       if (text) (void)(*PetscErrorPrintf)("%s\n", text);
       if (mess) (void)(*PetscErrorPrintf)("%s\n", mess);
@@ -120,10 +122,16 @@ static PetscErrorCode FSPluginsProcess(MPI_Comm comm, PetscBool load)
       PetscCall(PetscSNPrintf(full, sizeof(full), "%s.so", paths[k]));
       handle = dlopen(full, RTLD_LAZY | RTLD_NOLOAD);
     }
-    PetscCheck(handle, comm, PETSC_ERR_FILE_OPEN, "Plug-in \"%s\" given to -dll_append was not loaded: check the path (it must be a shared library built against libflexslosh)", paths[k]);
+    PetscCheck(handle, comm, PETSC_ERR_FILE_OPEN,
+               "Plug-in \"%s\" given to -dll_append was not loaded: check the path (it must be a shared library built "
+               "against libflexslosh)",
+               paths[k]);
     sym = dlsym(handle, symbol);
     dlclose(handle);
-    PetscCheck(sym, comm, PETSC_ERR_ARG_WRONG, "Plug-in \"%s\" given to -dll_append has no entry point %s(): the function must be named after the file (lib<name>.so exports PetscDLLibraryRegister_<name>), so nothing was registered", paths[k], symbol);
+    PetscCheck(sym, comm, PETSC_ERR_ARG_WRONG,
+               "Plug-in \"%s\" given to -dll_append has no entry point %s(): the function must be named after the file "
+               "(lib<name>.so exports PetscDLLibraryRegister_<name>), so nothing was registered",
+               paths[k], symbol);
     PetscCall(PetscFree(paths[k]));
   }
   PetscFunctionReturn(0);

@@ -44,7 +44,8 @@ PetscErrorCode FSRegistryView(FSRegistry *reg, PetscViewer viewer, const char wh
   PetscFunctionBegin;
   for (FSRegistryEntry *e = reg->first; e; e = e->next) n++;
   PetscCall(PetscViewerASCIIPrintf(viewer, "Registered %s (%" PetscInt_FMT "), %s:\n", what, n, how));
-  for (FSRegistryEntry *e = reg->first; e; e = e->next) PetscCall(PetscViewerASCIIPrintf(viewer, "  %-16s %s\n", e->name, e->description));
+  for (FSRegistryEntry *e = reg->first; e; e = e->next)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  %-16s %s\n", e->name, e->description));
   PetscFunctionReturn(0);
 }
 

@@ -39,7 +39,10 @@ PetscErrorCode FSBoundaryRegisterAll(void)
   if (done) PetscFunctionReturn(0);
   done = PETSC_TRUE;
   PetscCall(PetscClassIdRegister("FSBoundary", &FSBOUNDARY_CLASSID));
-  PetscCall(FSBoundaryRegister(FSBOUNDARYPOLYGON, "2-D boundary integrals on closed polygons of named walls (Calderon-Sanchez et al. 2019), options -fs_walls_*", FSBoundaryCreate_Polygon));
+  PetscCall(FSBoundaryRegister(
+      FSBOUNDARYPOLYGON,
+      "2-D boundary integrals on closed polygons of named walls (Calderon-Sanchez et al. 2019), options -fs_walls_*",
+      FSBoundaryCreate_Polygon));
   PetscFunctionReturn(0);
 }
 
@@ -64,7 +67,8 @@ PetscErrorCode FSBoundaryCreate(MPI_Comm comm, FSBoundary *boundary)
 
   PetscFunctionBegin;
   PetscCall(FSBoundaryRegisterAll());
-  PetscCall(PetscHeaderCreate(b, FSBOUNDARY_CLASSID, "FSBoundary", "walls", "FS", comm, FSBoundaryDestroy, FSBoundaryView));
+  PetscCall(
+      PetscHeaderCreate(b, FSBOUNDARY_CLASSID, "FSBoundary", "walls", "FS", comm, FSBoundaryDestroy, FSBoundaryView));
   b->bounce_distance = 0.1;
   b->restitution     = 1.0;
   *boundary          = b;
@@ -89,7 +93,8 @@ PetscErrorCode FSBoundarySetType(FSBoundary b, const char type[])
   if (!create) {
     char known[1024];
     PetscCall(FSRegistryNames(&FSBoundaries, known, sizeof(known)));
-    SETERRQ(PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown boundary method \"%s\" given to -fs_boundary: the registered methods are%s", type, known);
+    SETERRQ(PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_UNKNOWN_TYPE,
+            "Unknown boundary method \"%s\" given to -fs_boundary: the registered methods are%s", type, known);
   }
   if (b->ops->destroy) PetscCall((*b->ops->destroy)(b));
   PetscCall(PetscMemzero(b->ops, sizeof(*b->ops)));
@@ -113,9 +118,11 @@ PetscErrorCode FSBoundarySetFromOptions(FSBoundary b)
   PetscBool set;
 
   PetscFunctionBegin;
-  PetscCall(PetscStrncpy(type, ((PetscObject)b)->type_name ? ((PetscObject)b)->type_name : FSBOUNDARYPOLYGON, sizeof(type)));
+  PetscCall(
+      PetscStrncpy(type, ((PetscObject)b)->type_name ? ((PetscObject)b)->type_name : FSBOUNDARYPOLYGON, sizeof(type)));
   PetscObjectOptionsBegin((PetscObject)b);
-  PetscCall(PetscOptionsString("-fs_boundary", "Boundary method of the walls (the case's by default)", "FSBoundarySetType", type, type, sizeof(type), &set));
+  PetscCall(PetscOptionsString("-fs_boundary", "Boundary method of the walls (the case's by default)",
+                               "FSBoundarySetType", type, type, sizeof(type), &set));
   if (set || !((PetscObject)b)->type_name) PetscCall(FSBoundarySetType(b, type));
   if (b->ops->setfromoptions) PetscCall((*b->ops->setfromoptions)(b, PetscOptionsObject));
   PetscOptionsEnd();
@@ -142,7 +149,8 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
 
   PetscFunctionBegin;
   if (b->setupcalled) PetscFunctionReturn(0);
-  PetscCheck(((PetscObject)b)->type_name, comm, PETSC_ERR_ARG_WRONGSTATE, "The boundary has no method: the case sets one with its geometry");
+  PetscCheck(((PetscObject)b)->type_name, comm, PETSC_ERR_ARG_WRONGSTATE,
+             "The boundary has no method: the case sets one with its geometry");
   b->dim    = dim;
   b->dx     = dx;
   b->h      = h;
@@ -151,10 +159,18 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
   PetscCall(PetscCalloc1(b->nwalls, &b->noslip));
   PetscCall(PetscCalloc2(6 * b->nwalls, &b->load, 6 * b->nwalls, &b->loadsum));
   PetscOptionsBegin(comm, NULL, "Walls (boundary integrals)", "FS");
-  PetscCall(PetscOptionsStringArray("-fs_walls_noslip", "Walls with no-slip conditions, by name (the others are free-slip)", "FSBoundarySetUp", names, &nnames, NULL));
-  PetscCall(PetscOptionsReal("-fs_walls_bounce_distance", "Particles closer to a wall than this (in dx) and moving towards it bounce back (0: never)", "FSBoundaryBounce", b->bounce_distance, &b->bounce_distance, NULL));
-  PetscCall(PetscOptionsReal("-fs_walls_bounce_restitution", "Fraction of the normal velocity kept by a bounce (1: elastic)", "FSBoundaryBounce", b->restitution, &b->restitution, NULL));
-  PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken", "FSBoundarySetUp", b->loadpoint, &np, NULL));
+  PetscCall(PetscOptionsStringArray("-fs_walls_noslip",
+                                    "Walls with no-slip conditions, by name (the others are free-slip)",
+                                    "FSBoundarySetUp", names, &nnames, NULL));
+  PetscCall(
+      PetscOptionsReal("-fs_walls_bounce_distance",
+                       "Particles closer to a wall than this (in dx) and moving towards it bounce back (0: never)",
+                       "FSBoundaryBounce", b->bounce_distance, &b->bounce_distance, NULL));
+  PetscCall(PetscOptionsReal("-fs_walls_bounce_restitution",
+                             "Fraction of the normal velocity kept by a bounce (1: elastic)", "FSBoundaryBounce",
+                             b->restitution, &b->restitution, NULL));
+  PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken",
+                                  "FSBoundarySetUp", b->loadpoint, &np, NULL));
   PetscOptionsEnd();
   for (PetscInt k = 0; k < nnames; k++) {
     PetscBool found = PETSC_FALSE;
@@ -163,7 +179,8 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
         b->noslip[q] = PETSC_TRUE;
         found        = PETSC_TRUE;
       }
-    PetscCheck(found, comm, PETSC_ERR_ARG_WRONG, "-fs_walls_noslip names wall \"%s\", which this case does not have", names[k]);
+    PetscCheck(found, comm, PETSC_ERR_ARG_WRONG, "-fs_walls_noslip names wall \"%s\", which this case does not have",
+               names[k]);
     PetscCall(PetscFree(names[k]));
   }
   b->view.dim    = dim;
@@ -183,7 +200,8 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
 
    Not collective
 */
-PetscErrorCode FSBoundaryUpdate(FSBoundary b, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *nb, FSBoundaryLeak *leak)
+PetscErrorCode FSBoundaryUpdate(FSBoundary b, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *nb,
+                                FSBoundaryLeak *leak)
 {
   PetscFunctionBegin;
   leak->particle = leak->wall = -1;
@@ -213,7 +231,8 @@ PetscErrorCode FSBoundaryPrepare(FSBoundary b, const FSBoundaryParticles *P, Pet
 
    Not collective
 */
-PetscErrorCode FSBoundaryGetView(FSBoundary b, const FSWallView **view, const PetscInt **wstart, const PetscInt **wk, const PetscReal **wW)
+PetscErrorCode FSBoundaryGetView(FSBoundary b, const FSWallView **view, const PetscInt **wstart, const PetscInt **wk,
+                                 const PetscReal **wW)
 {
   PetscFunctionBegin;
   *view   = &b->view;
@@ -232,7 +251,8 @@ PetscErrorCode FSBoundaryGetView(FSBoundary b, const FSWallView **view, const Pe
 
    Not collective
 */
-PetscErrorCode FSBoundaryBounce(FSBoundary b, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[], const PetscReal m[], FSParticleEnergyFn energy, void *ctx, PetscReal de[2])
+PetscErrorCode FSBoundaryBounce(FSBoundary b, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[],
+                                const PetscReal m[], FSParticleEnergyFn energy, void *ctx, PetscReal de[2])
 {
   PetscFunctionBegin;
   de[0] = de[1] = 0;
@@ -260,7 +280,8 @@ PetscErrorCode FSBoundaryGetLoads(FSBoundary b, PetscInt *nwalls, const char *na
   if (names)
     for (PetscInt w = 0; w < b->nwalls; w++) names[w] = b->wallname[w];
   if (loads) {
-    PetscCallMPI(MPI_Allreduce(b->load, b->loadsum, (PetscMPIInt)(6 * b->nwalls), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
+    PetscCallMPI(MPI_Allreduce(b->load, b->loadsum, (PetscMPIInt)(6 * b->nwalls), MPIU_REAL, MPI_SUM,
+                               PetscObjectComm((PetscObject)b)));
     *loads = b->loadsum;
   }
   PetscFunctionReturn(0);
@@ -327,9 +348,12 @@ PetscErrorCode FSBoundaryView(FSBoundary b, PetscViewer viewer)
   PetscFunctionBegin;
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &isascii));
   if (!isascii) PetscFunctionReturn(0);
-  PetscCall(PetscViewerASCIIPrintf(viewer, "Boundary: %s, %" PetscInt_FMT " wall(s):", ((PetscObject)b)->type_name ? ((PetscObject)b)->type_name : "(no type)", b->nwalls));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "Boundary: %s, %" PetscInt_FMT " wall(s):",
+                                   ((PetscObject)b)->type_name ? ((PetscObject)b)->type_name : "(no type)", b->nwalls));
   PetscCall(PetscViewerASCIIUseTabs(viewer, PETSC_FALSE));
-  for (PetscInt w = 0; w < b->nwalls; w++) PetscCall(PetscViewerASCIIPrintf(viewer, " %s (%s)", b->wallname[w], b->noslip && b->noslip[w] ? "no-slip" : "free-slip"));
+  for (PetscInt w = 0; w < b->nwalls; w++)
+    PetscCall(PetscViewerASCIIPrintf(viewer, " %s (%s)", b->wallname[w],
+                                     b->noslip && b->noslip[w] ? "no-slip" : "free-slip"));
   PetscCall(PetscViewerASCIIPrintf(viewer, "\n"));
   PetscCall(PetscViewerASCIIUseTabs(viewer, PETSC_TRUE));
   if (b->ops->view) {

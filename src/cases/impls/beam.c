@@ -28,7 +28,8 @@ static PetscErrorCode SetUp(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetStructure(s, &st));
-  PetscCheck(st, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONG, "Case beam computes the structure alone: it needs a structure, not -fs_structure none (msd or modal)");
+  PetscCheck(st, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONG,
+             "Case beam computes the structure alone: it needs a structure, not -fs_structure none (msd or modal)");
   PetscCall(FSSolverSetDomain(s, lo, hi, per));
   PetscFunctionReturn(0);
 }

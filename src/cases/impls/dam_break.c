@@ -32,13 +32,17 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   db->H = db->height + db->a;
   PetscCall(PetscOptionsReal("-fs_dam_tank_height", "Height of the tank (column height + a)", "", db->H, &db->H, NULL));
   PetscOptionsHeadEnd();
-  PetscCheck(db->a > 0 && db->height > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_width %g and -fs_dam_height %g must be positive", (double)db->a, (double)db->height);
-  PetscCheck(db->L > db->a, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_tank_length %g must exceed the column width %g", (double)db->L, (double)db->a);
-  PetscCheck(db->H >= db->height, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_tank_height %g must be at least the column height %g", (double)db->H, (double)db->height);
+  PetscCheck(db->a > 0 && db->height > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_dam_width %g and -fs_dam_height %g must be positive", (double)db->a, (double)db->height);
+  PetscCheck(db->L > db->a, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_dam_tank_length %g must exceed the column width %g", (double)db->L, (double)db->a);
+  PetscCheck(db->H >= db->height, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_dam_tank_height %g must be at least the column height %g", (double)db->H, (double)db->height);
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 10 * PetscSqrtReal(2 * 9.81 * db->height), 1e-6, g));
   PetscCall(FSSolverSetDefaultTerms(s, FS_WALL_CASE_TERMS));
   PetscCall(FSSolverSetDefaultSpacing(s, db->a / 40));
-  PetscCall(FSSolverSetDefaultCFL(s, 1.0)); /* RK4: same results as 0.4 on the hydrostatic tank and the dam break; 1.5 blows up at the dam break's wall impact */
+  PetscCall(FSSolverSetDefaultCFL(s, 1.0)); /* RK4: same results as 0.4 on the hydrostatic tank and the dam break; 1.5
+                                               blows up at the dam break's wall impact */
   PetscCall(FSSolverSetDefaultFinalTime(s, 3.0 / PetscSqrtReal(2 * 9.81 / db->a)));
   PetscFunctionReturn(0);
 }

@@ -24,11 +24,18 @@ PetscErrorCode FSLatticeCreate(FSSolver s, const PetscReal lo[], const PetscReal
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
   for (PetscInt d = 0; d < dim; d++) {
     nc[d] = (PetscInt)PetscFloorReal((hi[d] - lo[d]) / dx + 0.5);
-    PetscCheck(nc[d] >= 1, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g is larger than the box (%g) in direction %" PetscInt_FMT, (double)dx, (double)(hi[d] - lo[d]), d);
-    PetscCheck(PetscAbsReal(nc[d] * dx - (hi[d] - lo[d])) < 1e-8 * (hi[d] - lo[d]), PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g does not divide the periodic box length %g in direction %" PetscInt_FMT ": choose dx = length/N", (double)dx, (double)(hi[d] - lo[d]), d);
+    PetscCheck(nc[d] >= 1, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+               "-fs_dx %g is larger than the box (%g) in direction %" PetscInt_FMT, (double)dx, (double)(hi[d] - lo[d]),
+               d);
+    PetscCheck(PetscAbsReal(nc[d] * dx - (hi[d] - lo[d])) < 1e-8 * (hi[d] - lo[d]), PetscObjectComm((PetscObject)s),
+               PETSC_ERR_ARG_OUTOFRANGE,
+               "-fs_dx %g does not divide the periodic box length %g in direction %" PetscInt_FMT
+               ": choose dx = length/N",
+               (double)dx, (double)(hi[d] - lo[d]), d);
     total *= nc[d];
   }
-  PetscCheck(total < PETSC_MAX_INT, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g gives %" PetscInt64_FMT " particles, too many", (double)dx, total);
+  PetscCheck(total < PETSC_MAX_INT, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_dx %g gives %" PetscInt64_FMT " particles, too many", (double)dx, total);
   first = total * rank / size;
   last  = total * (rank + 1) / size;
   *n    = (PetscInt)(last - first);

@@ -1,20 +1,19 @@
-/* Set-up shared by the cases with walls: a body of liquid on a lattice, hydrostatic, at rest or with a given velocity field. */
+/* Set-up shared by the cases with walls: a body of liquid on a lattice, hydrostatic, at rest or with a given velocity
+ * field. */
 #include <flexslosh.h>
 #include "boundary/fsboundary.h"
 #include "liquid.h"
 
 /*
-   FSCaseFillLiquid - gives the solver its walls (checked with FSWallsCheck) and a domain box around them (4h margin), and fills
-   the liquid region of the walls inside [x0, x1] x [y0, ysurf] with particles in rows
-   y0 + (j + 1/2) dx_y, at rest with the hydrostatic density rho = rho0 + rho0 |g| (ysurf - y) / c0^2 and
-   mass rho dx_x dx_y. dx_y is the spacing closest to dx that divides the depth, so the surface is at
-   ysurf. Each row is cut by the walls into intervals of liquid (between baffles, say), and each
-   interval gets the spacing dx_x closest to dx that divides it: the liquid ends half a spacing from the
-   walls on both sides of every compartment (a lattice that left a gap at one wall would start the
-   liquid sloshing). Points closer to a wall than half a spacing (the underside of a baffle, other
-   shapes) are left out. The rows of the lattice are split over the ranks, so ids do not depend on the number
-   of ranks. The walls are moved into the solver.
-   what names the liquid region in the error messages.
+   FSCaseFillLiquid - gives the solver its walls (checked with FSWallsCheck) and a domain box around them (4h margin),
+and fills the liquid region of the walls inside [x0, x1] x [y0, ysurf] with particles in rows y0 + (j + 1/2) dx_y, at
+rest with the hydrostatic density rho = rho0 + rho0 |g| (ysurf - y) / c0^2 and mass rho dx_x dx_y. dx_y is the spacing
+closest to dx that divides the depth, so the surface is at ysurf. Each row is cut by the walls into intervals of liquid
+(between baffles, say), and each interval gets the spacing dx_x closest to dx that divides it: the liquid ends half a
+spacing from the walls on both sides of every compartment (a lattice that left a gap at one wall would start the liquid
+sloshing). Points closer to a wall than half a spacing (the underside of a baffle, other shapes) are left out. The rows
+of the lattice are split over the ranks, so ids do not depend on the number of ranks. The walls are moved into the
+solver. what names the liquid region in the error messages.
 
    Collective
 
@@ -22,7 +21,8 @@
 
 .seealso: FSCaseFillLiquidWithVelocity()
 */
-PetscErrorCode FSCaseFillLiquid(FSSolver s, FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf, const char what[])
+PetscErrorCode FSCaseFillLiquid(FSSolver s, FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf,
+                                const char what[])
 {
   PetscFunctionBegin;
   PetscCall(FSCaseFillLiquidWithVelocity(s, w, x0, x1, y0, ysurf, what, NULL, NULL));
@@ -39,7 +39,8 @@ PetscErrorCode FSCaseFillLiquid(FSSolver s, FSWalls *w, PetscReal x0, PetscReal 
 
 .seealso: FSCaseFillLiquid()
 */
-PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf, const char what[], FSCaseVelocityFn velocity, void *ctx)
+PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0,
+                                            PetscReal ysurf, const char what[], FSCaseVelocityFn velocity, void *ctx)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   PetscReal   lo[3], hi[3], *x, *u, *rho, *m, g[3], gmag, dx, h, rho0, c0;
@@ -56,7 +57,9 @@ PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0
   ny   = (PetscInt)((ysurf - y0) / dx + 0.5);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCheck(nx >= 1 && ny >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: -fs_dx %g leaves no particle in the liquid region %g x %g", what, (double)dx, (double)(x1 - x0), (double)(ysurf - y0));
+  PetscCheck(nx >= 1 && ny >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "%s: -fs_dx %g leaves no particle in the liquid region %g x %g", what, (double)dx, (double)(x1 - x0),
+             (double)(ysurf - y0));
   hy = (ysurf - y0) / ny;
   PetscCall(FSWallsDiscretize(w, dx)); /* for the distance of the particles to the walls */
   for (PetscInt d = 0; d < 2; d++) {
@@ -76,13 +79,15 @@ PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0
       for (PetscInt e = w->pstart[q]; e < w->pstart[q + 1]; e++) {
         const PetscInt   f  = e + 1 < w->pstart[q + 1] ? e + 1 : w->pstart[q];
         const PetscReal *p0 = &w->vert[2 * e], *p1 = &w->vert[2 * f];
-        if ((p0[1] <= yr && yr < p1[1]) || (p1[1] <= yr && yr < p0[1])) cross[nc++] = p0[0] + (yr - p0[1]) * (p1[0] - p0[0]) / (p1[1] - p0[1]);
+        if ((p0[1] <= yr && yr < p1[1]) || (p1[1] <= yr && yr < p0[1]))
+          cross[nc++] = p0[0] + (yr - p0[1]) * (p1[0] - p0[0]) / (p1[1] - p0[1]);
       }
     PetscCall(PetscSortReal(nc, cross));
     for (PetscInt c = 0; c + 1 < nc; c++) {
-      const PetscReal a = PetscMax(cross[c], x0), e = PetscMin(cross[c + 1], x1), mid[2] = {0.5 * (cross[c] + cross[c + 1]), yr};
-      PetscInt        na;
-      PetscReal       hx;
+      const PetscReal a = PetscMax(cross[c], x0), e = PetscMin(cross[c + 1], x1),
+                      mid[2] = {0.5 * (cross[c] + cross[c + 1]), yr};
+      PetscInt  na;
+      PetscReal hx;
       if (e <= a || !FSWallsInLiquid(w, mid, 0)) continue; /* outside [x0, x1], or inside a wall */
       na = (PetscInt)((e - a) / dx + 0.5);
       if (na < 1) continue;

@@ -2,8 +2,12 @@
 #include "boundary/impls/polygon/walls.h"
 
 /* the default -fs_terms of the cases with walls: the seed's delta-LES-SPH with boundary integrals */
-#define FS_WALL_CASE_TERMS "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity"
+#define FS_WALL_CASE_TERMS \
+  "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity"
 /* an initial velocity field for FSCaseFillLiquidWithVelocity: u at the point x (2-D) */
 typedef PetscErrorCode (*FSCaseVelocityFn)(const PetscReal x[], PetscReal u[], void *ctx);
-PETSC_INTERN PetscErrorCode FSCaseFillLiquid(FSSolver, FSWalls *, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf, const char what[]);
-PETSC_INTERN PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver, FSWalls *, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf, const char what[], FSCaseVelocityFn, void *ctx);
+PETSC_INTERN PetscErrorCode FSCaseFillLiquid(FSSolver, FSWalls *, PetscReal x0, PetscReal x1, PetscReal y0,
+                                             PetscReal ysurf, const char what[]);
+PETSC_INTERN PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver, FSWalls *, PetscReal x0, PetscReal x1, PetscReal y0,
+                                                         PetscReal ysurf, const char what[], FSCaseVelocityFn,
+                                                         void *ctx);

@@ -24,7 +24,9 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(PetscOptionsReal("-fs_shear_L", "Box side L", "", sh->L, &sh->L, NULL));
   PetscCall(PetscOptionsReal("-fs_shear_Re", "Reynolds number U L / nu", "", sh->Re, &sh->Re, NULL));
   PetscOptionsHeadEnd();
-  PetscCheck(sh->U > 0 && sh->L > 0 && sh->Re > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_shear_U %g, -fs_shear_L %g, -fs_shear_Re %g must all be positive", (double)sh->U, (double)sh->L, (double)sh->Re);
+  PetscCheck(sh->U > 0 && sh->L > 0 && sh->Re > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_shear_U %g, -fs_shear_L %g, -fs_shear_Re %g must all be positive", (double)sh->U, (double)sh->L,
+             (double)sh->Re);
   PetscCall(FSSolverSetDefaultPhysics(s, 1.0, 10.0 * sh->U, sh->U * sh->L / sh->Re, g));
   PetscCall(FSSolverSetDefaultSpacing(s, sh->L / 32));
   PetscCall(FSSolverSetDefaultFinalTime(s, sh->L / sh->U));
@@ -78,9 +80,9 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_Shear(FSSolver s, FSCaseOps *ops)
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&sh));
-  sh->U                = 1;
-  sh->L                = 1;
-  sh->Re               = 100;
+  sh->U  = 1;
+  sh->L  = 1;
+  sh->Re = 100;
   PetscCall(FSSolverSetCaseData(s, sh));
   ops->setfromoptions  = SetFromOptions;
   ops->setup           = SetUp;

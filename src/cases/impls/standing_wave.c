@@ -50,18 +50,25 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(PetscOptionsReal("-fs_sw_depth", "Depth h of the liquid", "", sw->h, &sw->h, NULL));
   PetscCall(PetscOptionsInt("-fs_sw_mode", "Mode n of the wave: k = n pi / L", "", sw->mode, &sw->mode, NULL));
   PetscCall(PetscOptionsReal("-fs_sw_amplitude", "Amplitude A/h of the surface elevation", "", sw->A, &sw->A, NULL));
-  PetscCall(PetscOptionsReal("-fs_sw_reynolds", "Reynolds number h sqrt(g h) / nu (ignored when -fs_nu is given)", "", sw->Re, &sw->Re, NULL));
+  PetscCall(PetscOptionsReal("-fs_sw_reynolds", "Reynolds number h sqrt(g h) / nu (ignored when -fs_nu is given)", "",
+                             sw->Re, &sw->Re, NULL));
   PetscOptionsHeadEnd();
   PetscCheck(sw->L > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_length %g must be positive", (double)sw->L);
   PetscCheck(sw->h > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_depth %g must be positive", (double)sw->h);
-  PetscCheck(sw->mode >= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_mode %" PetscInt_FMT " must be at least 1", sw->mode);
-  PetscCheck(sw->A > 0 && sw->A <= 0.25, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_amplitude %g is out of range: expected A/h in (0, 0.25] (linear theory wants it small)", (double)sw->A);
-  PetscCheck(sw->Re > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_reynolds %g must be positive", (double)sw->Re);
-  PetscCheck(dim == 2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "Case standing_wave is 2-D: -fs_dim %" PetscInt_FMT " is not supported", dim);
+  PetscCheck(sw->mode >= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_sw_mode %" PetscInt_FMT " must be at least 1", sw->mode);
+  PetscCheck(sw->A > 0 && sw->A <= 0.25, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_sw_amplitude %g is out of range: expected A/h in (0, 0.25] (linear theory wants it small)",
+             (double)sw->A);
+  PetscCheck(sw->Re > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_reynolds %g must be positive",
+             (double)sw->Re);
+  PetscCheck(dim == 2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "Case standing_wave is 2-D: -fs_dim %" PetscInt_FMT " is not supported", dim);
   PetscCall(FSSolverSetDefaultPhysics(s, 1.0, 10 * PetscSqrtReal(sw->h), sw->h * PetscSqrtReal(sw->h) / sw->Re, g));
   PetscCall(FSSolverSetDefaultTerms(s, FS_WALL_CASE_TERMS));
   PetscCall(FSSolverSetDefaultSpacing(s, sw->h / 50));
-  PetscCall(FSSolverSetDefaultCFL(s, 1.5)); /* RK4: checked on the hydrostatic tank and the dam break (same results as 0.4) */
+  PetscCall(
+      FSSolverSetDefaultCFL(s, 1.5)); /* RK4: checked on the hydrostatic tank and the dam break (same results as 0.4) */
   PetscCall(FSSolverSetDefaultFinalTime(s, 20 * PetscSqrtReal(sw->h)));
   PetscFunctionReturn(0);
 }
@@ -91,14 +98,17 @@ static PetscErrorCode SetUp(FSSolver s)
   PetscCall(FSSolverGetCaseData(s, &sw));
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, NULL, NULL, &rho0, NULL, &nu));
-  PetscCheck(g[0] == 0 && g[1] < 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Case standing_wave needs gravity pointing down (-fs_gravity 0,-g), not %g,%g", (double)g[0], (double)g[1]);
+  PetscCheck(g[0] == 0 && g[1] < 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Case standing_wave needs gravity pointing down (-fs_gravity 0,-g), not %g,%g", (double)g[0],
+             (double)g[1]);
   sw->k     = sw->mode * PETSC_PI / sw->L;
   sw->omega = PetscSqrtReal(-g[1] * sw->k * PetscTanhReal(sw->k * sw->h));
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, comm, sw->L, 1.5 * sw->h));
   PetscCall(FSWallsSetEdgeWall(&w, comm, 0, 0, "floor"));
   PetscCall(FSWallsCheck(&w, comm));
-  PetscCall(FSCaseFillLiquidWithVelocity(s, &w, 0, sw->L, 0, sw->h, "the liquid (-fs_sw_length x -fs_sw_depth)", Velocity, sw));
+  PetscCall(FSCaseFillLiquidWithVelocity(s, &w, 0, sw->L, 0, sw->h, "the liquid (-fs_sw_length x -fs_sw_depth)",
+                                         Velocity, sw));
   /* the particles' initial kinetic energy, the scale of kinetic_energy_linear */
   PetscCall(FSSolverGetSwarm(s, &swarm));
   PetscCall(DMSwarmGetLocalSize(swarm, &n));
@@ -108,7 +118,11 @@ static PetscErrorCode SetUp(FSSolver s)
   PetscCall(DMSwarmRestoreField(swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
   PetscCallMPI(MPI_Allreduce(&ke, &sw->ke0, 1, MPIU_REAL, MPI_SUM, comm));
-  PetscCall(PetscInfo(s, "Standing wave: k = %g, omega = %g, period %g, kinetic energy decay rate 4 nu k^2 = %g, E_k(0) = %g (linear theory %g)\n", (double)sw->k, (double)sw->omega, (double)(2 * PETSC_PI / sw->omega), (double)(4 * nu * sw->k * sw->k), (double)sw->ke0,
+  PetscCall(PetscInfo(s,
+                      "Standing wave: k = %g, omega = %g, period %g, kinetic energy decay rate 4 nu k^2 = %g, E_k(0) = "
+                      "%g (linear theory %g)\n",
+                      (double)sw->k, (double)sw->omega, (double)(2 * PETSC_PI / sw->omega),
+                      (double)(4 * nu * sw->k * sw->k), (double)sw->ke0,
                       (double)(rho0 * -g[1] * PetscSqr(sw->A * sw->h) * sw->L / 4)));
   PetscFunctionReturn(0);
 }
@@ -131,11 +145,11 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_StandingWave(FSSolver s, FSCaseOps *ops
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&sw));
-  sw->L                = 2;
-  sw->h                = 1;
-  sw->mode             = 1;
-  sw->A                = 0.05;
-  sw->Re               = 250;
+  sw->L    = 2;
+  sw->h    = 1;
+  sw->mode = 1;
+  sw->A    = 0.05;
+  sw->Re   = 250;
   PetscCall(FSSolverSetCaseData(s, sw));
   ops->setfromoptions  = SetFromOptions;
   ops->setup           = SetUp;

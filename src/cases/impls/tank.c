@@ -37,28 +37,40 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscFunctionBegin;
   PetscCall(FSSolverGetCaseData(s, &tk));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case tank");
-  PetscCall(PetscOptionsString("-fs_tank_shape", "Tank shape: rectangular, baffled or file", "", tk->shape, tk->shape, sizeof(tk->shape), NULL));
+  PetscCall(PetscOptionsString("-fs_tank_shape", "Tank shape: rectangular, baffled or file", "", tk->shape, tk->shape,
+                               sizeof(tk->shape), NULL));
   PetscCall(PetscOptionsReal("-fs_tank_length", "Length of the rectangular tank", "", tk->L, &tk->L, NULL));
   PetscCall(PetscOptionsReal("-fs_tank_height", "Height of the tank", "", tk->H, &tk->H, NULL));
-  PetscCall(PetscOptionsInt("-fs_tank_compartments", "Compartments of the baffled tank", "", tk->ncomp, &tk->ncomp, NULL));
-  PetscCall(PetscOptionsReal("-fs_tank_compartment_length", "Length of a compartment of the baffled tank", "", tk->Lc, &tk->Lc, NULL));
+  PetscCall(
+      PetscOptionsInt("-fs_tank_compartments", "Compartments of the baffled tank", "", tk->ncomp, &tk->ncomp, NULL));
+  PetscCall(PetscOptionsReal("-fs_tank_compartment_length", "Length of a compartment of the baffled tank", "", tk->Lc,
+                             &tk->Lc, NULL));
   PetscCall(PetscOptionsReal("-fs_tank_baffle_thickness", "Thickness of the baffles", "", tk->t, &tk->t, NULL));
-  PetscCall(PetscOptionsReal("-fs_tank_baffle_gap", "Opening between the floor and the baffles (0: baffles stand on the floor)", "", tk->gap, &tk->gap, NULL));
+  PetscCall(PetscOptionsReal("-fs_tank_baffle_gap",
+                             "Opening between the floor and the baffles (0: baffles stand on the floor)", "", tk->gap,
+                             &tk->gap, NULL));
   PetscCall(PetscOptionsReal("-fs_tank_baffle_height", "Height of the baffles", "", tk->hb, &tk->hb, NULL));
-  PetscCall(PetscOptionsString("-fs_tank_file", "Wall polygons of a tank of any shape (README: file format)", "", tk->file, tk->file, sizeof(tk->file), NULL));
-  PetscCall(PetscOptionsReal("-fs_fill", "Filling level, as a fraction of the tank height", "", tk->fill, &tk->fill, NULL));
+  PetscCall(PetscOptionsString("-fs_tank_file", "Wall polygons of a tank of any shape (README: file format)", "",
+                               tk->file, tk->file, sizeof(tk->file), NULL));
+  PetscCall(
+      PetscOptionsReal("-fs_fill", "Filling level, as a fraction of the tank height", "", tk->fill, &tk->fill, NULL));
   PetscOptionsHeadEnd();
   PetscCall(PetscStrcmp(tk->shape, "rectangular", &rect));
   PetscCall(PetscStrcmp(tk->shape, "baffled", &baff));
   PetscCall(PetscStrcmp(tk->shape, "file", &file));
-  PetscCheck(rect || baff || file, PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE, "-fs_tank_shape %s is not known: expected rectangular, baffled or file", tk->shape);
-  PetscCheck(!file || tk->file[0], PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "-fs_tank_shape file needs -fs_tank_file <path>");
-  PetscCheck(tk->H > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_height %g must be positive", (double)tk->H);
-  PetscCheck(tk->fill >= 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_fill %g is outside the tank: expected a fraction in [0, 1] of the tank height", (double)tk->fill);
+  PetscCheck(rect || baff || file, PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE,
+             "-fs_tank_shape %s is not known: expected rectangular, baffled or file", tk->shape);
+  PetscCheck(!file || tk->file[0], PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+             "-fs_tank_shape file needs -fs_tank_file <path>");
+  PetscCheck(tk->H > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_height %g must be positive",
+             (double)tk->H);
+  PetscCheck(tk->fill >= 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_fill %g is outside the tank: expected a fraction in [0, 1] of the tank height", (double)tk->fill);
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 20.0, 1e-6, g));
   PetscCall(FSSolverSetDefaultTerms(s, FS_WALL_CASE_TERMS));
   PetscCall(FSSolverSetDefaultSpacing(s, tk->H / 30));
-  PetscCall(FSSolverSetDefaultCFL(s, 1.0)); /* RK4: same results as 0.4 on the hydrostatic tank and the dam break; 1.5 blows up at the dam break's wall impact */
+  PetscCall(FSSolverSetDefaultCFL(s, 1.0)); /* RK4: same results as 0.4 on the hydrostatic tank and the dam break; 1.5
+                                               blows up at the dam break's wall impact */
   PetscCall(FSSolverSetDefaultFinalTime(s, 1.0));
   PetscFunctionReturn(0);
 }
@@ -79,11 +91,14 @@ static PetscErrorCode SetUp(FSSolver s)
   else if (baff) PetscCall(FSWallsBaffledTank(&w, comm, tk->ncomp, tk->Lc, tk->t, tk->H, tk->gap, tk->hb));
   else PetscCall(FSWallsLoad(&w, comm, tk->file));
   PetscCall(FSWallsCheck(&w, comm)); /* sets the bounding box used below */
-  if (tk->fill > 0) PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
+  if (tk->fill > 0)
+    PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
   else { /* an empty tank (the 0 % point of a fill sweep): the structure alone, its payload all ballast */
     FSStructure st;
     PetscCall(FSSolverGetStructure(s, &st));
-    PetscCheck(st, comm, PETSC_ERR_ARG_WRONG, "-fs_fill 0 leaves the tank empty: there is nothing to compute without a structure (-fs_structure msd or modal)");
+    PetscCheck(st, comm, PETSC_ERR_ARG_WRONG,
+               "-fs_fill 0 leaves the tank empty: there is nothing to compute without a structure (-fs_structure msd "
+               "or modal)");
     const PetscReal lo[3] = {w.lo[0], w.lo[1], 0}, hi[3] = {w.hi[0], w.hi[1], 1};
     const PetscBool per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
     PetscCall(FSSolverSetDomain(s, lo, hi, per));
@@ -99,14 +114,14 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_Tank(FSSolver s, FSCaseOps *ops)
   PetscFunctionBegin;
   PetscCall(PetscNew(&tk));
   PetscCall(PetscStrncpy(tk->shape, "rectangular", sizeof(tk->shape)));
-  tk->L               = 0.7;
-  tk->H               = 0.06;
-  tk->ncomp           = 7;
-  tk->Lc              = 0.1;
-  tk->t               = 0.005;
-  tk->gap             = 0.0;
-  tk->hb              = 0.045;
-  tk->fill            = 0.5;
+  tk->L     = 0.7;
+  tk->H     = 0.06;
+  tk->ncomp = 7;
+  tk->Lc    = 0.1;
+  tk->t     = 0.005;
+  tk->gap   = 0.0;
+  tk->hb    = 0.045;
+  tk->fill  = 0.5;
   PetscCall(FSSolverSetCaseData(s, tk));
   ops->setfromoptions = SetFromOptions;
   ops->setup          = SetUp;

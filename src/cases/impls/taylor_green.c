@@ -28,9 +28,13 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(PetscOptionsReal("-fs_tg_L", "Box side L", "", tg->L, &tg->L, NULL));
   PetscCall(PetscOptionsReal("-fs_tg_Re", "Reynolds number U L / nu", "", tg->Re, &tg->Re, NULL));
   tg->depth = tg->L;
-  if (dim == 3) PetscCall(PetscOptionsReal("-fs_tg_depth", "Periodic depth of the extruded box (3-D)", "", tg->depth, &tg->depth, NULL));
+  if (dim == 3)
+    PetscCall(
+        PetscOptionsReal("-fs_tg_depth", "Periodic depth of the extruded box (3-D)", "", tg->depth, &tg->depth, NULL));
   PetscOptionsHeadEnd();
-  PetscCheck(tg->U > 0 && tg->L > 0 && tg->Re > 0 && tg->depth > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tg_U %g, -fs_tg_L %g, -fs_tg_Re %g, -fs_tg_depth %g must all be positive", (double)tg->U, (double)tg->L, (double)tg->Re, (double)tg->depth);
+  PetscCheck(tg->U > 0 && tg->L > 0 && tg->Re > 0 && tg->depth > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_tg_U %g, -fs_tg_L %g, -fs_tg_Re %g, -fs_tg_depth %g must all be positive", (double)tg->U,
+             (double)tg->L, (double)tg->Re, (double)tg->depth);
   PetscCall(FSSolverSetDefaultPhysics(s, 1.0, 10.0 * tg->U, tg->U * tg->L / tg->Re, g));
   PetscCall(FSSolverSetDefaultSpacing(s, tg->L / 50));
   PetscCall(FSSolverSetDefaultFinalTime(s, tg->L / tg->U));
@@ -59,8 +63,8 @@ static PetscErrorCode SetUp(FSSolver s)
   for (PetscInt p = 0; p < n; p++) {
     const PetscReal X = x[p * dim], Y = x[p * dim + 1];
     const PetscReal pr = rho0 * tg->U * tg->U / 4 * (PetscCosReal(2 * k * X) + PetscCosReal(2 * k * Y));
-    u[p * dim]     = tg->U * PetscSinReal(k * X) * PetscCosReal(k * Y);
-    u[p * dim + 1] = -tg->U * PetscCosReal(k * X) * PetscSinReal(k * Y);
+    u[p * dim]         = tg->U * PetscSinReal(k * X) * PetscCosReal(k * Y);
+    u[p * dim + 1]     = -tg->U * PetscCosReal(k * X) * PetscSinReal(k * Y);
     if (dim == 3) u[p * dim + 2] = 0;
     rho[p] = rho0 + pr / (c0 * c0);
     m[p]   = rho[p] * vol;
@@ -91,9 +95,9 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_TaylorGreen(FSSolver s, FSCaseOps *ops)
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&tg));
-  tg->U                = 1;
-  tg->L                = 1;
-  tg->Re               = 100;
+  tg->U  = 1;
+  tg->L  = 1;
+  tg->Re = 100;
   PetscCall(FSSolverSetCaseData(s, tg));
   ops->setfromoptions  = SetFromOptions;
   ops->setup           = SetUp;

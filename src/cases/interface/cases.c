@@ -35,12 +35,26 @@ PetscErrorCode FSCaseRegisterAll(void)
   PetscFunctionBegin;
   if (done) PetscFunctionReturn(0);
   done = PETSC_TRUE;
-  PetscCall(FSCaseRegister("taylor_green", "Taylor-Green vortices in a periodic box (2-D, or extruded in 3-D); exact viscous decay", FSCaseCreate_TaylorGreen));
-  PetscCall(FSCaseRegister("tank", "liquid at rest in a fixed tank: rectangular, baffled (the seed's) or from a file; hydrostatic start, wall loads", FSCaseCreate_Tank));
-  PetscCall(FSCaseRegister("dam_break", "2-D dam break (Martin & Moyce 1952): a column a wide and 2a high collapses in a tank; surge front and column height", FSCaseCreate_DamBreak));
-  PetscCall(FSCaseRegister("standing_wave", "linear standing wave (sloshing mode) in a rectangular tank with free-slip walls; linear theory's period and viscous decay", FSCaseCreate_StandingWave));
-  PetscCall(FSCaseRegister("beam", "the dry structure alone, no liquid: free decay, static load (-fs_structure msd|modal, -fs_beam_*)", FSCaseCreate_Beam));
-  PetscCall(FSCaseRegister("shear", "periodic shear flow u = U sin(2 pi y/L) in 2-D or 3-D; exact viscous decay", FSCaseCreate_Shear));
+  PetscCall(FSCaseRegister("taylor_green",
+                           "Taylor-Green vortices in a periodic box (2-D, or extruded in 3-D); exact viscous decay",
+                           FSCaseCreate_TaylorGreen));
+  PetscCall(FSCaseRegister(
+      "tank",
+      "liquid at rest in a fixed tank: rectangular, baffled (the seed's) or from a file; hydrostatic start, wall loads",
+      FSCaseCreate_Tank));
+  PetscCall(FSCaseRegister("dam_break",
+                           "2-D dam break (Martin & Moyce 1952): a column a wide and 2a high collapses in a tank; "
+                           "surge front and column height",
+                           FSCaseCreate_DamBreak));
+  PetscCall(FSCaseRegister("standing_wave",
+                           "linear standing wave (sloshing mode) in a rectangular tank with free-slip walls; linear "
+                           "theory's period and viscous decay",
+                           FSCaseCreate_StandingWave));
+  PetscCall(FSCaseRegister(
+      "beam", "the dry structure alone, no liquid: free decay, static load (-fs_structure msd|modal, -fs_beam_*)",
+      FSCaseCreate_Beam));
+  PetscCall(FSCaseRegister("shear", "periodic shear flow u = U sin(2 pi y/L) in 2-D or 3-D; exact viscous decay",
+                           FSCaseCreate_Shear));
   PetscFunctionReturn(0);
 }
 

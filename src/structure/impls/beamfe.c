@@ -13,13 +13,14 @@
 #include "beamfe.h"
 #include <slepceps.h>
 
-/* FSBeamParamsDefault - the seed's beam (E = 210 GPa, I = 5.57e-7 m^4, L = 2.48 m, 13.04 kg/m), no payload, xi = 1.5 %. */
+/* FSBeamParamsDefault - the seed's beam (E = 210 GPa, I = 5.57e-7 m^4, L = 2.48 m, 13.04 kg/m), no payload, xi = 1.5 %.
+ */
 PetscErrorCode FSBeamParamsDefault(FSBeamParams *p)
 {
   PetscFunctionBegin;
   PetscCall(PetscMemzero(p, sizeof(*p)));
   p->E    = 210e9;
-  p->Iz    = 5.57e-7;
+  p->Iz   = 5.57e-7;
   p->L    = 2.48;
   p->mlin = 13.04;
   p->xi   = 0.015;
@@ -37,11 +38,11 @@ PetscErrorCode FSBeamParamsDefault(FSBeamParams *p)
 .  -fs_beam_tank_position <L>        - where the tank is attached, x in (0, L]
 .  -fs_beam_tank_mass <0>            - tank mass (with its supports), at the tank position
 .  -fs_beam_ballast_mass <0>         - ballast or solid mass in the tank
-.  -fs_beam_payload_mass <0>         - liquid + ballast: the ballast makes up the difference (fill-level sweeps at equal mass)
-.  -fs_beam_tank_inertia <0>         - rotary inertia of tank + ballast about z at the tank position (kg m^2)
-.  -fs_beam_damping <0.015>          - damping ratio xi, in [0, 1)
-.  -fs_beam_preload <0>              - initial deflection at the tank position (static shape, released from rest)
-.  -fs_beam_force <0>                - constant point force along y from t = 0 (e.g. -M g of masses hung at the tip)
+.  -fs_beam_payload_mass <0>         - liquid + ballast: the ballast makes up the difference (fill-level sweeps at equal
+mass) .  -fs_beam_tank_inertia <0>         - rotary inertia of tank + ballast about z at the tank position (kg m^2) .
+-fs_beam_damping <0.015>          - damping ratio xi, in [0, 1) .  -fs_beam_preload <0>              - initial
+deflection at the tank position (static shape, released from rest) .  -fs_beam_force <0>                - constant point
+force along y from t = 0 (e.g. -M g of masses hung at the tip)
 -  -fs_beam_force_position <a>       - where that force acts, in (0, L]
 */
 PetscErrorCode FSBeamParamsSetFromOptions(FSBeamParams *p, MPI_Comm comm, PetscOptionItems *PetscOptionsObject)
@@ -51,31 +52,62 @@ PetscErrorCode FSBeamParamsSetFromOptions(FSBeamParams *p, MPI_Comm comm, PetscO
   PetscFunctionBegin;
   PetscOptionsHeadBegin(PetscOptionsObject, "Cantilever beam carrying the tank (structure models msd and modal)");
   PetscCall(PetscOptionsReal("-fs_beam_E", "Young's modulus E (Pa)", "FSBeamParamsSetFromOptions", p->E, &p->E, NULL));
-  PetscCheck(p->E > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_E %g must be positive (Young's modulus in Pa)", (double)p->E);
-  PetscCall(PetscOptionsReal("-fs_beam_I", "Second moment of area I (m^4)", "FSBeamParamsSetFromOptions", p->Iz, &p->Iz, NULL));
-  PetscCheck(p->Iz > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_I %g must be positive (second moment of area in m^4)", (double)p->Iz);
-  PetscCall(PetscOptionsReal("-fs_beam_length", "Effective length L (m)", "FSBeamParamsSetFromOptions", p->L, &p->L, NULL));
+  PetscCheck(p->E > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_E %g must be positive (Young's modulus in Pa)",
+             (double)p->E);
+  PetscCall(PetscOptionsReal("-fs_beam_I", "Second moment of area I (m^4)", "FSBeamParamsSetFromOptions", p->Iz, &p->Iz,
+                             NULL));
+  PetscCheck(p->Iz > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_I %g must be positive (second moment of area in m^4)",
+             (double)p->Iz);
+  PetscCall(
+      PetscOptionsReal("-fs_beam_length", "Effective length L (m)", "FSBeamParamsSetFromOptions", p->L, &p->L, NULL));
   PetscCheck(p->L > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_length %g must be positive", (double)p->L);
-  PetscCall(PetscOptionsReal("-fs_beam_mass_per_length", "Mass per unit length (kg/m)", "FSBeamParamsSetFromOptions", p->mlin, &p->mlin, NULL));
-  PetscCheck(p->mlin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_mass_per_length %g must be positive", (double)p->mlin);
+  PetscCall(PetscOptionsReal("-fs_beam_mass_per_length", "Mass per unit length (kg/m)", "FSBeamParamsSetFromOptions",
+                             p->mlin, &p->mlin, NULL));
+  PetscCheck(p->mlin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_mass_per_length %g must be positive",
+             (double)p->mlin);
   if (p->a <= 0) p->a = p->L;
-  PetscCall(PetscOptionsReal("-fs_beam_tank_position", "Where the tank is attached, x in (0, L] (default L, the tip)", "FSBeamParamsSetFromOptions", p->a, &p->a, &set));
-  PetscCheck(p->a > 0 && p->a <= p->L, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_tank_position %g is outside the beam: expected a value in (0, %g] (-fs_beam_length)", (double)p->a, (double)p->L);
-  PetscCall(PetscOptionsReal("-fs_beam_tank_mass", "Tank mass with its supports (kg), at the tank position", "FSBeamParamsSetFromOptions", p->tank_mass, &p->tank_mass, NULL));
-  PetscCheck(p->tank_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_tank_mass %g must be non-negative", (double)p->tank_mass);
-  PetscCall(PetscOptionsReal("-fs_beam_ballast_mass", "Ballast or solid mass in the tank (kg)", "FSBeamParamsSetFromOptions", p->ballast_mass, &p->ballast_mass, NULL));
-  PetscCheck(p->ballast_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_ballast_mass %g must be non-negative", (double)p->ballast_mass);
-  PetscCall(PetscOptionsReal("-fs_beam_payload_mass", "Mass of the liquid and the ballast together (kg): the ballast makes up the difference to the liquid (0: -fs_beam_ballast_mass as given)", "FSBeamParamsSetFromOptions", p->payload_mass, &p->payload_mass, NULL));
-  PetscCheck(p->payload_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_payload_mass %g must be non-negative", (double)p->payload_mass);
-  PetscCall(PetscOptionsReal("-fs_beam_tank_inertia", "Rotary inertia of tank and ballast about z at the tank position (kg m^2)", "FSBeamParamsSetFromOptions", p->tank_inertia, &p->tank_inertia, NULL));
-  PetscCheck(p->tank_inertia >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_tank_inertia %g must be non-negative", (double)p->tank_inertia);
-  PetscCall(PetscOptionsReal("-fs_beam_damping", "Damping ratio xi (fraction of critical)", "FSBeamParamsSetFromOptions", p->xi, &p->xi, NULL));
-  PetscCheck(p->xi >= 0 && p->xi < 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_damping %g is out of range: expected a damping ratio in [0, 1)", (double)p->xi);
-  PetscCall(PetscOptionsReal("-fs_beam_preload", "Initial deflection at the tank position (static shape), released from rest (m)", "FSBeamParamsSetFromOptions", p->preload, &p->preload, NULL));
-  PetscCall(PetscOptionsReal("-fs_beam_force", "Constant point force along y applied from t = 0 (N), e.g. the weight of masses hung at the tip", "FSBeamParamsSetFromOptions", p->force, &p->force, NULL));
+  PetscCall(PetscOptionsReal("-fs_beam_tank_position", "Where the tank is attached, x in (0, L] (default L, the tip)",
+                             "FSBeamParamsSetFromOptions", p->a, &p->a, &set));
+  PetscCheck(p->a > 0 && p->a <= p->L, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_beam_tank_position %g is outside the beam: expected a value in (0, %g] (-fs_beam_length)",
+             (double)p->a, (double)p->L);
+  PetscCall(PetscOptionsReal("-fs_beam_tank_mass", "Tank mass with its supports (kg), at the tank position",
+                             "FSBeamParamsSetFromOptions", p->tank_mass, &p->tank_mass, NULL));
+  PetscCheck(p->tank_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_tank_mass %g must be non-negative",
+             (double)p->tank_mass);
+  PetscCall(PetscOptionsReal("-fs_beam_ballast_mass", "Ballast or solid mass in the tank (kg)",
+                             "FSBeamParamsSetFromOptions", p->ballast_mass, &p->ballast_mass, NULL));
+  PetscCheck(p->ballast_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_ballast_mass %g must be non-negative",
+             (double)p->ballast_mass);
+  PetscCall(PetscOptionsReal("-fs_beam_payload_mass",
+                             "Mass of the liquid and the ballast together (kg): the ballast makes up the difference to "
+                             "the liquid (0: -fs_beam_ballast_mass as given)",
+                             "FSBeamParamsSetFromOptions", p->payload_mass, &p->payload_mass, NULL));
+  PetscCheck(p->payload_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_payload_mass %g must be non-negative",
+             (double)p->payload_mass);
+  PetscCall(PetscOptionsReal("-fs_beam_tank_inertia",
+                             "Rotary inertia of tank and ballast about z at the tank position (kg m^2)",
+                             "FSBeamParamsSetFromOptions", p->tank_inertia, &p->tank_inertia, NULL));
+  PetscCheck(p->tank_inertia >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_tank_inertia %g must be non-negative",
+             (double)p->tank_inertia);
+  PetscCall(PetscOptionsReal("-fs_beam_damping", "Damping ratio xi (fraction of critical)",
+                             "FSBeamParamsSetFromOptions", p->xi, &p->xi, NULL));
+  PetscCheck(p->xi >= 0 && p->xi < 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_beam_damping %g is out of range: expected a damping ratio in [0, 1)", (double)p->xi);
+  PetscCall(PetscOptionsReal("-fs_beam_preload",
+                             "Initial deflection at the tank position (static shape), released from rest (m)",
+                             "FSBeamParamsSetFromOptions", p->preload, &p->preload, NULL));
+  PetscCall(
+      PetscOptionsReal("-fs_beam_force",
+                       "Constant point force along y applied from t = 0 (N), e.g. the weight of masses hung at the tip",
+                       "FSBeamParamsSetFromOptions", p->force, &p->force, NULL));
   if (p->force_position <= 0) p->force_position = p->a;
-  PetscCall(PetscOptionsReal("-fs_beam_force_position", "Where -fs_beam_force acts, x in (0, L] (default: the tank position)", "FSBeamParamsSetFromOptions", p->force_position, &p->force_position, NULL));
-  PetscCheck(p->force_position > 0 && p->force_position <= p->L, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_force_position %g is outside the beam: expected a value in (0, %g] (-fs_beam_length)", (double)p->force_position, (double)p->L);
+  PetscCall(PetscOptionsReal("-fs_beam_force_position",
+                             "Where -fs_beam_force acts, x in (0, L] (default: the tank position)",
+                             "FSBeamParamsSetFromOptions", p->force_position, &p->force_position, NULL));
+  PetscCheck(p->force_position > 0 && p->force_position <= p->L, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_beam_force_position %g is outside the beam: expected a value in (0, %g] (-fs_beam_length)",
+             (double)p->force_position, (double)p->L);
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }
@@ -89,7 +121,9 @@ PetscErrorCode FSBeamParamsResolvePayload(FSBeamParams *p, MPI_Comm comm, PetscR
 {
   PetscFunctionBegin;
   if (p->payload_mass <= 0) PetscFunctionReturn(0);
-  PetscCheck(p->payload_mass >= liquid_mass, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_payload_mass %g kg is less than the liquid's mass %g kg: raise it or lower the fill", (double)p->payload_mass, (double)liquid_mass);
+  PetscCheck(p->payload_mass >= liquid_mass, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_beam_payload_mass %g kg is less than the liquid's mass %g kg: raise it or lower the fill",
+             (double)p->payload_mass, (double)liquid_mass);
   p->ballast_mass = p->payload_mass - liquid_mass;
   PetscFunctionReturn(0);
 }
@@ -97,10 +131,17 @@ PetscErrorCode FSBeamParamsResolvePayload(FSBeamParams *p, MPI_Comm comm, PetscR
 PetscErrorCode FSBeamParamsView(const FSBeamParams *p, PetscViewer viewer)
 {
   PetscFunctionBegin;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "beam: E = %g Pa, I = %g m^4, L = %g m, %g kg/m (%g kg); EI = %g N m^2\n", (double)p->E, (double)p->Iz, (double)p->L, (double)p->mlin, (double)(p->mlin * p->L), (double)(p->E * p->Iz)));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "tank at x = %g m: tank %g kg, ballast %g kg, rotary inertia %g kg m^2; damping %g\n", (double)p->a, (double)p->tank_mass, (double)p->ballast_mass, (double)p->tank_inertia, (double)p->xi));
-  if (p->payload_mass > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "payload (liquid + ballast) %g kg\n", (double)p->payload_mass));
-  if (p->preload != 0 || p->force != 0) PetscCall(PetscViewerASCIIPrintf(viewer, "preload %g m at the tank; force %g N at x = %g m\n", (double)p->preload, (double)p->force, (double)p->force_position));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "beam: E = %g Pa, I = %g m^4, L = %g m, %g kg/m (%g kg); EI = %g N m^2\n",
+                                   (double)p->E, (double)p->Iz, (double)p->L, (double)p->mlin, (double)(p->mlin * p->L),
+                                   (double)(p->E * p->Iz)));
+  PetscCall(PetscViewerASCIIPrintf(
+      viewer, "tank at x = %g m: tank %g kg, ballast %g kg, rotary inertia %g kg m^2; damping %g\n", (double)p->a,
+      (double)p->tank_mass, (double)p->ballast_mass, (double)p->tank_inertia, (double)p->xi));
+  if (p->payload_mass > 0)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "payload (liquid + ballast) %g kg\n", (double)p->payload_mass));
+  if (p->preload != 0 || p->force != 0)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "preload %g m at the tank; force %g N at x = %g m\n", (double)p->preload,
+                                     (double)p->force, (double)p->force_position));
   PetscFunctionReturn(0);
 }
 
@@ -132,13 +173,16 @@ PetscReal FSBeamInfluence(const FSBeamParams *p, PetscReal x, PetscReal xf)
 /* FSBeamFECreate - the mesh (uniform on [0, a] and on [a, L], with a node at a) and the matrices K and M. */
 PetscErrorCode FSBeamFECreate(const FSBeamParams *p, PetscInt ne, FSBeamFE *fe)
 {
-  PetscInt ne1, ne2;
+  PetscInt        ne1, ne2;
   const PetscReal EI = p->E * p->Iz;
 
   PetscFunctionBegin;
   PetscCall(PetscMemzero(fe, sizeof(*fe)));
   if (p->a < p->L * (1 - 1e-12)) {
-    PetscCheck(ne >= 2, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "-fs_modal_elements %" PetscInt_FMT ": a tank inside the beam (-fs_beam_tank_position %g < L) needs at least 2 elements", ne, (double)p->a);
+    PetscCheck(ne >= 2, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+               "-fs_modal_elements %" PetscInt_FMT
+               ": a tank inside the beam (-fs_beam_tank_position %g < L) needs at least 2 elements",
+               ne, (double)p->a);
     ne1 = PetscMin(ne - 1, PetscMax(1, (PetscInt)(ne * p->a / p->L + 0.5)));
     ne2 = ne - ne1;
   } else {
@@ -156,9 +200,14 @@ PetscErrorCode FSBeamFECreate(const FSBeamParams *p, PetscInt ne, FSBeamFE *fe)
   PetscCall(MatCreateSeqAIJ(PETSC_COMM_SELF, fe->N, fe->N, 6, NULL, &fe->M));
   for (PetscInt e = 0; e < ne; e++) {
     const PetscReal l = fe->x[e + 1] - fe->x[e], k = EI / (l * l * l), m = p->mlin * l / 420;
-    const PetscReal Ke[16] = {12 * k, 6 * l * k, -12 * k, 6 * l * k, 6 * l * k, 4 * l * l * k, -6 * l * k, 2 * l * l * k, -12 * k, -6 * l * k, 12 * k, -6 * l * k, 6 * l * k, 2 * l * l * k, -6 * l * k, 4 * l * l * k};
-    const PetscReal Me[16] = {156 * m, 22 * l * m, 54 * m, -13 * l * m, 22 * l * m, 4 * l * l * m, 13 * l * m, -3 * l * l * m, 54 * m, 13 * l * m, 156 * m, -22 * l * m, -13 * l * m, -3 * l * l * m, -22 * l * m, 4 * l * l * m};
-    const PetscInt  idx[4] = {2 * e - 2, 2 * e - 1, 2 * e, 2 * e + 1}; /* node e's DOFs are negative for e = 0: dropped (clamp) */
+    const PetscReal Ke[16] = {12 * k,     6 * l * k,     -12 * k,    6 * l * k,    6 * l * k, 4 * l * l * k,
+                              -6 * l * k, 2 * l * l * k, -12 * k,    -6 * l * k,   12 * k,    -6 * l * k,
+                              6 * l * k,  2 * l * l * k, -6 * l * k, 4 * l * l * k};
+    const PetscReal Me[16] = {156 * m,     22 * l * m,     54 * m,      -13 * l * m,  22 * l * m, 4 * l * l * m,
+                              13 * l * m,  -3 * l * l * m, 54 * m,      13 * l * m,   156 * m,    -22 * l * m,
+                              -13 * l * m, -3 * l * l * m, -22 * l * m, 4 * l * l * m};
+    const PetscInt  idx[4] = {2 * e - 2, 2 * e - 1, 2 * e,
+                              2 * e + 1}; /* node e's DOFs are negative for e = 0: dropped (clamp) */
     PetscCall(MatSetValues(fe->K, 4, idx, 4, idx, Ke, ADD_VALUES));
     PetscCall(MatSetValues(fe->M, 4, idx, 4, idx, Me, ADD_VALUES));
   }
@@ -230,11 +279,11 @@ PetscErrorCode FSBeamFEEvaluate(const FSBeamFE *fe, const PetscReal u[], PetscRe
 
 PetscErrorCode FSBeamFEStatic(const FSBeamFE *fe, PetscReal x, PetscReal F, PetscReal Mz, PetscReal u[])
 {
-  Vec       f, v;
-  KSP       ksp;
-  PC        pc;
-  PetscInt  dof[4];
-  PetscReal Nw[4], Nt[4];
+  Vec                f, v;
+  KSP                ksp;
+  PC                 pc;
+  PetscInt           dof[4];
+  PetscReal          Nw[4], Nt[4];
   const PetscScalar *a;
 
   PetscFunctionBegin;
@@ -293,7 +342,8 @@ PetscErrorCode FSBeamFEModes(const FSBeamFE *fe, PetscInt n, const char prefix[]
   PetscReal lambda;
 
   PetscFunctionBegin;
-  PetscCheck(n >= 1 && n <= fe->N, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "The beam mesh has %" PetscInt_FMT " DOFs: it cannot give %" PetscInt_FMT " modes", fe->N, n);
+  PetscCheck(n >= 1 && n <= fe->N, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "The beam mesh has %" PetscInt_FMT " DOFs: it cannot give %" PetscInt_FMT " modes", fe->N, n);
   { /* front ends start PETSc, not SLEPc: initialize SLEPc on first use (its finalization is a no-op then) */
     PetscBool init;
     PetscCall(SlepcInitialized(&init));
@@ -318,14 +368,18 @@ PetscErrorCode FSBeamFEModes(const FSBeamFE *fe, PetscInt n, const char prefix[]
   PetscCall(EPSSetFromOptions(eps));
   PetscCall(EPSSolve(eps));
   PetscCall(EPSGetConverged(eps, &nconv));
-  PetscCheck(nconv >= n, PETSC_COMM_SELF, PETSC_ERR_CONV_FAILED, "SLEPc found %" PetscInt_FMT " of the %" PetscInt_FMT " beam modes asked for (-fs_modal_modes): use more elements (-fs_modal_elements) or fewer modes", nconv, n);
+  PetscCheck(nconv >= n, PETSC_COMM_SELF, PETSC_ERR_CONV_FAILED,
+             "SLEPc found %" PetscInt_FMT " of the %" PetscInt_FMT
+             " beam modes asked for (-fs_modal_modes): use more elements (-fs_modal_elements) or fewer modes",
+             nconv, n);
   PetscCall(MatCreateVecs(fe->K, &xr, NULL));
   for (PetscInt i = 0; i < n; i++) {
     const PetscScalar *a;
     PetscScalar        kr;
     PetscCall(EPSGetEigenpair(eps, i, &kr, NULL, xr, NULL));
     lambda = PetscRealPart(kr);
-    PetscCheck(lambda > 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Beam mode %" PetscInt_FMT " has eigenvalue omega^2 = %g <= 0", i + 1, (double)lambda);
+    PetscCheck(lambda > 0, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "Beam mode %" PetscInt_FMT " has eigenvalue omega^2 = %g <= 0", i + 1, (double)lambda);
     omega[i] = PetscSqrtReal(lambda);
     PetscCall(VecGetArrayRead(xr, &a));
     for (PetscInt j = 0; j < fe->N; j++) phi[i * fe->N + j] = a[j];

@@ -71,8 +71,12 @@ static PetscErrorCode SetUp(FSStructure st)
 
   PetscFunctionBegin;
   PetscCall(CallbackCheck(st, "setup", (*c->cb.setup)(c->impl, st, &ndof, &T)));
-  PetscCheck(ndof >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "Structure %s: its setup callback gave %" PetscInt_FMT " DOFs: expected a non-negative number", st->name, ndof);
-  PetscCheck(T >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "Structure %s: its setup callback gave the shortest period %g: expected a non-negative number (0: none)", st->name, (double)T);
+  PetscCheck(ndof >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Structure %s: its setup callback gave %" PetscInt_FMT " DOFs: expected a non-negative number", st->name,
+             ndof);
+  PetscCheck(T >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Structure %s: its setup callback gave the shortest period %g: expected a non-negative number (0: none)",
+             st->name, (double)T);
   st->ndof       = ndof;
   st->min_period = T;
   PetscFunctionReturn(0);
@@ -107,7 +111,8 @@ static PetscErrorCode Motion(FSStructure st, const PetscReal y[], const PetscRea
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Columns(FSStructure st, PetscReal t, const PetscReal y[], const PetscReal ydot[], PetscReal vals[])
+static PetscErrorCode Columns(FSStructure st, PetscReal t, const PetscReal y[], const PetscReal ydot[],
+                              PetscReal vals[])
 {
   Callbacks *c = (Callbacks *)st->data;
 
@@ -129,7 +134,8 @@ static PetscErrorCode Energy(FSStructure st, const PetscReal y[], PetscReal E[3]
 static PetscErrorCode View(FSStructure st, PetscViewer viewer)
 {
   PetscFunctionBegin;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "defined by callbacks: %" PetscInt_FMT " DOFs, shortest period %g s\n", st->ndof, (double)st->min_period));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "defined by callbacks: %" PetscInt_FMT " DOFs, shortest period %g s\n",
+                                   st->ndof, (double)st->min_period));
   PetscFunctionReturn(0);
 }
 
@@ -153,17 +159,17 @@ static PetscErrorCode FSStructureCreate_Callbacks(FSStructure st)
   while (e && strcmp(e->name, st->name)) e = e->next;
   PetscCheck(e, st->comm, PETSC_ERR_PLIB, "Structure %s has no registered callbacks", st->name);
   PetscCall(PetscNew(&c));
-  c->cb                  = e->cb; /* a copy: registering the name again does not change this instance */
-  c->impl                = e->ctx;
-  st->data               = c;
-  st->ops.setup          = SetUp;
-  st->ops.initial        = Initial;
-  st->ops.rhs            = RHS;
-  st->ops.motion         = Motion;
-  st->ops.columns        = e->cb.columns ? Columns : NULL;
-  st->ops.energy         = e->cb.energy ? Energy : NULL;
-  st->ops.view           = View;
-  st->ops.destroy        = Destroy;
+  c->cb           = e->cb; /* a copy: registering the name again does not change this instance */
+  c->impl         = e->ctx;
+  st->data        = c;
+  st->ops.setup   = SetUp;
+  st->ops.initial = Initial;
+  st->ops.rhs     = RHS;
+  st->ops.motion  = Motion;
+  st->ops.columns = e->cb.columns ? Columns : NULL;
+  st->ops.energy  = e->cb.energy ? Energy : NULL;
+  st->ops.view    = View;
+  st->ops.destroy = Destroy;
   if (e->cb.create) {
     PetscCall(CallbackCheck(st, "create", (*e->cb.create)(e->ctx, st, &c->impl)));
     c->created = PETSC_TRUE;
@@ -190,12 +196,14 @@ static PetscErrorCode FSStructureCreate_Callbacks(FSStructure st)
 
 .seealso: FSStructureRegister(), FSStructureCallbacksSetError(), FSStructureAddColumn()
 */
-PetscErrorCode FSStructureRegisterCallbacks(const char name[], const char description[], const FSStructureCallbacks *cb, void *ctx)
+PetscErrorCode FSStructureRegisterCallbacks(const char name[], const char description[], const FSStructureCallbacks *cb,
+                                            void *ctx)
 {
   FSCallbackEntry *e = FSCallbackEntries, *last = NULL;
 
   PetscFunctionBegin;
-  PetscCheck(cb && cb->setup && cb->rhs && cb->motion, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Structure %s: the callbacks setup, rhs and motion are required", name);
+  PetscCheck(cb && cb->setup && cb->rhs && cb->motion, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL,
+             "Structure %s: the callbacks setup, rhs and motion are required", name);
   for (; e; last = e, e = e->next)
     if (!strcmp(e->name, name)) break;
   if (!e) {

@@ -28,35 +28,52 @@ typedef struct {
   PetscReal    damp[FS_MODAL_MAX_MODES];
   PetscBool    view;
   FSBeamFE     fe;
-  PetscReal   *omega, *phi, *mass, *xi;     /* per mode; phi: nmodes x N */
-  PetscReal   *wa, *ta, *wp;                /* phi_i(a), theta_i(a), phi_i(x_p) */
-  PetscReal   *y0;                          /* initial modal coordinates */
-  PetscReal    static_modes, static_fe;     /* deflection at a under -fs_beam_force: from the modes, from the FE solve */
+  PetscReal   *omega, *phi, *mass, *xi; /* per mode; phi: nmodes x N */
+  PetscReal   *wa, *ta, *wp;            /* phi_i(a), theta_i(a), phi_i(x_p) */
+  PetscReal   *y0;                      /* initial modal coordinates */
+  PetscReal    static_modes, static_fe; /* deflection at a under -fs_beam_force: from the modes, from the FE solve */
 } Modal;
 
 static PetscErrorCode SetFromOptions(FSStructure st, PetscOptionItems *PetscOptionsObject)
 {
-  Modal    *p = (Modal *)st->data;
+  Modal    *p  = (Modal *)st->data;
   PetscInt  nd = FS_MODAL_MAX_MODES;
   PetscBool set;
 
   PetscFunctionBegin;
   PetscCall(FSBeamParamsSetFromOptions(&p->beam, st->comm, PetscOptionsObject));
-  PetscOptionsHeadBegin(PetscOptionsObject, "Structure modal: modal Euler-Bernoulli beam, modes from finite elements and SLEPc (seed Eqs. 18-27)");
+  PetscOptionsHeadBegin(
+      PetscOptionsObject,
+      "Structure modal: modal Euler-Bernoulli beam, modes from finite elements and SLEPc (seed Eqs. 18-27)");
   PetscCall(PetscOptionsInt("-fs_modal_elements", "Hermite cubic beam elements", "", p->ne, &p->ne, NULL));
-  PetscCheck(p->ne >= 1, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_modal_elements %" PetscInt_FMT " must be at least 1", p->ne);
+  PetscCheck(p->ne >= 1, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_modal_elements %" PetscInt_FMT " must be at least 1",
+             p->ne);
   PetscCall(PetscOptionsInt("-fs_modal_modes", "Number of modes kept", "", p->nmodes, &p->nmodes, NULL));
-  PetscCheck(p->nmodes >= 1 && p->nmodes <= FS_MODAL_MAX_MODES, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_modal_modes %" PetscInt_FMT " is out of range: expected 1 to %d", p->nmodes, FS_MODAL_MAX_MODES);
-  PetscCheck(p->nmodes <= 2 * p->ne, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_modal_modes %" PetscInt_FMT " is more than the mesh can give: %" PetscInt_FMT " elements (-fs_modal_elements) have %" PetscInt_FMT " DOFs, hence at most %" PetscInt_FMT " modes", p->nmodes, p->ne, 2 * p->ne, 2 * p->ne);
+  PetscCheck(p->nmodes >= 1 && p->nmodes <= FS_MODAL_MAX_MODES, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_modal_modes %" PetscInt_FMT " is out of range: expected 1 to %d", p->nmodes, FS_MODAL_MAX_MODES);
+  PetscCheck(p->nmodes <= 2 * p->ne, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_modal_modes %" PetscInt_FMT " is more than the mesh can give: %" PetscInt_FMT
+             " elements (-fs_modal_elements) have %" PetscInt_FMT " DOFs, hence at most %" PetscInt_FMT " modes",
+             p->nmodes, p->ne, 2 * p->ne, 2 * p->ne);
   for (PetscInt i = 0; i < FS_MODAL_MAX_MODES; i++) p->damp[i] = p->beam.xi;
-  PetscCall(PetscOptionsRealArray("-fs_modal_damping", "Damping ratio of each mode, comma separated (default -fs_beam_damping for all)", "", p->damp, &nd, &set));
+  PetscCall(PetscOptionsRealArray("-fs_modal_damping",
+                                  "Damping ratio of each mode, comma separated (default -fs_beam_damping for all)", "",
+                                  p->damp, &nd, &set));
   p->ndamp = set ? nd : 0;
   if (set) {
-    PetscCheck(nd >= 1 && nd <= p->nmodes, st->comm, PETSC_ERR_ARG_SIZ, "-fs_modal_damping has %" PetscInt_FMT " values: expected 1 to %" PetscInt_FMT " (-fs_modal_modes); modes without a value take -fs_beam_damping", nd, p->nmodes);
-    for (PetscInt i = 0; i < nd; i++) PetscCheck(p->damp[i] >= 0 && p->damp[i] < 1, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_modal_damping value %g (mode %" PetscInt_FMT ") is out of range: expected a damping ratio in [0, 1)", (double)p->damp[i], i + 1);
+    PetscCheck(nd >= 1 && nd <= p->nmodes, st->comm, PETSC_ERR_ARG_SIZ,
+               "-fs_modal_damping has %" PetscInt_FMT " values: expected 1 to %" PetscInt_FMT
+               " (-fs_modal_modes); modes without a value take -fs_beam_damping",
+               nd, p->nmodes);
+    for (PetscInt i = 0; i < nd; i++)
+      PetscCheck(p->damp[i] >= 0 && p->damp[i] < 1, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
+                 "-fs_modal_damping value %g (mode %" PetscInt_FMT
+                 ") is out of range: expected a damping ratio in [0, 1)",
+                 (double)p->damp[i], i + 1);
     for (PetscInt i = nd; i < FS_MODAL_MAX_MODES; i++) p->damp[i] = p->beam.xi;
   }
-  PetscCall(PetscOptionsBool("-fs_modal_view", "Print the modes: frequencies, k_n L, modal masses", "", p->view, &p->view, NULL));
+  PetscCall(PetscOptionsBool("-fs_modal_view", "Print the modes: frequencies, k_n L, modal masses", "", p->view,
+                             &p->view, NULL));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }
@@ -113,7 +130,8 @@ static PetscErrorCode SetUp(FSStructure st)
   }
   /* the static deflection at the tank under -fs_beam_force: from the kept modes, and from the full FE model */
   p->static_modes = 0;
-  for (PetscInt i = 0; i < n; i++) p->static_modes += p->wa[i] * p->wp[i] * b->force / (p->omega[i] * p->omega[i] * p->mass[i]);
+  for (PetscInt i = 0; i < n; i++)
+    p->static_modes += p->wa[i] * p->wp[i] * b->force / (p->omega[i] * p->omega[i] * p->mass[i]);
   PetscCall(FSBeamFEStatic(&p->fe, b->force_position, b->force, 0.0, ws));
   PetscCall(FSBeamFEEvaluate(&p->fe, ws, b->a, &p->static_fe, NULL));
   PetscCall(PetscFree(ws));
@@ -144,9 +162,10 @@ static PetscErrorCode RHS(FSStructure st, PetscReal t, const PetscReal y[], cons
 
   PetscFunctionBegin;
   for (PetscInt i = 0; i < n; i++) {
-    const PetscReal w = p->omega[i], g = p->wa[i] * loads->force[1] + p->ta[i] * loads->moment[2] + p->wp[i] * p->beam.force;
-    ydot[i]     = y[n + i];
-    ydot[n + i] = g / p->mass[i] - 2 * p->xi[i] * w * y[n + i] - w * w * y[i];
+    const PetscReal w = p->omega[i],
+                    g = p->wa[i] * loads->force[1] + p->ta[i] * loads->moment[2] + p->wp[i] * p->beam.force;
+    ydot[i]           = y[n + i];
+    ydot[n + i]       = g / p->mass[i] - 2 * p->xi[i] * w * y[n + i] - w * w * y[i];
   }
   PetscFunctionReturn(0);
 }
@@ -189,7 +208,8 @@ static PetscErrorCode Energy(FSStructure st, const PetscReal y[], PetscReal E[3]
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Columns(FSStructure st, PetscReal t, const PetscReal y[], const PetscReal ydot[], PetscReal vals[])
+static PetscErrorCode Columns(FSStructure st, PetscReal t, const PetscReal y[], const PetscReal ydot[],
+                              PetscReal vals[])
 {
   Modal *p = (Modal *)st->data;
 
@@ -211,14 +231,17 @@ static PetscErrorCode Snapshot(FSStructure st, const char dir[], PetscReal t, Pe
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
   fp = fopen(tmp, "w");
   PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "Cannot write the beam shape to %s", tmp);
-  PetscCheck(fprintf(fp, "# time %.10e step %" PetscInt_FMT "\nx,w,rotation\n%.10e,%.10e,%.10e\n", (double)t, step, 0.0, 0.0, 0.0) > 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot write %s", tmp);
+  PetscCheck(fprintf(fp, "# time %.10e step %" PetscInt_FMT "\nx,w,rotation\n%.10e,%.10e,%.10e\n", (double)t, step, 0.0,
+                     0.0, 0.0) > 0,
+             PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot write %s", tmp);
   for (PetscInt k = 1; k <= p->fe.ne; k++) {
     PetscReal w = 0, th = 0;
     for (PetscInt i = 0; i < n; i++) {
       w += p->phi[i * N + 2 * (k - 1)] * y[i];
       th += p->phi[i * N + 2 * (k - 1) + 1] * y[i];
     }
-    PetscCheck(fprintf(fp, "%.10e,%.10e,%.10e\n", (double)p->fe.x[k], (double)w, (double)th) > 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot write %s", tmp);
+    PetscCheck(fprintf(fp, "%.10e,%.10e,%.10e\n", (double)p->fe.x[k], (double)w, (double)th) > 0, PETSC_COMM_SELF,
+               PETSC_ERR_FILE_WRITE, "Cannot write %s", tmp);
   }
   PetscCheck(fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot close %s", tmp);
   PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot rename %s to %s", tmp, path);
@@ -238,12 +261,22 @@ static PetscErrorCode View(FSStructure st, PetscViewer viewer)
 
   PetscFunctionBegin;
   PetscCall(FSBeamParamsView(&p->beam, viewer));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "modal beam: %" PetscInt_FMT " modes from %" PetscInt_FMT " Hermite elements (SLEPc); modes scaled to a unit deflection at the tank\n", p->nmodes, p->ne));
+  PetscCall(PetscViewerASCIIPrintf(viewer,
+                                   "modal beam: %" PetscInt_FMT " modes from %" PetscInt_FMT
+                                   " Hermite elements (SLEPc); modes scaled to a unit deflection at the tank\n",
+                                   p->nmodes, p->ne));
   if (!p->omega) PetscFunctionReturn(0);
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  mode   f (Hz)         omega (rad/s)  k_n L        modal mass (kg) damping  phi(a)   theta(a)\n"));
+  PetscCall(PetscViewerASCIIPrintf(
+      viewer, "  mode   f (Hz)         omega (rad/s)  k_n L        modal mass (kg) damping  phi(a)   theta(a)\n"));
   for (PetscInt i = 0; i < p->nmodes; i++)
-    PetscCall(PetscViewerASCIIPrintf(viewer, "  %4" PetscInt_FMT "   %-13.7g  %-13.7g  %-11.8f  %-15.6g %-8.4g %-8.4g %-8.4g\n", i + 1, (double)(p->omega[i] / (2 * PETSC_PI)), (double)p->omega[i], (double)KL(p, i), (double)p->mass[i], (double)p->xi[i], (double)p->wa[i], (double)p->ta[i]));
-  if (p->beam.force != 0) PetscCall(PetscViewerASCIIPrintf(viewer, "  static deflection at the tank under -fs_beam_force %g N: %.8g m (modes), %.8g m (finite elements)\n", (double)p->beam.force, (double)p->static_modes, (double)p->static_fe));
+    PetscCall(PetscViewerASCIIPrintf(
+        viewer, "  %4" PetscInt_FMT "   %-13.7g  %-13.7g  %-11.8f  %-15.6g %-8.4g %-8.4g %-8.4g\n", i + 1,
+        (double)(p->omega[i] / (2 * PETSC_PI)), (double)p->omega[i], (double)KL(p, i), (double)p->mass[i],
+        (double)p->xi[i], (double)p->wa[i], (double)p->ta[i]));
+  if (p->beam.force != 0)
+    PetscCall(PetscViewerASCIIPrintf(
+        viewer, "  static deflection at the tank under -fs_beam_force %g N: %.8g m (modes), %.8g m (finite elements)\n",
+        (double)p->beam.force, (double)p->static_modes, (double)p->static_fe));
   PetscFunctionReturn(0);
 }
 

@@ -27,12 +27,19 @@ static PetscErrorCode SetFromOptions(FSStructure st, PetscOptionItems *PetscOpti
   PetscFunctionBegin;
   PetscCall(FSBeamParamsSetFromOptions(&p->beam, st->comm, PetscOptionsObject));
   PetscOptionsHeadBegin(PetscOptionsObject, "Structure msd: mass-spring-damper at the tank (seed Eqs. 16-17)");
-  PetscCall(PetscOptionsReal("-fs_msd_beam_mass_fraction", "Share of the beam's mass moving with the tank (33/140: static tip-load shape)", "", p->beam_fraction, &p->beam_fraction, NULL));
-  PetscCheck(p->beam_fraction >= 0 && p->beam_fraction <= 1, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_msd_beam_mass_fraction %g is out of range: expected [0, 1]", (double)p->beam_fraction);
-  PetscCall(PetscOptionsReal("-fs_msd_mass", "Total moving mass m (kg), replacing the named parts (0: from the parts)", "", p->mass_given, &p->mass_given, NULL));
-  PetscCheck(p->mass_given >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_msd_mass %g must be positive (or 0: the sum of the named parts)", (double)p->mass_given);
-  PetscCall(PetscOptionsReal("-fs_msd_stiffness", "Stiffness K (N/m), replacing 3 EI/a^3 (0: from the beam)", "", p->stiffness_given, &p->stiffness_given, NULL));
-  PetscCheck(p->stiffness_given >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_msd_stiffness %g must be positive (or 0: 3 EI/a^3)", (double)p->stiffness_given);
+  PetscCall(PetscOptionsReal("-fs_msd_beam_mass_fraction",
+                             "Share of the beam's mass moving with the tank (33/140: static tip-load shape)", "",
+                             p->beam_fraction, &p->beam_fraction, NULL));
+  PetscCheck(p->beam_fraction >= 0 && p->beam_fraction <= 1, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_msd_beam_mass_fraction %g is out of range: expected [0, 1]", (double)p->beam_fraction);
+  PetscCall(PetscOptionsReal("-fs_msd_mass", "Total moving mass m (kg), replacing the named parts (0: from the parts)",
+                             "", p->mass_given, &p->mass_given, NULL));
+  PetscCheck(p->mass_given >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_msd_mass %g must be positive (or 0: the sum of the named parts)", (double)p->mass_given);
+  PetscCall(PetscOptionsReal("-fs_msd_stiffness", "Stiffness K (N/m), replacing 3 EI/a^3 (0: from the beam)", "",
+                             p->stiffness_given, &p->stiffness_given, NULL));
+  PetscCheck(p->stiffness_given >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_msd_stiffness %g must be positive (or 0: 3 EI/a^3)", (double)p->stiffness_given);
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }
@@ -49,7 +56,10 @@ static PetscErrorCode SetUp(FSStructure st)
   PetscCall(FSSolverGetLiquidMass(solver, &liquid_mass));
   PetscCall(FSBeamParamsResolvePayload(&p->beam, st->comm, liquid_mass));
   p->m = p->mass_given > 0 ? p->mass_given : p->beam_fraction * b->mlin * b->L + b->tank_mass + b->ballast_mass;
-  PetscCheck(p->m > 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "Structure msd: the moving mass %g must be positive: set -fs_msd_mass or the parts (-fs_beam_mass_per_length, -fs_beam_tank_mass, -fs_beam_ballast_mass)", (double)p->m);
+  PetscCheck(p->m > 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Structure msd: the moving mass %g must be positive: set -fs_msd_mass or the parts "
+             "(-fs_beam_mass_per_length, -fs_beam_tank_mass, -fs_beam_ballast_mass)",
+             (double)p->m);
   p->K           = p->stiffness_given > 0 ? p->stiffness_given : 3 * b->E * b->Iz / (b->a * b->a * b->a);
   p->omega       = PetscSqrtReal(p->K / p->m);
   p->c           = 2 * b->xi * p->omega * p->m;
@@ -107,7 +117,9 @@ static PetscErrorCode View(FSStructure st, PetscViewer viewer)
 
   PetscFunctionBegin;
   PetscCall(FSBeamParamsView(&p->beam, viewer));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "mass-spring-damper: m = %g kg, K = %g N/m, c = %g N s/m, f = %g Hz (T = %g s)\n", (double)p->m, (double)p->K, (double)p->c, (double)(p->omega / (2 * PETSC_PI)), (double)(2 * PETSC_PI / p->omega)));
+  PetscCall(PetscViewerASCIIPrintf(
+      viewer, "mass-spring-damper: m = %g kg, K = %g N/m, c = %g N s/m, f = %g Hz (T = %g s)\n", (double)p->m,
+      (double)p->K, (double)p->c, (double)(p->omega / (2 * PETSC_PI)), (double)(2 * PETSC_PI / p->omega)));
   PetscFunctionReturn(0);
 }
 
@@ -140,16 +152,16 @@ PETSC_EXTERN PetscErrorCode FSStructureCreate_MSD(FSStructure st)
   PetscFunctionBegin;
   PetscCall(PetscNew(&p));
   PetscCall(FSBeamParamsDefault(&p->beam));
-  p->beam_fraction      = 33.0 / 140.0;
-  st->data              = p;
+  p->beam_fraction       = 33.0 / 140.0;
+  st->data               = p;
   st->ops.setfromoptions = SetFromOptions;
-  st->ops.setup         = SetUp;
-  st->ops.initial       = Initial;
-  st->ops.rhs           = RHS;
-  st->ops.motion        = Motion;
-  st->ops.energy        = Energy;
-  st->ops.view          = View;
-  st->ops.summary       = Summary;
-  st->ops.destroy       = Destroy;
+  st->ops.setup          = SetUp;
+  st->ops.initial        = Initial;
+  st->ops.rhs            = RHS;
+  st->ops.motion         = Motion;
+  st->ops.energy         = Energy;
+  st->ops.view           = View;
+  st->ops.summary        = Summary;
+  st->ops.destroy        = Destroy;
   PetscFunctionReturn(0);
 }

@@ -28,7 +28,8 @@ PETSC_EXTERN PetscErrorCode FSStructureCreate_Modal(FSStructure);
 PetscErrorCode FSStructureRegister(const char name[], const char description[], FSStructureCreateFn create)
 {
   PetscFunctionBegin;
-  PetscCheck(strcmp(name, "none"), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "The structure name \"none\" is reserved (no structure)");
+  PetscCheck(strcmp(name, "none"), PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "The structure name \"none\" is reserved (no structure)");
   PetscCall(FSRegistryAdd(&FSStructures, name, description, (void (*)(void))create));
   PetscFunctionReturn(0);
 }
@@ -65,7 +66,10 @@ PetscErrorCode FSStructureCreate(FSSolver s, const char name[], FSStructure *st)
   if (!create) {
     char known[2048];
     PetscCall(FSRegistryNames(&FSStructures, known, sizeof(known)));
-    SETERRQ(comm, PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown structure \"%s\" given to -fs_structure: the registered models are none%s (load plug-ins with -dll_append, list with -fs_structure_view)", name, known);
+    SETERRQ(comm, PETSC_ERR_ARG_UNKNOWN_TYPE,
+            "Unknown structure \"%s\" given to -fs_structure: the registered models are none%s (load plug-ins with "
+            "-dll_append, list with -fs_structure_view)",
+            name, known);
   }
   PetscCall(PetscNew(&t));
   PetscCall(PetscStrncpy(t->name, name, sizeof(t->name)));
@@ -100,7 +104,8 @@ PetscErrorCode FSStructureGetSolver(FSStructure st, FSSolver *s)
 PetscErrorCode FSStructureAddColumn(FSStructure st, const char name[])
 {
   PetscFunctionBegin;
-  PetscCheck(st->ncolumns < FS_STRUCTURE_MAX_COLUMNS, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "Structure %s: more than %d time-series columns", st->name, FS_STRUCTURE_MAX_COLUMNS);
+  PetscCheck(st->ncolumns < FS_STRUCTURE_MAX_COLUMNS, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Structure %s: more than %d time-series columns", st->name, FS_STRUCTURE_MAX_COLUMNS);
   PetscCall(PetscStrncpy(st->column[st->ncolumns++], name, sizeof(st->column[0])));
   PetscFunctionReturn(0);
 }
@@ -132,7 +137,13 @@ PetscErrorCode FSStructureRegisterAll(void)
   PetscFunctionBegin;
   if (done) PetscFunctionReturn(0);
   done = PETSC_TRUE;
-  PetscCall(FSStructureRegister("msd", "cantilever as a mass-spring-damper at the tank, K = 3 EI/a^3 (seed Eqs. 16-17), options -fs_beam_*, -fs_msd_*", FSStructureCreate_MSD));
-  PetscCall(FSStructureRegister("modal", "modal Euler-Bernoulli cantilever, modes of Hermite finite elements with the tank by SLEPc (seed Eqs. 18-27), options -fs_beam_*, -fs_modal_*", FSStructureCreate_Modal));
+  PetscCall(FSStructureRegister(
+      "msd",
+      "cantilever as a mass-spring-damper at the tank, K = 3 EI/a^3 (seed Eqs. 16-17), options -fs_beam_*, -fs_msd_*",
+      FSStructureCreate_MSD));
+  PetscCall(FSStructureRegister("modal",
+                                "modal Euler-Bernoulli cantilever, modes of Hermite finite elements with the tank by "
+                                "SLEPc (seed Eqs. 18-27), options -fs_beam_*, -fs_modal_*",
+                                FSStructureCreate_Modal));
   PetscFunctionReturn(0);
 }

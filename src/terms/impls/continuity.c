@@ -8,7 +8,8 @@
 #include <flexslosh.h>
 
 /* the pair sum for a compile-time dimension (see FS_ALWAYS_INLINE); returns the term's power */
-FS_ALWAYS_INLINE PetscReal InteractDim(const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate, const PetscInt dim)
+FS_ALWAYS_INLINE PetscReal InteractDim(const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate,
+                                       const PetscInt dim)
 {
   const PetscInt   S  = P->stride;
   const PetscReal *ri = &P->rec[nb->i * S], rhoi = ri[2 * dim], *V = P->vol;

@@ -22,20 +22,23 @@ typedef struct {
 
 /* The pair sum for a compile-time dimension and correction (hydro: the hydrostatic one), so that each
    variant is a branch-free loop (see FS_ALWAYS_INLINE). */
-FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate, const PetscInt dim, const PetscBool hydro)
+FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate,
+                                  const PetscInt dim, const PetscBool hydro)
 {
   Delta           *ctx = (Delta *)t->data;
   const PetscInt   S = P->stride, i = nb->i;
-  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *gi = &P->aux[i * (dim + 1)], *delta = ctx->delta, *V = P->vol;
-  const PetscReal  di = delta[i];
-  PetscReal        sum = 0, gh[3] = {0, 0, 0};
+  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *gi = &P->aux[i * (dim + 1)], *delta = ctx->delta,
+                  *V  = P->vol;
+  const PetscReal di  = delta[i];
+  PetscReal       sum = 0, gh[3] = {0, 0, 0};
   if (hydro)
     for (PetscInt d = 0; d < dim; d++) gh[d] = P->rho0 * P->gravity[d] / (P->c0 * P->c0);
   for (PetscInt k = 0; k < nb->n; k++) {
-    const PetscInt   j = nb->j[k];
-    const PetscReal *rj = &P->rec[j * S], *gj = &P->aux[j * (dim + 1)], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
-    const PetscReal  dj = delta[j], dsum = di + dj;
-    PetscReal        corr = 0, proj = 0, Dij;
+    const PetscInt   j  = nb->j[k];
+    const PetscReal *rj = &P->rec[j * S], *gj = &P->aux[j * (dim + 1)], *dx = &nb->dx[k * dim],
+                    *g = &nb->gradW[k * dim];
+    const PetscReal dj = delta[j], dsum = di + dj;
+    PetscReal       corr = 0, proj = 0, Dij;
     if (dsum <= 0) continue;
     for (PetscInt d = 0; d < dim; d++) {
       corr += (hydro ? 2.0 * gh[d] : gi[d] + gj[d]) * dx[d];
@@ -63,9 +66,9 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
 
 static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)
 {
-  Delta         *ctx = (Delta *)t->data;
-  const PetscInt n   = P->nowned + P->nghost, dim = P->dim;
-  const PetscReal L  = 2.0 * P->h, coef = ctx->C * ctx->C * L * L / (P->c0 * P->h);
+  Delta          *ctx = (Delta *)t->data;
+  const PetscInt  n = P->nowned + P->nghost, dim = P->dim;
+  const PetscReal L = 2.0 * P->h, coef = ctx->C * ctx->C * L * L / (P->c0 * P->h);
 
   PetscFunctionBegin;
   if (n > ctx->cap) {
@@ -96,16 +99,31 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
   PetscFunctionBegin;
   PetscOptionsHeadBegin(PetscOptionsObject, "Term delta: delta-LES diffusive term in the continuity equation");
   PetscCall(PetscOptionsReal("-fs_delta_c", "C_delta of the delta-LES model (seed Eq. 8)", "", ctx->C, &ctx->C, NULL));
-  PetscCall(PetscOptionsReal("-fs_delta_constant", "A constant delta (classic delta-SPH, e.g. 0.1) instead of the LES one; 0 = LES", "", ctx->fixed, &ctx->fixed, NULL));
-  PetscCall(PetscOptionsReal("-fs_delta_min", "Floor under the delta-LES delta_i (damps the density modes of a liquid at rest); 0 = none", "", ctx->dmin, &ctx->dmin, NULL));
-  PetscCall(PetscOptionsReal("-fs_delta_max", "Cap on the delta-LES delta_i (its diffusivity delta_i h c0 bounds the time step); 0 = none", "", ctx->dmax, &ctx->dmax, NULL));
-  PetscCall(PetscOptionsBool("-fs_delta_hydrostatic", "Correct the density difference by the hydrostatic one rho0 g.(x_j - x_i)/c0^2 instead of the renormalized gradients", "", ctx->hydrostatic, &ctx->hydrostatic, NULL));
+  PetscCall(PetscOptionsReal("-fs_delta_constant",
+                             "A constant delta (classic delta-SPH, e.g. 0.1) instead of the LES one; 0 = LES", "",
+                             ctx->fixed, &ctx->fixed, NULL));
+  PetscCall(PetscOptionsReal(
+      "-fs_delta_min", "Floor under the delta-LES delta_i (damps the density modes of a liquid at rest); 0 = none", "",
+      ctx->dmin, &ctx->dmin, NULL));
+  PetscCall(PetscOptionsReal(
+      "-fs_delta_max", "Cap on the delta-LES delta_i (its diffusivity delta_i h c0 bounds the time step); 0 = none", "",
+      ctx->dmax, &ctx->dmax, NULL));
+  PetscCall(PetscOptionsBool("-fs_delta_hydrostatic",
+                             "Correct the density difference by the hydrostatic one rho0 g.(x_j - x_i)/c0^2 instead of "
+                             "the renormalized gradients",
+                             "", ctx->hydrostatic, &ctx->hydrostatic, NULL));
   PetscOptionsHeadEnd();
-  PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_c %g must be non-negative", (double)ctx->C);
-  PetscCheck(ctx->fixed >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_constant %g must be non-negative", (double)ctx->fixed);
-  PetscCheck(ctx->dmin >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_min %g must be non-negative", (double)ctx->dmin);
-  PetscCheck(ctx->dmax >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_max %g must be non-negative (0: no cap)", (double)ctx->dmax);
-  PetscCheck(ctx->dmax == 0 || ctx->dmax >= ctx->dmin, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_max %g is below -fs_delta_min %g: expected a cap above the floor", (double)ctx->dmax, (double)ctx->dmin);
+  PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_c %g must be non-negative",
+             (double)ctx->C);
+  PetscCheck(ctx->fixed >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_constant %g must be non-negative",
+             (double)ctx->fixed);
+  PetscCheck(ctx->dmin >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_min %g must be non-negative",
+             (double)ctx->dmin);
+  PetscCheck(ctx->dmax >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_delta_max %g must be non-negative (0: no cap)", (double)ctx->dmax);
+  PetscCheck(ctx->dmax == 0 || ctx->dmax >= ctx->dmin, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_delta_max %g is below -fs_delta_min %g: expected a cap above the floor", (double)ctx->dmax,
+             (double)ctx->dmin);
   PetscFunctionReturn(0);
 }
 
@@ -115,8 +133,12 @@ static PetscErrorCode View(FSTerm t, PetscViewer v)
 
   PetscFunctionBegin;
   if (ctx->fixed > 0) PetscCall(PetscViewerASCIIPrintf(v, "delta: constant delta = %g\n", (double)ctx->fixed));
-  else PetscCall(PetscViewerASCIIPrintf(v, "delta: delta-LES, C_delta = %g, L_LES = 2h, delta_i >= %g\n", (double)ctx->C, (double)ctx->dmin));
-  PetscCall(PetscViewerASCIIPrintf(v, "delta: density differences corrected by the %s\n", ctx->hydrostatic ? "hydrostatic density difference" : "renormalized density gradients"));
+  else
+    PetscCall(PetscViewerASCIIPrintf(v, "delta: delta-LES, C_delta = %g, L_LES = 2h, delta_i >= %g\n", (double)ctx->C,
+                                     (double)ctx->dmin));
+  PetscCall(
+      PetscViewerASCIIPrintf(v, "delta: density differences corrected by the %s\n",
+                             ctx->hydrostatic ? "hydrostatic density difference" : "renormalized density gradients"));
   PetscFunctionReturn(0);
 }
 
@@ -136,14 +158,14 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_Delta(FSTerm t)
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&ctx));
-  ctx->C                  = 1.5;
-  t->data                 = ctx;
-  t->needs                = FS_NEED_DENSITY_GRADIENT | FS_NEED_STRAIN_RATE;
-  t->has_power            = PETSC_TRUE;
-  t->ops.interact         = Interact;
-  t->ops.prepare          = Prepare;
-  t->ops.setfromoptions   = SetFromOptions;
-  t->ops.view             = View;
-  t->ops.destroy          = Destroy;
+  ctx->C                = 1.5;
+  t->data               = ctx;
+  t->needs              = FS_NEED_DENSITY_GRADIENT | FS_NEED_STRAIN_RATE;
+  t->has_power          = PETSC_TRUE;
+  t->ops.interact       = Interact;
+  t->ops.prepare        = Prepare;
+  t->ops.setfromoptions = SetFromOptions;
+  t->ops.view           = View;
+  t->ops.destroy        = Destroy;
   PetscFunctionReturn(0);
 }

@@ -15,7 +15,8 @@
 #include <flexslosh.h>
 
 /* the pair sum for a compile-time dimension (see FS_ALWAYS_INLINE); returns the term's power */
-FS_ALWAYS_INLINE PetscReal InteractDim(const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate, const PetscInt dim)
+FS_ALWAYS_INLINE PetscReal InteractDim(const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate,
+                                       const PetscInt dim)
 {
   const PetscInt   S = P->stride, i = nb->i;
   const PetscReal *p = P->pressure, *V = P->vol, pi = p[i], rhoi = P->rec[i * S + 2 * dim];

@@ -18,7 +18,8 @@ typedef struct {
 
 static inline PetscReal Wendland(PetscInt dim, PetscReal h, PetscReal r)
 {
-  const PetscReal q = r / h, a = 1.0 - 0.5 * q, norm = dim == 2 ? 7.0 / (4.0 * PETSC_PI * h * h) : 21.0 / (16.0 * PETSC_PI * h * h * h);
+  const PetscReal q = r / h, a = 1.0 - 0.5 * q,
+                  norm = dim == 2 ? 7.0 / (4.0 * PETSC_PI * h * h) : 21.0 / (16.0 * PETSC_PI * h * h * h);
   return q >= 2 ? 0 : norm * a * a * a * a * (2 * q + 1);
 }
 
@@ -27,7 +28,7 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
   const Shifting *ctx = (const Shifting *)t->data;
   const PetscInt  dim = P->dim;
   const PetscReal W0 = Wendland(dim, P->h, P->dx), U = PetscMax(P->umax, ctx->umin);
-  const PetscReal coef = -ctx->C * 4.0 * P->h * U;
+  const PetscReal coef   = -ctx->C * 4.0 * P->h * U;
   PetscReal       acc[3] = {0, 0, 0}, mag = 0;
   for (PetscInt k = 0; k < nb->n; k++) {
     const PetscReal *g = &nb->gradW[k * dim];
@@ -53,11 +54,15 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
   PetscFunctionBegin;
   PetscOptionsHeadBegin(PetscOptionsObject, "Term shifting: particle shifting (delta+-SPH)");
   PetscCall(PetscOptionsReal("-fs_shifting_c", "Shifting coefficient C", "", ctx->C, &ctx->C, NULL));
-  PetscCall(PetscOptionsReal("-fs_shifting_umin", "Smallest reference speed U of the shifting velocity", "", ctx->umin, &ctx->umin, NULL));
-  PetscCall(PetscOptionsReal("-fs_shifting_max", "Largest shifting velocity, as a fraction of U", "", ctx->limit, &ctx->limit, NULL));
+  PetscCall(PetscOptionsReal("-fs_shifting_umin", "Smallest reference speed U of the shifting velocity", "", ctx->umin,
+                             &ctx->umin, NULL));
+  PetscCall(PetscOptionsReal("-fs_shifting_max", "Largest shifting velocity, as a fraction of U", "", ctx->limit,
+                             &ctx->limit, NULL));
   PetscOptionsHeadEnd();
-  PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_shifting_c %g must be non-negative", (double)ctx->C);
-  PetscCheck(ctx->limit > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_shifting_max %g must be positive", (double)ctx->limit);
+  PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_shifting_c %g must be non-negative",
+             (double)ctx->C);
+  PetscCheck(ctx->limit > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_shifting_max %g must be positive",
+             (double)ctx->limit);
   PetscFunctionReturn(0);
 }
 
@@ -66,7 +71,8 @@ static PetscErrorCode View(FSTerm t, PetscViewer v)
   Shifting *ctx = (Shifting *)t->data;
 
   PetscFunctionBegin;
-  PetscCall(PetscViewerASCIIPrintf(v, "shifting: C = %g, R = %g, n = %" PetscInt_FMT ", limit %g U\n", (double)ctx->C, (double)ctx->R, ctx->n, (double)ctx->limit));
+  PetscCall(PetscViewerASCIIPrintf(v, "shifting: C = %g, R = %g, n = %" PetscInt_FMT ", limit %g U\n", (double)ctx->C,
+                                   (double)ctx->R, ctx->n, (double)ctx->limit));
   PetscFunctionReturn(0);
 }
 

@@ -1,12 +1,11 @@
 /*
    Terms "viscosity" (laminar) and "les_viscosity" (delta-LES turbulent viscosity), seed Eqs. 4, 5, 11-13:
-     D u_i/Dt += h c0 rho0/rho_i sum_j alpha_ij Pi_ij grad_i W_ij V_j,   Pi_ij = (u_j - u_i).(x_j - x_i) / |x_j - x_i|^2.
-   viscosity:      alpha_ij = alpha = K nu / (c0 h), nu = -fs_nu (the liquid's kinematic viscosity)
-   les_viscosity:  alpha_ij = 2 a_i a_j / (a_i + a_j),  a_i = K nu_i / (c0 h),  nu_i = (C_alpha L_LES)^2 ||D||_i, L_LES = 2h
-   K = 2 (dim + 2) (8 in 2-D, 10 in 3-D), so that the sum approximates nu lap u.
-   The seed's Eqs. 11-12 add alpha inside a_i as well as in alpha_ij; we count the laminar part once
-   (Antuono et al. 2021) so that the laminar term alone gives the exact viscous decay.
-   Dissipation power (seed Eq. 38): P_alpha = sum_i m_i u_i . (D u_i/Dt)_alpha.
+     D u_i/Dt += h c0 rho0/rho_i sum_j alpha_ij Pi_ij grad_i W_ij V_j,   Pi_ij = (u_j - u_i).(x_j - x_i) / |x_j -
+   x_i|^2. viscosity:      alpha_ij = alpha = K nu / (c0 h), nu = -fs_nu (the liquid's kinematic viscosity)
+   les_viscosity:  alpha_ij = 2 a_i a_j / (a_i + a_j),  a_i = K nu_i / (c0 h),  nu_i = (C_alpha L_LES)^2 ||D||_i, L_LES
+   = 2h K = 2 (dim + 2) (8 in 2-D, 10 in 3-D), so that the sum approximates nu lap u. The seed's Eqs. 11-12 add alpha
+   inside a_i as well as in alpha_ij; we count the laminar part once (Antuono et al. 2021) so that the laminar term
+   alone gives the exact viscous decay. Dissipation power (seed Eq. 38): P_alpha = sum_i m_i u_i . (D u_i/Dt)_alpha.
    With walls the pair sum carries (1/gamma_i + 1/gamma_j)/2, the renormalization that keeps the term
    dissipative (its power is a sum of squares) where gamma varies.
    Options: -fs_viscosity_K, -fs_les_c (C_alpha, the Smagorinsky constant, 0.12).
@@ -22,19 +21,20 @@ typedef struct {
 
 /* The pair sums for a compile-time dimension, model (les) and presence of walls (gam: the pair factor
    (1/gamma_i + 1/gamma_j)/2), so that each of the eight variants is a branch-free loop (see FS_ALWAYS_INLINE). */
-FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate, const PetscInt dim, const PetscBool les, const PetscBool gam)
+FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate,
+                                  const PetscInt dim, const PetscBool les, const PetscBool gam)
 {
   Viscosity       *ctx = (Viscosity *)t->data;
   const PetscInt   S = P->stride, i = nb->i;
   const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *V = P->vol, *ig = P->invgamma;
   PetscReal        acc[3] = {0, 0, 0}, f, pw = 0;
   if (les) {
-    const PetscReal  ai = ctx->a[i], *a = ctx->a;
+    const PetscReal ai = ctx->a[i], *a = ctx->a;
     if (ai <= 0) { /* a_i = 0 makes every alpha_ij zero */
       return;
     }
     for (PetscInt k = 0; k < nb->n; k++) {
-      const PetscInt   j = nb->j[k];
+      const PetscInt   j  = nb->j[k];
       const PetscReal *rj = &P->rec[j * S], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
       const PetscReal  aj = a[j];
       PetscReal        pi = 0;
@@ -88,10 +88,10 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
 
 static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)
 {
-  Viscosity     *ctx = (Viscosity *)t->data;
-  const PetscInt n   = P->nowned + P->nghost, dim = P->dim;
-  const PetscReal L  = 2.0 * P->h, nucoef = ctx->C * ctx->C * L * L, acoef = ctx->K / (P->c0 * P->h);
-  PetscReal      numax = 0;
+  Viscosity      *ctx = (Viscosity *)t->data;
+  const PetscInt  n = P->nowned + P->nghost, dim = P->dim;
+  const PetscReal L = 2.0 * P->h, nucoef = ctx->C * ctx->C * L * L, acoef = ctx->K / (P->c0 * P->h);
+  PetscReal       numax = 0;
 
   PetscFunctionBegin;
   if (!ctx->les) {
@@ -135,12 +135,18 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
   PetscCall(FSTermGetSolver(t, &s));
   PetscCall(FSSolverGetDimension(s, &dim));
   ctx->K = 2.0 * (dim + 2);
-  PetscOptionsHeadBegin(PetscOptionsObject, ctx->les ? "Term les_viscosity: delta-LES turbulent viscosity" : "Term viscosity: laminar viscosity");
-  PetscCall(PetscOptionsReal("-fs_viscosity_K", "K of the viscous term, 2(dim+2) (seed Eq. 12)", "", ctx->K, &ctx->K, NULL));
-  if (ctx->les) PetscCall(PetscOptionsReal("-fs_les_c", "C_alpha, the Smagorinsky constant (seed Eq. 13)", "", ctx->C, &ctx->C, NULL));
+  PetscOptionsHeadBegin(PetscOptionsObject, ctx->les ? "Term les_viscosity: delta-LES turbulent viscosity"
+                                                     : "Term viscosity: laminar viscosity");
+  PetscCall(
+      PetscOptionsReal("-fs_viscosity_K", "K of the viscous term, 2(dim+2) (seed Eq. 12)", "", ctx->K, &ctx->K, NULL));
+  if (ctx->les)
+    PetscCall(
+        PetscOptionsReal("-fs_les_c", "C_alpha, the Smagorinsky constant (seed Eq. 13)", "", ctx->C, &ctx->C, NULL));
   PetscOptionsHeadEnd();
-  PetscCheck(ctx->K > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_viscosity_K %g must be positive", (double)ctx->K);
-  PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_les_c %g must be non-negative", (double)ctx->C);
+  PetscCheck(ctx->K > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_viscosity_K %g must be positive",
+             (double)ctx->K);
+  PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_les_c %g must be non-negative",
+             (double)ctx->C);
   PetscFunctionReturn(0);
 }
 
@@ -149,7 +155,9 @@ static PetscErrorCode View(FSTerm t, PetscViewer v)
   Viscosity *ctx = (Viscosity *)t->data;
 
   PetscFunctionBegin;
-  if (ctx->les) PetscCall(PetscViewerASCIIPrintf(v, "les_viscosity: C_alpha = %g, K = %g, L_LES = 2h\n", (double)ctx->C, (double)ctx->K));
+  if (ctx->les)
+    PetscCall(
+        PetscViewerASCIIPrintf(v, "les_viscosity: C_alpha = %g, K = %g, L_LES = 2h\n", (double)ctx->C, (double)ctx->K));
   else PetscCall(PetscViewerASCIIPrintf(v, "viscosity: K = %g\n", (double)ctx->K));
   PetscFunctionReturn(0);
 }

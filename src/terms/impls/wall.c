@@ -30,7 +30,7 @@
 static void Continuity(FSTerm t, const FSParticles *P, const FSWallView *B, const FSWallNeighbourhood *nb, FSRate *rate)
 {
   const PetscInt   dim = P->dim, N = B->normal, A = B->measure;
-  const PetscReal *ri = &P->rec[nb->i * P->stride];
+  const PetscReal *ri  = &P->rec[nb->i * P->stride];
   PetscReal        sum = 0;
   for (PetscInt q = 0; q < nb->n; q++) {
     const PetscReal *e = &B->element[nb->k[q] * B->stride];
@@ -73,7 +73,7 @@ static void Viscosity(FSTerm t, const FSParticles *P, const FSWallView *B, const
     f = c * nb->W[q] * e[A] / PetscMax(d, dmin);
     acc[0] -= f * ri[dim];
     acc[1] -= f * ri[dim + 1];
-    L    = &B->load[6 * B->elementwall[k]];
+    L = &B->load[6 * B->elementwall[k]];
     L[0] += Vi * rhoi * f * ri[dim];
     L[1] += Vi * rhoi * f * ri[dim + 1];
     L[5] += Vi * rhoi * f * ((e[C] - B->loadpoint[0]) * ri[dim + 1] - (e[C + 1] - B->loadpoint[1]) * ri[dim]);
@@ -86,8 +86,8 @@ static void Viscosity(FSTerm t, const FSParticles *P, const FSWallView *B, const
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm t)
 {
   PetscFunctionBegin;
-  t->has_power    = PETSC_TRUE;
-  t->ops.wall     = Continuity;
+  t->has_power = PETSC_TRUE;
+  t->ops.wall  = Continuity;
   PetscFunctionReturn(0);
 }
 

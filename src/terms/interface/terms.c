@@ -62,7 +62,10 @@ PetscErrorCode FSTermCreate(FSSolver s, const char name[], FSTerm *term)
   if (!create) {
     char known[2048];
     PetscCall(FSRegistryNames(&FSTerms, known, sizeof(known)));
-    SETERRQ(PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_UNKNOWN_TYPE, "Unknown physics term \"%s\" in -fs_terms: the registered terms are%s (load plug-ins with -dll_append, list with -fs_terms_view)", name, known);
+    SETERRQ(PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_UNKNOWN_TYPE,
+            "Unknown physics term \"%s\" in -fs_terms: the registered terms are%s (load plug-ins with -dll_append, "
+            "list with -fs_terms_view)",
+            name, known);
   }
   PetscCall(PetscNew(&t));
   PetscCall(PetscStrncpy(t->name, name, sizeof(t->name)));
@@ -119,15 +122,26 @@ PetscErrorCode FSTermRegisterAll(void)
   PetscFunctionBegin;
   if (done) PetscFunctionReturn(0);
   done = PETSC_TRUE;
-  PetscCall(FSTermRegister("continuity", "continuity equation -rho_i sum (u_j - u_i).gradW V_j (seed Eq. 4)", FSTermCreate_Continuity));
-  PetscCall(FSTermRegister("delta", "delta-LES density diffusion with the renormalized density gradient (seed Eqs. 4-9)", FSTermCreate_Delta));
-  PetscCall(FSTermRegister("pressure", "pressure gradient, (p_i + p_j) form, linear equation of state (seed Eqs. 2, 4)", FSTermCreate_Pressure));
-  PetscCall(FSTermRegister("viscosity", "laminar viscosity K nu sum Pi_ij gradW V_j from -fs_nu (seed Eqs. 4, 5, 11)", FSTermCreate_Viscosity));
-  PetscCall(FSTermRegister("les_viscosity", "delta-LES turbulent (Smagorinsky) viscosity (seed Eqs. 11-13)", FSTermCreate_LESViscosity));
+  PetscCall(FSTermRegister("continuity", "continuity equation -rho_i sum (u_j - u_i).gradW V_j (seed Eq. 4)",
+                           FSTermCreate_Continuity));
+  PetscCall(FSTermRegister("delta",
+                           "delta-LES density diffusion with the renormalized density gradient (seed Eqs. 4-9)",
+                           FSTermCreate_Delta));
+  PetscCall(FSTermRegister("pressure", "pressure gradient, (p_i + p_j) form, linear equation of state (seed Eqs. 2, 4)",
+                           FSTermCreate_Pressure));
+  PetscCall(FSTermRegister("viscosity", "laminar viscosity K nu sum Pi_ij gradW V_j from -fs_nu (seed Eqs. 4, 5, 11)",
+                           FSTermCreate_Viscosity));
+  PetscCall(FSTermRegister("les_viscosity", "delta-LES turbulent (Smagorinsky) viscosity (seed Eqs. 11-13)",
+                           FSTermCreate_LESViscosity));
   PetscCall(FSTermRegister("gravity", "body force -fs_gravity", FSTermCreate_Gravity));
-  PetscCall(FSTermRegister("wall_continuity", "boundary-integral wall part of the continuity equation (seed Eq. 14)", FSTermCreate_WallContinuity));
-  PetscCall(FSTermRegister("wall_pressure", "boundary-integral wall part of the pressure gradient; wall loads (seed Eqs. 14, 29)", FSTermCreate_WallPressure));
-  PetscCall(FSTermRegister("wall_viscosity", "wall shear stress on no-slip walls (-fs_walls_noslip)", FSTermCreate_WallViscosity));
-  PetscCall(FSTermRegister("shifting", "particle shifting of delta+-SPH (Sun et al. 2017), keeps the particles regular", FSTermCreate_Shifting));
+  PetscCall(FSTermRegister("wall_continuity", "boundary-integral wall part of the continuity equation (seed Eq. 14)",
+                           FSTermCreate_WallContinuity));
+  PetscCall(FSTermRegister("wall_pressure",
+                           "boundary-integral wall part of the pressure gradient; wall loads (seed Eqs. 14, 29)",
+                           FSTermCreate_WallPressure));
+  PetscCall(FSTermRegister("wall_viscosity", "wall shear stress on no-slip walls (-fs_walls_noslip)",
+                           FSTermCreate_WallViscosity));
+  PetscCall(FSTermRegister("shifting", "particle shifting of delta+-SPH (Sun et al. 2017), keeps the particles regular",
+                           FSTermCreate_Shifting));
   PetscFunctionReturn(0);
 }

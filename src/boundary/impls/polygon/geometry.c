@@ -37,16 +37,21 @@ static PetscReal Cross(const PetscReal a[], const PetscReal b[], const PetscReal
 static PetscBool SegmentsIntersect(const PetscReal a[], const PetscReal b[], const PetscReal c[], const PetscReal d[])
 {
   const PetscReal d1 = Cross(c, d, a), d2 = Cross(c, d, b), d3 = Cross(a, b, c), d4 = Cross(a, b, d);
-  const PetscReal scale = PetscMax(PetscMax(PetscAbsReal(b[0] - a[0]), PetscAbsReal(b[1] - a[1])), PetscMax(PetscAbsReal(d[0] - c[0]), PetscAbsReal(d[1] - c[1])));
+  const PetscReal scale = PetscMax(PetscMax(PetscAbsReal(b[0] - a[0]), PetscAbsReal(b[1] - a[1])),
+                                   PetscMax(PetscAbsReal(d[0] - c[0]), PetscAbsReal(d[1] - c[1])));
   const PetscReal eps   = 1e-12 * scale * scale;
-  if (((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))) return PETSC_TRUE;
+  if (((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps)) && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps)))
+    return PETSC_TRUE;
   /* collinear or touching cases */
   {
     const PetscReal *pts[4] = {a, b, c, d};
     const PetscReal  cr[4]  = {d1, d2, d3, d4};
     for (PetscInt k = 0; k < 4; k++) {
       const PetscReal *p = pts[k], *s0 = k < 2 ? c : a, *s1 = k < 2 ? d : b;
-      if (PetscAbsReal(cr[k]) <= eps && p[0] >= PetscMin(s0[0], s1[0]) - 1e-12 * scale && p[0] <= PetscMax(s0[0], s1[0]) + 1e-12 * scale && p[1] >= PetscMin(s0[1], s1[1]) - 1e-12 * scale && p[1] <= PetscMax(s0[1], s1[1]) + 1e-12 * scale) return PETSC_TRUE;
+      if (PetscAbsReal(cr[k]) <= eps && p[0] >= PetscMin(s0[0], s1[0]) - 1e-12 * scale &&
+          p[0] <= PetscMax(s0[0], s1[0]) + 1e-12 * scale && p[1] >= PetscMin(s0[1], s1[1]) - 1e-12 * scale &&
+          p[1] <= PetscMax(s0[1], s1[1]) + 1e-12 * scale)
+        return PETSC_TRUE;
     }
   }
   return PETSC_FALSE;
@@ -59,7 +64,8 @@ static PetscBool InPolygon(const FSWalls *w, PetscInt p, const PetscReal x[])
   PetscInt  s = w->pstart[p], n = w->pstart[p + 1] - s;
   for (PetscInt i = 0, j = n - 1; i < n; j = i++) {
     const PetscReal *a = &w->vert[2 * (s + i)], *b = &w->vert[2 * (s + j)];
-    if ((a[1] > x[1]) != (b[1] > x[1]) && x[0] < (b[0] - a[0]) * (x[1] - a[1]) / (b[1] - a[1]) + a[0]) in = (PetscBool)!in;
+    if ((a[1] > x[1]) != (b[1] > x[1]) && x[0] < (b[0] - a[0]) * (x[1] - a[1]) / (b[1] - a[1]) + a[0])
+      in = (PetscBool)!in;
   }
   return in;
 }
@@ -88,14 +94,18 @@ static PetscErrorCode FSWallsFindOrAdd(FSWalls *w, const char name[], PetscInt *
    vertex connects back to the first (a repeated first vertex is dropped). where names the origin
    of the data in error messages (a file and line, or an option).
 */
-PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], PetscInt n, const PetscReal xy[], const char where[])
+PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], PetscInt n, const PetscReal xy[],
+                                 const char where[])
 {
   PetscInt  wall = -1, s;
   PetscReal area = 0;
 
   PetscFunctionBegin;
   if (n > 1 && xy[0] == xy[2 * (n - 1)] && xy[1] == xy[2 * (n - 1) + 1]) n--;
-  PetscCheck(n >= 3, comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s) has %" PetscInt_FMT " distinct vertices: a wall is a closed polygon of at least 3 vertices", name, where, n);
+  PetscCheck(n >= 3, comm, PETSC_ERR_ARG_WRONG,
+             "Wall \"%s\" (%s) has %" PetscInt_FMT
+             " distinct vertices: a wall is a closed polygon of at least 3 vertices",
+             name, where, n);
   PetscCall(FSWallsFindOrAdd(w, name, &wall));
   /* grow the arrays */
   {
@@ -131,7 +141,8 @@ PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], P
   for (PetscInt k = 0; k < n; k++) {
     w->vert[2 * (s + k)]     = xy[2 * k];
     w->vert[2 * (s + k) + 1] = xy[2 * k + 1];
-    PetscCheck(PetscIsNormalReal(xy[2 * k]) || xy[2 * k] == 0, comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s): vertex %" PetscInt_FMT " is not a finite number", name, where, k);
+    PetscCheck(PetscIsNormalReal(xy[2 * k]) || xy[2 * k] == 0, comm, PETSC_ERR_ARG_WRONG,
+               "Wall \"%s\" (%s): vertex %" PetscInt_FMT " is not a finite number", name, where, k);
   }
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal *a = &xy[2 * k], *b = &xy[2 * ((k + 1) % n)];
@@ -140,19 +151,25 @@ PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], P
   /* a simple polygon: no two non-adjacent edges meet, no zero-length edge */
   for (PetscInt i = 0; i < n; i++) {
     const PetscReal *a = &xy[2 * i], *b = &xy[2 * ((i + 1) % n)];
-    PetscCheck(a[0] != b[0] || a[1] != b[1], comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s): vertices %" PetscInt_FMT " and %" PetscInt_FMT " coincide", name, where, i, (i + 1) % n);
+    PetscCheck(a[0] != b[0] || a[1] != b[1], comm, PETSC_ERR_ARG_WRONG,
+               "Wall \"%s\" (%s): vertices %" PetscInt_FMT " and %" PetscInt_FMT " coincide", name, where, i,
+               (i + 1) % n);
     for (PetscInt j = i + 2; j < n; j++) {
       const PetscReal *c = &xy[2 * j], *d = &xy[2 * ((j + 1) % n)];
       if ((j + 1) % n == i) continue; /* adjacent through the closing edge */
-      PetscCheck(!SegmentsIntersect(a, b, c, d), comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s) intersects itself: edge %" PetscInt_FMT " (%g,%g)-(%g,%g) meets edge %" PetscInt_FMT " (%g,%g)-(%g,%g)", name, where, i, (double)a[0], (double)a[1], (double)b[0], (double)b[1], j, (double)c[0], (double)c[1], (double)d[0], (double)d[1]);
+      PetscCheck(!SegmentsIntersect(a, b, c, d), comm, PETSC_ERR_ARG_WRONG,
+                 "Wall \"%s\" (%s) intersects itself: edge %" PetscInt_FMT " (%g,%g)-(%g,%g) meets edge %" PetscInt_FMT
+                 " (%g,%g)-(%g,%g)",
+                 name, where, i, (double)a[0], (double)a[1], (double)b[0], (double)b[1], j, (double)c[0], (double)c[1],
+                 (double)d[0], (double)d[1]);
     }
   }
   PetscCheck(area != 0, comm, PETSC_ERR_ARG_WRONG, "Wall \"%s\" (%s) encloses no area", name, where);
   for (PetscInt k = 0; k < n; k++) w->vwall[s + k] = wall;
-  w->pwall[w->npoly]      = wall;
-  w->area[w->npoly]       = area;
-  w->nvert               += n;
-  w->pstart[++w->npoly]   = w->nvert;
+  w->pwall[w->npoly] = wall;
+  w->area[w->npoly]  = area;
+  w->nvert += n;
+  w->pstart[++w->npoly] = w->nvert;
   PetscFunctionReturn(0);
 }
 
@@ -166,8 +183,11 @@ PetscErrorCode FSWallsSetEdgeWall(FSWalls *w, MPI_Comm comm, PetscInt p, PetscIn
   PetscInt wall;
 
   PetscFunctionBegin;
-  PetscCheck(p >= 0 && p < w->npoly, comm, PETSC_ERR_ARG_OUTOFRANGE, "Polygon %" PetscInt_FMT " does not exist (%" PetscInt_FMT " polygons)", p, w->npoly);
-  PetscCheck(e >= 0 && e < w->pstart[p + 1] - w->pstart[p], comm, PETSC_ERR_ARG_OUTOFRANGE, "Polygon %" PetscInt_FMT " has no edge %" PetscInt_FMT " (%" PetscInt_FMT " edges)", p, e, w->pstart[p + 1] - w->pstart[p]);
+  PetscCheck(p >= 0 && p < w->npoly, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Polygon %" PetscInt_FMT " does not exist (%" PetscInt_FMT " polygons)", p, w->npoly);
+  PetscCheck(e >= 0 && e < w->pstart[p + 1] - w->pstart[p], comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Polygon %" PetscInt_FMT " has no edge %" PetscInt_FMT " (%" PetscInt_FMT " edges)", p, e,
+             w->pstart[p + 1] - w->pstart[p]);
   PetscCall(FSWallsFindOrAdd(w, name, &wall));
   w->vwall[w->pstart[p] + e] = wall;
   PetscFunctionReturn(0);
@@ -182,10 +202,20 @@ PetscErrorCode FSWallsCheck(FSWalls *w, MPI_Comm comm)
 {
   PetscFunctionBegin;
   PetscCheck(w->npoly > 0, comm, PETSC_ERR_ARG_WRONG, "No walls given");
-  PetscCheck(w->area[0] > 0, comm, PETSC_ERR_ARG_WRONG, "Inconsistent normals: the container wall \"%s\" (the first polygon) runs clockwise; list its vertices counter-clockwise so that the liquid is on the left of each edge", w->name[w->pwall[0]]);
+  PetscCheck(w->area[0] > 0, comm, PETSC_ERR_ARG_WRONG,
+             "Inconsistent normals: the container wall \"%s\" (the first polygon) runs clockwise; list its vertices "
+             "counter-clockwise so that the liquid is on the left of each edge",
+             w->name[w->pwall[0]]);
   for (PetscInt p = 1; p < w->npoly; p++) {
-    PetscCheck(w->area[p] < 0, comm, PETSC_ERR_ARG_WRONG, "Inconsistent normals: obstacle polygon %" PetscInt_FMT " of wall \"%s\" runs counter-clockwise; obstacles inside the container must run clockwise (liquid outside them)", p, w->name[w->pwall[p]]);
-    for (PetscInt v = w->pstart[p]; v < w->pstart[p + 1]; v++) PetscCheck(InPolygon(w, 0, &w->vert[2 * v]), comm, PETSC_ERR_ARG_WRONG, "Vertex (%g, %g) of obstacle polygon %" PetscInt_FMT " (wall \"%s\") lies outside the container", (double)w->vert[2 * v], (double)w->vert[2 * v + 1], p, w->name[w->pwall[p]]);
+    PetscCheck(w->area[p] < 0, comm, PETSC_ERR_ARG_WRONG,
+               "Inconsistent normals: obstacle polygon %" PetscInt_FMT
+               " of wall \"%s\" runs counter-clockwise; obstacles inside the container must run clockwise (liquid "
+               "outside them)",
+               p, w->name[w->pwall[p]]);
+    for (PetscInt v = w->pstart[p]; v < w->pstart[p + 1]; v++)
+      PetscCheck(InPolygon(w, 0, &w->vert[2 * v]), comm, PETSC_ERR_ARG_WRONG,
+                 "Vertex (%g, %g) of obstacle polygon %" PetscInt_FMT " (wall \"%s\") lies outside the container",
+                 (double)w->vert[2 * v], (double)w->vert[2 * v + 1], p, w->name[w->pwall[p]]);
   }
   for (PetscInt p = 0; p < w->npoly; p++)
     for (PetscInt q = p + 1; q < w->npoly; q++)
@@ -193,7 +223,12 @@ PetscErrorCode FSWallsCheck(FSWalls *w, MPI_Comm comm)
         const PetscInt i1 = i + 1 < w->pstart[p + 1] ? i + 1 : w->pstart[p];
         for (PetscInt j = w->pstart[q]; j < w->pstart[q + 1]; j++) {
           const PetscInt j1 = j + 1 < w->pstart[q + 1] ? j + 1 : w->pstart[q];
-          PetscCheck(!SegmentsIntersect(&w->vert[2 * i], &w->vert[2 * i1], &w->vert[2 * j], &w->vert[2 * j1]), comm, PETSC_ERR_ARG_WRONG, "Polygons %" PetscInt_FMT " (wall \"%s\") and %" PetscInt_FMT " (wall \"%s\") meet: walls must not touch or cross (make a baffle that touches the tank part of the tank's outline)", p, w->name[w->pwall[p]], q, w->name[w->pwall[q]]);
+          PetscCheck(!SegmentsIntersect(&w->vert[2 * i], &w->vert[2 * i1], &w->vert[2 * j], &w->vert[2 * j1]), comm,
+                     PETSC_ERR_ARG_WRONG,
+                     "Polygons %" PetscInt_FMT " (wall \"%s\") and %" PetscInt_FMT
+                     " (wall \"%s\") meet: walls must not touch or cross (make a baffle that touches the tank part of "
+                     "the tank's outline)",
+                     p, w->name[w->pwall[p]], q, w->name[w->pwall[q]]);
         }
       }
   w->lo[0] = w->lo[1] = PETSC_MAX_REAL;
@@ -212,7 +247,8 @@ PetscErrorCode FSWallsRectangularTank(FSWalls *w, MPI_Comm comm, PetscReal L, Pe
   const PetscReal xy[8] = {0, 0, L, 0, L, H, 0, H};
 
   PetscFunctionBegin;
-  PetscCheck(L > 0 && H > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Tank length %g and height %g must be positive", (double)L, (double)H);
+  PetscCheck(L > 0 && H > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Tank length %g and height %g must be positive", (double)L,
+             (double)H);
   PetscCall(FSWallsAddPolygon(w, comm, "tank", 4, xy, "rectangular tank"));
   PetscFunctionReturn(0);
 }
@@ -224,18 +260,26 @@ PetscErrorCode FSWallsRectangularTank(FSWalls *w, MPI_Comm comm, PetscReal L, Pe
    (bottom_gap = 0) or up to the lid is part of the tank's outline (wall "tank"); a free-standing one
    is an obstacle polygon of wall "baffles". Seed: 7 compartments of 0.1 m, 5 mm baffles, 0.73 m.
 */
-PetscErrorCode FSWallsBaffledTank(FSWalls *w, MPI_Comm comm, PetscInt ncomp, PetscReal Lc, PetscReal t, PetscReal H, PetscReal gap, PetscReal hb)
+PetscErrorCode FSWallsBaffledTank(FSWalls *w, MPI_Comm comm, PetscInt ncomp, PetscReal Lc, PetscReal t, PetscReal H,
+                                  PetscReal gap, PetscReal hb)
 {
   const PetscReal L = ncomp * Lc + (ncomp - 1) * t, top = gap + hb;
   PetscReal      *xy;
-  PetscInt        n = 0;
+  PetscInt        n          = 0;
   const PetscBool frombottom = (PetscBool)(gap <= 0), tolid = (PetscBool)(top >= H);
 
   PetscFunctionBegin;
-  PetscCheck(ncomp >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "Number of compartments %" PetscInt_FMT " must be at least 1", ncomp);
-  PetscCheck(Lc > 0 && H > 0 && t > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "Compartment length %g, baffle thickness %g and tank height %g must be positive", (double)Lc, (double)t, (double)H);
-  PetscCheck(gap >= 0 && hb > 0 && top <= H, comm, PETSC_ERR_ARG_OUTOFRANGE, "Baffle from %g to %g does not fit in the tank height %g", (double)gap, (double)top, (double)H);
-  PetscCheck(!(frombottom && tolid), comm, PETSC_ERR_ARG_OUTOFRANGE, "Baffles spanning the whole height %g would close the compartments: leave an opening (bottom gap or lower height)", (double)H);
+  PetscCheck(ncomp >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE, "Number of compartments %" PetscInt_FMT " must be at least 1",
+             ncomp);
+  PetscCheck(Lc > 0 && H > 0 && t > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Compartment length %g, baffle thickness %g and tank height %g must be positive", (double)Lc, (double)t,
+             (double)H);
+  PetscCheck(gap >= 0 && hb > 0 && top <= H, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Baffle from %g to %g does not fit in the tank height %g", (double)gap, (double)top, (double)H);
+  PetscCheck(!(frombottom && tolid), comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Baffles spanning the whole height %g would close the compartments: leave an opening (bottom gap or lower "
+             "height)",
+             (double)H);
   PetscCall(PetscMalloc1(2 * (8 + 8 * ncomp), &xy));
 #define PUSH(X, Y) (xy[2 * n] = (X), xy[2 * n + 1] = (Y), n++)
   /* the outline, counter-clockwise from the origin: bottom left to right, then the lid right to left */
@@ -260,7 +304,7 @@ PetscErrorCode FSWallsBaffledTank(FSWalls *w, MPI_Comm comm, PetscInt ncomp, Pet
   PetscCall(FSWallsAddPolygon(w, comm, "tank", n, xy, "baffled tank"));
   if (!frombottom && !tolid)
     for (PetscInt b = 1; b < ncomp; b++) {
-      const PetscReal x0 = b * Lc + (b - 1) * t;
+      const PetscReal x0   = b * Lc + (b - 1) * t;
       const PetscReal r[8] = {x0, gap, x0, top, x0 + t, top, x0 + t, gap}; /* clockwise */
       PetscCall(FSWallsAddPolygon(w, comm, "baffles", 4, r, "baffled tank"));
     }
@@ -283,10 +327,10 @@ PetscErrorCode FSWallsBaffledTank(FSWalls *w, MPI_Comm comm, PetscInt ncomp, Pet
 */
 PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
 {
-  FILE       *fp = NULL;
-  char        line[1024], name[64] = "", where[PETSC_MAX_PATH_LEN + 64];
-  PetscReal  *xy  = NULL;
-  char      (*edge)[64] = NULL; /* the wall of each edge, "" for the polygon's */
+  FILE      *fp = NULL;
+  char       line[1024], name[64] = "", where[PETSC_MAX_PATH_LEN + 64];
+  PetscReal *xy   = NULL;
+  char(*edge)[64] = NULL; /* the wall of each edge, "" for the polygon's */
   PetscInt    n = 0, cap = 0, lineno = 0, start = 0;
   PetscBool   open = PETSC_FALSE;
   PetscMPIInt rank;
@@ -303,8 +347,11 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
     while (isspace((unsigned char)*p)) p++;
     if (!*p) continue;
     if (sscanf(p, "%63s", word) == 1 && !strcmp(word, "wall")) {
-      PetscCheck(!open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": \"wall\" before the \"end\" of wall \"%s\" (started on line %" PetscInt_FMT ")", path, lineno, name, start);
-      PetscCheck(sscanf(p, "%*s %63s", name) == 1, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": \"wall\" needs a name", path, lineno);
+      PetscCheck(!open, comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT ": \"wall\" before the \"end\" of wall \"%s\" (started on line %" PetscInt_FMT ")",
+                 path, lineno, name, start);
+      PetscCheck(sscanf(p, "%*s %63s", name) == 1, comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT ": \"wall\" needs a name", path, lineno);
       open  = PETSC_TRUE;
       n     = 0;
       start = lineno;
@@ -319,9 +366,13 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
       double x, y;
       char   ename[64] = "", extra[8];
       int    nread;
-      PetscCheck(open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": a vertex outside \"wall <name>\" ... \"end\": %s", path, lineno, p);
+      PetscCheck(open, comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT ": a vertex outside \"wall <name>\" ... \"end\": %s", path, lineno, p);
       nread = sscanf(p, "%lf %lf %63s %7s", &x, &y, ename, extra);
-      PetscCheck(nread == 2 || nread == 3, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": cannot parse \"%s\": expected two numbers x y (and the name of the edge's wall), \"wall <name>\" or \"end\"", path, lineno, p);
+      PetscCheck(nread == 2 || nread == 3, comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT ": cannot parse \"%s\": expected two numbers x y (and the name of the edge's "
+                 "wall), \"wall <name>\" or \"end\"",
+                 path, lineno, p);
       if (n == cap) {
         PetscReal *nxy;
         char(*nedge)[64];
@@ -344,7 +395,8 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
     }
   }
   fclose(fp);
-  PetscCheck(!open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s: wall \"%s\" (line %" PetscInt_FMT ") has no \"end\": the polygon is open", path, name, start);
+  PetscCheck(!open, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "%s: wall \"%s\" (line %" PetscInt_FMT ") has no \"end\": the polygon is open", path, name, start);
   PetscCall(PetscFree(xy));
   PetscCall(PetscFree(edge));
   PetscFunctionReturn(0);
@@ -360,7 +412,8 @@ PetscErrorCode FSWallsDiscretize(FSWalls *w, PetscReal dx)
   for (PetscInt p = 0; p < w->npoly; p++)
     for (PetscInt v = w->pstart[p]; v < w->pstart[p + 1]; v++) {
       const PetscInt  v1 = v + 1 < w->pstart[p + 1] ? v + 1 : w->pstart[p];
-      const PetscReal L  = PetscSqrtReal(PetscSqr(w->vert[2 * v1] - w->vert[2 * v]) + PetscSqr(w->vert[2 * v1 + 1] - w->vert[2 * v + 1]));
+      const PetscReal L  = PetscSqrtReal(PetscSqr(w->vert[2 * v1] - w->vert[2 * v]) +
+                                         PetscSqr(w->vert[2 * v1 + 1] - w->vert[2 * v + 1]));
       nseg += (PetscInt)PetscCeilReal(L / dx - 1e-9);
     }
   PetscCall(PetscFree(w->seg));
@@ -375,16 +428,16 @@ PetscErrorCode FSWallsDiscretize(FSWalls *w, PetscReal dx)
       const PetscReal  L = PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]));
       const PetscInt   m = (PetscInt)PetscCeilReal(L / dx - 1e-9);
       for (PetscInt k = 0; k < m; k++) {
-        PetscReal *s = &w->seg[w->nseg * FS_SEG_STRIDE];
-        s[0] = a[0] + (b[0] - a[0]) * k / m;
-        s[1] = a[1] + (b[1] - a[1]) * k / m;
-        s[2] = a[0] + (b[0] - a[0]) * (k + 1) / m;
-        s[3] = a[1] + (b[1] - a[1]) * (k + 1) / m;
-        s[4] = 0.5 * (s[0] + s[2]);
-        s[5] = 0.5 * (s[1] + s[3]);
-        s[6] = (b[1] - a[1]) / L;
-        s[7] = -(b[0] - a[0]) / L;
-        s[8] = L / m;
+        PetscReal *s          = &w->seg[w->nseg * FS_SEG_STRIDE];
+        s[0]                  = a[0] + (b[0] - a[0]) * k / m;
+        s[1]                  = a[1] + (b[1] - a[1]) * k / m;
+        s[2]                  = a[0] + (b[0] - a[0]) * (k + 1) / m;
+        s[3]                  = a[1] + (b[1] - a[1]) * (k + 1) / m;
+        s[4]                  = 0.5 * (s[0] + s[2]);
+        s[5]                  = 0.5 * (s[1] + s[3]);
+        s[6]                  = (b[1] - a[1]) / L;
+        s[7]                  = -(b[0] - a[0]) / L;
+        s[8]                  = L / m;
         w->segwall[w->nseg++] = w->vwall[v];
       }
     }

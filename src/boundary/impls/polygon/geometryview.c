@@ -23,7 +23,7 @@
 
 /* the walls' colours in the picture (tests/python/test_geometry_view.py checks them) */
 static const unsigned char FSGeometryWall[6][3] = {
-  {40, 40, 40}, {170, 30, 30}, {0, 110, 50}, {120, 50, 160}, {180, 100, 0}, {0, 100, 120},
+    {40, 40, 40}, {170, 30, 30}, {0, 110, 50}, {120, 50, 160}, {180, 100, 0}, {0, 100, 120},
 };
 
 static inline PetscInt FSGeometryRound(PetscReal v) { return (PetscInt)PetscFloorReal(v + 0.5); }
@@ -41,12 +41,14 @@ PetscErrorCode FSBoundaryDraw_Polygon(FSBoundary b, FSImage *img, const FSImageM
     const PetscReal      mx = FSImageMapX(m, sg[4]), my = FSImageMapY(m, sg[5]);
 
     /* the 2-pixel pen covers the pixel right and below the line: start half a pixel up-left */
-    FSImageDrawLine(img, FSGeometryRound(FSImageMapX(m, sg[0]) - 0.5), FSGeometryRound(FSImageMapY(m, sg[1]) - 0.5), FSGeometryRound(FSImageMapX(m, sg[2]) - 0.5), FSGeometryRound(FSImageMapY(m, sg[3]) - 0.5), 2, c);
+    FSImageDrawLine(img, FSGeometryRound(FSImageMapX(m, sg[0]) - 0.5), FSGeometryRound(FSImageMapY(m, sg[1]) - 0.5),
+                    FSGeometryRound(FSImageMapX(m, sg[2]) - 0.5), FSGeometryRound(FSImageMapY(m, sg[3]) - 0.5), 2, c);
     /* a tick along the normal (out of the liquid, so on the wall's solid side) every few segments;
        the pixel y axis points down, hence the minus on the normal's y */
     acc += sg[8] * m->scale;
     if (acc >= FS_GEOMETRY_TICKS) {
-      FSImageDrawLine(img, FSGeometryRound(mx), FSGeometryRound(my), FSGeometryRound(mx + FS_GEOMETRY_TICK * sg[6]), FSGeometryRound(my - FS_GEOMETRY_TICK * sg[7]), 1, c);
+      FSImageDrawLine(img, FSGeometryRound(mx), FSGeometryRound(my), FSGeometryRound(mx + FS_GEOMETRY_TICK * sg[6]),
+                      FSGeometryRound(my - FS_GEOMETRY_TICK * sg[7]), 1, c);
       acc = 0;
     }
   }
@@ -61,19 +63,41 @@ static int FSGeometryWriteWallsXDMF(const char tmp[], PetscInt nseg, const char 
 
   fp = fopen(tmp, "w");
   if (!fp) return errno ? errno : EIO;
-  st |= fprintf(fp, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"walls\" GridType=\"Uniform\">\n") < 0;
+  st |= fprintf(fp, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"walls\" "
+                    "GridType=\"Uniform\">\n") < 0;
   st |= fprintf(fp, "      <Information Name=\"walls\" Value=\"%s\"/>\n", names) < 0;
-  st |= fprintf(fp, "      <Topology TopologyType=\"Polyline\" NumberOfElements=\"%" PetscInt_FMT "\" NodesPerElement=\"2\">\n", nseg) < 0;
-  st |= fprintf(fp, "        <DataItem Dimensions=\"%" PetscInt_FMT " 2\" NumberType=\"Int\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/connectivity</DataItem>\n", nseg, (int)sizeof(PetscInt)) < 0;
+  st |= fprintf(fp,
+                "      <Topology TopologyType=\"Polyline\" NumberOfElements=\"%" PetscInt_FMT
+                "\" NodesPerElement=\"2\">\n",
+                nseg) < 0;
+  st |= fprintf(fp,
+                "        <DataItem Dimensions=\"%" PetscInt_FMT
+                " 2\" NumberType=\"Int\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/connectivity</DataItem>\n",
+                nseg, (int)sizeof(PetscInt)) < 0;
   st |= fprintf(fp, "      </Topology>\n      <Geometry GeometryType=\"XY\">\n") < 0;
-  st |= fprintf(fp, "        <DataItem Dimensions=\"%" PetscInt_FMT " 2\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/points</DataItem>\n", 2 * nseg, (int)sizeof(PetscReal)) < 0;
+  st |= fprintf(fp,
+                "        <DataItem Dimensions=\"%" PetscInt_FMT
+                " 2\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/points</DataItem>\n",
+                2 * nseg, (int)sizeof(PetscReal)) < 0;
   st |= fprintf(fp, "      </Geometry>\n") < 0;
   st |= fprintf(fp, "      <Attribute Name=\"wall\" AttributeType=\"Scalar\" Center=\"Cell\">\n") < 0;
-  st |= fprintf(fp, "        <DataItem Dimensions=\"%" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/wall</DataItem>\n      </Attribute>\n", nseg, (int)sizeof(PetscReal)) < 0;
+  st |= fprintf(fp,
+                "        <DataItem Dimensions=\"%" PetscInt_FMT
+                "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/wall</DataItem>\n      "
+                "</Attribute>\n",
+                nseg, (int)sizeof(PetscReal)) < 0;
   st |= fprintf(fp, "      <Attribute Name=\"normal\" AttributeType=\"Vector\" Center=\"Cell\">\n") < 0;
-  st |= fprintf(fp, "        <DataItem Dimensions=\"%" PetscInt_FMT " 2\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/normal</DataItem>\n      </Attribute>\n", nseg, (int)sizeof(PetscReal)) < 0;
+  st |= fprintf(fp,
+                "        <DataItem Dimensions=\"%" PetscInt_FMT
+                " 2\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/normal</DataItem>\n      "
+                "</Attribute>\n",
+                nseg, (int)sizeof(PetscReal)) < 0;
   st |= fprintf(fp, "      <Attribute Name=\"length\" AttributeType=\"Scalar\" Center=\"Cell\">\n") < 0;
-  st |= fprintf(fp, "        <DataItem Dimensions=\"%" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/length</DataItem>\n      </Attribute>\n", nseg, (int)sizeof(PetscReal)) < 0;
+  st |= fprintf(fp,
+                "        <DataItem Dimensions=\"%" PetscInt_FMT
+                "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/length</DataItem>\n      "
+                "</Attribute>\n",
+                nseg, (int)sizeof(PetscReal)) < 0;
   st |= fprintf(fp, "    </Grid>\n  </Domain>\n</Xdmf>\n") < 0;
   if (st) err = errno ? errno : EIO;
   if (fclose(fp) != 0 && !err) err = errno ? errno : EIO;
@@ -87,17 +111,17 @@ static int FSGeometryWriteWallsXDMF(const char tmp[], PetscInt nseg, const char 
 PetscErrorCode FSBoundaryWriteGeometry_Polygon(FSBoundary b, const char dir[])
 {
   const FSWalls *w    = &((FSBoundary_Polygon *)b->data)->walls;
-  MPI_Comm      comm = PetscObjectComm((PetscObject)b);
-  PetscMPIInt   rank;
-  PetscInt      n, nw = w->nwalls, nseg = w->nseg;
-  PetscReal    *pts, *wall, *nrm, *len;
-  PetscInt     *conn;
-  FSOutputField fields[4];
-  IS            is;
-  PetscViewer   viewer;
-  char          path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], *names;
-  size_t        namelen = 1;
-  int           err = 0;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)b);
+  PetscMPIInt    rank;
+  PetscInt       n, nw = w->nwalls, nseg = w->nseg;
+  PetscReal     *pts, *wall, *nrm, *len;
+  PetscInt      *conn;
+  FSOutputField  fields[4];
+  IS             is;
+  PetscViewer    viewer;
+  char           path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], *names;
+  size_t         namelen = 1;
+  int            err     = 0;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -153,8 +177,11 @@ PetscErrorCode FSBoundaryWriteGeometry_Polygon(FSBoundary b, const char dir[])
   PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot write \"%s\": %s", tmp, strerror(err));
   PetscCall(FSRenameFile_Private(comm, tmp, path));
   PetscCall(PetscFree(names));
-  PetscCall(PetscPrintf(comm, "Geometry view: %s/walls.xdmf (+ walls.h5): %" PetscInt_FMT " segments of %" PetscInt_FMT " wall(s) (", dir, w->nseg, w->nwalls));
-  for (PetscInt q = 0; q < w->nwalls; q++) PetscCall(PetscPrintf(comm, "%s%" PetscInt_FMT " %s", q ? ", " : "", q, w->name[q]));
+  PetscCall(PetscPrintf(
+      comm, "Geometry view: %s/walls.xdmf (+ walls.h5): %" PetscInt_FMT " segments of %" PetscInt_FMT " wall(s) (", dir,
+      w->nseg, w->nwalls));
+  for (PetscInt q = 0; q < w->nwalls; q++)
+    PetscCall(PetscPrintf(comm, "%s%" PetscInt_FMT " %s", q ? ", " : "", q, w->name[q]));
   PetscCall(PetscPrintf(comm, "), to open in ParaView with the XDMF Reader next to particles.xdmf\n"));
   PetscFunctionReturn(0);
 }

@@ -47,10 +47,10 @@ PetscErrorCode FSBoundaryPolygonSetWalls(FSBoundary b, FSWalls *w)
 */
 static PetscErrorCode SetUp(FSBoundary b)
 {
-  FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
-  FSWalls            *w  = &wd->walls;
-  MPI_Comm            comm = PetscObjectComm((PetscObject)b);
-  PetscInt            vis = 0;
+  FSBoundary_Polygon *wd         = (FSBoundary_Polygon *)b->data;
+  FSWalls            *w          = &wd->walls;
+  MPI_Comm            comm       = PetscObjectComm((PetscObject)b);
+  PetscInt            vis        = 0;
   const char *const   visnames[] = {"cut", "all"};
   PetscReal           R;
 
@@ -59,7 +59,11 @@ static PetscErrorCode SetUp(FSBoundary b)
   PetscCall(FSWallsCheck(w, comm));
   PetscCall(FSWallsDiscretize(w, b->dx));
   PetscOptionsBegin(comm, NULL, "Walls (boundary integrals on polygons)", "FS");
-  PetscCall(PetscOptionsEList("-fs_walls_visibility", "Fluid pairs and wall segments near walls: cut (pairs through walls cut, only facing and unhidden segments) or all (every pair and segment within the support; wall pressure from the facing side)", "FSBoundaryCreate_Polygon", visnames, 2, visnames[0], &vis, NULL));
+  PetscCall(PetscOptionsEList(
+      "-fs_walls_visibility",
+      "Fluid pairs and wall segments near walls: cut (pairs through walls cut, only facing and unhidden segments) or "
+      "all (every pair and segment within the support; wall pressure from the facing side)",
+      "FSBoundaryCreate_Polygon", visnames, 2, visnames[0], &vis, NULL));
   PetscOptionsEnd();
   PetscCall(PetscMalloc1(w->nwalls, &wd->names));
   for (PetscInt q = 0; q < w->nwalls; q++) wd->names[q] = w->name[q];
@@ -77,15 +81,17 @@ static PetscErrorCode SetUp(FSBoundary b)
   wd->visall    = (PetscBool)(vis == 1);
   wd->occlusion = (PetscBool)(w->npoly > 1);
   for (PetscInt e = w->pstart[0]; e < w->pstart[1] && !wd->occlusion; e++) {
-    const PetscInt   n0 = w->pstart[1] - w->pstart[0], a = w->pstart[0] + (e - w->pstart[0] + n0 - 1) % n0, c = w->pstart[0] + (e - w->pstart[0] + 1) % n0;
+    const PetscInt n0 = w->pstart[1] - w->pstart[0], a = w->pstart[0] + (e - w->pstart[0] + n0 - 1) % n0,
+                   c    = w->pstart[0] + (e - w->pstart[0] + 1) % n0;
     const PetscReal *pa = &w->vert[2 * a], *pb = &w->vert[2 * e], *pc = &w->vert[2 * c];
-    if ((pb[0] - pa[0]) * (pc[1] - pb[1]) - (pb[1] - pa[1]) * (pc[0] - pb[0]) < 0) wd->occlusion = PETSC_TRUE; /* a right turn of the counter-clockwise outline */
+    if ((pb[0] - pa[0]) * (pc[1] - pb[1]) - (pb[1] - pa[1]) * (pc[0] - pb[0]) < 0)
+      wd->occlusion = PETSC_TRUE; /* a right turn of the counter-clockwise outline */
   }
   /* the Shepard factor of the container at each segment (just inside its midpoint): the wall
      pressure's interpolation weights add up to it where the liquid covers the segment */
   PetscCall(PetscMalloc1(w->nseg, &wd->wetfull));
   for (PetscInt k = 0; k < w->nseg; k++) {
-    const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
+    const PetscReal *sg   = &w->seg[k * FS_SEG_STRIDE];
     const PetscReal  x[2] = {sg[4] - 1e-3 * b->h * sg[6], sg[5] - 1e-3 * b->h * sg[7]};
     PetscReal        grad[2];
     PetscCall(FSWallsShepard(w, b->h, x, PETSC_FALSE, &wd->wetfull[k], grad));
@@ -133,7 +139,8 @@ static inline PetscBool Crosses(const PetscReal a[], const PetscReal b[], const 
    every owned particle, the leak check (the first particle outside the liquid region, with the wall
    nearest to it), and the removal of fluid candidate pairs whose connecting segment crosses a wall.
 */
-static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], PetscInt S, FSNeighbours *nb, FSBoundaryLeak *lk)
+static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], PetscInt S, FSNeighbours *nb,
+                             FSBoundaryLeak *lk)
 {
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
   FSWalls            *w  = &wd->walls;
@@ -148,8 +155,8 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
   }
   for (PetscInt i = 0, wp = 0; i < n; i++) {
     const PetscReal *x = &rec[i * S];
-    const PetscInt   os = nb->cstart[i], oe = nb->cstart[i + 1]; /* this particle's fluid candidates, before compaction */
-    PetscInt         cx = (PetscInt)((x[0] - wd->glo[0]) / R), cy = (PetscInt)((x[1] - wd->glo[1]) / R), first = nc;
+    const PetscInt os = nb->cstart[i], oe = nb->cstart[i + 1]; /* this particle's fluid candidates, before compaction */
+    PetscInt       cx = (PetscInt)((x[0] - wd->glo[0]) / R), cy = (PetscInt)((x[1] - wd->glo[1]) / R), first = nc;
     wd->cstart[i] = nc;
     for (PetscInt cb = PetscMax(cy - 1, 0); cb <= PetscMin(cy + 1, wd->gnc[1] - 1); cb++)
       for (PetscInt ca = PetscMax(cx - 1, 0); ca <= PetscMin(cx + 1, wd->gnc[0] - 1); ca++) {
@@ -173,7 +180,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
     if (nc > first) {
       if (leak < 0 && !FSWallsInLiquid(w, x, 0)) {
         PetscReal best = PETSC_MAX_REAL;
-        leak = i;
+        leak           = i;
         for (PetscInt q = first; q < nc; q++) {
           PetscReal d2 = FSSegmentDistance2(&w->seg[wd->cand[q] * FS_SEG_STRIDE], x);
           if (d2 < best) {
@@ -185,19 +192,26 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
       /* keep the fluid candidates not seen through a wall (all of them with -fs_walls_visibility all) */
       if (wd->visall)
         for (PetscInt q = os; q < oe; q++) nb->cand[wp++] = nb->cand[q];
-      else for (PetscInt q = os; q < oe; q++) {
-        const PetscReal *xj  = &rec[nb->cand[q] * S];
-        PetscBool        cut = PETSC_FALSE;
-        for (PetscInt r = first; r < nc && !cut; r++) cut = Crosses(x, xj, &w->seg[wd->cand[r] * FS_SEG_STRIDE]);
-        if (!cut) nb->cand[wp++] = nb->cand[q];
-      }
-      if (wd->occlusion && !wd->visall) { /* drop the segments hidden behind other walls: their shadows lie in those of the nearer ones */
+      else
+        for (PetscInt q = os; q < oe; q++) {
+          const PetscReal *xj  = &rec[nb->cand[q] * S];
+          PetscBool        cut = PETSC_FALSE;
+          for (PetscInt r = first; r < nc && !cut; r++) cut = Crosses(x, xj, &w->seg[wd->cand[r] * FS_SEG_STRIDE]);
+          if (!cut) nb->cand[wp++] = nb->cand[q];
+        }
+      if (wd->occlusion && !wd->visall) { /* drop the segments hidden behind other walls: their shadows lie in those of
+                                             the nearer ones */
         PetscInt keep = first;
         for (PetscInt q = first; q < nc; q++) {
-          const PetscReal *sg = &w->seg[wd->cand[q] * FS_SEG_STRIDE];
+          const PetscReal *sg     = &w->seg[wd->cand[q] * FS_SEG_STRIDE];
           PetscBool        hidden = PETSC_FALSE;
-          if ((sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7] > 0) /* facing: is its midpoint seen through another segment? */
-            for (PetscInt r = first; r < nc && !hidden; r++) hidden = (PetscBool)(r != q && Crosses(x, sg + 4, &w->seg[(wd->cand[r] < 0 ? -1 - wd->cand[r] : wd->cand[r]) * FS_SEG_STRIDE]));
+          if ((sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7] >
+              0) /* facing: is its midpoint seen through another segment? */
+            for (PetscInt r = first; r < nc && !hidden; r++)
+              hidden = (PetscBool)(r != q &&
+                                   Crosses(
+                                       x, sg + 4,
+                                       &w->seg[(wd->cand[r] < 0 ? -1 - wd->cand[r] : wd->cand[r]) * FS_SEG_STRIDE]));
           if (hidden) wd->cand[q] = -1 - wd->cand[q];
         }
         for (PetscInt q = first; q < nc; q++)
@@ -228,7 +242,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
   FSWalls            *w  = &wd->walls;
   const PetscInt      S = P->stride, n = P->nowned;
-  const PetscReal     h = b->h;
+  const PetscReal     h  = b->h;
   PetscInt            nw = 0;
 
   PetscFunctionBegin;
@@ -272,24 +286,26 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
     for (PetscInt i = 0; i < n; i++) {
       const PetscReal *x = &P->rec[i * S], rho = x[2 * P->dim];
       for (PetscInt q = b->wstart[i]; q < b->wstart[i + 1]; q++) {
-        const PetscInt   k  = b->wk[q];
-        const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
-        const PetscReal  wv = b->wW[q] * P->vol[i];
+        const PetscInt   k      = b->wk[q];
+        const PetscReal *sg     = &w->seg[k * FS_SEG_STRIDE];
+        const PetscReal  wv     = b->wW[q] * P->vol[i];
         const PetscReal  mid[2] = {0.5 * (sg[4] + x[0]), 0.5 * (sg[5] + x[1])};
         PetscReal        g[2];
-        if (wd->visall && (sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7] <= 0) continue; /* p_k from the side the segment faces (the lists hold only such segments otherwise) */
+        if (wd->visall && (sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7] <= 0)
+          continue; /* p_k from the side the segment faces (the lists hold only such segments otherwise) */
         FSFrameFieldEval(P->body, mid, g);
         num[k] += (P->pressure[i] + rho * (g[0] * (sg[4] - x[0]) + g[1] * (sg[5] - x[1]))) * wv;
         den[k] += wv;
       }
     }
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * w->nseg), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * w->nseg), MPIU_REAL, MPI_SUM,
+                               PetscObjectComm((PetscObject)b)));
     for (PetscInt k = 0; k < w->nseg; k++) {
       const PetscReal pamb = P->background_pressure;
       PetscReal       pk   = den[k] > 0 ? num[k] / den[k] : pamb;
       if (pk < pamb) {
         const PetscReal c = PetscMin(1.0, den[k] / wd->wetfull[k]);
-        pk = pamb + (pk - pamb) * c * c;
+        pk                = pamb + (pk - pamb) * c * c;
       }
       wd->wp[k] = pk;
     }
@@ -302,7 +318,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
     if (!rank)
       for (PetscInt k = 0; k < w->nseg; k++) {
         const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE], f = wd->wp[k] * sg[8];
-        PetscReal       *L  = &b->load[6 * w->segwall[k]];
+        PetscReal       *L = &b->load[6 * w->segwall[k]];
         L[0] += f * sg[6];
         L[1] += f * sg[7];
         L[5] += f * ((sg[4] - b->loadpoint[0]) * sg[7] - (sg[5] - b->loadpoint[1]) * sg[6]);
@@ -319,7 +335,8 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
    proportion to the pressure, which vanishes at free surfaces and under lids: this keeps such
    particles from crossing (the "elastic bounce" of AQUAgpusph's boundary integrals).
 */
-static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[], const PetscReal m[], FSParticleEnergyFn energy, void *ctx, PetscReal de[2])
+static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[], const PetscReal m[],
+                             FSParticleEnergyFn energy, void *ctx, PetscReal de[2])
 {
   FSBoundary_Polygon *wd   = (FSBoundary_Polygon *)b->data;
   FSWalls            *w    = &wd->walls;
@@ -328,17 +345,18 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscInt dim, PetscReal x
   PetscFunctionBegin;
   (void)dim;
   for (PetscInt i = 0; i < n; i++) {
-    PetscReal      *xi = &x[2 * i], *vi = &v[2 * i];
-    const PetscInt  cx = (PetscInt)((xi[0] - wd->glo[0]) / wd->gcell), cy = (PetscInt)((xi[1] - wd->glo[1]) / wd->gcell);
+    PetscReal     *xi = &x[2 * i], *vi = &v[2 * i];
+    const PetscInt cx = (PetscInt)((xi[0] - wd->glo[0]) / wd->gcell), cy = (PetscInt)((xi[1] - wd->glo[1]) / wd->gcell);
     if (cx < 0 || cy < 0 || cx >= wd->gnc[0] || cy >= wd->gnc[1]) continue;
     for (PetscInt cb = PetscMax(cy - 1, 0); cb <= PetscMin(cy + 1, wd->gnc[1] - 1); cb++)
       for (PetscInt ca = PetscMax(cx - 1, 0); ca <= PetscMin(cx + 1, wd->gnc[0] - 1); ca++) {
         const PetscInt c = ca + wd->gnc[0] * cb;
         for (PetscInt q = wd->gstart[c]; q < wd->gstart[c + 1]; q++) {
           const PetscReal *sg = &w->seg[wd->gseg[q] * FS_SEG_STRIDE];
-          const PetscReal  d  = (sg[0] - xi[0]) * sg[6] + (sg[1] - xi[1]) * sg[7]; /* distance to the segment's line, > 0 on the liquid side */
-          const PetscReal  t  = ((xi[0] - sg[0]) * (sg[2] - sg[0]) + (xi[1] - sg[1]) * (sg[3] - sg[1])) / (sg[8] * sg[8]);
-          const PetscReal  un = vi[0] * sg[6] + vi[1] * sg[7];
+          const PetscReal  d  = (sg[0] - xi[0]) * sg[6] +
+                              (sg[1] - xi[1]) * sg[7]; /* distance to the segment's line, > 0 on the liquid side */
+          const PetscReal t = ((xi[0] - sg[0]) * (sg[2] - sg[0]) + (xi[1] - sg[1]) * (sg[3] - sg[1])) / (sg[8] * sg[8]);
+          const PetscReal un = vi[0] * sg[6] + vi[1] * sg[7];
           if (d < dmin && d > -dmin && t >= 0 && t <= 1 && un > 0) {
             PetscReal e0[2], e1[2];
             energy(ctx, xi, vi, m[i], e0);
@@ -374,7 +392,9 @@ static PetscErrorCode View(FSBoundary b, PetscViewer viewer)
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
 
   PetscFunctionBegin;
-  PetscCall(PetscViewerASCIIPrintf(viewer, "%" PetscInt_FMT " polygon(s), %" PetscInt_FMT " segments of about dx, visibility %s\n", wd->walls.npoly, wd->walls.nseg, wd->visall ? "all" : "cut"));
+  PetscCall(PetscViewerASCIIPrintf(
+      viewer, "%" PetscInt_FMT " polygon(s), %" PetscInt_FMT " segments of about dx, visibility %s\n", wd->walls.npoly,
+      wd->walls.nseg, wd->visall ? "all" : "cut"));
   PetscFunctionReturn(0);
 }
 
@@ -423,6 +443,7 @@ PetscErrorCode FSBoundaryCreate_Polygon(FSBoundary b)
   b->ops->writegeometry = FSBoundaryWriteGeometry_Polygon;
   b->ops->view          = View;
   b->ops->destroy       = Destroy;
-  PetscCall(PetscObjectComposeFunction((PetscObject)b, "FSBoundaryPolygonSetWalls_C", FSBoundaryPolygonSetWalls_Polygon));
+  PetscCall(
+      PetscObjectComposeFunction((PetscObject)b, "FSBoundaryPolygonSetWalls_C", FSBoundaryPolygonSetWalls_Polygon));
   PetscFunctionReturn(0);
 }

@@ -8,17 +8,19 @@
 #include "walls.h"
 
 typedef struct {
-  FSWalls    walls;
-  const char **names;        /* pointers to the wall names, for the boundary's wallname */
+  FSWalls      walls;
+  const char **names; /* pointers to the wall names, for the boundary's wallname */
   /* static grid of segments (cell size = candidate radius) */
-  PetscReal  glo[2], gcell;
-  PetscInt   gnc[2], *gstart, *gseg;
+  PetscReal glo[2], gcell;
+  PetscInt  gnc[2], *gstart, *gseg;
   /* per step: candidate segments of each owned particle (CSR) */
-  PetscInt  *cstart, *cand, ccap, scap;
-  PetscBool  occlusion;      /* the walls can hide segments from a particle behind others (a non-convex container or obstacles) */
-  PetscBool  visall;         /* -fs_walls_visibility all: no pair cut, no facing filter, no occlusion */
+  PetscInt *cstart, *cand, ccap, scap;
+  PetscBool
+      occlusion; /* the walls can hide segments from a particle behind others (a non-convex container or obstacles) */
+  PetscBool visall; /* -fs_walls_visibility all: no pair cut, no facing filter, no occlusion */
   /* per right-hand side: the lists' capacities (the lists are the boundary's wstart, wk, wW) */
   PetscInt   wcap, wscap;
-  PetscReal *wp;             /* per segment: wall pressure interpolated from the liquid; then 2*nseg work */
-  PetscReal *wetfull;        /* per segment: the container's Shepard factor at its midpoint, the liquid's sum there when it covers the segment */
+  PetscReal *wp;      /* per segment: wall pressure interpolated from the liquid; then 2*nseg work */
+  PetscReal *wetfull; /* per segment: the container's Shepard factor at its midpoint, the liquid's sum there when it
+                         covers the segment */
 } FSBoundary_Polygon;

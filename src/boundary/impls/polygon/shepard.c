@@ -23,8 +23,10 @@ static inline PetscReal PhiOverR2(PetscReal h, PetscReal r)
   return 3.5 / (h * h) * (0.5 + q * q * (-0.625 + q * (0.5 + q * (-0.15625 + q / 56.0))));
 }
 
-static const PetscReal GaussX[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498, 0.1834346424956498, 0.5255324099163290, 0.7966664774136267, 0.9602898564975363};
-static const PetscReal GaussW[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066531250488, 0.3626837833783620, 0.3626837833783620, 0.3137066531250488, 0.2223810344533745, 0.1012285362903763};
+static const PetscReal GaussX[8] = {-0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+                                    0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+static const PetscReal GaussW[8] = {0.1012285362903763, 0.2223810344533745, 0.3137066531250488, 0.3626837833783620,
+                                    0.3626837833783620, 0.3137066531250488, 0.2223810344533745, 0.1012285362903763};
 
 /* Wendland C2 in 2-D, W(r) = 7/(4 pi h^2) (1 - q/2)^4 (2q + 1), q = r/h <= 2 */
 static inline PetscReal Wendland(PetscReal h, PetscReal r)
@@ -61,14 +63,15 @@ static void IntegrateAlong(PetscReal h, PetscReal d, PetscReal a, PetscReal b, P
 
    seg holds p0 (2), p1 (2), midpoint (2), normal (2), length.
 */
-void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool all, PetscReal *gammak, PetscReal *wint)
+void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool all, PetscReal *gammak,
+                        PetscReal *wint)
 {
   const PetscReal *p0 = seg, *p1 = seg + 2, *n = seg + 6, len = seg[8];
   const PetscReal  t[2] = {(p1[0] - p0[0]) / len, (p1[1] - p0[1]) / len};
   const PetscReal  ds   = (p0[0] - x[0]) * n[0] + (p0[1] - x[1]) * n[1]; /* > 0: x on the liquid side */
   const PetscReal  d    = PetscAbsReal(ds);
-  const PetscReal  s0   = (x[0] - p0[0]) * t[0] + (x[1] - p0[1]) * t[1]; /* foot of the perpendicular along the segment */
-  const PetscReal  R    = 2 * h;
+  const PetscReal  s0 = (x[0] - p0[0]) * t[0] + (x[1] - p0[1]) * t[1]; /* foot of the perpendicular along the segment */
+  const PetscReal  R  = 2 * h;
   PetscReal        a, b, half, sums[2] = {0, 0}, ang;
 
   *gammak = *wint = 0;
@@ -82,7 +85,7 @@ void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[],
     IntegrateAlong(h, d, 0, b, sums);
   } else IntegrateAlong(h, d, a, b, sums);
   *wint = sums[1];
-  if (d == 0) return; /* x on the segment's line: e_r . n = 0 */
+  if (d == 0) return;                                    /* x on the segment's line: e_r . n = 0 */
   ang     = PetscAtan2Real(b, d) - PetscAtan2Real(a, d); /* int d/(d^2+s^2) ds */
   *gammak = (ds > 0 ? 1 : -1) * (d * sums[0] - ang) / (2 * PETSC_PI);
 }
@@ -92,7 +95,8 @@ void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[],
    face x only or every one (all, as FSSegmentIntegrals): a reference implementation for tests and
    set-up; the solver uses its per-particle lists of nearby segments.
 */
-PetscErrorCode FSWallsShepard(const FSWalls *w, PetscReal h, const PetscReal x[], PetscBool all, PetscReal *gamma, PetscReal grad[])
+PetscErrorCode FSWallsShepard(const FSWalls *w, PetscReal h, const PetscReal x[], PetscBool all, PetscReal *gamma,
+                              PetscReal grad[])
 {
   PetscFunctionBegin;
   *gamma  = 1;

@@ -12,13 +12,13 @@
 
 typedef struct {
   PetscInt   npoly, nvert, vcap;
-  PetscInt  *pstart;  /* npoly+1 offsets into the vertices */
-  PetscInt  *pwall;   /* wall (name) index of each polygon */
-  PetscInt  *vwall;   /* wall index of each edge, by its first vertex: the polygon's unless FSWallsSetEdgeWall */
-  PetscReal *vert;    /* vertices, 2 per vertex */
-  PetscReal *area;    /* signed area of each polygon (> 0 counter-clockwise) */
+  PetscInt  *pstart; /* npoly+1 offsets into the vertices */
+  PetscInt  *pwall;  /* wall (name) index of each polygon */
+  PetscInt  *vwall;  /* wall index of each edge, by its first vertex: the polygon's unless FSWallsSetEdgeWall */
+  PetscReal *vert;   /* vertices, 2 per vertex */
+  PetscReal *area;   /* signed area of each polygon (> 0 counter-clockwise) */
   PetscInt   nwalls;
-  char     (*name)[64];
+  char (*name)[64];
   /* segments, after FSWallsDiscretize */
   PetscInt   nseg;
   PetscReal *seg;     /* per segment: p0 (2), p1 (2), midpoint (2), normal (2), length: 9 reals */
@@ -39,20 +39,22 @@ typedef struct {
 static inline PetscReal FSSegmentDistance2(const PetscReal seg[], const PetscReal x[])
 {
   const PetscReal tx = seg[2] - seg[0], ty = seg[3] - seg[1];
-  PetscReal       u  = ((x[0] - seg[0]) * tx + (x[1] - seg[1]) * ty) / (tx * tx + ty * ty), px, py;
-  u  = PetscMax(0.0, PetscMin(1.0, u));
-  px = seg[0] + u * tx - x[0];
-  py = seg[1] + u * ty - x[1];
+  PetscReal       u = ((x[0] - seg[0]) * tx + (x[1] - seg[1]) * ty) / (tx * tx + ty * ty), px, py;
+  u                 = PetscMax(0.0, PetscMin(1.0, u));
+  px                = seg[0] + u * tx - x[0];
+  py                = seg[1] + u * ty - x[1];
   return px * px + py * py;
 }
 
 PETSC_INTERN PetscErrorCode FSWallsCreate(FSWalls *);
 PETSC_INTERN PetscErrorCode FSWallsDestroy(FSWalls *);
-PETSC_INTERN PetscErrorCode FSWallsAddPolygon(FSWalls *, MPI_Comm, const char name[], PetscInt n, const PetscReal xy[], const char where[]);
+PETSC_INTERN PetscErrorCode FSWallsAddPolygon(FSWalls *, MPI_Comm, const char name[], PetscInt n, const PetscReal xy[],
+                                              const char where[]);
 PETSC_INTERN PetscErrorCode FSWallsSetEdgeWall(FSWalls *, MPI_Comm, PetscInt poly, PetscInt edge, const char name[]);
 PETSC_INTERN PetscErrorCode FSWallsLoad(FSWalls *, MPI_Comm, const char path[]);
 PETSC_INTERN PetscErrorCode FSWallsRectangularTank(FSWalls *, MPI_Comm, PetscReal L, PetscReal H);
-PETSC_INTERN PetscErrorCode FSWallsBaffledTank(FSWalls *, MPI_Comm, PetscInt ncomp, PetscReal Lc, PetscReal thickness, PetscReal H, PetscReal bottom_gap, PetscReal baffle_height);
+PETSC_INTERN PetscErrorCode FSWallsBaffledTank(FSWalls *, MPI_Comm, PetscInt ncomp, PetscReal Lc, PetscReal thickness,
+                                               PetscReal H, PetscReal bottom_gap, PetscReal baffle_height);
 PETSC_INTERN PetscErrorCode FSWallsCheck(FSWalls *, MPI_Comm);
 PETSC_INTERN PetscErrorCode FSWallsDiscretize(FSWalls *, PetscReal dx);
 PETSC_INTERN PetscBool      FSWallsInLiquid(const FSWalls *, const PetscReal x[], PetscReal margin);
@@ -60,8 +62,10 @@ PETSC_INTERN PetscReal      FSWallsDistance(const FSWalls *, const PetscReal x[]
 
 /* Shepard factor from the walls alone (notes/boundary-integrals.md): gamma(x) and its gradient
    from the segments within the kernel support that face x. */
-PETSC_INTERN void      FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool all, PetscReal *gammak, PetscReal *wint);
-PETSC_INTERN PetscErrorCode FSWallsShepard(const FSWalls *, PetscReal h, const PetscReal x[], PetscBool all, PetscReal *gamma, PetscReal grad[]);
+PETSC_INTERN void           FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool all,
+                                               PetscReal *gammak, PetscReal *wint);
+PETSC_INTERN PetscErrorCode FSWallsShepard(const FSWalls *, PetscReal h, const PetscReal x[], PetscBool all,
+                                           PetscReal *gamma, PetscReal grad[]);
 
 /* The polygon boundary's geometry: gives b (of type "polygon") the walls w, which it then owns (w is
    zeroed). Called by the cases. */
