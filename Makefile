@@ -2,6 +2,7 @@
 #   make demo   install dependencies, build, run the seed's solid-mass and 50 % rectangular-tank cases on the
 #               beam (a few minutes on 2 cores), write the seed's figures, say where the results are
 #   make test   install dependencies, build, run the C tests (ctest) and the Python tests (pytest)
+#   make format clang-format the C sources
 # `make build` also makes the Python package in python/ importable by $(PYTHON) (scripts/install-python.sh).
 BUILD   ?= build
 JOBS    ?= 2
@@ -10,7 +11,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
 
-.PHONY: all deps build demo test test-c test-python bench clean
+.PHONY: all deps build demo test test-c test-python bench format clean
 
 all: build
 
@@ -40,6 +41,10 @@ bench: build
 	$(PYTHON) bench/bench_taylor_green.py
 	$(PYTHON) bench/bench_dam_break.py
 	$(PYTHON) bench/bench_coupled.py
+
+# the C sources in the project's format (.clang-format; tests/python/test_format.py checks it)
+format:
+	clang-format -i -style=file $$(find src include app plugins bench tests/c -name '*.[ch]')
 
 clean:
 	rm -rf $(BUILD)

@@ -93,13 +93,13 @@ static PetscErrorCode ParticlesDestroy(Particles *pa)
 static void Place(Particles *pa, PetscInt i, PetscReal x, PetscReal y, PetscReal rho, PetscReal dx)
 {
   PetscReal *r = &pa->rec[i * S];
-  r[0] = x;
-  r[1] = y;
+  r[0]         = x;
+  r[1]         = y;
   r[2] = r[3] = 0;
-  r[4]         = rho;
-  r[5]         = rho0 * dx * dx;
-  pa->vol[i]   = r[5] / rho;
-  pa->p[i]     = c0 * c0 * (rho - rho0);
+  r[4]        = rho;
+  r[5]        = rho0 * dx * dx;
+  pa->vol[i]  = r[5] / rho;
+  pa->p[i]    = c0 * c0 * (rho - rho0);
 }
 
 /* The boundary's work of a step and of a right-hand side, as the solver does it: the candidate lists
@@ -133,8 +133,9 @@ static PetscReal SegmentDistance(const PetscReal p0[], const PetscReal p1[], con
 {
   const PetscReal tx = p1[0] - p0[0], ty = p1[1] - p0[1];
   PetscReal       u = ((x[0] - p0[0]) * tx + (x[1] - p0[1]) * ty) / (tx * tx + ty * ty);
-  u = u < 0 ? 0 : (u > 1 ? 1 : u);
-  return PetscSqrtReal((p0[0] + u * tx - x[0]) * (p0[0] + u * tx - x[0]) + (p0[1] + u * ty - x[1]) * (p0[1] + u * ty - x[1]));
+  u                 = u < 0 ? 0 : (u > 1 ? 1 : u);
+  return PetscSqrtReal((p0[0] + u * tx - x[0]) * (p0[0] + u * tx - x[0]) +
+                       (p0[1] + u * ty - x[1]) * (p0[1] + u * ty - x[1]));
 }
 
 /* int W(sqrt(t^2 + d^2)) dt over the line at distance d, Wendland C2 in 2-D written out, composite Simpson */
@@ -158,18 +159,19 @@ static PetscReal LineIntegral(PetscReal h, PetscReal d)
 */
 static PetscErrorCode TestGammaAndLists(MPI_Comm comm)
 {
-  const PetscReal      h = 0.1, dx = 0.5 * h, dist[4] = {0.01, 0.5, 1.0, 1.9}, ref[4] = {0.507427, 0.823497, 0.971491, 1.0};
-  const PetscReal      all[6][2] = {{1 + 0.37 * dx, dist[0] * h}, {1 + 0.37 * dx, dist[1] * h}, {1 + 0.37 * dx, dist[2] * h}, {1 + 0.37 * dx, dist[3] * h}, {0.5 * h, 0.7 * h}, {1.0, 1.0}};
-  const PetscReal      allref[6] = {ref[0], ref[1], ref[2], ref[3], 0.743619, 1.0};
-  PetscInt             mine[6], n = 0;
-  PetscMPIInt          rank, size;
-  FSBoundary           b;
-  Particles            pa;
-  FSBoundaryLeak       leak;
-  const FSWallView    *V;
-  const PetscInt      *wstart, *wk;
-  const PetscReal     *wW;
-  PetscReal            maxg = 0, maxint = 0;
+  const PetscReal h = 0.1, dx = 0.5 * h, dist[4] = {0.01, 0.5, 1.0, 1.9}, ref[4] = {0.507427, 0.823497, 0.971491, 1.0};
+  const PetscReal all[6][2] = {{1 + 0.37 * dx, dist[0] * h}, {1 + 0.37 * dx, dist[1] * h}, {1 + 0.37 * dx, dist[2] * h},
+                               {1 + 0.37 * dx, dist[3] * h}, {0.5 * h, 0.7 * h},           {1.0, 1.0}};
+  const PetscReal allref[6] = {ref[0], ref[1], ref[2], ref[3], 0.743619, 1.0};
+  PetscInt        mine[6], n = 0;
+  PetscMPIInt     rank, size;
+  FSBoundary      b;
+  Particles       pa;
+  FSBoundaryLeak  leak;
+  const FSWallView *V;
+  const PetscInt   *wstart, *wk;
+  const PetscReal  *wW;
+  PetscReal         maxg = 0, maxint = 0;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -180,47 +182,69 @@ static PetscErrorCode TestGammaAndLists(MPI_Comm comm)
   PetscCall(ParticlesCreate(n, &pa));
   for (PetscInt i = 0; i < n; i++) Place(&pa, i, all[mine[i]][0], all[mine[i]][1], rho0, dx);
   PetscCall(UpdateAndPrepare(b, h, &pa, &leak));
-  TCHECK(leak.particle < 0, "a leak reported for particles inside the tank (particle %" PetscInt_FMT ")", leak.particle);
+  TCHECK(leak.particle < 0, "a leak reported for particles inside the tank (particle %" PetscInt_FMT ")",
+         leak.particle);
   PetscCall(FSBoundaryGetView(b, &V, &wstart, &wk, &wW));
-  TCHECK(V->dim == 2 && V->nwalls == 4 && V->nelements > 0 && V->pressure, "the view: dim %" PetscInt_FMT ", %" PetscInt_FMT " walls, %" PetscInt_FMT " elements", V->dim, V->nwalls, V->nelements);
+  TCHECK(V->dim == 2 && V->nwalls == 4 && V->nelements > 0 && V->pressure,
+         "the view: dim %" PetscInt_FMT ", %" PetscInt_FMT " walls, %" PetscInt_FMT " elements", V->dim, V->nwalls,
+         V->nelements);
   for (PetscInt i = 0; i < n; i++) {
-    const PetscInt   k  = mine[i];
-    const PetscReal *x  = &pa.rec[i * S];
+    const PetscInt   k    = mine[i];
+    const PetscReal *x    = &pa.rec[i * S];
     PetscReal        sumW = 0;
-    if (k == 5) TCHECK(pa.gamma[i] == 1.0, "far from the walls gamma must be exactly 1, got %.17g", (double)pa.gamma[i]);
+    if (k == 5)
+      TCHECK(pa.gamma[i] == 1.0, "far from the walls gamma must be exactly 1, got %.17g", (double)pa.gamma[i]);
     else {
-      TCHECK(PetscAbsReal(pa.gamma[i] - allref[k]) < 2e-6, "gamma of particle %" PetscInt_FMT " at (%g, %g): %.7f, reference %.6f", k, (double)x[0], (double)x[1], (double)pa.gamma[i], (double)allref[k]);
+      TCHECK(PetscAbsReal(pa.gamma[i] - allref[k]) < 2e-6,
+             "gamma of particle %" PetscInt_FMT " at (%g, %g): %.7f, reference %.6f", k, (double)x[0], (double)x[1],
+             (double)pa.gamma[i], (double)allref[k]);
       maxg = PetscMax(maxg, PetscAbsReal(pa.gamma[i] - allref[k]));
     }
     /* its list: within the support, facing it, a positive mean kernel value */
     for (PetscInt q = wstart[i]; q < wstart[i + 1]; q++) {
       const PetscReal *e = &V->element[wk[q] * V->stride], *c = e + V->centroid, *nn = e + V->normal, s = e[V->measure];
-      const PetscReal  p1[2] = {2 * c[0] - e[0], 2 * c[1] - e[1]}, r = SegmentDistance(e, p1, x), face = (e[0] - x[0]) * nn[0] + (e[1] - x[1]) * nn[1];
-      TCHECK(r < 2 * h, "particle %" PetscInt_FMT ": element %" PetscInt_FMT " at distance %g is listed, outside the support %g", k, wk[q], (double)r, (double)(2 * h));
-      TCHECK(face > 0, "particle %" PetscInt_FMT ": element %" PetscInt_FMT " is listed but does not face it ((p0 - x).n = %g)", k, wk[q], (double)face);
-      TCHECK(wW[q] > 0, "particle %" PetscInt_FMT ": element %" PetscInt_FMT " listed with the mean kernel value %g", k, wk[q], (double)wW[q]);
+      const PetscReal  p1[2] = {2 * c[0] - e[0], 2 * c[1] - e[1]}, r = SegmentDistance(e, p1, x),
+                      face = (e[0] - x[0]) * nn[0] + (e[1] - x[1]) * nn[1];
+      TCHECK(r < 2 * h,
+             "particle %" PetscInt_FMT ": element %" PetscInt_FMT " at distance %g is listed, outside the support %g",
+             k, wk[q], (double)r, (double)(2 * h));
+      TCHECK(face > 0,
+             "particle %" PetscInt_FMT ": element %" PetscInt_FMT " is listed but does not face it ((p0 - x).n = %g)",
+             k, wk[q], (double)face);
+      TCHECK(wW[q] > 0, "particle %" PetscInt_FMT ": element %" PetscInt_FMT " listed with the mean kernel value %g", k,
+             wk[q], (double)wW[q]);
       sumW += wW[q] * s;
     }
     /* and complete: every element nearer than 1.9h that faces it */
     for (PetscInt e = 0; e < V->nelements; e++) {
       const PetscReal *el = &V->element[e * V->stride], *c = el + V->centroid, *nn = el + V->normal;
-      const PetscReal  p1[2] = {2 * c[0] - el[0], 2 * c[1] - el[1]};
+      const PetscReal  p1[2]  = {2 * c[0] - el[0], 2 * c[1] - el[1]};
       PetscBool        listed = PETSC_FALSE;
       if (SegmentDistance(el, p1, x) >= 1.9 * h || (el[0] - x[0]) * nn[0] + (el[1] - x[1]) * nn[1] <= 0) continue;
       for (PetscInt q = wstart[i]; q < wstart[i + 1]; q++) listed = (PetscBool)(listed || wk[q] == e);
-      TCHECK(listed, "particle %" PetscInt_FMT ": element %" PetscInt_FMT " at distance %g faces it but is not in its list", k, e, (double)SegmentDistance(el, p1, x));
+      TCHECK(listed,
+             "particle %" PetscInt_FMT ": element %" PetscInt_FMT " at distance %g faces it but is not in its list", k,
+             e, (double)SegmentDistance(el, p1, x));
     }
     if (k < 4) { /* a flat wall: the list's int W dS add up to the kernel's integral along the wall's line (the
                     boundary's 8-point Gauss rule per piece: 7e-9 at 0.01h, where W varies on the scale d) */
       const PetscReal exact = LineIntegral(h, x[1]), err = PetscAbsReal(sumW - exact) / exact;
-      TCHECK(err < 1e-8, "particle %" PetscInt_FMT " at %gh from the floor: sum of int W dS %.15g, line integral %.15g (relative error %.3g)", k, (double)dist[k], (double)sumW, (double)exact, (double)err);
+      TCHECK(err < 1e-8,
+             "particle %" PetscInt_FMT
+             " at %gh from the floor: sum of int W dS %.15g, line integral %.15g (relative error %.3g)",
+             k, (double)dist[k], (double)sumW, (double)exact, (double)err);
       maxint = PetscMax(maxint, err);
     }
-    if (k == 5) TCHECK(wstart[i + 1] == wstart[i], "the particle in the middle of the tank has %" PetscInt_FMT " wall elements", wstart[i + 1] - wstart[i]);
+    if (k == 5)
+      TCHECK(wstart[i + 1] == wstart[i], "the particle in the middle of the tank has %" PetscInt_FMT " wall elements",
+             wstart[i + 1] - wstart[i]);
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &maxg, 1, MPIU_REAL, MPI_MAX, comm));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &maxint, 1, MPIU_REAL, MPI_MAX, comm));
-  PetscCall(PetscPrintf(comm, "  gamma: largest difference from the reference values %.3g (tolerance 2e-6); int W dS against the line integral: %.3g (tolerance 1e-8)\n", (double)maxg, (double)maxint));
+  PetscCall(PetscPrintf(comm,
+                        "  gamma: largest difference from the reference values %.3g (tolerance 2e-6); int W dS against "
+                        "the line integral: %.3g (tolerance 1e-8)\n",
+                        (double)maxg, (double)maxint));
   PetscCall(ParticlesDestroy(&pa));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);
@@ -234,18 +258,18 @@ static PetscErrorCode TestGammaAndLists(MPI_Comm comm)
 */
 static PetscErrorCode TestHydrostatic(MPI_Comm comm)
 {
-  const PetscReal  L = 0.4, Ht = 0.3, H = 0.1, dx = 0.01, h = 2 * dx;
-  const PetscInt   nx = 40, ny = 10;
+  const PetscReal L = 0.4, Ht = 0.3, H = 0.1, dx = 0.01, h = 2 * dx;
+  const PetscInt  nx = 40, ny = 10;
   /* measured (1 and 2 ranks): floor pressure 1.9e-4 and floor load 1.89e-4, from the hydrostatic
      correction's rho_j g.(x_k - x_j), which takes the compressed density (rho_j - rho0 = p_j/c0^2, up
      to g H/c0^2 = 2.5e-3 rho0 here); side loads 1.24e-3, almost all from the elements just above the
      free surface, whose extrapolated tension (-5 Pa, -1 Pa, ...) counts with the square of their wetted share */
-  const PetscReal  tolp = 2.5e-4, tolfloor = 2.5e-4, tolside = 1.5e-3;
-  PetscMPIInt      rank, size;
-  PetscInt         n = 0, floorw, rightw, leftw, lidw, nwalls;
-  FSBoundary       b;
-  Particles        pa;
-  FSBoundaryLeak   leak;
+  const PetscReal   tolp = 2.5e-4, tolfloor = 2.5e-4, tolside = 1.5e-3;
+  PetscMPIInt       rank, size;
+  PetscInt          n = 0, floorw, rightw, leftw, lidw, nwalls;
+  FSBoundary        b;
+  Particles         pa;
+  FSBoundaryLeak    leak;
   const FSWallView *V;
   const PetscInt   *wstart, *wk;
   const PetscReal  *wW, *loads;
@@ -274,21 +298,40 @@ static PetscErrorCode TestHydrostatic(MPI_Comm comm)
   for (PetscInt e = 0; e < V->nelements; e++) {
     const PetscReal err = PetscAbsReal(V->pressure[e] - rho0 * grav * H) / (rho0 * grav * H);
     if (V->elementwall[e] != floorw) continue;
-    TCHECK(err < tolp, "the wall pressure of floor element %" PetscInt_FMT " at x = %g: %g, expected rho0 g H = %g (relative error %.3g > %g)", e, (double)V->element[e * V->stride + V->centroid], (double)V->pressure[e], (double)(rho0 * grav * H), (double)err, (double)tolp);
+    TCHECK(err < tolp,
+           "the wall pressure of floor element %" PetscInt_FMT
+           " at x = %g: %g, expected rho0 g H = %g (relative error %.3g > %g)",
+           e, (double)V->element[e * V->stride + V->centroid], (double)V->pressure[e], (double)(rho0 * grav * H),
+           (double)err, (double)tolp);
     maxp = PetscMax(maxp, err);
   }
   PetscCall(FSBoundaryGetLoads(b, &nwalls, names, &loads));
-  TCHECK(nwalls == 4 && !strcmp(names[floorw], "floor"), "FSBoundaryGetLoads: %" PetscInt_FMT " walls, wall %" PetscInt_FMT " named \"%s\"", nwalls, floorw, names[floorw]);
+  TCHECK(nwalls == 4 && !strcmp(names[floorw], "floor"),
+         "FSBoundaryGetLoads: %" PetscInt_FMT " walls, wall %" PetscInt_FMT " named \"%s\"", nwalls, floorw,
+         names[floorw]);
   ef = PetscAbsReal(loads[6 * floorw + 1] + weight) / weight;
   er = PetscAbsReal(loads[6 * rightw + 0] - side) / side;
   el = PetscAbsReal(loads[6 * leftw + 0] + side) / side;
-  TCHECK(ef < tolfloor, "the floor's load %g, expected minus the liquid's weight -rho0 g H L = %g (relative error %.3g > %g)", (double)loads[6 * floorw + 1], (double)-weight, (double)ef, (double)tolfloor);
-  TCHECK(PetscAbsReal(loads[6 * floorw + 0]) < 1e-12 * weight, "the floor's horizontal load %g must be 0", (double)loads[6 * floorw + 0]);
-  TCHECK(er < tolside, "the right wall's load %g, expected rho0 g H^2/2 = %g (relative error %.3g > %g)", (double)loads[6 * rightw + 0], (double)side, (double)er, (double)tolside);
-  TCHECK(el < tolside, "the left wall's load %g, expected -rho0 g H^2/2 = %g (relative error %.3g > %g)", (double)loads[6 * leftw + 0], (double)-side, (double)el, (double)tolside);
-  TCHECK(PetscAbsReal(loads[6 * rightw + 1]) < 1e-12 * side && PetscAbsReal(loads[6 * leftw + 1]) < 1e-12 * side, "the side walls' vertical loads %g, %g must be 0", (double)loads[6 * rightw + 1], (double)loads[6 * leftw + 1]);
-  for (PetscInt c = 0; c < 6; c++) TCHECK(loads[6 * lidw + c] == 0, "the lid, above the liquid, carries the load %g (component %" PetscInt_FMT ")", (double)loads[6 * lidw + c], c);
-  PetscCall(PetscPrintf(comm, "  hydrostatic column: floor pressure error %.3g (tolerance %g), floor load %.3g (tolerance %g), side loads %.3g and %.3g (tolerance %g)\n", (double)maxp, (double)tolp, (double)ef, (double)tolfloor, (double)er, (double)el, (double)tolside));
+  TCHECK(ef < tolfloor,
+         "the floor's load %g, expected minus the liquid's weight -rho0 g H L = %g (relative error %.3g > %g)",
+         (double)loads[6 * floorw + 1], (double)-weight, (double)ef, (double)tolfloor);
+  TCHECK(PetscAbsReal(loads[6 * floorw + 0]) < 1e-12 * weight, "the floor's horizontal load %g must be 0",
+         (double)loads[6 * floorw + 0]);
+  TCHECK(er < tolside, "the right wall's load %g, expected rho0 g H^2/2 = %g (relative error %.3g > %g)",
+         (double)loads[6 * rightw + 0], (double)side, (double)er, (double)tolside);
+  TCHECK(el < tolside, "the left wall's load %g, expected -rho0 g H^2/2 = %g (relative error %.3g > %g)",
+         (double)loads[6 * leftw + 0], (double)-side, (double)el, (double)tolside);
+  TCHECK(PetscAbsReal(loads[6 * rightw + 1]) < 1e-12 * side && PetscAbsReal(loads[6 * leftw + 1]) < 1e-12 * side,
+         "the side walls' vertical loads %g, %g must be 0", (double)loads[6 * rightw + 1],
+         (double)loads[6 * leftw + 1]);
+  for (PetscInt c = 0; c < 6; c++)
+    TCHECK(loads[6 * lidw + c] == 0, "the lid, above the liquid, carries the load %g (component %" PetscInt_FMT ")",
+           (double)loads[6 * lidw + c], c);
+  PetscCall(PetscPrintf(comm,
+                        "  hydrostatic column: floor pressure error %.3g (tolerance %g), floor load %.3g (tolerance "
+                        "%g), side loads %.3g and %.3g (tolerance %g)\n",
+                        (double)maxp, (double)tolp, (double)ef, (double)tolfloor, (double)er, (double)el,
+                        (double)tolside));
   PetscCall(ParticlesDestroy(&pa));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);
@@ -298,9 +341,10 @@ static PetscErrorCode TestHydrostatic(MPI_Comm comm)
 static PetscErrorCode TestLeak(void)
 {
   const PetscReal    h = 0.1, dx = 0.5 * h;
-  const PetscReal    xy[2][3][2] = {{{1.0, 1.0}, {-0.3 * dx, 0.7}, {0.5, -0.2 * dx}}, {{1.0, 1.0}, {0.9, 0.2 * dx}, {0.9, -0.2 * dx}}};
-  const PetscInt     expect[2] = {1, 2};
-  const char        *wall[2] = {"left", "floor"};
+  const PetscReal    xy[2][3][2] = {{{1.0, 1.0}, {-0.3 * dx, 0.7}, {0.5, -0.2 * dx}},
+                                    {{1.0, 1.0}, {0.9, 0.2 * dx}, {0.9, -0.2 * dx}}};
+  const PetscInt     expect[2]   = {1, 2};
+  const char        *wall[2]     = {"left", "floor"};
   FSBoundary         b;
   Particles          pa;
   FSBoundaryLeak     leak;
@@ -321,15 +365,19 @@ static PetscErrorCode TestLeak(void)
     PetscCall(FSBoundaryUpdate(b, pa.n, pa.rec, S, &nb, &leak));
     PetscCall(FSNeighboursDestroy(&nb));
     PetscCall(WallIndex(b, wall[c], &w));
-    TCHECK(leak.particle == expect[c], "leak: particle %" PetscInt_FMT " reported, expected %" PetscInt_FMT " (at (%g, %g))", leak.particle, expect[c], (double)xy[c][expect[c]][0], (double)xy[c][expect[c]][1]);
-    TCHECK(leak.wall == w, "leak of particle %" PetscInt_FMT ": wall \"%s\" reported, expected the nearest, \"%s\"", leak.particle, leak.wall >= 0 && leak.wall < nwalls ? names[leak.wall] : "(none)", wall[c]);
+    TCHECK(leak.particle == expect[c],
+           "leak: particle %" PetscInt_FMT " reported, expected %" PetscInt_FMT " (at (%g, %g))", leak.particle,
+           expect[c], (double)xy[c][expect[c]][0], (double)xy[c][expect[c]][1]);
+    TCHECK(leak.wall == w, "leak of particle %" PetscInt_FMT ": wall \"%s\" reported, expected the nearest, \"%s\"",
+           leak.particle, leak.wall >= 0 && leak.wall < nwalls ? names[leak.wall] : "(none)", wall[c]);
   }
   PetscCall(ParticlesDestroy(&pa));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);
 }
 
-/* the energy callback of the bounce test: kinetic + potential (tank frame), and the same + 1 (absolute); counts its calls */
+/* the energy callback of the bounce test: kinetic + potential (tank frame), and the same + 1 (absolute); counts its
+ * calls */
 typedef struct {
   PetscInt calls;
 } EnergyCtx;
@@ -373,24 +421,38 @@ static PetscErrorCode TestBounce(void)
       }
     PetscCall(FSBoundaryBounce(b, 4, 2, x, v, m, Energy, &ctx, de));
     /* particle 0 off the floor (normal (0, -1)): y = dmin, v_y = +e 0.5 */
-    TCHECK(PetscAbsReal(x[1] - dmin) <= 1e-15 && x[0] == x0[0][0], "bounce off the floor: position (%.17g, %.17g), expected (%.17g, %.17g)", (double)x[0], (double)x[1], (double)x0[0][0], (double)dmin);
-    TCHECK(v[0] == v0[0][0] && PetscAbsReal(v[1] - e * 0.5) <= 1e-15, "bounce off the floor: velocity (%.17g, %.17g), expected (%g, %g)", (double)v[0], (double)v[1], (double)v0[0][0], (double)(e * 0.5));
+    TCHECK(PetscAbsReal(x[1] - dmin) <= 1e-15 && x[0] == x0[0][0],
+           "bounce off the floor: position (%.17g, %.17g), expected (%.17g, %.17g)", (double)x[0], (double)x[1],
+           (double)x0[0][0], (double)dmin);
+    TCHECK(v[0] == v0[0][0] && PetscAbsReal(v[1] - e * 0.5) <= 1e-15,
+           "bounce off the floor: velocity (%.17g, %.17g), expected (%g, %g)", (double)v[0], (double)v[1],
+           (double)v0[0][0], (double)(e * 0.5));
     /* particle 2 off the right wall (normal (1, 0)): x = 2 - dmin, v_x = -e 0.8 */
-    TCHECK(PetscAbsReal(x[4] - (2.0 - dmin)) <= 1e-15 && x[5] == x0[2][1], "bounce off the right wall: position (%.17g, %.17g), expected (%.17g, %.17g)", (double)x[4], (double)x[5], (double)(2.0 - dmin), (double)x0[2][1]);
-    TCHECK(PetscAbsReal(v[4] + e * 0.8) <= 1e-15 && v[5] == v0[2][1], "bounce off the right wall: velocity (%.17g, %.17g), expected (%g, %g)", (double)v[4], (double)v[5], (double)(-e * 0.8), (double)v0[2][1]);
+    TCHECK(PetscAbsReal(x[4] - (2.0 - dmin)) <= 1e-15 && x[5] == x0[2][1],
+           "bounce off the right wall: position (%.17g, %.17g), expected (%.17g, %.17g)", (double)x[4], (double)x[5],
+           (double)(2.0 - dmin), (double)x0[2][1]);
+    TCHECK(PetscAbsReal(v[4] + e * 0.8) <= 1e-15 && v[5] == v0[2][1],
+           "bounce off the right wall: velocity (%.17g, %.17g), expected (%g, %g)", (double)v[4], (double)v[5],
+           (double)(-e * 0.8), (double)v0[2][1]);
     /* particles 1 (moving away) and 3 (far) untouched */
     for (PetscInt i = 1; i < 4; i += 2)
-      for (PetscInt d = 0; d < 2; d++) TCHECK(x[2 * i + d] == x0[i][d] && v[2 * i + d] == v0[i][d], "particle %" PetscInt_FMT " bounced: it moves away from the wall or is far from it", i);
+      for (PetscInt d = 0; d < 2; d++)
+        TCHECK(x[2 * i + d] == x0[i][d] && v[2 * i + d] == v0[i][d],
+               "particle %" PetscInt_FMT " bounced: it moves away from the wall or is far from it", i);
     /* the callback before and after each of the two bounces, and the energy change it measured */
-    TCHECK(ctx.calls == 4, "the energy callback was called %" PetscInt_FMT " times for two bounces, expected 4", ctx.calls);
+    TCHECK(ctx.calls == 4, "the energy callback was called %" PetscInt_FMT " times for two bounces, expected 4",
+           ctx.calls);
     ede = m[0] * grav * (dmin - x0[0][1]) + 0.5 * m[0] * (e * e - 1) * 0.5 * 0.5 + 0.5 * m[2] * (e * e - 1) * 0.8 * 0.8;
-    TCHECK(PetscAbsReal(de[0] - ede) <= 1e-12 * PetscMax(1.0, PetscAbsReal(ede)) && PetscAbsReal(de[1] - de[0]) <= 1e-12, "bounce energy change %.17g (absolute frame %.17g), expected %.17g", (double)de[0], (double)de[1], (double)ede);
+    TCHECK(
+        PetscAbsReal(de[0] - ede) <= 1e-12 * PetscMax(1.0, PetscAbsReal(ede)) && PetscAbsReal(de[1] - de[0]) <= 1e-12,
+        "bounce energy change %.17g (absolute frame %.17g), expected %.17g", (double)de[0], (double)de[1], (double)ede);
     PetscCall(FSBoundaryDestroy(&b));
   }
   PetscFunctionReturn(0);
 }
 
-/* errors: an unknown method names itself and the registered ones; the polygon's geometry on a boundary without that method */
+/* errors: an unknown method names itself and the registered ones; the polygon's geometry on a boundary without that
+ * method */
 static PetscErrorCode TestErrors(MPI_Comm comm)
 {
   FSBoundary     b;
@@ -404,17 +466,23 @@ static PetscErrorCode TestErrors(MPI_Comm comm)
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   ierr = FSBoundarySetType(b, "trimesh_of_the_future");
   PetscCall(PetscPopErrorHandler());
-  TCHECK(ierr == PETSC_ERR_ARG_UNKNOWN_TYPE, "FSBoundarySetType with an unknown name returned %d, expected PETSC_ERR_ARG_UNKNOWN_TYPE (%d)", (int)ierr, (int)PETSC_ERR_ARG_UNKNOWN_TYPE);
+  TCHECK(ierr == PETSC_ERR_ARG_UNKNOWN_TYPE,
+         "FSBoundarySetType with an unknown name returned %d, expected PETSC_ERR_ARG_UNKNOWN_TYPE (%d)", (int)ierr,
+         (int)PETSC_ERR_ARG_UNKNOWN_TYPE);
   PetscCall(PetscErrorMessage(ierr, &text, &msg));
-  TCHECK(msg && strstr(msg, "\"trimesh_of_the_future\"") && strstr(msg, "polygon"), "the error must name the unknown method and the registered ones: \"%s\"", msg ? msg : "(none)");
+  TCHECK(msg && strstr(msg, "\"trimesh_of_the_future\"") && strstr(msg, "polygon"),
+         "the error must name the unknown method and the registered ones: \"%s\"", msg ? msg : "(none)");
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, comm, 1.0, 1.0));
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   ierr  = FSBoundaryPolygonSetWalls(b, &w);
   ierr2 = FSBoundarySetUp(b, 2, 0.1, 0.2, 0.5);
   PetscCall(PetscPopErrorHandler());
-  TCHECK(ierr != 0 && w.npoly == 1, "FSBoundaryPolygonSetWalls on a boundary without a method must fail and leave the walls to the caller");
-  TCHECK(ierr2 == PETSC_ERR_ARG_WRONGSTATE, "FSBoundarySetUp without a method returned %d, expected PETSC_ERR_ARG_WRONGSTATE (%d)", (int)ierr2, (int)PETSC_ERR_ARG_WRONGSTATE);
+  TCHECK(ierr != 0 && w.npoly == 1,
+         "FSBoundaryPolygonSetWalls on a boundary without a method must fail and leave the walls to the caller");
+  TCHECK(ierr2 == PETSC_ERR_ARG_WRONGSTATE,
+         "FSBoundarySetUp without a method returned %d, expected PETSC_ERR_ARG_WRONGSTATE (%d)", (int)ierr2,
+         (int)PETSC_ERR_ARG_WRONGSTATE);
   PetscCall(FSWallsDestroy(&w));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);

@@ -29,7 +29,8 @@ static PetscErrorCode TestReference(PetscReal dx)
   PetscCall(FSWallsDiscretize(&w, dx));
   for (PetscInt k = 0; k < 4; k++) {
     PetscCall(Gamma(&w, h, 1.0 + 0.37 * dx, dist[k] * h, &g, NULL)); /* off the segment joints on purpose */
-    CHECK(PetscAbsReal(g - ref[k]) < 2e-6, "flat wall at d = %gh: gamma %.7f, reference %.6f (dx %g)", (double)dist[k], (double)g, (double)ref[k], (double)dx);
+    CHECK(PetscAbsReal(g - ref[k]) < 2e-6, "flat wall at d = %gh: gamma %.7f, reference %.6f (dx %g)", (double)dist[k],
+          (double)g, (double)ref[k], (double)dx);
   }
   PetscCall(Gamma(&w, h, 0.5 * h, 0.7 * h, &g, NULL));
   CHECK(PetscAbsReal(g - 0.743619) < 2e-6, "corner: gamma %.7f, reference 0.743619 (dx %g)", (double)g, (double)dx);
@@ -49,16 +50,19 @@ static PetscErrorCode TestGradient(void)
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, PETSC_COMM_SELF, 2.0, 2.0));
   PetscCall(FSWallsCheck(&w, PETSC_COMM_SELF));
-  PetscCall(FSWallsDiscretize(&w, h / 2)); /* segments as long as the solver's (dx = h/2) */
+  PetscCall(FSWallsDiscretize(&w, h / 2));          /* segments as long as the solver's (dx = h/2) */
   for (PetscReal xc = 0.7 * h; xc < 1.1; xc += 0.3) /* near the corner, then mid-wall */
     for (PetscReal d = 0.3; d < 1.8; d += 0.4) {
       PetscCall(Gamma(&w, h, xc, d * h, &g, grad));
       PetscCall(Gamma(&w, h, xc, d * h + e, &gp, NULL));
       PetscCall(Gamma(&w, h, xc, d * h - e, &gm, NULL));
-      CHECK(PetscAbsReal(grad[1] - (gp - gm) / (2 * e)) < 1e-5 / h, "grad gamma at (%g, %gh): %g, finite difference %g", (double)xc, (double)d, (double)grad[1], (double)((gp - gm) / (2 * e)));
+      CHECK(PetscAbsReal(grad[1] - (gp - gm) / (2 * e)) < 1e-5 / h, "grad gamma at (%g, %gh): %g, finite difference %g",
+            (double)xc, (double)d, (double)grad[1], (double)((gp - gm) / (2 * e)));
       PetscCall(Gamma(&w, h, xc + e, d * h, &gp, NULL));
       PetscCall(Gamma(&w, h, xc - e, d * h, &gm, NULL));
-      CHECK(PetscAbsReal(grad[0] - (gp - gm) / (2 * e)) < 1e-5 / h, "grad gamma_x at (%g, %gh): %g, finite difference %g", (double)xc, (double)d, (double)grad[0], (double)((gp - gm) / (2 * e)));
+      CHECK(PetscAbsReal(grad[0] - (gp - gm) / (2 * e)) < 1e-5 / h,
+            "grad gamma_x at (%g, %gh): %g, finite difference %g", (double)xc, (double)d, (double)grad[0],
+            (double)((gp - gm) / (2 * e)));
     }
   PetscCall(FSWallsDestroy(&w));
   PetscFunctionReturn(0);
@@ -75,16 +79,19 @@ static PetscErrorCode TestBaffles(void)
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsBaffledTank(&w, PETSC_COMM_SELF, 7, 0.1, 0.005, 0.06, 0.01, 0.04));
   PetscCall(FSWallsCheck(&w, PETSC_COMM_SELF));
-  CHECK(w.npoly == 7 && w.nwalls == 2, "baffled tank: %" PetscInt_FMT " polygons and %" PetscInt_FMT " walls, expected 7 and 2", w.npoly, w.nwalls);
+  CHECK(w.npoly == 7 && w.nwalls == 2,
+        "baffled tank: %" PetscInt_FMT " polygons and %" PetscInt_FMT " walls, expected 7 and 2", w.npoly, w.nwalls);
   CHECK(PetscAbsReal(w.hi[0] - 0.73) < 1e-14, "baffled tank length %g, expected 0.73", (double)w.hi[0]);
   PetscCall(FSWallsDiscretize(&w, h / 2));
   /* a particle 0.5h left of the first baffle, and one 0.5h right of it: both see a flat wall */
   x[0] = 0.1 - 0.5 * h;
   x[1] = 0.03;
   PetscCall(Gamma(&w, h, x[0], x[1], &g, NULL));
-  CHECK(PetscAbsReal(g - 0.823497) < 2e-6, "left of a thin baffle: gamma %.7f, expected the flat-wall 0.823497", (double)g);
+  CHECK(PetscAbsReal(g - 0.823497) < 2e-6, "left of a thin baffle: gamma %.7f, expected the flat-wall 0.823497",
+        (double)g);
   PetscCall(Gamma(&w, h, 0.105 + 0.5 * h, 0.03, &g, NULL));
-  CHECK(PetscAbsReal(g - 0.823497) < 2e-6, "right of a thin baffle: gamma %.7f, expected the flat-wall 0.823497", (double)g);
+  CHECK(PetscAbsReal(g - 0.823497) < 2e-6, "right of a thin baffle: gamma %.7f, expected the flat-wall 0.823497",
+        (double)g);
   CHECK(FSWallsInLiquid(&w, x, 0), "a point left of the baffle must be in the liquid");
   x[0] = 0.1025;
   CHECK(!FSWallsInLiquid(&w, x, 0), "a point inside a baffle must not be in the liquid");
@@ -95,7 +102,8 @@ static PetscErrorCode TestBaffles(void)
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsBaffledTank(&w, PETSC_COMM_SELF, 7, 0.1, 0.005, 0.06, 0.0, 0.03));
   PetscCall(FSWallsCheck(&w, PETSC_COMM_SELF));
-  CHECK(w.npoly == 1 && w.pstart[1] == 4 + 4 * 6, "bottom baffles: %" PetscInt_FMT " polygons, %" PetscInt_FMT " vertices", w.npoly, w.pstart[1]);
+  CHECK(w.npoly == 1 && w.pstart[1] == 4 + 4 * 6,
+        "bottom baffles: %" PetscInt_FMT " polygons, %" PetscInt_FMT " vertices", w.npoly, w.pstart[1]);
   PetscCall(FSWallsDestroy(&w));
   PetscFunctionReturn(0);
 }

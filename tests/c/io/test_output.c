@@ -51,7 +51,8 @@ static PetscErrorCode ReadText(const char path[], char **text)
   n = ftell(fp);
   rewind(fp);
   PetscCall(PetscMalloc1(n + 1, text));
-  PetscCheck(fread(*text, 1, (size_t)n, fp) == (size_t)n, PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "test_output: short read of %s", path);
+  PetscCheck(fread(*text, 1, (size_t)n, fp) == (size_t)n, PETSC_COMM_SELF, PETSC_ERR_FILE_READ,
+             "test_output: short read of %s", path);
   (*text)[n] = '\0';
   fclose(fp);
   PetscFunctionReturn(0);
@@ -61,22 +62,23 @@ static PetscErrorCode ReadText(const char path[], char **text)
 static PetscBool verbose_errors_ = PETSC_FALSE;
 
 /* Calls an expression that must fail with the given PETSc error code (error printing suppressed) */
-#define EXPECT_ERROR(ctx, code, call) \
-  do { \
-    PetscErrorCode ierr_; \
-    PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL)); \
-    ierr_ = (call); \
-    PetscCall(PetscPopErrorHandler()); \
-    if (verbose_errors_ && ierr_) { \
-      char *msg_ = NULL; \
-      PetscCall(PetscErrorMessage(ierr_, NULL, &msg_)); \
-      PetscCall(PetscPrintf((ctx)->comm, "expected error %d: %s\n", (int)ierr_, msg_ ? msg_ : "")); \
-    } \
+#define EXPECT_ERROR(ctx, code, call)                                                                    \
+  do {                                                                                                   \
+    PetscErrorCode ierr_;                                                                                \
+    PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));                                     \
+    ierr_ = (call);                                                                                      \
+    PetscCall(PetscPopErrorHandler());                                                                   \
+    if (verbose_errors_ && ierr_) {                                                                      \
+      char *msg_ = NULL;                                                                                 \
+      PetscCall(PetscErrorMessage(ierr_, NULL, &msg_));                                                  \
+      PetscCall(PetscPrintf((ctx)->comm, "expected error %d: %s\n", (int)ierr_, msg_ ? msg_ : ""));      \
+    }                                                                                                    \
     TCHECK((ctx)->comm, ierr_ == (code), "%s returned %d, expected %d", #call, (int)ierr_, (int)(code)); \
   } while (0)
 
 /* Loads dataset /particles/<name> of an HDF5 file with this rank's layout and compares exactly */
-static PetscErrorCode CheckDataset(TestCtx *ctx, const char file[], PetscInt f, const char name[], PetscInt bs, PetscInt start, PetscInt nlocal)
+static PetscErrorCode CheckDataset(TestCtx *ctx, const char file[], PetscInt f, const char name[], PetscInt bs,
+                                   PetscInt start, PetscInt nlocal)
 {
   PetscViewer        viewer;
   Vec                v;
@@ -105,7 +107,8 @@ static PetscErrorCode CheckDataset(TestCtx *ctx, const char file[], PetscInt f, 
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode CheckSnapshotAttrs(TestCtx *ctx, const char file[], double t, PetscInt step, PetscInt dim, PetscInt N)
+static PetscErrorCode CheckSnapshotAttrs(TestCtx *ctx, const char file[], double t, PetscInt step, PetscInt dim,
+                                         PetscInt N)
 {
   PetscViewer viewer;
   double      rt;
@@ -118,7 +121,9 @@ static PetscErrorCode CheckSnapshotAttrs(TestCtx *ctx, const char file[], double
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/particles", "dim", PETSC_INT, NULL, &rdim));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, "/particles", "nparticles", PETSC_INT, NULL, &rN));
   PetscCall(PetscViewerDestroy(&viewer));
-  TCHECK(ctx->comm, rt == t && rstep == step && rdim == dim && rN == N, "%s: attributes time %g step %" PetscInt_FMT " dim %" PetscInt_FMT " N %" PetscInt_FMT, file, rt, rstep, rdim, rN);
+  TCHECK(ctx->comm, rt == t && rstep == step && rdim == dim && rN == N,
+         "%s: attributes time %g step %" PetscInt_FMT " dim %" PetscInt_FMT " N %" PetscInt_FMT, file, rt, rstep, rdim,
+         rN);
   PetscFunctionReturn(0);
 }
 
@@ -182,11 +187,7 @@ static PetscErrorCode TestSnapshots(TestCtx *ctx)
   PetscCall(PetscSNPrintf(dir2, sizeof(dir2), "%s/snap2d", ctx->dir));
   PetscCall(FSSnapshotWriterCreate(ctx->comm, dir2, -1.0, &w));
   {
-    FSOutputField f2[3] = {
-      {"position", 2, pos},
-      {"velocity", 2, vel},
-      {"rho",      1, rho}
-    };
+    FSOutputField f2[3] = {{"position", 2, pos}, {"velocity", 2, vel}, {"rho", 1, rho}};
 
     for (PetscInt s = 0; s < 3; s++) PetscCall(FSSnapshotWriterWrite(w, times[s], 10 * s, 2, nlocal, 3, f2));
     /* invalid calls: missing position, bad bs, bad name */
@@ -211,11 +212,7 @@ static PetscErrorCode TestSnapshots(TestCtx *ctx)
   PetscCall(FSSnapshotWriterGetCount(w, &count));
   TCHECK(ctx->comm, count == 2, "restart count %" PetscInt_FMT ", expected 2", count);
   {
-    FSOutputField f2[3] = {
-      {"position", 2, pos},
-      {"velocity", 2, vel},
-      {"rho",      1, rho}
-    };
+    FSOutputField f2[3] = {{"position", 2, pos}, {"velocity", 2, vel}, {"rho", 1, rho}};
     PetscCall(FSSnapshotWriterWrite(w, 0.15, 15, 2, nlocal, 3, f2));
   }
   PetscCall(FSSnapshotWriterGetCount(w, &count));
@@ -231,13 +228,19 @@ static PetscErrorCode TestSnapshots(TestCtx *ctx)
     PetscCall(CountCSVRows(file, &rows));
     TCHECK(PETSC_COMM_SELF, rows == 3, "snapshots.csv has %" PetscInt_FMT " rows, expected 3", rows);
     PetscCall(ReadText(file, &text));
-    PetscCall(PetscSNPrintf(expect, sizeof(expect), "2,0.14999999999999999,15,snapshot_000002.h5,%" PetscInt_FMT ",2,position:2;velocity:2;rho:1\n", N));
+    PetscCall(PetscSNPrintf(
+        expect, sizeof(expect),
+        "2,0.14999999999999999,15,snapshot_000002.h5,%" PetscInt_FMT ",2,position:2;velocity:2;rho:1\n", N));
     TCHECK(PETSC_COMM_SELF, strstr(text, expect) != NULL, "snapshots.csv lacks row \"%s\":\n%s", expect, text);
-    TCHECK(PETSC_COMM_SELF, strstr(text, ",0.20000000000000001,") == NULL, "snapshots.csv still lists t = 0.2:\n%s", text);
+    TCHECK(PETSC_COMM_SELF, strstr(text, ",0.20000000000000001,") == NULL, "snapshots.csv still lists t = 0.2:\n%s",
+           text);
     PetscCall(PetscFree(text));
     PetscCall(PetscSNPrintf(file, sizeof(file), "%s/particles.xdmf", dir2));
     PetscCall(ReadText(file, &text));
-    TCHECK(PETSC_COMM_SELF, strstr(text, "snapshot_000002.h5:/particles/velocity") && strstr(text, "GeometryType=\"XY\"") && !strstr(text, "Value=\"0.20000000000000001\""), "particles.xdmf unexpected:\n%s", text);
+    TCHECK(PETSC_COMM_SELF,
+           strstr(text, "snapshot_000002.h5:/particles/velocity") && strstr(text, "GeometryType=\"XY\"") &&
+               !strstr(text, "Value=\"0.20000000000000001\""),
+           "particles.xdmf unexpected:\n%s", text);
     PetscCall(PetscFree(text));
   }
 
@@ -247,11 +250,7 @@ static PetscErrorCode TestSnapshots(TestCtx *ctx)
   PetscCall(FSSnapshotWriterGetCount(w, &count));
   TCHECK(ctx->comm, count == 0, "3-D count %" PetscInt_FMT ", expected 0", count);
   {
-    FSOutputField f3[3] = {
-      {"p",        1, p3  },
-      {"position", 3, pos3},
-      {"velocity", 3, vel3}
-    };
+    FSOutputField f3[3] = {{"p", 1, p3}, {"position", 3, pos3}, {"velocity", 3, vel3}};
     PetscCall(FSSnapshotWriterWrite(w, 0.5, 5, 3, nlocal, 3, f3));
   }
   PetscCall(FSSnapshotWriterDestroy(&w));
@@ -291,18 +290,16 @@ static PetscErrorCode TestCheckpoint(TestCtx *ctx)
   PetscCall(FSMakeDirectory(ctx->comm, dir, "-fs_checkpoint_dir"));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint.h5", dir));
   {
-    FSOutputField f[3] = {
-      {"position", 2, pos},
-      {"velocity", 2, vel},
-      {"rho",      1, rho}
-    };
+    FSOutputField f[3] = {{"position", 2, pos}, {"velocity", 2, vel}, {"rho", 1, rho}};
     PetscCall(FSCheckpointWrite(ctx->comm, path, &hdr, nlocal, 3, f));
   }
 
   /* header */
   PetscCall(FSCheckpointReadHeader(ctx->comm, path, &rh, &rN, &nranks));
-  TCHECK(ctx->comm, rh.time == hdr.time && rh.dt == hdr.dt && rh.step == hdr.step && rh.nglobal == hdr.nglobal, "checkpoint header differs");
-  for (PetscInt i = 0; i < hdr.nglobal; i++) TCHECK(ctx->comm, rh.global[i] == hdr.global[i], "checkpoint global[%" PetscInt_FMT "] differs", i);
+  TCHECK(ctx->comm, rh.time == hdr.time && rh.dt == hdr.dt && rh.step == hdr.step && rh.nglobal == hdr.nglobal,
+         "checkpoint header differs");
+  for (PetscInt i = 0; i < hdr.nglobal; i++)
+    TCHECK(ctx->comm, rh.global[i] == hdr.global[i], "checkpoint global[%" PetscInt_FMT "] differs", i);
   TCHECK(ctx->comm, rN == N && nranks == ctx->size, "checkpoint N %" PetscInt_FMT " nranks %d", rN, (int)nranks);
 
   /* same number of ranks: the original layout, values exact */
@@ -364,11 +361,11 @@ static PetscErrorCode TestCheckpoint(TestCtx *ctx)
 
 static PetscErrorCode TestTimeSeries(TestCtx *ctx)
 {
-  char               path[PETSC_MAX_PATH_LEN];
-  const char *const  names[2] = {"energy", "mass"};
-  const char *const  other[2] = {"energy", "volume"};
-  FSTimeSeries       ts;
-  PetscReal          v[2];
+  char              path[PETSC_MAX_PATH_LEN];
+  const char *const names[2] = {"energy", "mass"};
+  const char *const other[2] = {"energy", "volume"};
+  FSTimeSeries      ts;
+  PetscReal         v[2];
 
   PetscFunctionBegin;
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/series.csv", ctx->dir));

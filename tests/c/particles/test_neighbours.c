@@ -20,13 +20,16 @@ static PetscErrorCode TestKernel(PetscInt dim)
         PetscReal r = PetscSqrtReal((PetscReal)(a * a + b * b + c * c)) * step;
         sum += FSKernelW(&k, r) * (dim == 3 ? step * step * step : step * step);
       }
-  PetscCheck(PetscAbsReal(sum - 1) < 1e-4, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Kernel integral %g in %" PetscInt_FMT "-D, expected 1", (double)sum, dim);
+  PetscCheck(PetscAbsReal(sum - 1) < 1e-4, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "Kernel integral %g in %" PetscInt_FMT "-D, expected 1", (double)sum, dim);
   for (PetscReal r = 0.01 * h; r < 1.99 * h; r += 0.05 * h) {
     PetscReal e = 1e-6 * h, dW = (FSKernelW(&k, r + e) - FSKernelW(&k, r - e)) / (2 * e);
     maxerr = PetscMax(maxerr, PetscAbsReal(dW / r - FSKernelF(&k, r)) / PetscAbsReal(k.fnorm));
   }
-  PetscCheck(maxerr < 1e-6, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Kernel gradient factor differs from dW/dr / r by %g", (double)maxerr);
-  PetscCheck(FSKernelW(&k, 2 * h) == 0 && FSKernelW(&k, 2.5 * h) == 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Kernel support is not 2h");
+  PetscCheck(maxerr < 1e-6, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Kernel gradient factor differs from dW/dr / r by %g",
+             (double)maxerr);
+  PetscCheck(FSKernelW(&k, 2 * h) == 0 && FSKernelW(&k, 2.5 * h) == 0, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "Kernel support is not 2h");
   PetscFunctionReturn(0);
 }
 
@@ -36,7 +39,7 @@ static PetscErrorCode TestNeighbours(PetscInt dim, PetscInt nowned, PetscInt nex
   FSNeighbours nb;
   PetscRandom  rnd;
   PetscInt     n = nowned + nextra, S = 2 * dim + 2;
-  PetscReal   *rec, h = 0.05;
+  PetscReal   *rec, h                 = 0.05;
   PetscInt64   brute = 0;
 
   PetscFunctionBegin;
@@ -70,16 +73,26 @@ static PetscErrorCode TestNeighbours(PetscInt dim, PetscInt nowned, PetscInt nex
         for (PetscInt q = nb.start[i]; q < nb.start[i + 1]; q++)
           if (nb.nbr[q] == j) {
             found = PETSC_TRUE;
-            PetscCheck(PetscAbsReal(nb.F[q] - FSKernelF(&k, PetscSqrtReal(r2))) <= 1e-12 * PetscAbsReal(k.fnorm), PETSC_COMM_SELF, PETSC_ERR_PLIB, "Wrong kernel factor for pair (%" PetscInt_FMT ", %" PetscInt_FMT ")", i, j);
+            PetscCheck(PetscAbsReal(nb.F[q] - FSKernelF(&k, PetscSqrtReal(r2))) <= 1e-12 * PetscAbsReal(k.fnorm),
+                       PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                       "Wrong kernel factor for pair (%" PetscInt_FMT ", %" PetscInt_FMT ")", i, j);
           }
-        PetscCheck(found, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Pair (%" PetscInt_FMT ", %" PetscInt_FMT ") at distance %g missing from the neighbour list (%" PetscInt_FMT "-D)", i, j, (double)PetscSqrtReal(r2), dim);
+        PetscCheck(found, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                   "Pair (%" PetscInt_FMT ", %" PetscInt_FMT
+                   ") at distance %g missing from the neighbour list (%" PetscInt_FMT "-D)",
+                   i, j, (double)PetscSqrtReal(r2), dim);
       }
     }
-    PetscCheck(count == nb.start[i + 1] - nb.start[i], PETSC_COMM_SELF, PETSC_ERR_PLIB, "Particle %" PetscInt_FMT " has %" PetscInt_FMT " neighbours in the list, %" PetscInt_FMT " by brute force", i, nb.start[i + 1] - nb.start[i], count);
+    PetscCheck(count == nb.start[i + 1] - nb.start[i], PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "Particle %" PetscInt_FMT " has %" PetscInt_FMT " neighbours in the list, %" PetscInt_FMT
+               " by brute force",
+               i, nb.start[i + 1] - nb.start[i], count);
     brute += count;
   }
-  PetscCheck(brute == nb.npairs && brute > 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Pair count %" PetscInt64_FMT " differs from brute force %" PetscInt64_FMT, nb.npairs, brute);
-  PetscCall(PetscPrintf(PETSC_COMM_SELF, "  %" PetscInt_FMT "-D: %" PetscInt64_FMT " pairs match brute force\n", dim, brute));
+  PetscCheck(brute == nb.npairs && brute > 0, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "Pair count %" PetscInt64_FMT " differs from brute force %" PetscInt64_FMT, nb.npairs, brute);
+  PetscCall(
+      PetscPrintf(PETSC_COMM_SELF, "  %" PetscInt_FMT "-D: %" PetscInt64_FMT " pairs match brute force\n", dim, brute));
   PetscCall(FSNeighboursDestroy(&nb));
   PetscCall(PetscFree(rec));
   PetscCall(PetscRandomDestroy(&rnd));

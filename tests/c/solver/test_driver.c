@@ -28,7 +28,8 @@ static PetscErrorCode OscInitial(void *impl, PetscInt n, PetscReal y[])
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode OscRHS(void *impl, PetscReal t, PetscInt n, const PetscReal y[], const FSLoads *loads, PetscReal ydot[])
+static PetscErrorCode OscRHS(void *impl, PetscReal t, PetscInt n, const PetscReal y[], const FSLoads *loads,
+                             PetscReal ydot[])
 {
   PetscFunctionBegin;
   ydot[0] = y[1];
@@ -45,7 +46,8 @@ static PetscErrorCode OscMotion(void *impl, PetscInt n, const PetscReal y[], con
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode OscColumns(void *impl, PetscReal t, PetscInt n, const PetscReal y[], const PetscReal ydot[], PetscInt nc, PetscReal v[])
+static PetscErrorCode OscColumns(void *impl, PetscReal t, PetscInt n, const PetscReal y[], const PetscReal ydot[],
+                                 PetscInt nc, PetscReal v[])
 {
   PetscFunctionBegin;
   v[0] = y[0] * y[0];
@@ -93,13 +95,16 @@ static PetscErrorCode TestCallbacks(MPI_Comm comm)
 
   PetscFunctionBegin;
   PetscCall(FSStructureRegisterCallbacks("c_osc", "w'' = -w (test_driver)", &cb, NULL));
-  PetscCall(SolverFrom("-fs_case beam -fs_structure c_osc -fs_output 0 -fs_progress 0 -ts_max_time 3.141592653589793", &db, &s));
+  PetscCall(SolverFrom("-fs_case beam -fs_structure c_osc -fs_output 0 -fs_progress 0 -ts_max_time 3.141592653589793",
+                       &db, &s));
   PetscCall(FSSolverSolve(s));
   PetscCall(FSSolverGetTime(s, &t, &n));
   PetscCall(FSSolverGetStructureState(s, &n, y));
   PetscCall(FSSolverGetTankMotion(s, &m));
-  TCHECK(comm, n == 2 && PetscAbsReal(t - PETSC_PI) < 1e-12, "the run ended at t = %g with %" PetscInt_FMT " DOFs", (double)t, n);
-  TCHECK(comm, PetscAbsReal(y[0] + 1) < 1e-5 && PetscAbsReal(y[1]) < 1e-5, "w(pi) = %g, w'(pi) = %g: expected -1, 0", (double)y[0], (double)y[1]);
+  TCHECK(comm, n == 2 && PetscAbsReal(t - PETSC_PI) < 1e-12, "the run ended at t = %g with %" PetscInt_FMT " DOFs",
+         (double)t, n);
+  TCHECK(comm, PetscAbsReal(y[0] + 1) < 1e-5 && PetscAbsReal(y[1]) < 1e-5, "w(pi) = %g, w'(pi) = %g: expected -1, 0",
+         (double)y[0], (double)y[1]);
   TCHECK(comm, m.disp[1] == y[0] && m.vel[1] == y[1] && m.acc[1] == -y[0], "the motion is not the callback's");
   PetscCall(SolverEnd(&db, &s));
 
@@ -111,7 +116,10 @@ static PetscErrorCode TestCallbacks(MPI_Comm comm)
   ierr = FSSolverSetUp(s);
   PetscCall(PetscPopErrorHandler());
   PetscCall(PetscErrorMessage(ierr, NULL, &msg));
-  TCHECK(comm, ierr == PETSC_ERR_USER && msg && strstr(msg, "Structure c_fail: its setup callback failed: RuntimeError: no beam"), "FSSolverSetUp returned %d (%s)", (int)ierr, msg ? msg : "");
+  TCHECK(comm,
+         ierr == PETSC_ERR_USER && msg &&
+             strstr(msg, "Structure c_fail: its setup callback failed: RuntimeError: no beam"),
+         "FSSolverSetUp returned %d (%s)", (int)ierr, msg ? msg : "");
   PetscCall(SolverEnd(&db, &s));
   PetscFunctionReturn(0);
 }
@@ -139,8 +147,10 @@ static PetscErrorCode TestFields(MPI_Comm comm)
     PetscCall(FSSolverGetSwarm(s, &sw));
     PetscCall(DMSwarmGetLocalSize(sw, &nsw));
     PetscCall(DMSwarmGetField(sw, "position", NULL, NULL, (void **)&sx));
-    TCHECK(comm, n == nsw && bs == dim, "position: %" PetscInt_FMT " x %" PetscInt_FMT ", the swarm has %" PetscInt_FMT, n, bs, nsw);
-    for (PetscInt k = 0; k < n * bs; k++) TCHECK(PETSC_COMM_SELF, x[k] == sx[k], "position %" PetscInt_FMT " differs from the swarm's", k);
+    TCHECK(comm, n == nsw && bs == dim, "position: %" PetscInt_FMT " x %" PetscInt_FMT ", the swarm has %" PetscInt_FMT,
+           n, bs, nsw);
+    for (PetscInt k = 0; k < n * bs; k++)
+      TCHECK(PETSC_COMM_SELF, x[k] == sx[k], "position %" PetscInt_FMT " differs from the swarm's", k);
     PetscCall(DMSwarmRestoreField(sw, "position", NULL, NULL, (void **)&sx));
   }
   PetscCall(FSSolverGetField(s, "density", &n, &bs, &rho));
@@ -149,13 +159,15 @@ static PetscErrorCode TestFields(MPI_Comm comm)
   PetscCall(FSSolverGetField(s, "mass", NULL, NULL, &m));
   PetscCall(FSSolverGetField(s, "id", NULL, NULL, &id));
   for (PetscInt k = 0; k < n; k++) {
-    TCHECK(PETSC_COMM_SELF, p[k] == c0 * c0 * (rho[k] - rho0), "particle %g: p = %g is not c0^2 (rho - rho0)", (double)id[k], (double)p[k]);
+    TCHECK(PETSC_COMM_SELF, p[k] == c0 * c0 * (rho[k] - rho0), "particle %g: p = %g is not c0^2 (rho - rho0)",
+           (double)id[k], (double)p[k]);
     TCHECK(PETSC_COMM_SELF, id[k] >= 0 && id[k] < 100, "id %g out of range", (double)id[k]);
     for (PetscInt d = 0; d < dim; d++) kin += 0.5 * m[k] * v[k * dim + d] * v[k * dim + d];
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &kin, 1, MPIU_REAL, MPI_SUM, comm));
   PetscCall(FSSolverGetEnergy(s, &ne, names, E));
-  TCHECK(comm, ne == 20 && !strcmp(names[0], "time") && !strcmp(names[1], "E_kin"), "energy columns %" PetscInt_FMT ": %s, %s", ne, names[0], names[1]);
+  TCHECK(comm, ne == 20 && !strcmp(names[0], "time") && !strcmp(names[1], "E_kin"),
+         "energy columns %" PetscInt_FMT ": %s, %s", ne, names[0], names[1]);
   TCHECK(comm, PetscAbsReal(E[1] - kin) <= 1e-12 * kin, "E_kin %g, from the fields %g", (double)E[1], (double)kin);
   PetscCall(FSSolverGetWallLoads(s, &nw, NULL, NULL));
   TCHECK(comm, nw == 0, "Taylor-Green has %" PetscInt_FMT " walls", nw);
@@ -186,17 +198,21 @@ static PetscErrorCode TestTank(MPI_Comm comm)
   PetscInt         nw, n;
 
   PetscFunctionBegin;
-  PetscCall(SolverFrom("-fs_case tank -fs_tank_length 0.7 -fs_tank_height 0.06 -fs_fill 0.5 -fs_dx 0.01 -fs_structure msd -fs_beam_tank_mass 5 -fs_tank_width 0.2 -fs_output 0 -fs_progress 0", &db, &s));
+  PetscCall(SolverFrom("-fs_case tank -fs_tank_length 0.7 -fs_tank_height 0.06 -fs_fill 0.5 -fs_dx 0.01 -fs_structure "
+                       "msd -fs_beam_tank_mass 5 -fs_tank_width 0.2 -fs_output 0 -fs_progress 0",
+                       &db, &s));
   PetscCall(FSSolverStep(s));
   PetscCall(FSSolverGetWallLoads(s, &nw, names, &L));
   TCHECK(comm, nw == 1 && !strcmp(names[0], "tank"), "%" PetscInt_FMT " walls, the first %s", nw, nw ? names[0] : "");
-  TCHECK(comm, L[1] < 0 && PetscAbsReal(L[0]) < 1e-6 * PetscAbsReal(L[1]), "the liquid's load on the tank (%g, %g): expected down", (double)L[0], (double)L[1]);
+  TCHECK(comm, L[1] < 0 && PetscAbsReal(L[0]) < 1e-6 * PetscAbsReal(L[1]),
+         "the liquid's load on the tank (%g, %g): expected down", (double)L[0], (double)L[1]);
   PetscCall(FSSolverGetField(s, "mass", &n, NULL, &m));
   for (PetscInt k = 0; k < n; k++) sum += m[k];
   PetscCall(FSSolverRestoreField(s, "mass", &n, NULL, &m));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPIU_REAL, MPI_SUM, comm));
   PetscCall(FSSolverGetLiquidMass(s, &mass));
-  TCHECK(comm, PetscAbsReal(mass - 0.2 * sum) <= 1e-12 * mass && mass > 0, "liquid mass %g, the particles' %g x 0.2", (double)mass, (double)sum);
+  TCHECK(comm, PetscAbsReal(mass - 0.2 * sum) <= 1e-12 * mass && mass > 0, "liquid mass %g, the particles' %g x 0.2",
+         (double)mass, (double)sum);
   PetscCall(SolverEnd(&db, &s));
   PetscFunctionReturn(0);
 }

@@ -39,7 +39,8 @@ static PetscErrorCode Close(const char what[], PetscInt i, PetscReal value, Pets
 
   PetscFunctionBegin;
   maxerr = PetscMax(maxerr, err);
-  TCHECK(err <= TOL, "%s of particle %" PetscInt_FMT ": %.17g, expected %.17g (relative error %.3g > %g)", what, i, (double)value, (double)expected, (double)err, (double)TOL);
+  TCHECK(err <= TOL, "%s of particle %" PetscInt_FMT ": %.17g, expected %.17g (relative error %.3g > %g)", what, i,
+         (double)value, (double)expected, (double)err, (double)TOL);
   PetscFunctionReturn(0);
 }
 
@@ -48,15 +49,16 @@ typedef struct {
   FSParticles P;
   FSKernel    kernel;
   /* each particle's neighbourhood: the two others */
-  PetscInt    j[NP][NP - 1];
-  PetscReal   dx[NP][(NP - 1) * DIM], r2[NP][NP - 1], rinv2[NP][NP - 1], gradW[NP][(NP - 1) * DIM];
-  PetscReal   hgrad[NP][(NP - 1) * DIM]; /* the gradient written out, for the expected values */
+  PetscInt  j[NP][NP - 1];
+  PetscReal dx[NP][(NP - 1) * DIM], r2[NP][NP - 1], rinv2[NP][NP - 1], gradW[NP][(NP - 1) * DIM];
+  PetscReal hgrad[NP][(NP - 1) * DIM]; /* the gradient written out, for the expected values */
 } Particles;
 
 static PetscErrorCode SetUpParticles(Particles *pa)
 {
   /* positions (all within 2h of each other), velocities, densities */
-  const PetscReal h = 0.1, x[NP][DIM] = {{0.0, 0.0}, {0.071, 0.023}, {-0.032, 0.114}}, u[NP][DIM] = {{0.3, -0.2}, {-0.15, 0.41}, {0.05, 0.12}};
+  const PetscReal h = 0.1, x[NP][DIM] = {{0.0, 0.0}, {0.071, 0.023}, {-0.032, 0.114}},
+                  u[NP][DIM] = {{0.3, -0.2}, {-0.15, 0.41}, {0.05, 0.12}};
   const PetscReal rho[NP] = {1003.1, 998.7, 1001.4}, rho0 = 1000, c0 = 20, dxp = 0.05;
   FSParticles    *P = &pa->P;
 
@@ -69,12 +71,12 @@ static PetscErrorCode SetUpParticles(Particles *pa)
       r[d]       = x[i][d];
       r[DIM + d] = u[i][d];
     }
-    r[2 * DIM]     = rho[i];
-    r[2 * DIM + 1] = rho0 * dxp * dxp * (1 + 0.01 * i); /* masses a little different from each other */
-    pa->vol[i]      = r[2 * DIM + 1] / rho[i];
-    pa->pressure[i] = c0 * c0 * (rho[i] - rho0);
-    pa->gamma[i]    = 1 - 0.1 * (i + 1); /* for the renormalized variants */
-    pa->invgamma[i] = 1 / pa->gamma[i];
+    r[2 * DIM]                   = rho[i];
+    r[2 * DIM + 1]               = rho0 * dxp * dxp * (1 + 0.01 * i); /* masses a little different from each other */
+    pa->vol[i]                   = r[2 * DIM + 1] / rho[i];
+    pa->pressure[i]              = c0 * c0 * (rho[i] - rho0);
+    pa->gamma[i]                 = 1 - 0.1 * (i + 1); /* for the renormalized variants */
+    pa->invgamma[i]              = 1 / pa->gamma[i];
     pa->aux[i * (DIM + 1) + DIM] = 2.5 + i; /* ||D||_i for les_viscosity */
   }
   P->dim                 = DIM;
@@ -106,7 +108,8 @@ static PetscErrorCode SetUpParticles(Particles *pa)
       }
       pa->rinv2[i][k] = 1 / pa->r2[i][k];
       r               = PetscSqrtReal(pa->r2[i][k]);
-      TCHECK(r < 2 * h, "particles %" PetscInt_FMT " and %" PetscInt_FMT " are %g apart, outside the support %g", i, j, (double)r, (double)(2 * h));
+      TCHECK(r < 2 * h, "particles %" PetscInt_FMT " and %" PetscInt_FMT " are %g apart, outside the support %g", i, j,
+             (double)r, (double)(2 * h));
       q = r / h;
       a = 1 - 0.5 * q;
       for (PetscInt d = 0; d < DIM; d++) {
@@ -150,7 +153,8 @@ static PetscErrorCode Create(FSSolver s, const char name[], FSTerm *t)
 {
   PetscFunctionBegin;
   PetscCall(FSTermCreate(s, name, t));
-  TCHECK(!strcmp((*t)->name, name) && (*t)->solver == s, "term \"%s\" created as \"%s\" or without its solver", name, (*t)->name);
+  TCHECK(!strcmp((*t)->name, name) && (*t)->solver == s, "term \"%s\" created as \"%s\" or without its solver", name,
+         (*t)->name);
   if ((*t)->ops.setfromoptions) { /* as the solver does, inside its options block */
     PetscOptionsBegin(PETSC_COMM_SELF, NULL, "test_terms", "");
     PetscCall((*(*t)->ops.setfromoptions)(*t, PetscOptionsObject));
@@ -169,17 +173,18 @@ static PetscErrorCode TestContinuity(FSSolver s, Particles *pa)
   PetscCall(Create(s, "continuity", &t));
   PetscCall(Rates(t, &pa->P, pa, rate, &power));
   for (PetscInt i = 0; i < NP; i++) {
-    const PetscReal *ri = &pa->rec[i * S];
+    const PetscReal *ri  = &pa->rec[i * S];
     PetscReal        sum = 0, scale = 0;
     for (PetscInt k = 0; k < NP - 1; k++) {
       const PetscInt   j  = pa->j[i][k];
       const PetscReal *rj = &pa->rec[j * S], *g = pa->hgrad[i] + k * DIM;
-      const PetscReal  c  = ((rj[2] - ri[2]) * g[0] + (rj[3] - ri[3]) * g[1]) * pa->vol[j];
+      const PetscReal  c = ((rj[2] - ri[2]) * g[0] + (rj[3] - ri[3]) * g[1]) * pa->vol[j];
       sum += c;
       scale += PetscAbsReal(c);
     }
     PetscCall(Close("continuity drho/dt", i, rate[i].drho, -ri[4] * sum, ri[4] * scale));
-    for (PetscInt d = 0; d < DIM; d++) TCHECK(rate[i].du[d] == 0 && rate[i].dx[d] == 0, "continuity changed du or dx of particle %" PetscInt_FMT, i);
+    for (PetscInt d = 0; d < DIM; d++)
+      TCHECK(rate[i].du[d] == 0 && rate[i].dx[d] == 0, "continuity changed du or dx of particle %" PetscInt_FMT, i);
     epower += -pa->vol[i] * pa->pressure[i] * sum;
     pscale += PetscAbsReal(pa->vol[i] * pa->pressure[i]) * scale;
   }
@@ -205,7 +210,7 @@ static PetscErrorCode TestPressure(FSSolver s, Particles *pa)
     pa->P.gamma    = walls ? pa->gamma : NULL;
     PetscCall(Rates(t, &pa->P, pa, rate, &power));
     for (PetscInt i = 0; i < NP; i++) {
-      const PetscReal *ri = &pa->rec[i * S];
+      const PetscReal *ri       = &pa->rec[i * S];
       PetscReal        acc[DIM] = {0, 0}, scale = 0, pw = 0;
       for (PetscInt k = 0; k < NP - 1; k++) {
         const PetscInt   j = pa->j[i][k];
@@ -214,7 +219,8 @@ static PetscErrorCode TestPressure(FSSolver s, Particles *pa)
         scale += PetscAbsReal(f) * PetscSqrtReal(g[0] * g[0] + g[1] * g[1]);
       }
       for (PetscInt d = 0; d < DIM; d++) {
-        PetscCall(Close(walls ? "pressure du/dt (walls)" : "pressure du/dt", i, rate[i].du[d], -acc[d] / ri[4], scale / ri[4]));
+        PetscCall(Close(walls ? "pressure du/dt (walls)" : "pressure du/dt", i, rate[i].du[d], -acc[d] / ri[4],
+                        scale / ri[4]));
         pw += ri[DIM + d] * (-acc[d] / ri[4]);
         mom[d] += ri[5] * rate[i].du[d];
       }
@@ -225,7 +231,8 @@ static PetscErrorCode TestPressure(FSSolver s, Particles *pa)
     }
     PetscCall(Close(walls ? "pressure power (walls)" : "pressure power", -1, power, epower, pscale));
     /* m_i du_i = -V_i V_j (p_i + p_j) grad_i W_ij is antisymmetric: the pair forces cancel */
-    for (PetscInt d = 0; d < DIM; d++) PetscCall(Close("pressure: total force (momentum conservation)", -1, mom[d], 0, momscale));
+    for (PetscInt d = 0; d < DIM; d++)
+      PetscCall(Close("pressure: total force (momentum conservation)", -1, mom[d], 0, momscale));
   }
   pa->P.invgamma = NULL;
   pa->P.gamma    = NULL;
@@ -243,7 +250,10 @@ static PetscErrorCode TestGravity(FSSolver s, Particles *pa)
   PetscCall(Create(s, "gravity", &t));
   PetscCall(Rates(t, &pa->P, pa, rate, &power));
   for (PetscInt i = 0; i < NP; i++) {
-    for (PetscInt d = 0; d < DIM; d++) TCHECK(rate[i].du[d] == pa->P.gravity[d], "gravity du_%" PetscInt_FMT "/dt of particle %" PetscInt_FMT ": %.17g, expected %.17g", d, i, (double)rate[i].du[d], (double)pa->P.gravity[d]);
+    for (PetscInt d = 0; d < DIM; d++)
+      TCHECK(rate[i].du[d] == pa->P.gravity[d],
+             "gravity du_%" PetscInt_FMT "/dt of particle %" PetscInt_FMT ": %.17g, expected %.17g", d, i,
+             (double)rate[i].du[d], (double)pa->P.gravity[d]);
     TCHECK(rate[i].drho == 0, "gravity changed drho of particle %" PetscInt_FMT, i);
   }
   PetscCall(FSTermDestroy(&t));
@@ -270,7 +280,7 @@ static PetscErrorCode TestViscosity(FSSolver s, Particles *pa, PetscBool les)
     pa->P.gamma    = walls ? pa->gamma : NULL;
     PetscCall(Rates(t, &pa->P, pa, rate, &power));
     for (PetscInt i = 0; i < NP; i++) {
-      const PetscReal *ri = &pa->rec[i * S];
+      const PetscReal *ri       = &pa->rec[i * S];
       PetscReal        acc[DIM] = {0, 0}, scale = 0, du[DIM], pw = 0;
       for (PetscInt k = 0; k < NP - 1; k++) {
         const PetscInt   j  = pa->j[i][k];
@@ -284,7 +294,7 @@ static PetscErrorCode TestViscosity(FSSolver s, Particles *pa, PetscBool les)
       }
       for (PetscInt d = 0; d < DIM; d++) {
         const PetscReal f = (les ? h * c0 : K * nu) * rho0 / ri[4];
-        du[d] = f * acc[d];
+        du[d]             = f * acc[d];
         PetscCall(PetscSNPrintf(what, sizeof(what), "%s du_%d/dt%s", name, (int)d, walls ? " (walls)" : ""));
         PetscCall(Close(what, i, rate[i].du[d], du[d], f * scale));
         pw += ri[DIM + d] * du[d];
@@ -297,9 +307,12 @@ static PetscErrorCode TestViscosity(FSSolver s, Particles *pa, PetscBool les)
     TCHECK(power < 0, "%s: the power %g must be negative (dissipation)", name, (double)power);
     if (les) { /* the largest viscosity the term applies, for the time step */
       PetscReal numax = 0;
-      for (PetscInt i = 0; i < NP; i++) numax = PetscMax(numax, (C * 2 * h) * (C * 2 * h) * pa->aux[i * (DIM + 1) + DIM]);
+      for (PetscInt i = 0; i < NP; i++)
+        numax = PetscMax(numax, (C * 2 * h) * (C * 2 * h) * pa->aux[i * (DIM + 1) + DIM]);
       PetscCall(Close("les_viscosity max_viscosity", -1, t->max_viscosity, numax, numax));
-    } else TCHECK(t->max_viscosity == nu, "viscosity: max_viscosity %g, expected nu = %g", (double)t->max_viscosity, (double)nu);
+    } else
+      TCHECK(t->max_viscosity == nu, "viscosity: max_viscosity %g, expected nu = %g", (double)t->max_viscosity,
+             (double)nu);
   }
   pa->P.invgamma = NULL;
   pa->P.gamma    = NULL;
@@ -325,9 +338,10 @@ static PetscErrorCode TestWalls(FSSolver s, Particles *pa)
   PetscReal       n[2];
 
   PetscFunctionBegin;
-  /* the liquid (the particles) lies above the segment p0 -> p1, so its normal out of the liquid is (dy, -dx)/len, pointing down */
-  n[0] = (p1[1] - p0[1]) / len;
-  n[1] = -(p1[0] - p0[0]) / len;
+  /* the liquid (the particles) lies above the segment p0 -> p1, so its normal out of the liquid is (dy, -dx)/len,
+   * pointing down */
+  n[0]       = (p1[1] - p0[1]) / len;
+  n[1]       = -(p1[0] - p0[0]) / len;
   element[0] = p0[0];
   element[1] = p0[1];
   element[2] = 0.5 * (p0[0] + p1[0]);
@@ -356,8 +370,10 @@ static PetscErrorCode TestWalls(FSSolver s, Particles *pa)
   PetscCall(Create(s, "wall_continuity", &tc));
   PetscCall(Create(s, "wall_pressure", &tp));
   PetscCall(Create(s, "wall_viscosity", &tv));
-  TCHECK(!tc->renormalized && tp->renormalized && tv->renormalized, "renormalization: wall_continuity no, wall_pressure and wall_viscosity yes");
-  TCHECK(tc->ops.wall && tp->ops.wall && tv->ops.wall && !tc->ops.interact && !tp->ops.interact, "the wall terms act through ops.wall only");
+  TCHECK(!tc->renormalized && tp->renormalized && tv->renormalized,
+         "renormalization: wall_continuity no, wall_pressure and wall_viscosity yes");
+  TCHECK(tc->ops.wall && tp->ops.wall && tv->ops.wall && !tc->ops.interact && !tp->ops.interact,
+         "the wall terms act through ops.wall only");
   tc->power = tp->power = tv->power = 0;
   {
     PetscReal epc = 0, epp = 0, epv = 0, eload[6] = {0, 0, 0, 0, 0, 0};
@@ -371,36 +387,47 @@ static PetscErrorCode TestWalls(FSSolver s, Particles *pa)
       tc->ops.wall(tc, &pa->P, &B, &nb, &rc);
       tp->ops.wall(tp, &pa->P, &B, &nb, &rp);
       /* continuity: rho_i (u_i.n) W s, the walls at rest */
-      PetscCall(Close("wall_continuity drho/dt", i, rc.drho, rho * un * f, rho * PetscSqrtReal(u[0] * u[0] + u[1] * u[1]) * f));
+      PetscCall(Close("wall_continuity drho/dt", i, rc.drho, rho * un * f,
+                      rho * PetscSqrtReal(u[0] * u[0] + u[1] * u[1]) * f));
       epc += pa->vol[i] * pa->pressure[i] * un * f;
       /* pressure: -(p_i + p_k) n W s / rho_i */
-      for (PetscInt dd = 0; dd < DIM; dd++) PetscCall(Close("wall_pressure du/dt", i, rp.du[dd], -(pa->pressure[i] + pressure[0]) * n[dd] * f / rho, PetscAbsReal(pa->pressure[i] + pressure[0]) * f / rho));
+      for (PetscInt dd = 0; dd < DIM; dd++)
+        PetscCall(Close("wall_pressure du/dt", i, rp.du[dd], -(pa->pressure[i] + pressure[0]) * n[dd] * f / rho,
+                        PetscAbsReal(pa->pressure[i] + pressure[0]) * f / rho));
       epp += -pa->vol[i] * pa->invgamma[i] * (pa->pressure[i] + pressure[0]) * un * f;
       /* viscosity: free-slip wall 0 adds nothing, no-slip wall 1 the shear -nu rho0/rho_i u_i W s/max(d, dx/2) */
       noslip[1] = PETSC_FALSE;
       {
         const PetscReal before[2] = {load[6], load[7]};
         tv->ops.wall(tv, &pa->P, &B, &nb, &rv);
-        TCHECK(rv.du[0] == 0 && rv.du[1] == 0 && load[6] == before[0] && load[7] == before[1], "wall_viscosity acts on a free-slip wall (particle %" PetscInt_FMT ")", i);
+        TCHECK(rv.du[0] == 0 && rv.du[1] == 0 && load[6] == before[0] && load[7] == before[1],
+               "wall_viscosity acts on a free-slip wall (particle %" PetscInt_FMT ")", i);
       }
       noslip[1] = PETSC_TRUE;
       tv->ops.wall(tv, &pa->P, &B, &nb, &rv);
       fv = pa->P.nu * pa->P.rho0 / rho * f / PetscMax(d, 0.5 * pa->P.dx);
-      for (PetscInt dd = 0; dd < DIM; dd++) PetscCall(Close("wall_viscosity du/dt", i, rv.du[dd], -fv * u[dd], fv * PetscSqrtReal(u[0] * u[0] + u[1] * u[1])));
+      for (PetscInt dd = 0; dd < DIM; dd++)
+        PetscCall(
+            Close("wall_viscosity du/dt", i, rv.du[dd], -fv * u[dd], fv * PetscSqrtReal(u[0] * u[0] + u[1] * u[1])));
       epv += ri[5] * pa->invgamma[i] * (-fv) * (u[0] * u[0] + u[1] * u[1]);
       /* its load on wall 1: the reaction m_i fv u_i and its moment about the load point (about the centroid's lever) */
       eload[0] += ri[5] * fv * u[0];
       eload[1] += ri[5] * fv * u[1];
       eload[5] += ri[5] * fv * ((element[2] - B.loadpoint[0]) * u[1] - (element[3] - B.loadpoint[1]) * u[0]);
-      TCHECK(rc.du[0] == 0 && rc.du[1] == 0 && rp.drho == 0 && rv.drho == 0, "a wall term changed a rate it does not own (particle %" PetscInt_FMT ")", i);
+      TCHECK(rc.du[0] == 0 && rc.du[1] == 0 && rp.drho == 0 && rv.drho == 0,
+             "a wall term changed a rate it does not own (particle %" PetscInt_FMT ")", i);
     }
     PetscCall(Close("wall_continuity power", -1, tc->power, epc, PetscAbsReal(epc)));
     PetscCall(Close("wall_pressure power", -1, tp->power, epp, PetscAbsReal(epp)));
     PetscCall(Close("wall_viscosity power", -1, tv->power, epv, PetscAbsReal(epv)));
     for (PetscInt c = 0; c < 6; c++) {
       TCHECK(load[c] == 0, "wall_viscosity put a load %g on the free-slip wall 0", (double)load[c]);
-      if (c == 2 || c == 3 || c == 4) TCHECK(load[6 + c] == 0, "wall_viscosity: load component %" PetscInt_FMT " %g must be 0 in 2-D", c, (double)load[6 + c]);
-      else PetscCall(Close("wall_viscosity load on wall 1", c, load[6 + c], eload[c], PetscAbsReal(eload[0]) + PetscAbsReal(eload[1]) + PetscAbsReal(eload[5])));
+      if (c == 2 || c == 3 || c == 4)
+        TCHECK(load[6 + c] == 0, "wall_viscosity: load component %" PetscInt_FMT " %g must be 0 in 2-D", c,
+               (double)load[6 + c]);
+      else
+        PetscCall(Close("wall_viscosity load on wall 1", c, load[6 + c], eload[c],
+                        PetscAbsReal(eload[0]) + PetscAbsReal(eload[1]) + PetscAbsReal(eload[5])));
     }
   }
   pa->P.invgamma = NULL;
@@ -422,9 +449,12 @@ static PetscErrorCode TestUnknown(FSSolver s)
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   ierr = FSTermCreate(s, "no_such_term", &t);
   PetscCall(PetscPopErrorHandler());
-  TCHECK(ierr == PETSC_ERR_ARG_UNKNOWN_TYPE, "FSTermCreate of an unknown name returned %d, expected PETSC_ERR_ARG_UNKNOWN_TYPE (%d)", (int)ierr, (int)PETSC_ERR_ARG_UNKNOWN_TYPE);
+  TCHECK(ierr == PETSC_ERR_ARG_UNKNOWN_TYPE,
+         "FSTermCreate of an unknown name returned %d, expected PETSC_ERR_ARG_UNKNOWN_TYPE (%d)", (int)ierr,
+         (int)PETSC_ERR_ARG_UNKNOWN_TYPE);
   PetscCall(PetscErrorMessage(ierr, &text, &msg));
-  TCHECK(msg && strstr(msg, "\"no_such_term\"") && strstr(msg, "continuity"), "the error message must name the unknown term and the registered ones: \"%s\"", msg ? msg : "(none)");
+  TCHECK(msg && strstr(msg, "\"no_such_term\"") && strstr(msg, "continuity"),
+         "the error message must name the unknown term and the registered ones: \"%s\"", msg ? msg : "(none)");
   TCHECK(!t, "FSTermCreate returned a term for an unknown name");
   PetscFunctionReturn(0);
 }
@@ -453,7 +483,8 @@ int main(int argc, char **argv)
   PetscCall(TestUnknown(s));
   PetscCall(PetscFree(pa));
   PetscCall(FSSolverDestroy(&s));
-  PetscCall(PetscPrintf(PETSC_COMM_SELF, "test_terms: largest relative error %.3g (tolerance %g)\ntest_terms: OK\n", (double)maxerr, (double)TOL));
+  PetscCall(PetscPrintf(PETSC_COMM_SELF, "test_terms: largest relative error %.3g (tolerance %g)\ntest_terms: OK\n",
+                        (double)maxerr, (double)TOL));
   PetscCall(PetscFinalize());
   return 0;
 }
