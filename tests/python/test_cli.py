@@ -99,7 +99,7 @@ def test_terms_view(run):
     missing = [t for t in builtin if t not in names]
     assert not missing, f"built-in terms not listed: {missing}"
     # exactly the terms src/package.c registers, each once, and the count in the header agrees
-    registered = re.findall(r'FSTermRegister\("(\w+)"', (REPO_ROOT / "src" / "terms" / "interface" / "terms.c").read_text())
+    registered = re.findall(r'FSTermRegister\(\s*"(\w+)"', (REPO_ROOT / "src" / "terms" / "interface" / "terms.c").read_text())
     assert sorted(names) == sorted(registered)
     assert f"({len(names)})" in header
 
@@ -108,7 +108,7 @@ def test_case_view(run):
     proc = run(["-fs_case_view", "-ts_max_steps", "0", "-fs_output", "0"])
     _, names = listing(proc.stdout, "Registered cases")
     # exactly the cases src/cases.c registers, each once
-    registered = re.findall(r'FSCaseRegister\("(\w+)"', (REPO_ROOT / "src" / "cases" / "interface" / "cases.c").read_text())
+    registered = re.findall(r'FSCaseRegister\(\s*"(\w+)"', (REPO_ROOT / "src" / "cases" / "interface" / "cases.c").read_text())
     assert {"shear", "taylor_green", "beam"} <= set(names)
     assert sorted(names) == sorted(registered)
 
