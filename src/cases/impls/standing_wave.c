@@ -67,8 +67,7 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(FSSolverSetDefaultPhysics(s, 1.0, 10 * PetscSqrtReal(sw->h), sw->h * PetscSqrtReal(sw->h) / sw->Re, g));
   PetscCall(FSSolverSetDefaultTerms(s, FS_WALL_CASE_TERMS));
   PetscCall(FSSolverSetDefaultSpacing(s, sw->h / 50));
-  PetscCall(
-      FSSolverSetDefaultCFL(s, 1.5)); /* RK4: checked on the hydrostatic tank and the dam break (same results as 0.4) */
+  PetscCall(FSSolverSetDefaultCFL(s, 1.5)); /* RK4 only (docs/decisions.md) */
   PetscCall(FSSolverSetDefaultFinalTime(s, 20 * PetscSqrtReal(sw->h)));
   PetscFunctionReturn(0);
 }

@@ -8,10 +8,8 @@
                   (0.045 m) above the floor. The seed does not give the baffles' height or openings:
                   by default they stand on the floor and leave 15 mm below the lid, so up to 75 % fill
                   each compartment holds its own liquid unless it sloshes over (the seed: the baffles
-                  "do not allow the wave to propagate"). With an opening under the baffles the liquid
-                  at rest is not yet quiet: rms speed 0.02-0.03 sqrt(gH) with 2-4 particles across the
-                  opening, against 0.003-0.005 with the baffles on the floor; with
-                  -fs_walls_visibility all 0.002-0.004 (README, Walls).
+                  "do not allow the wave to propagate"). With an opening under the baffles, keep the
+                  liquid at rest quiet with -fs_walls_visibility all (measured: README, Walls).
      file:        -fs_tank_file <path> in the polyline format of the README.
    The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5) on a lattice of spacing
    dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2. -fs_fill 0 is an empty
@@ -69,8 +67,7 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 20.0, 1e-6, g));
   PetscCall(FSSolverSetDefaultTerms(s, FS_WALL_CASE_TERMS));
   PetscCall(FSSolverSetDefaultSpacing(s, tk->H / 30));
-  PetscCall(FSSolverSetDefaultCFL(s, 1.0)); /* RK4: same results as 0.4 on the hydrostatic tank and the dam break; 1.5
-                                               blows up at the dam break's wall impact */
+  PetscCall(FSSolverSetDefaultCFL(s, 1.0)); /* RK4 only; chosen by measurement (docs/decisions.md) */
   PetscCall(FSSolverSetDefaultFinalTime(s, 1.0));
   PetscFunctionReturn(0);
 }

@@ -429,15 +429,15 @@ PetscErrorCode FSWallsDiscretize(FSWalls *w, PetscReal dx)
       const PetscInt   m = (PetscInt)PetscCeilReal(L / dx - 1e-9);
       for (PetscInt k = 0; k < m; k++) {
         PetscReal *s          = &w->seg[w->nseg * FS_SEG_STRIDE];
-        s[0]                  = a[0] + (b[0] - a[0]) * k / m;
-        s[1]                  = a[1] + (b[1] - a[1]) * k / m;
-        s[2]                  = a[0] + (b[0] - a[0]) * (k + 1) / m;
-        s[3]                  = a[1] + (b[1] - a[1]) * (k + 1) / m;
-        s[4]                  = 0.5 * (s[0] + s[2]);
-        s[5]                  = 0.5 * (s[1] + s[3]);
-        s[6]                  = (b[1] - a[1]) / L;
-        s[7]                  = -(b[0] - a[0]) / L;
-        s[8]                  = L / m;
+        s[FS_SEG_P0]          = a[0] + (b[0] - a[0]) * k / m;
+        s[FS_SEG_P0 + 1]      = a[1] + (b[1] - a[1]) * k / m;
+        s[FS_SEG_P1]          = a[0] + (b[0] - a[0]) * (k + 1) / m;
+        s[FS_SEG_P1 + 1]      = a[1] + (b[1] - a[1]) * (k + 1) / m;
+        s[FS_SEG_MID]         = 0.5 * (s[FS_SEG_P0] + s[FS_SEG_P1]);
+        s[FS_SEG_MID + 1]     = 0.5 * (s[FS_SEG_P0 + 1] + s[FS_SEG_P1 + 1]);
+        s[FS_SEG_NORMAL]      = (b[1] - a[1]) / L;
+        s[FS_SEG_NORMAL + 1]  = -(b[0] - a[0]) / L;
+        s[FS_SEG_LENGTH]      = L / m;
         w->segwall[w->nseg++] = w->vwall[v];
       }
     }

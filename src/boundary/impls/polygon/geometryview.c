@@ -38,17 +38,20 @@ PetscErrorCode FSBoundaryDraw_Polygon(FSBoundary b, FSImage *img, const FSImageM
   for (PetscInt k = 0; k < w->nseg; k++) {
     const PetscReal     *sg = &w->seg[k * FS_SEG_STRIDE];
     const unsigned char *c  = FSGeometryWall[w->segwall[k] % 6];
-    const PetscReal      mx = FSImageMapX(m, sg[4]), my = FSImageMapY(m, sg[5]);
+    const PetscReal      mx = FSImageMapX(m, sg[FS_SEG_MID]), my = FSImageMapY(m, sg[FS_SEG_MID + 1]);
 
     /* the 2-pixel pen covers the pixel right and below the line: start half a pixel up-left */
-    FSImageDrawLine(img, FSGeometryRound(FSImageMapX(m, sg[0]) - 0.5), FSGeometryRound(FSImageMapY(m, sg[1]) - 0.5),
-                    FSGeometryRound(FSImageMapX(m, sg[2]) - 0.5), FSGeometryRound(FSImageMapY(m, sg[3]) - 0.5), 2, c);
+    FSImageDrawLine(img, FSGeometryRound(FSImageMapX(m, sg[FS_SEG_P0]) - 0.5),
+                    FSGeometryRound(FSImageMapY(m, sg[FS_SEG_P0 + 1]) - 0.5),
+                    FSGeometryRound(FSImageMapX(m, sg[FS_SEG_P1]) - 0.5),
+                    FSGeometryRound(FSImageMapY(m, sg[FS_SEG_P1 + 1]) - 0.5), 2, c);
     /* a tick along the normal (out of the liquid, so on the wall's solid side) every few segments;
        the pixel y axis points down, hence the minus on the normal's y */
-    acc += sg[8] * m->scale;
+    acc += sg[FS_SEG_LENGTH] * m->scale;
     if (acc >= FS_GEOMETRY_TICKS) {
-      FSImageDrawLine(img, FSGeometryRound(mx), FSGeometryRound(my), FSGeometryRound(mx + FS_GEOMETRY_TICK * sg[6]),
-                      FSGeometryRound(my - FS_GEOMETRY_TICK * sg[7]), 1, c);
+      FSImageDrawLine(img, FSGeometryRound(mx), FSGeometryRound(my),
+                      FSGeometryRound(mx + FS_GEOMETRY_TICK * sg[FS_SEG_NORMAL]),
+                      FSGeometryRound(my - FS_GEOMETRY_TICK * sg[FS_SEG_NORMAL + 1]), 1, c);
       acc = 0;
     }
   }
@@ -136,9 +139,9 @@ PetscErrorCode FSBoundaryWriteGeometry_Polygon(FSBoundary b, const char dir[])
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
     for (PetscInt c = 0; c < 4; c++) pts[4 * k + c] = sg[c];
-    nrm[2 * k]      = sg[6];
-    nrm[2 * k + 1]  = sg[7];
-    len[k]          = sg[8];
+    nrm[2 * k]      = sg[FS_SEG_NORMAL];
+    nrm[2 * k + 1]  = sg[FS_SEG_NORMAL + 1];
+    len[k]          = sg[FS_SEG_LENGTH];
     wall[k]         = (PetscReal)w->segwall[k];
     conn[2 * k]     = 2 * k;
     conn[2 * k + 1] = 2 * k + 1;

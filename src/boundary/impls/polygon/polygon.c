@@ -92,7 +92,8 @@ static PetscErrorCode SetUp(FSBoundary b)
   PetscCall(PetscMalloc1(w->nseg, &wd->wetfull));
   for (PetscInt k = 0; k < w->nseg; k++) {
     const PetscReal *sg   = &w->seg[k * FS_SEG_STRIDE];
-    const PetscReal  x[2] = {sg[4] - 1e-3 * b->h * sg[6], sg[5] - 1e-3 * b->h * sg[7]};
+    const PetscReal  x[2] = {sg[FS_SEG_MID] - 1e-3 * b->h * sg[FS_SEG_NORMAL],
+                             sg[FS_SEG_MID + 1] - 1e-3 * b->h * sg[FS_SEG_NORMAL + 1]};
     PetscReal        grad[2];
     PetscCall(FSWallsShepard(w, b->h, x, PETSC_FALSE, &wd->wetfull[k], grad));
   }
@@ -106,7 +107,7 @@ static PetscErrorCode SetUp(FSBoundary b)
   PetscCall(PetscCalloc1(wd->gnc[0] * wd->gnc[1] + 1, &wd->gstart));
   PetscCall(PetscMalloc1(w->nseg, &wd->gseg));
   for (PetscInt k = 0; k < w->nseg; k++) {
-    const PetscReal *m = &w->seg[k * FS_SEG_STRIDE + 4];
+    const PetscReal *m = &w->seg[k * FS_SEG_STRIDE + FS_SEG_MID];
     wd->gstart[(PetscInt)((m[0] - wd->glo[0]) / R) + wd->gnc[0] * (PetscInt)((m[1] - wd->glo[1]) / R) + 1]++;
   }
   for (PetscInt c = 0; c < wd->gnc[0] * wd->gnc[1]; c++) wd->gstart[c + 1] += wd->gstart[c];
@@ -115,7 +116,7 @@ static PetscErrorCode SetUp(FSBoundary b)
     PetscCall(PetscMalloc1(wd->gnc[0] * wd->gnc[1], &fill));
     PetscCall(PetscArraycpy(fill, wd->gstart, wd->gnc[0] * wd->gnc[1]));
     for (PetscInt k = 0; k < w->nseg; k++) {
-      const PetscReal *m = &w->seg[k * FS_SEG_STRIDE + 4];
+      const PetscReal *m = &w->seg[k * FS_SEG_STRIDE + FS_SEG_MID];
       wd->gseg[fill[(PetscInt)((m[0] - wd->glo[0]) / R) + wd->gnc[0] * (PetscInt)((m[1] - wd->glo[1]) / R)]++] = k;
     }
     PetscCall(PetscFree(fill));
@@ -126,7 +127,7 @@ static PetscErrorCode SetUp(FSBoundary b)
 /* does the open segment a-b cross segment s (p0-p1)? */
 static inline PetscBool Crosses(const PetscReal a[], const PetscReal b[], const PetscReal *s)
 {
-  const PetscReal *c = s, *d = s + 2;
+  const PetscReal *c = s + FS_SEG_P0, *d = s + FS_SEG_P1;
   const PetscReal  d1 = (d[0] - c[0]) * (a[1] - c[1]) - (d[1] - c[1]) * (a[0] - c[0]);
   const PetscReal  d2 = (d[0] - c[0]) * (b[1] - c[1]) - (d[1] - c[1]) * (b[0] - c[0]);
   const PetscReal  d3 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
@@ -205,12 +206,12 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
         for (PetscInt q = first; q < nc; q++) {
           const PetscReal *sg     = &w->seg[wd->cand[q] * FS_SEG_STRIDE];
           PetscBool        hidden = PETSC_FALSE;
-          if ((sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7] >
+          if ((sg[FS_SEG_P0] - x[0]) * sg[FS_SEG_NORMAL] + (sg[FS_SEG_P0 + 1] - x[1]) * sg[FS_SEG_NORMAL + 1] >
               0) /* facing: is its midpoint seen through another segment? */
             for (PetscInt r = first; r < nc && !hidden; r++)
               hidden = (PetscBool)(r != q &&
                                    Crosses(
-                                       x, sg + 4,
+                                       x, sg + FS_SEG_MID,
                                        &w->seg[(wd->cand[r] < 0 ? -1 - wd->cand[r] : wd->cand[r]) * FS_SEG_STRIDE]));
           if (hidden) wd->cand[q] = -1 - wd->cand[q];
         }
@@ -263,7 +264,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
       g += gk;
       if (wi > 0) {
         b->wk[nw] = k;
-        b->wW[nw] = wi / sg[8]; /* the segment's mean kernel value: wW s_k = int_k W dS */
+        b->wW[nw] = wi / sg[FS_SEG_LENGTH]; /* the segment's mean kernel value: wW s_k = int_k W dS */
         nw++;
       }
     }
@@ -277,8 +278,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
      (-fs_background_pressure, 0) p_k counts with the square of the segment's wetted share
      c_k = min(1, sum_i W_ik V_i / gamma_k) (gamma_k: the container's Shepard factor there): the
      hydrostatic correction extrapolates the liquid's pressure to the dry wall above a free surface,
-     where it would suck (the side walls' load 16 % short at H/dx = 10, and a pull on the top particles
-     towards them); a covered wall keeps its tension */
+     where it would suck (docs/decisions.md); a covered wall keeps its tension */
   if (!wd->wp) PetscCall(PetscMalloc1(3 * w->nseg + 1, &wd->wp));
   PetscCall(PetscArrayzero(wd->wp, 3 * w->nseg));
   {
@@ -289,12 +289,13 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
         const PetscInt   k      = b->wk[q];
         const PetscReal *sg     = &w->seg[k * FS_SEG_STRIDE];
         const PetscReal  wv     = b->wW[q] * P->vol[i];
-        const PetscReal  mid[2] = {0.5 * (sg[4] + x[0]), 0.5 * (sg[5] + x[1])};
+        const PetscReal  mid[2] = {0.5 * (sg[FS_SEG_MID] + x[0]), 0.5 * (sg[FS_SEG_MID + 1] + x[1])};
         PetscReal        g[2];
-        if (wd->visall && (sg[0] - x[0]) * sg[6] + (sg[1] - x[1]) * sg[7] <= 0)
+        if (wd->visall &&
+            (sg[FS_SEG_P0] - x[0]) * sg[FS_SEG_NORMAL] + (sg[FS_SEG_P0 + 1] - x[1]) * sg[FS_SEG_NORMAL + 1] <= 0)
           continue; /* p_k from the side the segment faces (the lists hold only such segments otherwise) */
         FSFrameFieldEval(P->body, mid, g);
-        num[k] += (P->pressure[i] + rho * (g[0] * (sg[4] - x[0]) + g[1] * (sg[5] - x[1]))) * wv;
+        num[k] += (P->pressure[i] + rho * (g[0] * (sg[FS_SEG_MID] - x[0]) + g[1] * (sg[FS_SEG_MID + 1] - x[1]))) * wv;
         den[k] += wv;
       }
     }
@@ -317,11 +318,12 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
     PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)b), &rank));
     if (!rank)
       for (PetscInt k = 0; k < w->nseg; k++) {
-        const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE], f = wd->wp[k] * sg[8];
+        const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE], f = wd->wp[k] * sg[FS_SEG_LENGTH];
         PetscReal       *L = &b->load[6 * w->segwall[k]];
-        L[0] += f * sg[6];
-        L[1] += f * sg[7];
-        L[5] += f * ((sg[4] - b->loadpoint[0]) * sg[7] - (sg[5] - b->loadpoint[1]) * sg[6]);
+        L[0] += f * sg[FS_SEG_NORMAL];
+        L[1] += f * sg[FS_SEG_NORMAL + 1];
+        L[5] += f * ((sg[FS_SEG_MID] - b->loadpoint[0]) * sg[FS_SEG_NORMAL + 1] -
+                     (sg[FS_SEG_MID + 1] - b->loadpoint[1]) * sg[FS_SEG_NORMAL]);
       }
   }
   b->view.pressure = wd->wp;
@@ -353,17 +355,20 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscInt dim, PetscReal x
         const PetscInt c = ca + wd->gnc[0] * cb;
         for (PetscInt q = wd->gstart[c]; q < wd->gstart[c + 1]; q++) {
           const PetscReal *sg = &w->seg[wd->gseg[q] * FS_SEG_STRIDE];
-          const PetscReal  d  = (sg[0] - xi[0]) * sg[6] +
-                              (sg[1] - xi[1]) * sg[7]; /* distance to the segment's line, > 0 on the liquid side */
-          const PetscReal t = ((xi[0] - sg[0]) * (sg[2] - sg[0]) + (xi[1] - sg[1]) * (sg[3] - sg[1])) / (sg[8] * sg[8]);
-          const PetscReal un = vi[0] * sg[6] + vi[1] * sg[7];
+          const PetscReal  d  = (sg[FS_SEG_P0] - xi[0]) * sg[FS_SEG_NORMAL] +
+                              (sg[FS_SEG_P0 + 1] - xi[1]) *
+                                  sg[FS_SEG_NORMAL + 1]; /* distance to the segment's line, > 0 on the liquid side */
+          const PetscReal t = ((xi[0] - sg[FS_SEG_P0]) * (sg[FS_SEG_P1] - sg[FS_SEG_P0]) +
+                               (xi[1] - sg[FS_SEG_P0 + 1]) * (sg[FS_SEG_P1 + 1] - sg[FS_SEG_P0 + 1])) /
+                              (sg[FS_SEG_LENGTH] * sg[FS_SEG_LENGTH]);
+          const PetscReal un = vi[0] * sg[FS_SEG_NORMAL] + vi[1] * sg[FS_SEG_NORMAL + 1];
           if (d < dmin && d > -dmin && t >= 0 && t <= 1 && un > 0) {
             PetscReal e0[2], e1[2];
             energy(ctx, xi, vi, m[i], e0);
-            xi[0] -= (dmin - d) * sg[6];
-            xi[1] -= (dmin - d) * sg[7];
-            vi[0] -= (1 + b->restitution) * un * sg[6];
-            vi[1] -= (1 + b->restitution) * un * sg[7];
+            xi[0] -= (dmin - d) * sg[FS_SEG_NORMAL];
+            xi[1] -= (dmin - d) * sg[FS_SEG_NORMAL + 1];
+            vi[0] -= (1 + b->restitution) * un * sg[FS_SEG_NORMAL];
+            vi[1] -= (1 + b->restitution) * un * sg[FS_SEG_NORMAL + 1];
             energy(ctx, xi, vi, m[i], e1);
             de[0] += e1[0] - e0[0];
             de[1] += e1[1] - e0[1];

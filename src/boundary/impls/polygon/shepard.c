@@ -66,7 +66,7 @@ static void IntegrateAlong(PetscReal h, PetscReal d, PetscReal a, PetscReal b, P
 void FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool all, PetscReal *gammak,
                         PetscReal *wint)
 {
-  const PetscReal *p0 = seg, *p1 = seg + 2, *n = seg + 6, len = seg[8];
+  const PetscReal *p0 = seg + FS_SEG_P0, *p1 = seg + FS_SEG_P1, *n = seg + FS_SEG_NORMAL, len = seg[FS_SEG_LENGTH];
   const PetscReal  t[2] = {(p1[0] - p0[0]) / len, (p1[1] - p0[1]) / len};
   const PetscReal  ds   = (p0[0] - x[0]) * n[0] + (p0[1] - x[1]) * n[1]; /* > 0: x on the liquid side */
   const PetscReal  d    = PetscAbsReal(ds);
@@ -106,8 +106,8 @@ PetscErrorCode FSWallsShepard(const FSWalls *w, PetscReal h, const PetscReal x[]
     PetscReal        gk, wi;
     FSSegmentIntegrals(h, x, seg, all, &gk, &wi);
     *gamma += gk;
-    grad[0] -= wi * seg[6];
-    grad[1] -= wi * seg[7];
+    grad[0] -= wi * seg[FS_SEG_NORMAL];
+    grad[1] -= wi * seg[FS_SEG_NORMAL + 1];
   }
   PetscFunctionReturn(0);
 }

@@ -38,11 +38,11 @@ typedef struct {
 /* Squared distance from x to the segment seg (p0, p1 first). */
 static inline PetscReal FSSegmentDistance2(const PetscReal seg[], const PetscReal x[])
 {
-  const PetscReal tx = seg[2] - seg[0], ty = seg[3] - seg[1];
-  PetscReal       u = ((x[0] - seg[0]) * tx + (x[1] - seg[1]) * ty) / (tx * tx + ty * ty), px, py;
+  const PetscReal tx = seg[FS_SEG_P1] - seg[FS_SEG_P0], ty = seg[FS_SEG_P1 + 1] - seg[FS_SEG_P0 + 1];
+  PetscReal       u = ((x[0] - seg[FS_SEG_P0]) * tx + (x[1] - seg[FS_SEG_P0 + 1]) * ty) / (tx * tx + ty * ty), px, py;
   u                 = PetscMax(0.0, PetscMin(1.0, u));
-  px                = seg[0] + u * tx - x[0];
-  py                = seg[1] + u * ty - x[1];
+  px                = seg[FS_SEG_P0] + u * tx - x[0];
+  py                = seg[FS_SEG_P0 + 1] + u * ty - x[1];
   return px * px + py * py;
 }
 
