@@ -24,10 +24,13 @@ struct _n_FSJSON {
   struct json_object *open[FS_JSON_MAX_DEPTH];  /* rank 0 only: open[0] is the document, open[depth-1] the innermost */
 };
 
-/* adds value (NULL: null) as member key of the innermost open object; takes value over even on error */
-static PetscErrorCode FSJSONAdd(FSJSON js, const char key[], struct json_object *value)
+/* adds value as member key of the innermost open object; takes value over even on error. value NULL
+   is json-c's failure to allocate it, unless isnull says the member is null on purpose. */
+static PetscErrorCode FSJSONAdd(FSJSON js, const char key[], struct json_object *value, PetscBool isnull)
 {
   PetscFunctionBegin;
+  PetscCheck(value || isnull, PETSC_COMM_SELF, PETSC_ERR_MEM, "JSON \"%s\": out of memory for \"%s\"", js->path,
+             key ? key : "");
   if (!key || !key[0]) json_object_put(value);
   PetscCheck(key && key[0], PETSC_COMM_SELF, PETSC_ERR_ARG_NULL,
              "JSON \"%s\": every member of an object needs a non-empty key", js->path);
@@ -35,14 +38,6 @@ static PetscErrorCode FSJSONAdd(FSJSON js, const char key[], struct json_object 
     json_object_put(value);
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_MEM, "JSON \"%s\": cannot add member \"%s\"", js->path, key);
   }
-  PetscFunctionReturn(0);
-}
-
-/* a new json-c value, or an error when json-c could not allocate it */
-static PetscErrorCode FSJSONCheckNew(FSJSON js, const char key[], struct json_object *value)
-{
-  PetscFunctionBegin;
-  PetscCheck(value, PETSC_COMM_SELF, PETSC_ERR_MEM, "JSON \"%s\": out of memory for \"%s\"", js->path, key ? key : "");
   PetscFunctionReturn(0);
 }
 
@@ -121,8 +116,7 @@ PetscErrorCode FSJSONBeginObject(FSJSON js, const char key[])
   PetscCheck(js->depth < FS_JSON_MAX_DEPTH, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
              "JSON \"%s\": objects nested deeper than %d", js->path, FS_JSON_MAX_DEPTH - 1);
   obj = json_object_new_object();
-  PetscCall(FSJSONCheckNew(js, key, obj));
-  PetscCall(FSJSONAdd(js, key, obj)); /* the parent owns obj now; it stays valid while the parent lives */
+  PetscCall(FSJSONAdd(js, key, obj, PETSC_FALSE)); /* the parent owns obj now; it stays valid while the parent lives */
   js->open[js->depth++] = obj;
   PetscFunctionReturn(0);
 }
@@ -161,16 +155,10 @@ PetscErrorCode FSJSONEndObject(FSJSON js)
 @*/
 PetscErrorCode FSJSONWriteString(FSJSON js, const char key[], const char value[])
 {
-  struct json_object *v = NULL;
-
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  if (value) {
-    v = json_object_new_string(value);
-    PetscCall(FSJSONCheckNew(js, key, v));
-  }
-  PetscCall(FSJSONAdd(js, key, v));
+  PetscCall(FSJSONAdd(js, key, value ? json_object_new_string(value) : NULL, (PetscBool)!value));
   PetscFunctionReturn(0);
 }
 
@@ -186,14 +174,10 @@ PetscErrorCode FSJSONWriteString(FSJSON js, const char key[], const char value[]
 @*/
 PetscErrorCode FSJSONWriteInt(FSJSON js, const char key[], PetscInt64 value)
 {
-  struct json_object *v;
-
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  v = json_object_new_int64((int64_t)value);
-  PetscCall(FSJSONCheckNew(js, key, v));
-  PetscCall(FSJSONAdd(js, key, v));
+  PetscCall(FSJSONAdd(js, key, json_object_new_int64((int64_t)value), PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 
@@ -210,14 +194,10 @@ PetscErrorCode FSJSONWriteInt(FSJSON js, const char key[], PetscInt64 value)
 @*/
 PetscErrorCode FSJSONWriteReal(FSJSON js, const char key[], PetscReal value)
 {
-  struct json_object *v;
-
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  v = FSJSONNewReal(value);
-  if (!PetscIsInfOrNanReal(value)) PetscCall(FSJSONCheckNew(js, key, v));
-  PetscCall(FSJSONAdd(js, key, v));
+  PetscCall(FSJSONAdd(js, key, FSJSONNewReal(value), PetscIsInfOrNanReal(value)));
   PetscFunctionReturn(0);
 }
 
@@ -244,7 +224,7 @@ PetscErrorCode FSJSONWriteRealArray(FSJSON js, const char key[], PetscInt n, con
   PetscCheck(values || n == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "JSON \"%s\": no values for \"%s\"", js->path,
              key ? key : "");
   arr = json_object_new_array_ext((int)n);
-  PetscCall(FSJSONCheckNew(js, key, arr));
+  PetscCheck(arr, PETSC_COMM_SELF, PETSC_ERR_MEM, "JSON \"%s\": out of memory for \"%s\"", js->path, key ? key : "");
   for (PetscInt i = 0; i < n; i++) {
     struct json_object *v = FSJSONNewReal(values[i]);
 
@@ -254,7 +234,7 @@ PetscErrorCode FSJSONWriteRealArray(FSJSON js, const char key[], PetscInt n, con
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_MEM, "JSON \"%s\": out of memory for \"%s\"", js->path, key ? key : "");
     }
   }
-  PetscCall(FSJSONAdd(js, key, arr));
+  PetscCall(FSJSONAdd(js, key, arr, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 
@@ -270,14 +250,10 @@ PetscErrorCode FSJSONWriteRealArray(FSJSON js, const char key[], PetscInt n, con
 @*/
 PetscErrorCode FSJSONWriteBool(FSJSON js, const char key[], PetscBool value)
 {
-  struct json_object *v;
-
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  v = json_object_new_boolean(value ? 1 : 0);
-  PetscCall(FSJSONCheckNew(js, key, v));
-  PetscCall(FSJSONAdd(js, key, v));
+  PetscCall(FSJSONAdd(js, key, json_object_new_boolean(value ? 1 : 0), PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 
