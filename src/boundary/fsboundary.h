@@ -43,18 +43,6 @@ typedef struct {
 /* The change of a particle's energy (e[0]: tank frame, e[1]: absolute frame) for the bounces' budget */
 typedef void (*FSParticleEnergyFn)(void *ctx, const PetscReal x[], const PetscReal v[], PetscReal m, PetscReal e[2]);
 
-/* Where the walls go in the geometry picture: world (x0, y0) at pixel (margin, height - 1 - margin) */
-typedef struct {
-  PetscReal x0, y0, scale;
-  PetscInt  height, margin;
-} FSImageMap;
-
-static inline PetscReal FSImageMapX(const FSImageMap *m, PetscReal x) { return m->margin + (x - m->x0) * m->scale; }
-static inline PetscReal FSImageMapY(const FSImageMap *m, PetscReal y)
-{
-  return (PetscReal)(m->height - 1 - m->margin) - (y - m->y0) * m->scale;
-}
-
 PETSC_INTERN PetscErrorCode FSBoundaryRegister(const char[], const char[], FSBoundaryCreateFn);
 PETSC_INTERN PetscErrorCode FSBoundaryRegisterAll(void);
 PETSC_INTERN PetscErrorCode FSBoundaryListView(PetscViewer);
@@ -70,8 +58,7 @@ PETSC_INTERN PetscErrorCode FSBoundaryGetView(FSBoundary, const FSWallView **, c
 PETSC_INTERN PetscErrorCode FSBoundaryGetBounce(FSBoundary, PetscBool *);
 PETSC_INTERN PetscErrorCode FSBoundaryBounce(FSBoundary, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[],
                                              const PetscReal m[], FSParticleEnergyFn, void *, PetscReal de[2]);
-PETSC_INTERN PetscErrorCode FSBoundaryGetLoads(FSBoundary, PetscInt *nwalls, const char *names[],
-                                               const PetscReal **loads);
+PETSC_INTERN PetscErrorCode FSBoundaryGetLoads(FSBoundary, PetscInt *nwalls, const PetscReal **loads);
 PETSC_INTERN PetscErrorCode FSBoundaryGetWallNames(FSBoundary, PetscInt *nwalls, const char *const **names);
 PETSC_INTERN PetscErrorCode FSBoundaryGetBoundingBox(FSBoundary, PetscReal lo[], PetscReal hi[]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetLoadPoint(FSBoundary, PetscReal point[3]);

@@ -223,7 +223,7 @@ PetscErrorCode FSCouplingComputeLoads(FSCoupling c, FSBoundary b, FSLoads *loads
     const PetscReal *L;
     PetscReal        lp[3];
     PetscInt         nwalls;
-    PetscCall(FSBoundaryGetLoads(b, &nwalls, NULL, &L));
+    PetscCall(FSBoundaryGetLoads(b, &nwalls, &L));
     PetscCall(FSBoundaryGetLoadPoint(b, lp));
     for (PetscInt w = 0; w < nwalls; w++) {
       F[0] += L[6 * w];

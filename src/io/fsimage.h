@@ -13,6 +13,21 @@ typedef struct {
   unsigned char *rgb; /* width*height*3 bytes, row-major from the top row */
 } FSImage;
 
+/* A map from world coordinates to pixels: world (x0, y0) at pixel (margin, height - 1 - margin) */
+typedef struct {
+  PetscReal x0, y0, scale;
+  PetscInt  height, margin;
+} FSImageMap;
+
+static inline PetscReal FSImageMapX(const FSImageMap *m, PetscReal x) { return m->margin + (x - m->x0) * m->scale; }
+static inline PetscReal FSImageMapY(const FSImageMap *m, PetscReal y)
+{
+  return (PetscReal)(m->height - 1 - m->margin) - (y - m->y0) * m->scale;
+}
+
+/* the nearest pixel */
+static inline PetscInt FSImageRound(PetscReal v) { return (PetscInt)PetscFloorReal(v + 0.5); }
+
 PETSC_INTERN PetscErrorCode FSImageCreate(PetscInt width, PetscInt height, FSImage *);
 PETSC_INTERN PetscErrorCode FSImageDestroy(FSImage *);
 PETSC_INTERN void           FSImageFill(FSImage *, const unsigned char rgb[3]);

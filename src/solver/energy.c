@@ -316,7 +316,7 @@ PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
    FSSolverStep() or FSSolverSolve(), they are recorded from the current state (the run records them
    again at its start, from the same state), so the residuals are zero there.
 
-.seealso: FSSolverSolve(), the "Output" section of the README (energy.csv)
+.seealso: FSSolverSolve(), docs/running.md, "Output" (energy.csv)
 */
 PetscErrorCode FSSolverGetEnergy(FSSolver s, PetscInt *n, const char *names[], PetscReal values[])
 {

@@ -14,8 +14,6 @@
 static const unsigned char FSGeometryWhite[3]    = {255, 255, 255};
 static const unsigned char FSGeometryParticle[3] = {30, 90, 220};
 
-static inline PetscInt FSGeometryRound(PetscReal v) { return (PetscInt)PetscFloorReal(v + 0.5); }
-
 /* Rank 0: the picture of the box lo-hi, the particles (x, y pairs), then the walls */
 static PetscErrorCode FSGeometryDraw(FSSolver s, PetscInt np, const PetscReal xy[], const PetscReal lo[],
                                      const PetscReal hi[], FSImage *img)
@@ -30,8 +28,8 @@ static PetscErrorCode FSGeometryDraw(FSSolver s, PetscInt np, const PetscReal xy
   m.y0     = lo[1];
   m.margin = FS_GEOMETRY_MARGIN;
   m.scale  = (FS_GEOMETRY_SIZE - 1 - 2 * FS_GEOMETRY_MARGIN) / span;
-  width    = FSGeometryRound((hi[0] - lo[0]) * m.scale) + 2 * FS_GEOMETRY_MARGIN + 1;
-  height   = FSGeometryRound((hi[1] - lo[1]) * m.scale) + 2 * FS_GEOMETRY_MARGIN + 1;
+  width    = FSImageRound((hi[0] - lo[0]) * m.scale) + 2 * FS_GEOMETRY_MARGIN + 1;
+  height   = FSImageRound((hi[1] - lo[1]) * m.scale) + 2 * FS_GEOMETRY_MARGIN + 1;
   m.height = height;
   PetscCall(FSImageCreate(width, height, img));
   FSImageFill(img, FSGeometryWhite);

@@ -75,7 +75,7 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   if (s->boundary) { /* the liquid's loads on each wall, from the step's last right-hand side */
     const PetscReal *L;
     PetscInt         nwalls;
-    PetscCall(FSBoundaryGetLoads(s->boundary, &nwalls, NULL, &L));
+    PetscCall(FSBoundaryGetLoads(s->boundary, &nwalls, &L));
     for (PetscInt w = 0; w < PetscMin(nwalls, FS_MAX_WALL_COLUMNS); w++) {
       vals[k++] = L[6 * w];
       vals[k++] = L[6 * w + 1];

@@ -402,9 +402,15 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
 */
 PetscErrorCode FSSolverGetWallLoads(FSSolver s, PetscInt *nwalls, const char *names[], const PetscReal *loads[])
 {
+  const char *const *wname;
+
   PetscFunctionBegin;
   *nwalls = 0;
   if (loads) *loads = NULL;
-  if (s->boundary) PetscCall(FSBoundaryGetLoads(s->boundary, nwalls, names, loads));
+  if (!s->boundary) PetscFunctionReturn(0);
+  PetscCall(FSBoundaryGetWallNames(s->boundary, nwalls, &wname));
+  if (names)
+    for (PetscInt w = 0; w < *nwalls; w++) names[w] = wname[w];
+  if (loads) PetscCall(FSBoundaryGetLoads(s->boundary, nwalls, loads));
   PetscFunctionReturn(0);
 }

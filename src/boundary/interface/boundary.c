@@ -270,20 +270,18 @@ PetscErrorCode FSBoundaryGetBounce(FSBoundary b, PetscBool *bounce)
 
 /*
    FSBoundaryGetLoads - the liquid's load on each wall from the last right-hand side, summed over the
-   ranks: per wall the force (3) and the moment (3) about -fs_walls_load_point. names and loads may be
-   NULL; with loads the call is collective.
+   ranks: per wall the force (3) and the moment (3) about -fs_walls_load_point, in the order of
+   FSBoundaryGetWallNames().
+
+   Collective
 */
-PetscErrorCode FSBoundaryGetLoads(FSBoundary b, PetscInt *nwalls, const char *names[], const PetscReal **loads)
+PetscErrorCode FSBoundaryGetLoads(FSBoundary b, PetscInt *nwalls, const PetscReal **loads)
 {
   PetscFunctionBegin;
   *nwalls = b->nwalls;
-  if (names)
-    for (PetscInt w = 0; w < b->nwalls; w++) names[w] = b->wallname[w];
-  if (loads) {
-    PetscCallMPI(MPI_Allreduce(b->load, b->loadsum, (PetscMPIInt)(6 * b->nwalls), MPIU_REAL, MPI_SUM,
-                               PetscObjectComm((PetscObject)b)));
-    *loads = b->loadsum;
-  }
+  PetscCallMPI(MPI_Allreduce(b->load, b->loadsum, (PetscMPIInt)(6 * b->nwalls), MPIU_REAL, MPI_SUM,
+                             PetscObjectComm((PetscObject)b)));
+  *loads = b->loadsum;
   PetscFunctionReturn(0);
 }
 

@@ -2,7 +2,7 @@
    Case "dam_break": the 2-D dam break of Martin & Moyce (1952): a water column -fs_dam_width a wide
    and -fs_dam_height (2a) high at the left end of a tank -fs_dam_tank_length (4a) long and
    -fs_dam_tank_height (2.5a... default 2a + a) high collapses under gravity.
-   Reference (notes/validation.md): the surge front Z = x_front/a against T = t sqrt(2 g / a).
+   Reference (docs/validation.md): the surge front Z = x_front/a against T = t sqrt(2 g / a).
    The time series has the front position, the largest x of the particles on the floor (y < a/4),
    as column front_position, and the height of the liquid at the back wall (the top particle within dx
    of it, plus dx/2) as column_height, to compare with Martin & Moyce's residual column height

@@ -1,6 +1,6 @@
 /*
    Case "standing_wave": a small standing wave (linear sloshing) in a rectangular tank with free-slip
-   walls, the validation of notes/validation.md. Non-dimensional, as the delta-SPH reference: g = 1,
+   walls, the validation of docs/validation.md. Non-dimensional, as the delta-SPH reference: g = 1,
    rho0 = 1, lengths in units of the depth h.
      -fs_sw_length L (2), -fs_sw_depth h (1): the tank [0, L] x [0, 1.5 h] holds liquid up to y = h;
      -fs_sw_mode n (1): the mode cos(k x), k = n pi / L (n = 1: the first, sloshing mode; the

@@ -9,8 +9,8 @@
                   by default they stand on the floor and leave 15 mm below the lid, so up to 75 % fill
                   each compartment holds its own liquid unless it sloshes over (the seed: the baffles
                   "do not allow the wave to propagate"). With an opening under the baffles, keep the
-                  liquid at rest quiet with -fs_walls_visibility all (measured: README, Walls).
-     file:        -fs_tank_file <path> in the polyline format of the README.
+                  liquid at rest quiet with -fs_walls_visibility all (measured: docs/walls.md).
+     file:        -fs_tank_file <path> in the polyline format of docs/walls.md.
    The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5) on a lattice of spacing
    dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2. -fs_fill 0 is an empty
    tank: no particles and no walls, the structure alone (with -fs_beam_payload_mass all ballast), the
@@ -48,7 +48,7 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
                              "Opening between the floor and the baffles (0: baffles stand on the floor)", "", tk->gap,
                              &tk->gap, NULL));
   PetscCall(PetscOptionsReal("-fs_tank_baffle_height", "Height of the baffles", "", tk->hb, &tk->hb, NULL));
-  PetscCall(PetscOptionsString("-fs_tank_file", "Wall polygons of a tank of any shape (README: file format)", "",
+  PetscCall(PetscOptionsString("-fs_tank_file", "Wall polygons of a tank of any shape (docs/walls.md: file format)", "",
                                tk->file, tk->file, sizeof(tk->file), NULL));
   PetscCall(
       PetscOptionsReal("-fs_fill", "Filling level, as a fraction of the tank height", "", tk->fill, &tk->fill, NULL));

@@ -1,5 +1,5 @@
 /*
-   Unit tests of the wall geometry and of the geometric Shepard factor (notes/boundary-integrals.md):
+   Unit tests of the wall geometry and of the geometric Shepard factor (docs/boundary-integrals.md):
    reference values of gamma near a flat wall and in a corner, independence of the discretization,
    thin baffles seen from either side, grad gamma against finite differences, the seed's baffled
    tank, and the errors on bad polygons and files.

@@ -26,8 +26,6 @@ static const unsigned char FSGeometryWall[6][3] = {
     {40, 40, 40}, {170, 30, 30}, {0, 110, 50}, {120, 50, 160}, {180, 100, 0}, {0, 100, 120},
 };
 
-static inline PetscInt FSGeometryRound(PetscReal v) { return (PetscInt)PetscFloorReal(v + 0.5); }
-
 /* FSBoundaryDraw_Polygon - rank 0: the walls with their normal ticks, each wall in its colour */
 PetscErrorCode FSBoundaryDraw_Polygon(FSBoundary b, FSImage *img, const FSImageMap *m)
 {
@@ -41,17 +39,15 @@ PetscErrorCode FSBoundaryDraw_Polygon(FSBoundary b, FSImage *img, const FSImageM
     const PetscReal      mx = FSImageMapX(m, sg[FS_SEG_MID]), my = FSImageMapY(m, sg[FS_SEG_MID + 1]);
 
     /* the 2-pixel pen covers the pixel right and below the line: start half a pixel up-left */
-    FSImageDrawLine(img, FSGeometryRound(FSImageMapX(m, sg[FS_SEG_P0]) - 0.5),
-                    FSGeometryRound(FSImageMapY(m, sg[FS_SEG_P0 + 1]) - 0.5),
-                    FSGeometryRound(FSImageMapX(m, sg[FS_SEG_P1]) - 0.5),
-                    FSGeometryRound(FSImageMapY(m, sg[FS_SEG_P1 + 1]) - 0.5), 2, c);
+    FSImageDrawLine(
+        img, FSImageRound(FSImageMapX(m, sg[FS_SEG_P0]) - 0.5), FSImageRound(FSImageMapY(m, sg[FS_SEG_P0 + 1]) - 0.5),
+        FSImageRound(FSImageMapX(m, sg[FS_SEG_P1]) - 0.5), FSImageRound(FSImageMapY(m, sg[FS_SEG_P1 + 1]) - 0.5), 2, c);
     /* a tick along the normal (out of the liquid, so on the wall's solid side) every few segments;
        the pixel y axis points down, hence the minus on the normal's y */
     acc += sg[FS_SEG_LENGTH] * m->scale;
     if (acc >= FS_GEOMETRY_TICKS) {
-      FSImageDrawLine(img, FSGeometryRound(mx), FSGeometryRound(my),
-                      FSGeometryRound(mx + FS_GEOMETRY_TICK * sg[FS_SEG_NORMAL]),
-                      FSGeometryRound(my - FS_GEOMETRY_TICK * sg[FS_SEG_NORMAL + 1]), 1, c);
+      FSImageDrawLine(img, FSImageRound(mx), FSImageRound(my), FSImageRound(mx + FS_GEOMETRY_TICK * sg[FS_SEG_NORMAL]),
+                      FSImageRound(my - FS_GEOMETRY_TICK * sg[FS_SEG_NORMAL + 1]), 1, c);
       acc = 0;
     }
   }

@@ -1,6 +1,6 @@
 /*
    The Shepard factor gamma_i of the boundary-integral method, computed geometrically from the wall
-   segments (Calderon-Sanchez, Cercos-Pita & Duque 2019; derivation in notes/boundary-integrals.md):
+   segments (Calderon-Sanchez, Cercos-Pita & Duque 2019; derivation in docs/boundary-integrals.md):
 
      gamma(x) = 1 + sum_k (1/2pi) int_k (Phi(r) - 1) (e_r . n_k) / r dS,   r = |y - x|, e_r = (y - x)/r,
 

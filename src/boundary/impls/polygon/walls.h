@@ -60,7 +60,7 @@ PETSC_INTERN PetscErrorCode FSWallsDiscretize(FSWalls *, PetscReal dx);
 PETSC_INTERN PetscBool      FSWallsInLiquid(const FSWalls *, const PetscReal x[], PetscReal margin);
 PETSC_INTERN PetscReal      FSWallsDistance(const FSWalls *, const PetscReal x[]);
 
-/* Shepard factor from the walls alone (notes/boundary-integrals.md): gamma(x) and its gradient
+/* Shepard factor from the walls alone (docs/boundary-integrals.md): gamma(x) and its gradient
    from the segments within the kernel support that face x. */
 PETSC_INTERN void           FSSegmentIntegrals(PetscReal h, const PetscReal x[], const PetscReal seg[], PetscBool all,
                                                PetscReal *gammak, PetscReal *wint);
