@@ -19,7 +19,7 @@ struct _FSBoundaryOps {
      wall pressure, the pressure loads; collective */
   PetscErrorCode (*prepare)(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[]);
   /* after each step (FSBoundaryBounce); not collective */
-  PetscErrorCode (*bounce)(FSBoundary, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[], const PetscReal m[],
+  PetscErrorCode (*bounce)(FSBoundary, PetscInt n, PetscReal x[], PetscReal v[], const PetscReal m[],
                            FSParticleEnergyFn, void *, PetscReal de[2]);
   PetscErrorCode (*boundingbox)(FSBoundary, PetscReal lo[], PetscReal hi[]);
   /* rank 0: the walls into the geometry picture */

@@ -103,7 +103,7 @@ static PetscErrorCode FSSolverBoundaryBounce(FSSolver s, PetscReal de[2], PetscB
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  PetscCall(FSBoundaryBounce(s->boundary, n, s->opt.dim, x, v, m, FSBounceParticleEnergy, &be, de));
+  PetscCall(FSBoundaryBounce(s->boundary, n, x, v, m, FSBounceParticleEnergy, &be, de));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));

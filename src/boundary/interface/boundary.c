@@ -245,18 +245,18 @@ PetscErrorCode FSBoundaryGetView(FSBoundary b, const FSWallView **view, const Pe
 /*
    FSBoundaryBounce - after each step, a particle closer to a wall than -fs_walls_bounce_distance (in
    units of dx) and moving towards it is put back at that distance and its normal velocity reversed,
-   scaled by -fs_walls_bounce_restitution. x, v: the n particles' positions and velocities (dim each),
-   changed in place; energy(ctx, x, v, m, e) measures a particle's energy so that de returns this rank's
-   change of the liquid's energy by the bounces.
+   scaled by -fs_walls_bounce_restitution. x, v: the n particles' positions and velocities (the boundary's dimension
+   each), changed in place; energy(ctx, x, v, m, e) measures a particle's energy so that de returns this rank's change
+   of the liquid's energy by the bounces.
 
    Not collective
 */
-PetscErrorCode FSBoundaryBounce(FSBoundary b, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[],
-                                const PetscReal m[], FSParticleEnergyFn energy, void *ctx, PetscReal de[2])
+PetscErrorCode FSBoundaryBounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal v[], const PetscReal m[],
+                                FSParticleEnergyFn energy, void *ctx, PetscReal de[2])
 {
   PetscFunctionBegin;
   de[0] = de[1] = 0;
-  if (b->bounce_distance > 0) PetscCall((*b->ops->bounce)(b, n, dim, x, v, m, energy, ctx, de));
+  if (b->bounce_distance > 0) PetscCall((*b->ops->bounce)(b, n, x, v, m, energy, ctx, de));
   PetscFunctionReturn(0);
 }
 

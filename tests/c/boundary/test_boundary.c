@@ -420,7 +420,7 @@ static PetscErrorCode TestBounce(void)
         x[2 * i + d] = x0[i][d];
         v[2 * i + d] = v0[i][d];
       }
-    PetscCall(FSBoundaryBounce(b, 4, 2, x, v, m, Energy, &ctx, de));
+    PetscCall(FSBoundaryBounce(b, 4, x, v, m, Energy, &ctx, de));
     /* particle 0 off the floor (normal (0, -1)): y = dmin, v_y = +e 0.5 */
     TCHECK(PetscAbsReal(x[1] - dmin) <= 1e-15 && x[0] == x0[0][0],
            "bounce off the floor: position (%.17g, %.17g), expected (%.17g, %.17g)", (double)x[0], (double)x[1],

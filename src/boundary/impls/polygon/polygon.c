@@ -337,7 +337,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
    proportion to the pressure, which vanishes at free surfaces and under lids: this keeps such
    particles from crossing (the "elastic bounce" of AQUAgpusph's boundary integrals).
 */
-static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscInt dim, PetscReal x[], PetscReal v[], const PetscReal m[],
+static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal v[], const PetscReal m[],
                              FSParticleEnergyFn energy, void *ctx, PetscReal de[2])
 {
   FSBoundary_Polygon *wd   = (FSBoundary_Polygon *)b->data;
@@ -345,7 +345,6 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscInt dim, PetscReal x
   const PetscReal     dmin = b->bounce_distance * b->dx;
 
   PetscFunctionBegin;
-  (void)dim;
   for (PetscInt i = 0; i < n; i++) {
     PetscReal     *xi = &x[2 * i], *vi = &v[2 * i];
     const PetscInt cx = (PetscInt)((xi[0] - wd->glo[0]) / wd->gcell), cy = (PetscInt)((xi[1] - wd->glo[1]) / wd->gcell);
