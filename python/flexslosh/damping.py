@@ -6,7 +6,7 @@ decay), the positive peaks A_i give the logarithmic decrement of each cycle
     delta_i = ln(A_i / A_{i+1}),    zeta_i = delta_i / sqrt(4 pi^2 + delta_i^2),
 
 reported against the cycle's amplitude (the decay of a sloshing tank depends on the amplitude, so one
-number for the whole run says little; notes/validation.md). fit_envelope gives the one number of the
+number for the whole run says little; docs/validation.md). fit_envelope gives the one number of the
 seed's Fig. 10 anyway: the slope of ln|peak| against time, zeta = -slope / omega.
 """
 from __future__ import annotations

@@ -10,7 +10,7 @@ path:
   the fitted exponential (seed Fig. 10);
 - ``energy_terms``: the liquid's mechanical energy change, dissipation, external work and the
   budget's residual (seed Fig. 11);
-- ``damping_vs_amplitude``: the damping ratio of each cycle against its amplitude (notes/validation.md);
+- ``damping_vs_amplitude``: the damping ratio of each cycle against its amplitude (docs/validation.md);
 - ``snapshots``: particles coloured by a field on a log scale at up to five times (seed Figs. 6, 7).
 
 A run that lacks what a figure needs (no structure, no liquid, no snapshots) raises ValueError

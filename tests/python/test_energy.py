@@ -1,7 +1,7 @@
 """The energy budget (seed Eqs. 31-40), energy.csv: every power that changes the liquid's or the
 structure's energy is integrated with the state, so the residuals are the integrator's quadrature
 error only: tiny, and shrinking at the integrator's order (RK4: ~16x per halving of dt) when dt is
-refined. Residuals are relative to the initial mechanical energy (notes/validation.md), the coupled
+refined. Residuals are relative to the initial mechanical energy (docs/validation.md), the coupled
 run's total relative to the structure's initial (elastic) energy.
 
 Measured (RK4; docs/decisions.md "Energy budget"):

@@ -3,7 +3,7 @@ a 0.04 m tip deflection is damped more strongly by a sloshing liquid (rectangula
 a solid mass of the same total mass, and the two decays converge as the motion dies out.
 
 The damping ratio per cycle comes from the tip displacement (flexslosh.damping). Measured on this run
-(dx = 5 mm, msd; README, "The seed's experiments"): the solid mass gives the structure's 1.5 % in every
+(dx = 5 mm, msd; docs/seed-experiment.md): the solid mass gives the structure's 1.5 % in every
 cycle; with the liquid the first two cycles are the same (the tank's acceleration has not yet thrown
 the liquid off the floor), then zeta is 3-5 % at amplitudes of 10-30 mm and falls to about 2 % at 3 mm.
 """

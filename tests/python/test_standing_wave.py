@@ -9,7 +9,7 @@ slower, at 0.0372 = 0.941 x 4 nu k^2 (the next term is of relative order (nu k^2
 period is 0.1 % longer.
 
 Measured to t sqrt(g/h) = 15 by fitting exp(-lam t) (a + b cos 2wt + c sin 2wt) to E_k(t)
-(decay / the exact linear rate; README "Standing wave" has the table):
+(decay / the exact linear rate; docs/walls.md "Standing wave" has the table):
   h/dx = 20: period -0.34 %, decay 1.16 (1.14 without les_viscosity); nu = 0: 0.05;
   h/dx = 40: period -0.45 %, decay 1.05;  h/dx = 80: period -0.51 %, decay 1.02.
 The delta-LES terms add little dissipation (nu = 0: the energy barely decays), so the decay is the
@@ -162,7 +162,7 @@ def test_standing_wave_no_slip_floor(tmp_path):
     contact line moves along a no-slip wall), h = 0.5, L = 2, Re = 250 (nu = 0.00141): the floor's
     Stokes layer (thickness sqrt(2 nu/w) = 0.053 = 2 dx) makes the energy decay at 0.0537 instead of
     0.0136. Measured (decay / exact): 1.077 at h/dx = 20, as the free-slip tank's 1.16 at that
-    resolution; with h = 1: 1.107, 1.033 at h/dx = 20, 40 (README). The test asserts the period within
+    resolution; with h = 1: 1.107, 1.033 at h/dx = 20, 40 (docs/walls.md). The test asserts the period within
     2 % of the exact mode's and the decay within [0.95, 1.15] x its rate: without the wall term the
     decay is a third of it, with the wall shear twice too strong 1.21 x, half as strong 0.87 x."""
     out = tmp_path / "swns"

@@ -153,7 +153,7 @@ def run_resting_tank(tmp_path, args, dx):
 @pytest.mark.parametrize("shape", list(HYDROSTATIC))
 def test_hydrostatic_tank_stays_quiet(tmp_path, shape):
     """Liquid at rest, 3 cm deep, delta-LES-SPH with boundary integrals (run_resting_tank), to
-    t sqrt(g/H) = 20 (notes/validation.md). Measured (rectangular / baffled): rms speed 0.0019-0.0037 /
+    t sqrt(g/H) = 20 (docs/validation.md). Measured (rectangular / baffled): rms speed 0.0019-0.0037 /
     0.0039-0.0058 sqrt(gH) from T = 4 on (the baffled tank's largest at T = 4, after the relaxation,
     then 0.0039-0.0045; 0.0037-0.0047 before the wall pressure stopped sucking at the dry walls above
     the surface, which held the liquid's top at the walls), without a trend (a rectangular run to
@@ -201,7 +201,7 @@ def test_lifted_baffles_stay_quiet_with_visibility_all(tmp_path):
     assert -r["fy"] == pytest.approx(r["weight"], rel=0.015)
 
 
-# Martin & Moyce (1952), column a wide and 2a high: T = t sqrt(2g/a), Z = x_front/a (notes/validation.md)
+# Martin & Moyce (1952), column a wide and 2a high: T = t sqrt(2g/a), Z = x_front/a (docs/validation.md)
 MM_T = np.array([0.41, 0.84, 1.19, 1.43, 1.63, 1.83, 1.98, 2.20, 2.32, 2.51, 2.65, 2.83, 2.98])
 MM_Z = np.array([1.11, 1.22, 1.44, 1.67, 1.89, 2.11, 2.33, 2.56, 2.78, 3.00, 3.22, 3.44, 3.67])
 # and the residual height of the column at the back wall, H/(2a) against tau = t sqrt(g/a) (their
@@ -215,7 +215,7 @@ def test_dam_break_follows_martin_moyce(tmp_path):
     Moyce's surge front and residual column height. The column falls as in the experiment (within
     2 % to tau = 1.3, -7.5 % at most later), while the SPH front, a thin tongue on the floor, runs
     ahead of theirs from T ~ 0.5 on and keeps its lead (the speed dZ/dT matches): at a/dx = 40 we
-    measure +9 % at T = 3 and up to +19 % at T ~ 1.2 (README). The test asserts the front within
+    measure +9 % at T = 3 and up to +19 % at T ~ 1.2 (docs/walls.md). The test asserts the front within
     -10 %..+16 % of the data at every T >= 0.8, within 10 % on average (12 % at each point, the data
     scatter by 5 %) from T = 2.3 on, its speed over 1.4 <= T <= 3 within 10 % of the experiment's
     (1.27), and the column height within 2 % to tau = 1.3 and 10 % to tau = 2; doubling gravity puts
