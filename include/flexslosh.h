@@ -236,9 +236,9 @@ typedef struct {
 
 /* The body acceleration a particle at x feels in the tank's frame without the Coriolis part:
    a(x) = b + alpha (r_y, -r_x) + omega^2 (r_x, r_y), r = x - ref, b = R(-theta) (g - A) (the coupling's
-   tank frame; b = g without a coupling). */
+   tank frame; b = g without a coupling). The frame turns about z: in 3-D a_z = b_z (FSFrameFieldEval3). */
 typedef struct {
-  PetscReal b[2], omega, alpha, ref[2];
+  PetscReal b[3], omega, alpha, ref[2];
 } FSFrameField;
 
 static inline void FSFrameFieldEval(const FSFrameField *ff, const PetscReal x[], PetscReal a[])
@@ -246,6 +246,12 @@ static inline void FSFrameFieldEval(const FSFrameField *ff, const PetscReal x[],
   const PetscReal rx = x[0] - ff->ref[0], ry = x[1] - ff->ref[1], w2 = ff->omega * ff->omega;
   a[0] = ff->b[0] + ff->alpha * ry + w2 * rx;
   a[1] = ff->b[1] - ff->alpha * rx + w2 * ry;
+}
+
+static inline void FSFrameFieldEval3(const FSFrameField *ff, const PetscReal x[], PetscReal a[])
+{
+  FSFrameFieldEval(ff, x, a);
+  a[2] = ff->b[2];
 }
 
 /* Rigid motion of the tank reference point: displacement, velocity and acceleration, and the

@@ -11,7 +11,8 @@
      FSBoundaryGetLoads, FSBoundaryDraw, FSBoundaryWriteGeometry, FSBoundarySummary, FSBoundaryView
 
    Implementations register with FSBoundaryRegister (src/boundary/impls/<name>/) and are chosen with
-   -fs_boundary <name>; the first is "polygon", 2-D boundary integrals on closed polygons.
+   -fs_boundary <name>: "polygon", 2-D boundary integrals on closed polygons, and "trimesh", 3-D
+   boundary integrals on closed triangle meshes.
 */
 #pragma once
 #include <flexslosh.h>
@@ -22,6 +23,7 @@
 PETSC_EXTERN PetscClassId FSBOUNDARY_CLASSID;
 
 #define FSBOUNDARYPOLYGON "polygon"
+#define FSBOUNDARYTRIMESH "trimesh"
 
 typedef PetscErrorCode (*FSBoundaryCreateFn)(FSBoundary);
 
@@ -35,9 +37,11 @@ typedef struct {
   PetscReal           background_pressure;
 } FSBoundaryParticles;
 
-/* A particle found outside the liquid region by FSBoundaryUpdate (particle < 0: none on this rank). */
+/* A particle found outside the liquid region by FSBoundaryUpdate (particle < 0: none on this rank), the
+   wall nearest to it and the element of the wall's geometry there (a segment, or a triangle of the
+   input mesh numbered as in its file). */
 typedef struct {
-  PetscInt particle, wall;
+  PetscInt particle, wall, element;
 } FSBoundaryLeak;
 
 /* The change of a particle's energy (e[0]: tank frame, e[1]: absolute frame) for the bounces' budget */

@@ -42,6 +42,7 @@ static void FrameField(FSCoupling c, const FSTankMotion *mo, FSFrameField *ff)
 
   ff->b[0]   = cs * gx + sn * gy;
   ff->b[1]   = -sn * gx + cs * gy;
+  ff->b[2]   = c->gravity[2] - mo->acc[2];
   ff->omega  = mo->rate;
   ff->alpha  = mo->angacc;
   ff->ref[0] = c->tank_ref[0];
@@ -86,6 +87,7 @@ PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, const PetscReal
   PetscCall(PetscMemzero(&c->body, sizeof(c->body))); /* without a coupling the frame's body acceleration is g */
   c->body.b[0] = gravity[0];
   c->body.b[1] = gravity[1];
+  c->body.b[2] = gravity[2];
   if (!possible) PetscFunctionReturn(0);
   PetscCall(FSBoundaryGetBoundingBox(b, lo, hi));
   ref[0] = 0.5 * (lo[0] + hi[0]);

@@ -7,7 +7,7 @@
 
 #define FS_MAX_WALL_COLUMNS  16 /* walls whose loads go into the time series */
 #define FS_MAX_FLUID_COLUMNS (32 + FS_CASE_MAX_COLUMNS + FS_MAX_TERMS)
-#define FS_MAX_COLUMNS       (FS_MAX_FLUID_COLUMNS + FS_STRUCTURE_MAX_COLUMNS + 3 * FS_MAX_WALL_COLUMNS)
+#define FS_MAX_COLUMNS       (FS_MAX_FLUID_COLUMNS + FS_STRUCTURE_MAX_COLUMNS + 6 * FS_MAX_WALL_COLUMNS)
 
 /* Global diagnostics of the current state. vals: kinetic energy, mass, momentum (3), then max |u|. */
 static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscReal *umax)
@@ -77,9 +77,12 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
     PetscInt         nwalls;
     PetscCall(FSBoundaryGetLoads(s->boundary, &nwalls, &L));
     for (PetscInt w = 0; w < PetscMin(nwalls, FS_MAX_WALL_COLUMNS); w++) {
-      vals[k++] = L[6 * w];
-      vals[k++] = L[6 * w + 1];
-      vals[k++] = L[6 * w + 5];
+      if (s->opt.dim == 3) /* force and moment vectors */
+        for (PetscInt c = 0; c < 6; c++) vals[k++] = L[6 * w + c];
+      else { /* the in-plane force and the moment about z */ vals[k++] = L[6 * w];
+        vals[k++]                                                      = L[6 * w + 1];
+        vals[k++]                                                      = L[6 * w + 5];
+      }
     }
   }
   if (s->structure) { /* the structure's motion, loads and the model's own columns */
@@ -105,7 +108,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)s);
   const char        *names[FS_MAX_COLUMNS];
-  char               namebuf[FS_MAX_TERMS][80], wallbuf[3 * FS_MAX_WALL_COLUMNS][80], path[PETSC_MAX_PATH_LEN];
+  char               namebuf[FS_MAX_TERMS][80], wallbuf[6 * FS_MAX_WALL_COLUMNS][80], path[PETSC_MAX_PATH_LEN];
   PetscInt           k = 0, step;
   PetscReal          t;
   static const char *mom[] = {"momentum_x", "momentum_y", "momentum_z"};
@@ -147,14 +150,17 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   if (s->caseops.columns)
     for (PetscInt c = 0; c < s->caseops.ncolumns; c++) names[k++] = s->caseops.column_names[c];
   if (s->boundary) {
-    static const char *part[] = {"force_x", "force_y", "moment"};
+    static const char *part2[] = {"force_x", "force_y", "moment"};
+    static const char *part3[] = {"force_x", "force_y", "force_z", "moment_x", "moment_y", "moment_z"};
+    const PetscInt     np      = s->opt.dim == 3 ? 6 : 3;
     const char *const *wname;
     PetscInt           nwalls;
     PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &wname));
     for (PetscInt w = 0; w < PetscMin(nwalls, FS_MAX_WALL_COLUMNS); w++)
-      for (PetscInt c = 0; c < 3; c++) {
-        PetscCall(PetscSNPrintf(wallbuf[3 * w + c], sizeof(wallbuf[0]), "wall_%s_%s", wname[w], part[c]));
-        names[k++] = wallbuf[3 * w + c];
+      for (PetscInt c = 0; c < np; c++) {
+        PetscCall(PetscSNPrintf(wallbuf[np * w + c], sizeof(wallbuf[0]), "wall_%s_%s", wname[w],
+                                np == 6 ? part3[c] : part2[c]));
+        names[k++] = wallbuf[np * w + c];
       }
   }
   {

@@ -46,17 +46,21 @@ static PetscErrorCode FSSolverBoundaryUpdate(FSSolver s)
     PetscInt           step = 0, *id, nwalls;
     PetscReal          t    = 0;
     const char *const *names;
+    char               where[128];
     if (s->ts) {
       PetscCall(TSGetTime(s->ts, &t));
       PetscCall(TSGetStepNumber(s->ts, &step));
     }
     PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &names));
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
+    PetscCall(PetscSNPrintf(where, sizeof(where), s->opt.dim == 3 ? "(%g, %g, %g)" : "(%g, %g)",
+                            (double)s->pw.rec[i * S], (double)s->pw.rec[i * S + 1],
+                            s->opt.dim == 3 ? (double)s->pw.rec[i * S + 2] : 0.0));
     PetscCall(PetscPrintf(PETSC_COMM_SELF,
-                          "[flexslosh] leak: particle %" PetscInt_FMT " crossed wall \"%s\" at step %" PetscInt_FMT
-                          ", time %g: it is at (%g, %g), outside the liquid region\n",
-                          id[i], names[leak.wall], step, (double)t, (double)s->pw.rec[i * S],
-                          (double)s->pw.rec[i * S + 1]));
+                          "[flexslosh] leak: particle %" PetscInt_FMT " crossed wall \"%s\" (near its %s %" PetscInt_FMT
+                          ") at step %" PetscInt_FMT ", time %g: it is at %s, outside the liquid region\n",
+                          id[i], names[leak.wall], s->opt.dim == 3 ? "triangle" : "segment", leak.element, step,
+                          (double)t, where));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
   }
   PetscCheck(!nleak, comm, PETSC_ERR_CONV_FAILED,

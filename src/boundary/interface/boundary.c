@@ -12,6 +12,7 @@ PetscClassId FSBOUNDARY_CLASSID;
 static FSRegistry FSBoundaries; /* src/sys/registry.c */
 
 PETSC_EXTERN PetscErrorCode FSBoundaryCreate_Polygon(FSBoundary);
+PETSC_EXTERN PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary);
 
 /*
    FSBoundaryRegister - adds a boundary method to the registry.
@@ -43,6 +44,10 @@ PetscErrorCode FSBoundaryRegisterAll(void)
       FSBOUNDARYPOLYGON,
       "2-D boundary integrals on closed polygons of named walls (Calderon-Sanchez et al. 2019), options -fs_walls_*",
       FSBoundaryCreate_Polygon));
+  PetscCall(FSBoundaryRegister(FSBOUNDARYTRIMESH,
+                               "3-D boundary integrals on closed triangle meshes of named walls (built-in tanks, STL), "
+                               "options -fs_walls_*",
+                               FSBoundaryCreate_Trimesh));
   PetscFunctionReturn(0);
 }
 
@@ -204,7 +209,7 @@ PetscErrorCode FSBoundaryUpdate(FSBoundary b, PetscInt nowned, const PetscReal r
                                 FSBoundaryLeak *leak)
 {
   PetscFunctionBegin;
-  leak->particle = leak->wall = -1;
+  leak->particle = leak->wall = leak->element = -1;
   PetscCall((*b->ops->update)(b, nowned, rec, stride, nb, leak));
   PetscFunctionReturn(0);
 }

@@ -116,3 +116,122 @@ PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0
   PetscCall(PetscFree5(x, u, rho, m, cross));
   PetscFunctionReturn(0);
 }
+
+/* the crossings of the line {y = yr, z = zr} with the mesh's triangles, sorted along x. The line is moved
+   by a tiny irrational offset first so that it never passes exactly through an edge or a vertex (the
+   lattice's rows would, through the diagonals of a box's faces). */
+static PetscErrorCode RowCrossings(const FSMesh *m, PetscReal yr, PetscReal zr, PetscReal *cross, PetscInt *nc)
+{
+  const PetscReal size = (m->hi[0] - m->lo[0]) + (m->hi[1] - m->lo[1]) + (m->hi[2] - m->lo[2]);
+  const PetscReal y = yr + 3.1830988618e-10 * size, z = zr + 2.7182818284e-10 * size;
+
+  PetscFunctionBegin;
+  *nc = 0;
+  for (PetscInt t = 0; t < m->ntri; t++) {
+    const PetscReal *a = &m->vert[3 * m->tri[3 * t]], *b = &m->vert[3 * m->tri[3 * t + 1]],
+                    *c = &m->vert[3 * m->tri[3 * t + 2]];
+    /* the barycentric coordinates of (y, z) in the triangle's projection on the y-z plane */
+    const PetscReal det = (b[1] - a[1]) * (c[2] - a[2]) - (c[1] - a[1]) * (b[2] - a[2]);
+    PetscReal       u, v;
+    if (det == 0) continue; /* parallel to the line */
+    u = ((y - a[1]) * (c[2] - a[2]) - (c[1] - a[1]) * (z - a[2])) / det;
+    v = ((b[1] - a[1]) * (z - a[2]) - (y - a[1]) * (b[2] - a[2])) / det;
+    if (u < 0 || v < 0 || u + v > 1) continue;
+    cross[(*nc)++] = a[0] + u * (b[0] - a[0]) + v * (c[0] - a[0]);
+  }
+  PetscCall(PetscSortReal(*nc, cross));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCaseFillLiquidMesh - the 3-D FSCaseFillLiquid: gives the solver the triangle-mesh walls m (checked
+   with FSMeshCheck) and a domain box around them (4h margin), and fills the liquid region of the mesh
+   inside the box lo..hi (x, y, z; hi[1] the free surface) with particles at rest, hydrostatic, on a
+   lattice that fits the region: rows along x at heights lo[1] + (j + 1/2) dx_y and depths
+   lo[2] + (k + 1/2) dx_z, dx_y and dx_z the spacings closest to dx that divide the box, and along
+   each row, each interval of liquid between walls with its own spacing dx_x closest to dx (the liquid
+   ends half a spacing from the walls). Points closer to a wall than half a spacing are left out.
+   The rows are split over the ranks, so ids do not depend on the number of ranks. The mesh is moved
+   into the solver; what names the liquid region in the error messages.
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseFillLiquidMesh(FSSolver s, FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
+                                    const char what[])
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  PetscReal   dlo[3], dhi[3], *x, *u, *rho, *mass, g[3], gmag, dx, h, rho0, c0, hy, hz, *cross;
+  PetscBool   per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+  PetscInt    ny, nz, n = 0, r0, r1, cap, nxmax;
+  PetscMPIInt rank, size;
+
+  PetscFunctionBegin;
+  PetscCall(FSMeshCheck(m, comm));
+  PetscCall(FSSolverGetGravity(s, g));
+  PetscCall(FSSolverGetParameters(s, &dx, &h, &rho0, &c0, NULL));
+  gmag  = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  ny    = (PetscInt)((hi[1] - lo[1]) / dx + 0.5);
+  nz    = (PetscInt)((hi[2] - lo[2]) / dx + 0.5);
+  nxmax = (PetscInt)((hi[0] - lo[0]) / dx + 0.5) + 1;
+  PetscCheck(nxmax >= 2 && ny >= 1 && nz >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "%s: -fs_dx %g leaves no particle in the liquid region %g x %g x %g", what, (double)dx,
+             (double)(hi[0] - lo[0]), (double)(hi[1] - lo[1]), (double)(hi[2] - lo[2]));
+  PetscCheck(lo[0] >= m->lo[0] && hi[0] <= m->hi[0] && lo[1] >= m->lo[1] && hi[1] <= m->hi[1] && lo[2] >= m->lo[2] &&
+                 hi[2] <= m->hi[2],
+             comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "%s: the liquid region [%g, %g] x [%g, %g] x [%g, %g] reaches outside the tank [%g, %g] x [%g, %g] x [%g, "
+             "%g]",
+             what, (double)lo[0], (double)hi[0], (double)lo[1], (double)hi[1], (double)lo[2], (double)hi[2],
+             (double)m->lo[0], (double)m->hi[0], (double)m->lo[1], (double)m->hi[1], (double)m->lo[2],
+             (double)m->hi[2]);
+  hy = (hi[1] - lo[1]) / ny;
+  hz = (hi[2] - lo[2]) / nz;
+  for (PetscInt d = 0; d < 3; d++) {
+    dlo[d] = m->lo[d] - 4 * h;
+    dhi[d] = m->hi[d] + 4 * h;
+  }
+  PetscCall(FSSolverSetDomain(s, dlo, dhi, per));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  r0  = (PetscInt)((PetscInt64)ny * nz * rank / size);
+  r1  = (PetscInt)((PetscInt64)ny * nz * (rank + 1) / size);
+  cap = (r1 - r0) * (nxmax + m->ntri) + 1;
+  PetscCall(PetscMalloc5(3 * cap, &x, 3 * cap, &u, cap, &rho, cap, &mass, m->ntri + 2, &cross));
+  for (PetscInt row = r0; row < r1; row++) {
+    const PetscReal yr = lo[1] + (row % ny + 0.5) * hy, zr = lo[2] + (row / ny + 0.5) * hz;
+    PetscInt        nc;
+    PetscCall(RowCrossings(m, yr, zr, cross, &nc));
+    for (PetscInt c = 0; c + 1 < nc; c++) {
+      const PetscReal a = PetscMax(cross[c], lo[0]), e = PetscMin(cross[c + 1], hi[0]),
+                      mid[3] = {0.5 * (cross[c] + cross[c + 1]), yr, zr};
+      PetscInt  na;
+      PetscReal hx;
+      if (e <= a || !FSMeshInLiquid(m, mid, 0)) continue; /* outside the box, or inside a wall */
+      na = (PetscInt)((e - a) / dx + 0.5);
+      if (na < 1) continue;
+      hx = (e - a) / na;
+      for (PetscInt i = 0; i < na; i++) {
+        const PetscReal p[3] = {a + (i + 0.5) * hx, yr, zr};
+        if (!FSMeshInLiquid(m, p, 0.499 * PetscMin(hx, PetscMin(hy, hz)))) continue;
+        for (PetscInt d = 0; d < 3; d++) {
+          x[3 * n + d] = p[d];
+          u[3 * n + d] = 0;
+        }
+        rho[n]  = rho0 + rho0 * gmag * (hi[1] - p[1]) / (c0 * c0);
+        mass[n] = rho[n] * hx * hy * hz;
+        n++;
+      }
+    }
+  }
+  {
+    FSBoundary b;
+    PetscCall(FSSolverGetBoundary(s, &b));
+    PetscCall(FSBoundarySetType(b, FSBOUNDARYTRIMESH));
+    PetscCall(FSBoundaryTrimeshSetMesh(b, m));
+  }
+  PetscCall(FSSolverAddParticles(s, n, x, u, rho, mass));
+  PetscCall(PetscFree5(x, u, rho, mass, cross));
+  PetscFunctionReturn(0);
+}

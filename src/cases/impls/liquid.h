@@ -1,5 +1,6 @@
 #pragma once
 #include "boundary/impls/polygon/walls.h"
+#include "boundary/impls/trimesh/mesh.h"
 
 /* the default -fs_terms of the cases with walls: the seed's delta-LES-SPH with boundary integrals */
 #define FS_WALL_CASE_TERMS \
@@ -11,3 +12,5 @@ PETSC_INTERN PetscErrorCode FSCaseFillLiquid(FSSolver, FSWalls *, PetscReal x0, 
 PETSC_INTERN PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver, FSWalls *, PetscReal x0, PetscReal x1, PetscReal y0,
                                                          PetscReal ysurf, const char what[], FSCaseVelocityFn,
                                                          void *ctx);
+PETSC_INTERN PetscErrorCode FSCaseFillLiquidMesh(FSSolver, FSMesh *, const PetscReal lo[3], const PetscReal hi[3],
+                                                 const char what[]);

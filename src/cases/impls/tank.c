@@ -10,33 +10,43 @@
                   each compartment holds its own liquid unless it sloshes over (the seed: the baffles
                   "do not allow the wave to propagate"). With an opening under the baffles, keep the
                   liquid at rest quiet with -fs_walls_visibility all (measured: docs/walls.md).
-     file:        -fs_tank_file <path> in the polyline format of docs/walls.md.
+     file:        -fs_tank_file <path> in the polyline format of docs/walls.md (2-D).
+     stl:         -fs_tank_stl <path>[,<path>...]: closed triangle meshes (3-D), every solid of a file a
+                  named wall part (docs/walls.md).
+   In 3-D (-fs_dim 3) the rectangular and baffled tanks are their 2-D outlines extruded across
+   -fs_tank_width (0.1 m) along z: the 2-D cases are their cross-sections.
    The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5) on a lattice of spacing
    dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2. -fs_fill 0 is an empty
    tank: no particles and no walls, the structure alone (with -fs_beam_payload_mass all ballast), the
    0 % point of a fill sweep.
    Defaults: rho0 = 1000, c0 = 20 m/s and h/dx = 2 (seed), nu = 1e-6, g = 9.81 down, dx = H/30.
 */
+#include <string.h>
 #include <flexslosh.h>
 #include "liquid.h"
 
 typedef struct {
   char      shape[32], file[PETSC_MAX_PATH_LEN];
-  PetscReal L, H, Lc, t, gap, hb, fill;
-  PetscInt  ncomp;
+  char      stl[8][PETSC_MAX_PATH_LEN]; /* -fs_tank_stl */
+  PetscInt  nstl;
+  PetscReal L, H, Lc, t, gap, hb, fill, width;
+  PetscInt  ncomp, dim;
 } Tank;
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
   Tank     *tk;
   PetscReal g[3] = {0, -9.81, 0};
-  PetscBool rect, baff, file;
+  PetscBool rect, baff, file, stl, stlset;
+  char     *stlfiles[9];
+  PetscInt  nstl = 9;
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetCaseData(s, &tk));
+  PetscCall(FSSolverGetDimension(s, &tk->dim));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case tank");
-  PetscCall(PetscOptionsString("-fs_tank_shape", "Tank shape: rectangular, baffled or file", "", tk->shape, tk->shape,
-                               sizeof(tk->shape), NULL));
+  PetscCall(PetscOptionsString("-fs_tank_shape", "Tank shape: rectangular, baffled, file (2-D) or stl (3-D)", "",
+                               tk->shape, tk->shape, sizeof(tk->shape), NULL));
   PetscCall(PetscOptionsReal("-fs_tank_length", "Length of the rectangular tank", "", tk->L, &tk->L, NULL));
   PetscCall(PetscOptionsReal("-fs_tank_height", "Height of the tank", "", tk->H, &tk->H, NULL));
   PetscCall(
@@ -50,16 +60,42 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(PetscOptionsReal("-fs_tank_baffle_height", "Height of the baffles", "", tk->hb, &tk->hb, NULL));
   PetscCall(PetscOptionsString("-fs_tank_file", "Wall polygons of a tank of any shape (docs/walls.md: file format)", "",
                                tk->file, tk->file, sizeof(tk->file), NULL));
+  PetscCall(PetscOptionsStringArray("-fs_tank_stl",
+                                    "STL files of a 3-D tank (closed meshes; each solid a named wall part)", "",
+                                    stlfiles, &nstl, &stlset));
+  PetscCall(PetscOptionsReal("-fs_tank_width", "Width of the 3-D rectangular and baffled tanks (along z)", "",
+                             tk->width, &tk->width, NULL));
   PetscCall(
       PetscOptionsReal("-fs_fill", "Filling level, as a fraction of the tank height", "", tk->fill, &tk->fill, NULL));
   PetscOptionsHeadEnd();
+  if (stlset) {
+    PetscCheck(nstl <= 8, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+               "-fs_tank_stl gives more than 8 files: join solids into fewer files (one file may hold many solids)");
+    tk->nstl = nstl;
+    for (PetscInt f = 0; f < nstl; f++) {
+      PetscCall(PetscStrncpy(tk->stl[f], stlfiles[f], sizeof(tk->stl[f])));
+      PetscCall(PetscFree(stlfiles[f]));
+    }
+  }
   PetscCall(PetscStrcmp(tk->shape, "rectangular", &rect));
   PetscCall(PetscStrcmp(tk->shape, "baffled", &baff));
   PetscCall(PetscStrcmp(tk->shape, "file", &file));
-  PetscCheck(rect || baff || file, PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE,
-             "-fs_tank_shape %s is not known: expected rectangular, baffled or file", tk->shape);
+  PetscCall(PetscStrcmp(tk->shape, "stl", &stl));
+  PetscCheck(rect || baff || file || stl, PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE,
+             "-fs_tank_shape %s is not known: expected rectangular, baffled, file or stl", tk->shape);
   PetscCheck(!file || tk->file[0], PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
              "-fs_tank_shape file needs -fs_tank_file <path>");
+  PetscCheck(!stl || tk->nstl > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+             "-fs_tank_shape stl needs -fs_tank_stl <path>[,<path>...]");
+  PetscCheck(!(file && tk->dim == 3), PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+             "-fs_tank_file %s gives 2-D walls (polygons) but the run is 3-D (-fs_dim 3): give the tank as an STL "
+             "mesh with -fs_tank_shape stl -fs_tank_stl <path>",
+             tk->file);
+  PetscCheck(!(stl && tk->dim == 2), PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+             "-fs_tank_stl %s gives 3-D walls (triangle meshes) but the run is 2-D: use -fs_dim 3",
+             tk->nstl ? tk->stl[0] : "");
+  PetscCheck(tk->dim == 2 || tk->width > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_tank_width %g must be positive", (double)tk->width);
   PetscCheck(tk->H > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_height %g must be positive",
              (double)tk->H);
   PetscCheck(tk->fill >= 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
@@ -72,21 +108,60 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscFunctionReturn(0);
 }
 
+/* the 3-D tank: the mesh (the 2-D outline extruded across the width, or STL files) filled to the level */
+static PetscErrorCode SetUp3(FSSolver s, Tank *tk, FSWalls *w)
+{
+  MPI_Comm  comm = PetscObjectComm((PetscObject)s);
+  FSMesh    m;
+  PetscReal lo[3], hi[3];
+
+  PetscFunctionBegin;
+  PetscCall(FSMeshCreate(&m));
+  if (!strcmp(tk->shape, "stl"))
+    for (PetscInt f = 0; f < tk->nstl; f++) {
+      char        name[64];
+      const char *base = strrchr(tk->stl[f], '/') ? strrchr(tk->stl[f], '/') + 1 : tk->stl[f];
+      char       *dot;
+      PetscCall(PetscStrncpy(name, base, sizeof(name)));
+      if ((dot = strrchr(name, '.'))) *dot = 0; /* the file's name without its extension names unnamed solids */
+      PetscCall(FSMeshLoadSTL(&m, comm, tk->stl[f], name));
+    }
+  else PetscCall(FSMeshExtrude(&m, comm, w, tk->width));
+  PetscCall(FSMeshCheck(&m, comm)); /* sets the bounding box used below */
+  for (PetscInt d = 0; d < 3; d++) {
+    lo[d] = m.lo[d];
+    hi[d] = m.hi[d];
+  }
+  hi[1] = lo[1] + tk->fill * (m.hi[1] - m.lo[1]);
+  PetscCall(FSCaseFillLiquidMesh(s, &m, lo, hi, "-fs_fill"));
+  PetscCall(FSMeshDestroy(&m));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode SetUp(FSSolver s)
 {
   Tank     *tk;
   MPI_Comm  comm = PetscObjectComm((PetscObject)s);
   FSWalls   w;
-  PetscBool rect, baff;
+  PetscBool rect, baff, stl;
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetCaseData(s, &tk));
   PetscCall(FSWallsCreate(&w));
   PetscCall(PetscStrcmp(tk->shape, "rectangular", &rect));
   PetscCall(PetscStrcmp(tk->shape, "baffled", &baff));
+  PetscCall(PetscStrcmp(tk->shape, "stl", &stl));
   if (rect) PetscCall(FSWallsRectangularTank(&w, comm, tk->L, tk->H));
   else if (baff) PetscCall(FSWallsBaffledTank(&w, comm, tk->ncomp, tk->Lc, tk->t, tk->H, tk->gap, tk->hb));
-  else PetscCall(FSWallsLoad(&w, comm, tk->file));
+  else if (!stl) PetscCall(FSWallsLoad(&w, comm, tk->file));
+  if (tk->dim == 3) {
+    PetscCheck(tk->fill > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "-fs_fill 0 (an empty tank) is two-dimensional only: give a positive fill in 3-D");
+    if (!stl) PetscCall(FSWallsCheck(&w, comm));
+    PetscCall(SetUp3(s, tk, &w));
+    PetscCall(FSWallsDestroy(&w));
+    PetscFunctionReturn(0);
+  }
   PetscCall(FSWallsCheck(&w, comm)); /* sets the bounding box used below */
   if (tk->fill > 0)
     PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
@@ -119,6 +194,7 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_Tank(FSSolver s, FSCaseOps *ops)
   tk->gap   = 0.0;
   tk->hb    = 0.045;
   tk->fill  = 0.5;
+  tk->width = 0.1;
   PetscCall(FSSolverSetCaseData(s, tk));
   ops->setfromoptions = SetFromOptions;
   ops->setup          = SetUp;

@@ -26,61 +26,94 @@
 #include <flexslosh.h>
 
 /* In the element rows of the boundary's view: p0 the element's point, c its centroid, n its normal
-   (out of the liquid), a its length (2-D). */
-static void Continuity(FSTerm t, const FSParticles *P, const FSWallView *B, const FSWallNeighbourhood *nb, FSRate *rate)
+   (out of the liquid), a its length (2-D) or area (3-D). Each body is written for a compile-time
+   dimension D and called with 2 or 3 (FS_ALWAYS_INLINE in flexslosh.h). */
+FS_ALWAYS_INLINE void ContinuityD(PetscInt D, FSTerm t, const FSParticles *P, const FSWallView *B,
+                                  const FSWallNeighbourhood *nb, FSRate *rate)
 {
-  const PetscInt   dim = P->dim, N = B->normal, A = B->measure;
+  const PetscInt   N = B->normal, A = B->measure;
   const PetscReal *ri  = &P->rec[nb->i * P->stride];
   PetscReal        sum = 0;
   for (PetscInt q = 0; q < nb->n; q++) {
-    const PetscReal *e = &B->element[nb->k[q] * B->stride];
-    sum += (ri[dim] * e[N] + ri[dim + 1] * e[N + 1]) * nb->W[q] * e[A];
+    const PetscReal *e  = &B->element[nb->k[q] * B->stride];
+    PetscReal        un = 0;
+    for (PetscInt d = 0; d < D; d++) un += ri[D + d] * e[N + d];
+    sum += un * nb->W[q] * e[A];
   }
-  rate->drho += ri[2 * dim] * sum;
+  rate->drho += ri[2 * D] * sum;
   t->power += P->vol[nb->i] * P->pressure[nb->i] * sum;
 }
 
-static void Pressure(FSTerm t, const FSParticles *P, const FSWallView *B, const FSWallNeighbourhood *nb, FSRate *rate)
+static void Continuity(FSTerm t, const FSParticles *P, const FSWallView *B, const FSWallNeighbourhood *nb, FSRate *rate)
 {
-  const PetscInt   dim = P->dim, i = nb->i, N = B->normal, A = B->measure;
-  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim], pi = P->pressure[i];
-  PetscReal        acc[2] = {0, 0};
+  if (P->dim == 2) ContinuityD(2, t, P, B, nb, rate);
+  else ContinuityD(3, t, P, B, nb, rate);
+}
+
+FS_ALWAYS_INLINE void PressureD(PetscInt D, FSTerm t, const FSParticles *P, const FSWallView *B,
+                                const FSWallNeighbourhood *nb, FSRate *rate)
+{
+  const PetscInt   i = nb->i, N = B->normal, A = B->measure;
+  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * D], pi = P->pressure[i];
+  PetscReal        acc[3] = {0, 0, 0}, pw = 0;
   for (PetscInt q = 0; q < nb->n; q++) {
     const PetscInt   k = nb->k[q];
     const PetscReal *e = &B->element[k * B->stride];
     const PetscReal  f = (pi + B->pressure[k]) * nb->W[q] * e[A];
-    acc[0] += f * e[N];
-    acc[1] += f * e[N + 1];
+    for (PetscInt d = 0; d < D; d++) acc[d] += f * e[N + d];
   }
-  rate->du[0] -= acc[0] / rhoi;
-  rate->du[1] -= acc[1] / rhoi;
-  t->power -= P->vol[i] * P->invgamma[i] * (ri[dim] * acc[0] + ri[dim + 1] * acc[1]);
+  for (PetscInt d = 0; d < D; d++) {
+    rate->du[d] -= acc[d] / rhoi;
+    pw += ri[D + d] * acc[d];
+  }
+  t->power -= P->vol[i] * P->invgamma[i] * pw;
+}
+
+static void Pressure(FSTerm t, const FSParticles *P, const FSWallView *B, const FSWallNeighbourhood *nb, FSRate *rate)
+{
+  if (P->dim == 2) PressureD(2, t, P, B, nb, rate);
+  else PressureD(3, t, P, B, nb, rate);
+}
+
+FS_ALWAYS_INLINE void ViscosityD(PetscInt D, FSTerm t, const FSParticles *P, const FSWallView *B,
+                                 const FSWallNeighbourhood *nb, FSRate *rate)
+{
+  const PetscInt   i = nb->i, N = B->normal, A = B->measure, C = B->centroid;
+  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * D];
+  const PetscReal  c = P->nu * P->rho0 / rhoi, Vi = P->vol[i], dmin = 0.5 * P->dx;
+  PetscReal        acc[3] = {0, 0, 0}, pw = 0;
+  for (PetscInt q = 0; q < nb->n; q++) {
+    const PetscInt   k = nb->k[q];
+    const PetscReal *e = &B->element[k * B->stride];
+    PetscReal        d = 0, f, sw, r[3] = {0, 0, 0}, *L;
+    if (!B->noslip[B->elementwall[k]]) continue;
+    for (PetscInt a = 0; a < D; a++) d += (e[a] - ri[a]) * e[N + a];
+    if (d <= 0) continue; /* a face turned away (-fs_walls_visibility all): the other side's wall */
+    f  = c * nb->W[q] * e[A] / PetscMax(d, dmin);
+    sw = Vi * rhoi * f; /* the shear force on the wall is sw u_i */
+    L  = &B->load[6 * B->elementwall[k]];
+    for (PetscInt a = 0; a < D; a++) {
+      acc[a] -= f * ri[D + a];
+      L[a] += sw * ri[D + a];
+      r[a] = e[C + a] - B->loadpoint[a];
+    }
+    if (D == 3) {
+      L[3] += sw * (r[1] * ri[D + 2] - r[2] * ri[D + 1]);
+      L[4] += sw * (r[2] * ri[D] - r[0] * ri[D + 2]);
+    }
+    L[5] += sw * (r[0] * ri[D + 1] - r[1] * ri[D]);
+  }
+  for (PetscInt a = 0; a < D; a++) {
+    rate->du[a] += acc[a];
+    pw += ri[D + a] * acc[a];
+  }
+  t->power += ri[2 * D + 1] * P->invgamma[i] * pw;
 }
 
 static void Viscosity(FSTerm t, const FSParticles *P, const FSWallView *B, const FSWallNeighbourhood *nb, FSRate *rate)
 {
-  const PetscInt   dim = P->dim, i = nb->i, N = B->normal, A = B->measure, C = B->centroid;
-  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * dim];
-  const PetscReal  c = P->nu * P->rho0 / rhoi, Vi = P->vol[i], dmin = 0.5 * P->dx;
-  PetscReal        acc[2] = {0, 0};
-  for (PetscInt q = 0; q < nb->n; q++) {
-    const PetscInt   k = nb->k[q];
-    const PetscReal *e = &B->element[k * B->stride];
-    PetscReal        d, f, *L;
-    if (!B->noslip[B->elementwall[k]]) continue;
-    d = (e[0] - ri[0]) * e[N] + (e[1] - ri[1]) * e[N + 1];
-    if (d <= 0) continue; /* a face turned away (-fs_walls_visibility all): the other side's wall */
-    f = c * nb->W[q] * e[A] / PetscMax(d, dmin);
-    acc[0] -= f * ri[dim];
-    acc[1] -= f * ri[dim + 1];
-    L = &B->load[6 * B->elementwall[k]];
-    L[0] += Vi * rhoi * f * ri[dim];
-    L[1] += Vi * rhoi * f * ri[dim + 1];
-    L[5] += Vi * rhoi * f * ((e[C] - B->loadpoint[0]) * ri[dim + 1] - (e[C + 1] - B->loadpoint[1]) * ri[dim]);
-  }
-  rate->du[0] += acc[0];
-  rate->du[1] += acc[1];
-  t->power += ri[2 * dim + 1] * P->invgamma[i] * (ri[dim] * acc[0] + ri[dim + 1] * acc[1]);
+  if (P->dim == 2) ViscosityD(2, t, P, B, nb, rate);
+  else ViscosityD(3, t, P, B, nb, rate);
 }
 
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm t)

@@ -146,7 +146,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
   FSWalls            *w  = &wd->walls;
   const PetscReal     R = b->radius, R2 = R * R;
-  PetscInt            nc = 0, leak = -1, leakwall = -1;
+  PetscInt            nc = 0, leak = -1, leakwall = -1, leakseg = -1;
 
   PetscFunctionBegin;
   if (n + 1 > wd->scap) {
@@ -187,6 +187,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
           if (d2 < best) {
             best     = d2;
             leakwall = w->segwall[wd->cand[q]];
+            leakseg  = wd->cand[q];
           }
         }
       }
@@ -229,6 +230,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
   wd->cstart[n] = nc;
   lk->particle  = leak;
   lk->wall      = leakwall;
+  lk->element   = leakseg;
   PetscFunctionReturn(0);
 }
 

@@ -25,10 +25,10 @@ typedef struct {
   PetscInt  *triwall; /* wall (part) index of each triangle */
   PetscInt  *trisrc;  /* index of each triangle in its source (file or builder), for error messages: 0-based */
   PetscInt   nwalls;
-  char (*name)[64];                    /* nwalls wall names */
+  char (*name)[64];                   /* nwalls wall names */
   char (*source)[PETSC_MAX_PATH_LEN]; /* per wall: the file (or builder) it came from, for error messages */
-  PetscReal lo[3], hi[3];              /* bounding box of the vertices, after FSMeshCheck */
-  PetscReal volume;                    /* volume enclosed by the container, after FSMeshCheck */
+  PetscReal lo[3], hi[3];             /* bounding box of the vertices, after FSMeshCheck */
+  PetscReal volume;                   /* volume enclosed by the container, after FSMeshCheck */
   /* elements, after FSMeshRefine: the triangles subdivided to edges of at most hmax */
   PetscInt   nel;
   PetscReal *el;     /* per element FS_TRI_STRIDE reals */
@@ -52,7 +52,8 @@ PETSC_INTERN PetscErrorCode FSMeshAddWall(FSMesh *, const char name[], const cha
 /* adds a vertex, returns its index */
 PETSC_INTERN PetscErrorCode FSMeshAddVertex(FSMesh *, const PetscReal x[3], PetscInt *v);
 /* adds the triangle (a, b, c) of wall `wall`, numbered `src` in its source */
-PETSC_INTERN PetscErrorCode FSMeshAddTriangle(FSMesh *, PetscInt wall, PetscInt a, PetscInt b, PetscInt c, PetscInt src);
+PETSC_INTERN PetscErrorCode FSMeshAddTriangle(FSMesh *, PetscInt wall, PetscInt a, PetscInt b, PetscInt c,
+                                              PetscInt src);
 
 /* builders: a 2-D tank outline (closed polygons, FSWalls' orientation convention) made of horizontal and
    vertical edges, extruded across the width z in [0, width]; each side face keeps the wall of its edge,

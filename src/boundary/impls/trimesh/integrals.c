@@ -1,0 +1,96 @@
+/*
+   The Shepard factor gamma_i of the boundary-integral method in 3-D, computed geometrically from the
+   wall triangles (derivation in docs/boundary-integrals.md):
+
+     gamma(x) = 1 + sum_T [ int_T Phi(r)/(4 pi r^2) (e_r . n_T) dS - Omega_T(x)/(4 pi) ],
+
+   Phi(r) the 3-D kernel's mass inside radius r, r = |y - x|, e_r = (y - x)/r, n_T out of the liquid,
+   Omega_T the signed solid angle of T seen from x (exact, FSTriangleSolidAngle). On a flat triangle
+   (y - x) . n_T = d_T, the distance from x to its plane, so the first integrand is d_T Phi(r)/(4 pi r^3),
+   bounded (Phi ~ r^3 at 0) and smooth: a 7-point Gauss rule of degree 5 (Dunavant 1985) on triangles of
+   edge h/2 or less gives gamma to 1e-7 (docs/walls.md). Beyond the support Phi = 1 and the bracket
+   vanishes, so only triangles within 2h count. The same points give int_T W dS, the wall terms' weight.
+*/
+#include "mesh.h"
+
+/* Wendland C2 in 3-D, q = r/h <= 2: W = 21/(16 pi h^3) (1 - q/2)^4 (2q + 1)
+   = 21/(16 pi h^3) (1 - 5/2 q^2 + 5/2 q^3 - 15/16 q^4 + 1/8 q^5), and its mass inside r,
+   Phi = 4 pi int_0^r W s^2 ds = 21/4 (q^3/3 - q^5/2 + 5/12 q^6 - 15/112 q^7 + q^8/64). */
+static inline PetscReal Wendland3(PetscReal h, PetscReal r)
+{
+  const PetscReal q = r / h, a = 1 - 0.5 * q;
+  return q >= 2 ? 0 : 21.0 / (16.0 * PETSC_PI * h * h * h) * a * a * a * a * (2 * q + 1);
+}
+
+/* Phi(r)/r^3 (finite at r = 0) */
+static inline PetscReal PhiOverR3(PetscReal h, PetscReal r)
+{
+  const PetscReal q = r / h;
+  if (q >= 2) return 1.0 / (r * r * r);
+  return 5.25 / (h * h * h) * (1.0 / 3.0 + q * q * (-0.5 + q * (5.0 / 12.0 + q * (-15.0 / 112.0 + q / 64.0))));
+}
+
+/* Dunavant's 7-point rule, degree 5: barycentric coordinates of the points and weights (sum 1) */
+#define FS_SQRT15 3.872983346207416885
+static const PetscReal DunavantA[3] = {1.0 / 3.0, (9 - 2 * FS_SQRT15) / 21, (9 + 2 * FS_SQRT15) / 21};
+static const PetscReal DunavantB[3] = {1.0 / 3.0, (6 + FS_SQRT15) / 21, (6 - FS_SQRT15) / 21};
+static const PetscReal DunavantW[3] = {0.225, (155 + FS_SQRT15) / 1200, (155 - FS_SQRT15) / 1200};
+
+/*
+   FSTriangleIntegrals - an element's contribution gamma_k to gamma(x) - 1, and int_k W(|y - x|) dS
+   over it, from one set of quadrature points. The latter is the wall terms' kernel weight: with it
+   the wall part of grad gamma, -sum_k n_k int_k W dS, is the gradient of the geometric gamma.
+   With all = PETSC_FALSE only an element that faces x (x on the liquid side of its plane) counts,
+   else both are 0 (a thin baffle's far face is hidden behind its near face); with all = PETSC_TRUE
+   (-fs_walls_visibility all) every element within the support counts with its signed distance.
+
+   el is an element row (mesh.h: FS_TRI_*).
+*/
+void FSTriangleIntegrals(PetscReal h, const PetscReal x[], const PetscReal el[], PetscBool all, PetscReal *gammak,
+                         PetscReal *wint)
+{
+  const PetscReal *a = el + FS_TRI_P0, *b = el + FS_TRI_P1, *c = el + FS_TRI_P2, *n = el + FS_TRI_NORMAL;
+  const PetscReal  d   = (a[0] - x[0]) * n[0] + (a[1] - x[1]) * n[1] + (a[2] - x[2]) * n[2]; /* > 0: facing */
+  const PetscReal  R   = 2 * h;
+  PetscReal        phi = 0, w = 0;
+
+  *gammak = *wint = 0;
+  if ((!all && d <= 0) || PetscAbsReal(d) >= R) return;
+  if (FSTriangleDistance2(a, b, c, x) >= R * R) return;
+  for (PetscInt g = 0; g < 7; g++) {
+    const PetscInt  set = g == 0 ? 0 : (g < 4 ? 1 : 2), rot = (g - 1) % 3;
+    const PetscReal la   = set && rot == 0 ? DunavantA[set] : DunavantB[set];
+    const PetscReal lb   = set && rot == 1 ? DunavantA[set] : DunavantB[set];
+    const PetscReal lc   = 1 - la - lb;
+    const PetscReal y[3] = {la * a[0] + lb * b[0] + lc * c[0], la * a[1] + lb * b[1] + lc * c[1],
+                            la * a[2] + lb * b[2] + lc * c[2]};
+    const PetscReal r    = PetscSqrtReal((y[0] - x[0]) * (y[0] - x[0]) + (y[1] - x[1]) * (y[1] - x[1]) +
+                                         (y[2] - x[2]) * (y[2] - x[2]));
+    phi += DunavantW[set] * PhiOverR3(h, r);
+    w += DunavantW[set] * Wendland3(h, r);
+  }
+  *wint = w * el[FS_TRI_AREA];
+  if (d == 0) return; /* x in the element's plane: e_r . n = 0 and no solid angle */
+  *gammak = (d * phi * el[FS_TRI_AREA] - FSTriangleSolidAngle(a, b, c, x)) / (4 * PETSC_PI);
+}
+
+/*
+   FSMeshShepard - gamma(x) and grad gamma(x) = -sum_k n_k int_k W dS from all the elements, those that
+   face x only or every one (all, as FSTriangleIntegrals): a reference for tests and set-up; the
+   solver uses its per-particle lists of nearby elements.
+*/
+PetscErrorCode FSMeshShepard(const FSMesh *m, PetscReal h, const PetscReal x[], PetscBool all, PetscReal *gamma,
+                             PetscReal grad[])
+{
+  PetscFunctionBegin;
+  *gamma  = 1;
+  grad[0] = grad[1] = grad[2] = 0;
+  for (PetscInt k = 0; k < m->nel; k++) {
+    const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
+    PetscReal        gk, wi;
+    FSTriangleIntegrals(h, x, el, all, &gk, &wi);
+    *gamma += gk;
+    for (PetscInt d = 0; d < 3; d++) grad[d] -= wi * el[FS_TRI_NORMAL + d];
+  }
+  PetscFunctionReturn(0);
+}

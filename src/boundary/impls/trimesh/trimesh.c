@@ -1,0 +1,536 @@
+/*
+   The triangle-mesh boundary ("trimesh"): 3-D boundary integrals on closed triangle meshes of named
+   wall parts. The same stages as the polygon boundary: per time step, the candidate elements of every
+   owned particle, the leak check, and the cut of fluid pairs that see each other through a wall; per
+   right-hand side, gamma_i and the facing elements within the support with their kernel values, the
+   wall pressure and the loads (force and moment vectors). The mesh (mesh.h: building, STL, checks,
+   refinement) is in mesh.c and stl.c, gamma of a point in integrals.c.
+*/
+#include "trimeshimpl.h"
+
+static PetscErrorCode FSBoundaryTrimeshSetMesh_Trimesh(FSBoundary b, FSMesh *m)
+{
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+
+  PetscFunctionBegin;
+  PetscCall(FSMeshDestroy(&tm->mesh));
+  tm->mesh = *m;
+  PetscCall(PetscMemzero(m, sizeof(*m)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryTrimeshSetMesh - gives a triangle-mesh boundary its mesh (the case builds it); the boundary
+   owns it after, and m is zeroed.
+
+   Collective
+*/
+PetscErrorCode FSBoundaryTrimeshSetMesh(FSBoundary b, FSMesh *m)
+{
+  PetscFunctionBegin;
+  PetscUseMethod(b, "FSBoundaryTrimeshSetMesh_C", (FSBoundary, FSMesh *), (b, m));
+  PetscFunctionReturn(0);
+}
+
+/* the grid cell of x, clamped to the grid */
+static inline void GridCell(const FSBoundary_Trimesh *tm, const PetscReal x[], PetscInt c[3])
+{
+  for (PetscInt d = 0; d < 3; d++) {
+    c[d] = (PetscInt)PetscFloorReal((x[d] - tm->glo[d]) / tm->gcell);
+    c[d] = PetscMax(0, PetscMin(tm->gnc[d] - 1, c[d]));
+  }
+}
+
+#define FOR_GRID_NEIGHBOURS(tm, cc, q)                                                            \
+  for (PetscInt c2 = PetscMax(cc[2] - 1, 0); c2 <= PetscMin(cc[2] + 1, tm->gnc[2] - 1); c2++)     \
+    for (PetscInt c1 = PetscMax(cc[1] - 1, 0); c1 <= PetscMin(cc[1] + 1, tm->gnc[1] - 1); c1++)   \
+      for (PetscInt c0 = PetscMax(cc[0] - 1, 0); c0 <= PetscMin(cc[0] + 1, tm->gnc[0] - 1); c0++) \
+        for (PetscInt q = tm->gstart[c0 + tm->gnc[0] * (c1 + tm->gnc[1] * c2)];                   \
+             q < tm->gstart[c0 + tm->gnc[0] * (c1 + tm->gnc[1] * c2) + 1]; q++)
+
+/* gamma at x from the elements near it (the grid), the container only or all (FSTriangleIntegrals) */
+static PetscReal ShepardNear(const FSBoundary_Trimesh *tm, PetscReal h, const PetscReal x[], PetscBool all)
+{
+  PetscInt  cc[3];
+  PetscReal g = 1;
+  GridCell(tm, x, cc);
+  FOR_GRID_NEIGHBOURS(tm, cc, q)
+  {
+    PetscReal gk, wi;
+    FSTriangleIntegrals(h, x, &tm->mesh.el[tm->gel[q] * FS_TRI_STRIDE], all, &gk, &wi);
+    g += gk;
+  }
+  return g;
+}
+
+/* is the liquid region convex (every vertex on the liquid side of every triangle's plane, one surface)? */
+static PetscBool MeshConvex(const FSMesh *m)
+{
+  const PetscReal tol = 1e-9 * (m->hi[0] - m->lo[0] + m->hi[1] - m->lo[1] + m->hi[2] - m->lo[2]);
+  if ((PetscReal)m->ntri * (PetscReal)m->nvert > 1e8) return PETSC_FALSE; /* too large to tell cheaply */
+  for (PetscInt t = 0; t < m->ntri; t++) {
+    const PetscReal *a = &m->vert[3 * m->tri[3 * t]], *b = &m->vert[3 * m->tri[3 * t + 1]],
+                    *c    = &m->vert[3 * m->tri[3 * t + 2]];
+    const PetscReal e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    PetscReal n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]},
+              nn   = PetscSqrtReal(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (PetscInt v = 0; v < m->nvert; v++) {
+      const PetscReal *p = &m->vert[3 * v];
+      if (((p[0] - a[0]) * n[0] + (p[1] - a[1]) * n[1] + (p[2] - a[2]) * n[2]) / nn > tol) return PETSC_FALSE;
+    }
+  }
+  return PETSC_TRUE;
+}
+
+/*
+   SetUp - checks the mesh, refines it into elements, reads the visibility option, bins the elements in
+   a static grid and computes the container's Shepard factor at each element.
+
+   Options Database Keys:
++  -fs_walls_element_size <0.5> - the longest element edge, in units of h: the mesh's triangles are split
+   until their edges are at most this (gamma to 1e-7 at 0.5, 6e-6 at 1; docs/walls.md)
+-  -fs_walls_visibility <cut|all> - as for polygons: cut (default) cuts fluid pairs through walls and
+   counts only the elements that face a particle and are not hidden; all counts every pair and element
+*/
+static PetscErrorCode SetUp(FSBoundary b)
+{
+  FSBoundary_Trimesh *tm         = (FSBoundary_Trimesh *)b->data;
+  FSMesh             *m          = &tm->mesh;
+  MPI_Comm            comm       = PetscObjectComm((PetscObject)b);
+  PetscInt            vis        = 0, ncell;
+  const char *const   visnames[] = {"cut", "all"};
+  PetscReal           emax       = 0;
+
+  PetscFunctionBegin;
+  PetscCheck(b->dim == 3, comm, PETSC_ERR_SUP,
+             "Triangle-mesh walls (STL tanks, 3-D built-in tanks) are three-dimensional: use -fs_dim 3");
+  PetscOptionsBegin(comm, NULL, "Walls (boundary integrals on triangle meshes)", "FS");
+  PetscCall(PetscOptionsReal("-fs_walls_element_size",
+                             "Longest edge of the wall elements, in units of h (the mesh's triangles are split to it)",
+                             "FSBoundaryCreate_Trimesh", tm->element, &tm->element, NULL));
+  PetscCall(PetscOptionsEList(
+      "-fs_walls_visibility",
+      "Fluid pairs and wall elements near walls: cut (pairs through walls cut, only facing and unhidden elements) or "
+      "all (every pair and element within the support; wall pressure from the facing side)",
+      "FSBoundaryCreate_Trimesh", visnames, 2, visnames[0], &vis, NULL));
+  PetscOptionsEnd();
+  PetscCheck(tm->element > 0 && tm->element <= 4, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_walls_element_size %g is out of range: expected (0, 4] (in units of h; 0.5 keeps gamma to 1e-7)",
+             (double)tm->element);
+  PetscCall(FSMeshCheck(m, comm));
+  PetscCall(FSMeshRefine(m, tm->element * b->h));
+  PetscCall(PetscMalloc1(m->nwalls, &tm->names));
+  for (PetscInt q = 0; q < m->nwalls; q++) tm->names[q] = m->name[q];
+  b->nwalls           = m->nwalls;
+  b->wallname         = tm->names;
+  b->view.nelements   = m->nel;
+  b->view.stride      = FS_TRI_STRIDE;
+  b->view.centroid    = FS_TRI_CENTROID;
+  b->view.normal      = FS_TRI_NORMAL;
+  b->view.measure     = FS_TRI_AREA;
+  b->view.element     = m->el;
+  b->view.elementwall = m->elwall;
+  tm->visall          = (PetscBool)(vis == 1);
+  tm->occlusion       = (PetscBool)!MeshConvex(m);
+  /* static grid of elements by centroid: an element within the candidate radius of x has its centroid
+     within radius + (its largest centroid-vertex distance) of x, so within the 27 cells around x */
+  for (PetscInt k = 0; k < m->nel; k++) {
+    const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
+    for (PetscInt v = 0; v < 3; v++) {
+      const PetscReal *p = el + 3 * v, *c = el + FS_TRI_CENTROID;
+      emax = PetscMax(emax, PetscSqrtReal((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
+                                          (p[2] - c[2]) * (p[2] - c[2])));
+    }
+  }
+  tm->gcell = b->radius + emax;
+  ncell     = 1;
+  for (PetscInt d = 0; d < 3; d++) {
+    tm->glo[d] = m->lo[d] - tm->gcell;
+    tm->gnc[d] = (PetscInt)((m->hi[d] + tm->gcell - tm->glo[d]) / tm->gcell) + 1;
+    ncell *= tm->gnc[d];
+  }
+  PetscCall(PetscCalloc1(ncell + 1, &tm->gstart));
+  PetscCall(PetscMalloc1(m->nel + 1, &tm->gel));
+  for (PetscInt k = 0; k < m->nel; k++) {
+    PetscInt cc[3];
+    GridCell(tm, &m->el[k * FS_TRI_STRIDE + FS_TRI_CENTROID], cc);
+    tm->gstart[cc[0] + tm->gnc[0] * (cc[1] + tm->gnc[1] * cc[2]) + 1]++;
+  }
+  for (PetscInt c = 0; c < ncell; c++) tm->gstart[c + 1] += tm->gstart[c];
+  {
+    PetscInt *fill;
+    PetscCall(PetscMalloc1(ncell, &fill));
+    PetscCall(PetscArraycpy(fill, tm->gstart, ncell));
+    for (PetscInt k = 0; k < m->nel; k++) {
+      PetscInt cc[3];
+      GridCell(tm, &m->el[k * FS_TRI_STRIDE + FS_TRI_CENTROID], cc);
+      tm->gel[fill[cc[0] + tm->gnc[0] * (cc[1] + tm->gnc[1] * cc[2])]++] = k;
+    }
+    PetscCall(PetscFree(fill));
+  }
+  /* the Shepard factor of the container just inside each element's centroid: the wall pressure's
+     interpolation weights add up to it where the liquid covers the element */
+  PetscCall(PetscMalloc1(m->nel + 1, &tm->wetfull));
+  for (PetscInt k = 0; k < m->nel; k++) {
+    const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
+    PetscReal        x[3];
+    for (PetscInt d = 0; d < 3; d++) x[d] = el[FS_TRI_CENTROID + d] - 1e-3 * b->h * el[FS_TRI_NORMAL + d];
+    tm->wetfull[k] = ShepardNear(tm, b->h, x, PETSC_FALSE);
+  }
+  PetscCall(PetscMalloc2(m->ntri, &tm->tmark, m->ntri, &tm->tlist));
+  for (PetscInt t = 0; t < m->ntri; t++) tm->tmark[t] = -1;
+  PetscFunctionReturn(0);
+}
+
+/* does the open segment p-q cross input triangle t? */
+static inline PetscBool CrossesTriangle(const FSMesh *m, PetscInt t, const PetscReal p[], const PetscReal q[])
+{
+  return FSTriangleCrossesSegment(&m->vert[3 * m->tri[3 * t]], &m->vert[3 * m->tri[3 * t + 1]],
+                                  &m->vert[3 * m->tri[3 * t + 2]], p, q);
+}
+
+/* grows the candidate list to hold one more */
+static PetscErrorCode GrowCandidates(FSBoundary_Trimesh *tm, PetscInt nc)
+{
+  PetscFunctionBegin;
+  if (nc == tm->ccap) {
+    PetscInt *cand;
+    tm->ccap = PetscMax(4096, 2 * tm->ccap);
+    PetscCall(PetscMalloc1(tm->ccap, &cand));
+    if (nc) PetscCall(PetscArraycpy(cand, tm->cand, nc));
+    PetscCall(PetscFree(tm->cand));
+    tm->cand = cand;
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   Leaked - is x outside the liquid region? Only asked of particles with candidate elements. When every
+   element nearest to x (ties included: an edge or corner shared by several) has x on its liquid side,
+   x is inside; otherwise the winding number of the mesh decides (exact, but a sum over all triangles).
+*/
+static PetscBool Leaked(const FSBoundary_Trimesh *tm, const PetscReal x[], PetscInt first, PetscInt nc,
+                        PetscInt *nearest)
+{
+  const FSMesh *m    = &tm->mesh;
+  PetscReal     best = PETSC_MAX_REAL;
+  PetscBool     side = PETSC_TRUE;
+  for (PetscInt q = first; q < nc; q++) {
+    const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE];
+    const PetscReal  d2 = FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
+    if (d2 < best) {
+      best     = d2;
+      *nearest = tm->cand[q];
+    }
+  }
+  for (PetscInt q = first; q < nc && side; q++) {
+    const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE], *n = el + FS_TRI_NORMAL;
+    const PetscReal  d2 = FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
+    if (d2 <= best * (1 + 1e-9) + 1e-30)
+      side = (PetscBool)((el[0] - x[0]) * n[0] + (el[1] - x[1]) * n[1] + (el[2] - x[2]) * n[2] > 0);
+  }
+  return side ? PETSC_FALSE : (PetscBool)!FSMeshInLiquid(m, x, 0);
+}
+
+/*
+   Update - once per step, after the candidate fluid neighbours are built: the candidate elements of
+   every owned particle, the leak check, and, where the liquid region is not convex, the removal of
+   fluid candidate pairs whose connecting segment crosses a wall and of the elements hidden from the
+   particle behind other walls (both tested against the mesh's input triangles near the particle).
+*/
+static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], PetscInt S, FSNeighbours *nb,
+                             FSBoundaryLeak *lk)
+{
+  FSBoundary_Trimesh *tm  = (FSBoundary_Trimesh *)b->data;
+  const FSMesh       *m   = &tm->mesh;
+  const PetscReal     R2  = b->radius * b->radius;
+  const PetscBool     cut = (PetscBool)(tm->occlusion && !tm->visall);
+  PetscInt            nc = 0, leak = -1, leakel = -1;
+
+  PetscFunctionBegin;
+  if (n + 1 > tm->scap) {
+    PetscCall(PetscFree2(tm->cstart, b->wstart));
+    tm->scap = PetscMax(n + 1, (PetscInt)(1.25 * tm->scap));
+    PetscCall(PetscMalloc2(tm->scap, &tm->cstart, tm->scap, &b->wstart));
+  }
+  for (PetscInt t = 0; t < m->ntri; t++) tm->tmark[t] = -1;
+  for (PetscInt i = 0, wp = 0; i < n; i++) {
+    const PetscReal *x  = &rec[i * S];
+    const PetscInt   os = nb->cstart[i], oe = nb->cstart[i + 1];
+    PetscInt         cc[3], first = nc, nt = 0;
+    tm->cstart[i] = nc;
+    GridCell(tm, x, cc);
+    FOR_GRID_NEIGHBOURS(tm, cc, q)
+    {
+      const PetscInt   k  = tm->gel[q];
+      const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
+      if (FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x) < R2) {
+        PetscCall(GrowCandidates(tm, nc));
+        tm->cand[nc++] = k;
+        if (cut && tm->tmark[m->eltri[k]] != i) { /* the input triangles near the particle */
+          tm->tmark[m->eltri[k]] = i;
+          tm->tlist[nt++]        = m->eltri[k];
+        }
+      }
+    }
+    nb->cstart[i] = wp;
+    if (nc > first && leak < 0) {
+      PetscInt nearest = -1;
+      if (Leaked(tm, x, first, nc, &nearest)) {
+        leak   = i;
+        leakel = nearest;
+      }
+    }
+    if (nt) {
+      /* keep the fluid candidates not seen through a wall */
+      for (PetscInt q = os; q < oe; q++) {
+        const PetscReal *xj  = &rec[nb->cand[q] * S];
+        PetscBool        hit = PETSC_FALSE;
+        for (PetscInt r = 0; r < nt && !hit; r++) hit = CrossesTriangle(m, tm->tlist[r], x, xj);
+        if (!hit) nb->cand[wp++] = nb->cand[q];
+      }
+      /* drop the facing elements whose centroid is seen through another wall */
+      {
+        PetscInt keep = first;
+        for (PetscInt q = first; q < nc; q++) {
+          const PetscInt   k  = tm->cand[q];
+          const PetscReal *el = &m->el[k * FS_TRI_STRIDE], *nn = el + FS_TRI_NORMAL;
+          PetscBool        hidden = PETSC_FALSE;
+          if ((el[0] - x[0]) * nn[0] + (el[1] - x[1]) * nn[1] + (el[2] - x[2]) * nn[2] > 0)
+            for (PetscInt r = 0; r < nt && !hidden; r++)
+              hidden = (PetscBool)(tm->tlist[r] != m->eltri[k] &&
+                                   CrossesTriangle(m, tm->tlist[r], x, el + FS_TRI_CENTROID));
+          if (!hidden) tm->cand[keep++] = k;
+        }
+        nc = keep;
+      }
+    } else
+      for (PetscInt q = os; q < oe; q++) nb->cand[wp++] = nb->cand[q];
+    if (i == n - 1) {
+      nb->cstart[n] = wp;
+      nb->ncand     = wp;
+    }
+  }
+  tm->cstart[n] = nc;
+  lk->particle  = leak;
+  lk->wall      = leakel >= 0 ? m->elwall[leakel] : -1;
+  lk->element   = leakel >= 0 ? m->trisrc[m->eltri[leakel]] : -1;
+  PetscFunctionReturn(0);
+}
+
+/*
+   Prepare - at every right-hand side: gamma_i of every owned particle near a wall (1 elsewhere) and its
+   facing elements within the support with their mean kernel values (int_k W dS / A_k); with
+   -fs_walls_visibility all every element within the support. Then the wall pressure and the pressure
+   loads, as for polygons (polygon.c).
+*/
+static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[])
+{
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+  const FSMesh       *m  = &tm->mesh;
+  const PetscInt      S = P->stride, n = P->nowned, nel = m->nel;
+  PetscInt            nw = 0;
+
+  PetscFunctionBegin;
+  if (tm->cstart[n] > tm->wcap) {
+    PetscCall(PetscFree2(b->wk, b->wW));
+    tm->wcap = PetscMax(tm->cstart[n], 2 * tm->wcap);
+    PetscCall(PetscMalloc2(tm->wcap, &b->wk, tm->wcap, &b->wW));
+  }
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *x = &P->rec[i * S];
+    PetscReal        g = 1;
+    b->wstart[i]       = nw;
+    for (PetscInt q = tm->cstart[i]; q < tm->cstart[i + 1]; q++) {
+      const PetscInt   k  = tm->cand[q];
+      const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
+      PetscReal        gk, wi;
+      FSTriangleIntegrals(b->h, x, el, tm->visall, &gk, &wi);
+      g += gk;
+      if (wi > 0) {
+        b->wk[nw] = k;
+        b->wW[nw] = wi / el[FS_TRI_AREA];
+        nw++;
+      }
+    }
+    gamma[i] = g;
+  }
+  b->wstart[n] = nw;
+  /* the wall pressure: the Shepard interpolation of the liquid's pressure with the hydrostatic
+     correction, and its wetted share below the ambient pressure, as for polygons (polygon.c) */
+  if (!tm->wp) PetscCall(PetscMalloc1(3 * nel + 1, &tm->wp));
+  PetscCall(PetscArrayzero(tm->wp, 3 * nel));
+  {
+    PetscReal *num = tm->wp + nel, *den = num + nel;
+    for (PetscInt i = 0; i < n; i++) {
+      const PetscReal *x = &P->rec[i * S], rho = x[2 * P->dim];
+      for (PetscInt q = b->wstart[i]; q < b->wstart[i + 1]; q++) {
+        const PetscInt   k  = b->wk[q];
+        const PetscReal *el = &m->el[k * FS_TRI_STRIDE], *c = el + FS_TRI_CENTROID, *nn = el + FS_TRI_NORMAL;
+        const PetscReal  wv     = b->wW[q] * P->vol[i];
+        const PetscReal  mid[3] = {0.5 * (c[0] + x[0]), 0.5 * (c[1] + x[1]), 0.5 * (c[2] + x[2])};
+        PetscReal        g[3];
+        if (tm->visall && (el[0] - x[0]) * nn[0] + (el[1] - x[1]) * nn[1] + (el[2] - x[2]) * nn[2] <= 0) continue;
+        FSFrameFieldEval3(P->body, mid, g);
+        num[k] += (P->pressure[i] + rho * (g[0] * (c[0] - x[0]) + g[1] * (c[1] - x[1]) + g[2] * (c[2] - x[2]))) * wv;
+        den[k] += wv;
+      }
+    }
+    PetscCallMPI(
+        MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * nel), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
+    for (PetscInt k = 0; k < nel; k++) {
+      const PetscReal pamb = P->background_pressure;
+      PetscReal       pk   = den[k] > 0 ? num[k] / den[k] : pamb;
+      if (pk < pamb) {
+        const PetscReal cw = PetscMin(1.0, den[k] / tm->wetfull[k]);
+        pk                 = pamb + (pk - pamb) * cw * cw;
+      }
+      tm->wp[k] = pk;
+    }
+  }
+  /* the pressure loads: force sum_k p_k A_k n_k and its moment about the load point (rank 0's share) */
+  {
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)b), &rank));
+    if (!rank)
+      for (PetscInt k = 0; k < nel; k++) {
+        const PetscReal *el = &m->el[k * FS_TRI_STRIDE], *c = el + FS_TRI_CENTROID, *nn = el + FS_TRI_NORMAL;
+        const PetscReal  f[3] = {tm->wp[k] * el[FS_TRI_AREA] * nn[0], tm->wp[k] * el[FS_TRI_AREA] * nn[1],
+                                 tm->wp[k] * el[FS_TRI_AREA] * nn[2]};
+        const PetscReal  r[3] = {c[0] - b->loadpoint[0], c[1] - b->loadpoint[1], c[2] - b->loadpoint[2]};
+        PetscReal       *L    = &b->load[6 * m->elwall[k]];
+        L[0] += f[0];
+        L[1] += f[1];
+        L[2] += f[2];
+        L[3] += r[1] * f[2] - r[2] * f[1];
+        L[4] += r[2] * f[0] - r[0] * f[2];
+        L[5] += r[0] * f[1] - r[1] * f[0];
+      }
+  }
+  b->view.pressure = tm->wp;
+  PetscFunctionReturn(0);
+}
+
+/*
+   Bounce - a particle closer to an element's plane than -fs_walls_bounce_distance (in dx), over the
+   element, and moving towards it is put back at that distance with its normal velocity reversed,
+   scaled by -fs_walls_bounce_restitution (as for polygons).
+*/
+static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal v[], const PetscReal m[],
+                             FSParticleEnergyFn energy, void *ctx, PetscReal de[2])
+{
+  FSBoundary_Trimesh *tm   = (FSBoundary_Trimesh *)b->data;
+  const FSMesh       *ms   = &tm->mesh;
+  const PetscReal     dmin = b->bounce_distance * b->dx;
+
+  PetscFunctionBegin;
+  for (PetscInt i = 0; i < n; i++) {
+    PetscReal *xi = &x[3 * i], *vi = &v[3 * i];
+    PetscInt   cc[3];
+    PetscBool  outside = PETSC_FALSE;
+    for (PetscInt d = 0; d < 3; d++)
+      if (xi[d] < tm->glo[d] || xi[d] >= tm->glo[d] + tm->gnc[d] * tm->gcell) outside = PETSC_TRUE;
+    if (outside) continue;
+    GridCell(tm, xi, cc);
+    FOR_GRID_NEIGHBOURS(tm, cc, q)
+    {
+      const PetscReal *el = &ms->el[tm->gel[q] * FS_TRI_STRIDE], *a = el + FS_TRI_P0, *nn = el + FS_TRI_NORMAL;
+      const PetscReal  dist = (a[0] - xi[0]) * nn[0] + (a[1] - xi[1]) * nn[1] + (a[2] - xi[2]) * nn[2];
+      const PetscReal  un   = vi[0] * nn[0] + vi[1] * nn[1] + vi[2] * nn[2];
+      if (dist < dmin && dist > -dmin && un > 0) {
+        /* over the element: the barycentric coordinates of the projection */
+        const PetscReal e1[3] = {el[FS_TRI_P1] - a[0], el[FS_TRI_P1 + 1] - a[1], el[FS_TRI_P1 + 2] - a[2]};
+        const PetscReal e2[3] = {el[FS_TRI_P2] - a[0], el[FS_TRI_P2 + 1] - a[1], el[FS_TRI_P2 + 2] - a[2]};
+        const PetscReal p[3]  = {xi[0] - a[0], xi[1] - a[1], xi[2] - a[2]};
+        const PetscReal d11   = e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2];
+        const PetscReal d12   = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2];
+        const PetscReal d22   = e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2];
+        const PetscReal p1    = p[0] * e1[0] + p[1] * e1[1] + p[2] * e1[2],
+                        p2    = p[0] * e2[0] + p[1] * e2[1] + p[2] * e2[2];
+        const PetscReal det = d11 * d22 - d12 * d12, s = (d22 * p1 - d12 * p2) / det, t = (d11 * p2 - d12 * p1) / det;
+        PetscReal       e0[2], eb[2];
+        if (s < -1e-12 || t < -1e-12 || s + t > 1 + 1e-12) continue;
+        energy(ctx, xi, vi, m[i], e0);
+        for (PetscInt d = 0; d < 3; d++) {
+          xi[d] -= (dmin - dist) * nn[d];
+          vi[d] -= (1 + b->restitution) * un * nn[d];
+        }
+        energy(ctx, xi, vi, m[i], eb);
+        de[0] += eb[0] - e0[0];
+        de[1] += eb[1] - e0[1];
+        b->nbounce++;
+      }
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode BoundingBox(FSBoundary b, PetscReal lo[], PetscReal hi[])
+{
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+
+  PetscFunctionBegin;
+  for (PetscInt d = 0; d < 3; d++) {
+    lo[d] = tm->mesh.lo[d];
+    hi[d] = tm->mesh.hi[d];
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode View(FSBoundary b, PetscViewer viewer)
+{
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+
+  PetscFunctionBegin;
+  PetscCall(PetscViewerASCIIPrintf(
+      viewer,
+      "%" PetscInt_FMT " triangles, %" PetscInt_FMT " elements of edge <= %g h, liquid volume %g, visibility %s\n",
+      tm->mesh.ntri, tm->mesh.nel, (double)tm->element, (double)tm->mesh.volume, tm->visall ? "all" : "cut"));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Destroy(FSBoundary b)
+{
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+
+  PetscFunctionBegin;
+  PetscCall(FSMeshDestroy(&tm->mesh));
+  PetscCall(PetscFree(tm->names));
+  PetscCall(PetscFree(tm->gstart));
+  PetscCall(PetscFree(tm->gel));
+  PetscCall(PetscFree2(tm->cstart, b->wstart));
+  PetscCall(PetscFree(tm->cand));
+  PetscCall(PetscFree2(tm->tmark, tm->tlist));
+  PetscCall(PetscFree2(b->wk, b->wW));
+  PetscCall(PetscFree(tm->wp));
+  PetscCall(PetscFree(tm->wetfull));
+  PetscCall(PetscFree(b->data));
+  b->wallname = NULL;
+  b->nwalls   = 0;
+  PetscCall(PetscObjectComposeFunction((PetscObject)b, "FSBoundaryTrimeshSetMesh_C", NULL));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryCreate_Trimesh - the triangle-mesh boundary: 3-D boundary integrals on closed triangle
+   meshes (mesh.h for the orientation convention), given by the case with FSBoundaryTrimeshSetMesh().
+*/
+PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
+{
+  FSBoundary_Trimesh *tm;
+
+  PetscFunctionBegin;
+  PetscCall(PetscNew(&tm));
+  PetscCall(FSMeshCreate(&tm->mesh));
+  tm->element         = 0.5;
+  b->data             = tm;
+  b->ops->setup       = SetUp;
+  b->ops->update      = Update;
+  b->ops->prepare     = Prepare;
+  b->ops->bounce      = Bounce;
+  b->ops->boundingbox = BoundingBox;
+  b->ops->view        = View;
+  b->ops->destroy     = Destroy;
+  PetscCall(PetscObjectComposeFunction((PetscObject)b, "FSBoundaryTrimeshSetMesh_C", FSBoundaryTrimeshSetMesh_Trimesh));
+  PetscFunctionReturn(0);
+}

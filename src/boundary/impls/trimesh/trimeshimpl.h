@@ -1,0 +1,26 @@
+/*
+   Private data of the triangle-mesh boundary (src/boundary/impls/trimesh): the checked mesh and its
+   elements, the static cell grid of elements, the per-step candidate elements of each owned particle,
+   and the per-right-hand-side wall pressure.
+*/
+#pragma once
+#include "boundary/boundaryimpl.h"
+#include "mesh.h"
+
+typedef struct {
+  FSMesh       mesh;
+  const char **names;   /* pointers to the wall names, for the boundary's wallname */
+  PetscReal    element; /* -fs_walls_element_size: the longest element edge, in h */
+  /* static grid of elements by centroid (cell = candidate radius + the largest centroid-vertex distance) */
+  PetscReal glo[3], gcell;
+  PetscInt  gnc[3], *gstart, *gel;
+  /* per step: candidate elements of each owned particle (CSR) */
+  PetscInt *cstart, *cand, ccap, scap;
+  PetscInt *tmark, *tlist; /* per input triangle: the last particle that listed it; the particle's input triangles */
+  PetscBool occlusion;     /* the liquid region is not convex: walls can hide elements and cut pairs */
+  PetscBool visall;        /* -fs_walls_visibility all */
+  /* per right-hand side */
+  PetscInt   wcap;
+  PetscReal *wp;      /* per element: the wall pressure; then 2 nel work */
+  PetscReal *wetfull; /* per element: the container's Shepard factor just inside its centroid */
+} FSBoundary_Trimesh;
