@@ -56,7 +56,12 @@ void FSTriangleIntegrals(PetscReal h, const PetscReal x[], const PetscReal el[],
 
   *gammak = *wint = 0;
   if ((!all && d <= 0) || PetscAbsReal(d) >= R) return;
-  if (FSTriangleDistance2(a, b, c, x) >= R * R) return;
+  { /* beyond the support: its bounding sphere first, the exact distance where the sphere straddles it */
+    const PetscReal *ct = el + FS_TRI_CENTROID, rad = el[FS_TRI_RADIUS];
+    const PetscReal  dc = PetscSqrtReal((ct[0] - x[0]) * (ct[0] - x[0]) + (ct[1] - x[1]) * (ct[1] - x[1]) +
+                                        (ct[2] - x[2]) * (ct[2] - x[2]));
+    if (dc - rad >= R || (dc + rad > R && FSTriangleDistance2(a, b, c, x) >= R * R)) return;
+  }
   for (PetscInt g = 0; g < 7; g++) {
     const PetscInt  set = g == 0 ? 0 : (g < 4 ? 1 : 2), rot = (g - 1) % 3;
     const PetscReal la   = set && rot == 0 ? DunavantA[set] : DunavantB[set];

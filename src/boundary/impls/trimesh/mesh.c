@@ -1055,7 +1055,13 @@ PetscErrorCode FSMeshRefine(FSMesh *m, PetscReal hmax)
             row[FS_TRI_NORMAL + d]   = n[d] / ln;
           }
           Normal(&row[FS_TRI_P0], &row[FS_TRI_P1], &row[FS_TRI_P2], e);
-          row[FS_TRI_AREA]  = 0.5 * PetscSqrtReal(Dot(e, e));
+          row[FS_TRI_AREA]   = 0.5 * PetscSqrtReal(Dot(e, e));
+          row[FS_TRI_RADIUS] = 0;
+          for (PetscInt k = 0; k < 3; k++) {
+            const PetscReal r[3] = {row[3 * k] - row[FS_TRI_CENTROID], row[3 * k + 1] - row[FS_TRI_CENTROID + 1],
+                                    row[3 * k + 2] - row[FS_TRI_CENTROID + 2]};
+            row[FS_TRI_RADIUS]   = PetscMax(row[FS_TRI_RADIUS], PetscSqrtReal(Dot(r, r)));
+          }
           m->elwall[m->nel] = m->triwall[t];
           m->eltri[m->nel]  = t;
           m->nel++;

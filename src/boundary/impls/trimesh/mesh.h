@@ -43,7 +43,8 @@ typedef struct {
 #define FS_TRI_CENTROID 9  /* (a + b + c)/3 (3) */
 #define FS_TRI_NORMAL   12 /* unit normal out of the liquid (3) */
 #define FS_TRI_AREA     15
-#define FS_TRI_STRIDE   16
+#define FS_TRI_RADIUS   16 /* the largest distance from the centroid to a vertex */
+#define FS_TRI_STRIDE   17
 
 PETSC_INTERN PetscErrorCode FSMeshCreate(FSMesh *);
 PETSC_INTERN PetscErrorCode FSMeshDestroy(FSMesh *);

@@ -189,6 +189,17 @@ static inline PetscBool CrossesTriangle(const FSMesh *m, PetscInt t, const Petsc
                                   &m->vert[3 * m->tri[3 * t + 2]], p, q);
 }
 
+/* is element el within R of x? Its bounding sphere decides, unless it straddles R */
+static inline PetscBool WithinRadius(const PetscReal el[], const PetscReal x[], PetscReal R, PetscReal R2)
+{
+  const PetscReal *c = el + FS_TRI_CENTROID, rad = el[FS_TRI_RADIUS];
+  const PetscReal  dc =
+      PetscSqrtReal((c[0] - x[0]) * (c[0] - x[0]) + (c[1] - x[1]) * (c[1] - x[1]) + (c[2] - x[2]) * (c[2] - x[2]));
+  if (dc - rad >= R) return PETSC_FALSE;
+  if (dc + rad < R) return PETSC_TRUE;
+  return (PetscBool)(FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x) < R2);
+}
+
 /* grows the candidate list to hold one more */
 static PetscErrorCode GrowCandidates(FSBoundary_Trimesh *tm, PetscInt nc)
 {
@@ -215,6 +226,12 @@ static PetscBool Leaked(const FSBoundary_Trimesh *tm, const PetscReal x[], Petsc
   const FSMesh *m    = &tm->mesh;
   PetscReal     best = PETSC_MAX_REAL;
   PetscBool     side = PETSC_TRUE;
+  /* on the liquid side of every nearby element's plane: inside (the common case, without distances) */
+  for (PetscInt q = first; q < nc && side; q++) {
+    const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE], *n = el + FS_TRI_NORMAL;
+    side = (PetscBool)((el[0] - x[0]) * n[0] + (el[1] - x[1]) * n[1] + (el[2] - x[2]) * n[2] > 0);
+  }
+  if (side) return PETSC_FALSE;
   for (PetscInt q = first; q < nc; q++) {
     const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE];
     const PetscReal  d2 = FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
@@ -223,6 +240,7 @@ static PetscBool Leaked(const FSBoundary_Trimesh *tm, const PetscReal x[], Petsc
       *nearest = tm->cand[q];
     }
   }
+  side = PETSC_TRUE;
   for (PetscInt q = first; q < nc && side; q++) {
     const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE], *n = el + FS_TRI_NORMAL;
     const PetscReal  d2 = FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
@@ -243,7 +261,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
 {
   FSBoundary_Trimesh *tm  = (FSBoundary_Trimesh *)b->data;
   const FSMesh       *m   = &tm->mesh;
-  const PetscReal     R2  = b->radius * b->radius;
+  const PetscReal     R = b->radius, R2 = R * R;
   const PetscBool     cut = (PetscBool)(tm->occlusion && !tm->visall);
   PetscInt            nc = 0, leak = -1, leakel = -1;
 
@@ -264,7 +282,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
     {
       const PetscInt   k  = tm->gel[q];
       const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
-      if (FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x) < R2) {
+      if (WithinRadius(el, x, R, R2)) {
         PetscCall(GrowCandidates(tm, nc));
         tm->cand[nc++] = k;
         if (cut && tm->tmark[m->eltri[k]] != i) { /* the input triangles near the particle */
