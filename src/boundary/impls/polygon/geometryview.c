@@ -1,6 +1,6 @@
 /*
    The polygon boundary's part of the geometry view (-fs_geometry_view, src/solver/geometryview.c):
-     the walls in geometry.png      each wall in its colour, with ticks along the normals
+     the walls in geometry.png      each wall in its colour (FSImagePalette), with ticks along the normals
      <dir>/walls.h5, walls.xdmf     the wall segments, for ParaView next to particles.xdmf
 
    Layout of walls.h5 (float64 unless said):
@@ -21,11 +21,6 @@
 #define FS_GEOMETRY_TICK  7  /* length of a normal tick, pixels */
 #define FS_GEOMETRY_TICKS 24 /* pixels of wall between two ticks */
 
-/* the walls' colours in the picture (tests/python/test_geometry_view.py checks them) */
-static const unsigned char FSGeometryWall[6][3] = {
-    {40, 40, 40}, {170, 30, 30}, {0, 110, 50}, {120, 50, 160}, {180, 100, 0}, {0, 100, 120},
-};
-
 /* FSBoundaryDraw_Polygon - rank 0: the walls with their normal ticks, each wall in its colour */
 PetscErrorCode FSBoundaryDraw_Polygon(FSBoundary b, FSImage *img, const FSImageMap *m)
 {
@@ -35,7 +30,7 @@ PetscErrorCode FSBoundaryDraw_Polygon(FSBoundary b, FSImage *img, const FSImageM
   PetscFunctionBegin;
   for (PetscInt k = 0; k < w->nseg; k++) {
     const PetscReal     *sg = &w->seg[k * FS_SEG_STRIDE];
-    const unsigned char *c  = FSGeometryWall[w->segwall[k] % 6];
+    const unsigned char *c  = FSImagePalette[w->segwall[k] % FS_IMAGE_NPALETTE];
     const PetscReal      mx = FSImageMapX(m, sg[FS_SEG_MID]), my = FSImageMapY(m, sg[FS_SEG_MID + 1]);
 
     /* the 2-pixel pen covers the pixel right and below the line: start half a pixel up-left */
