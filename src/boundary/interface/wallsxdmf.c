@@ -21,17 +21,23 @@
    PetscFree()).
 
    Not collective
+
+   Note: copied by length, not with PetscStrlcat(): PETSc 3.18's PetscStrlcat() limits what it appends
+   by the length of the appended string instead of the room left, and cut a single wall "tank" to "ta".
 */
 PetscErrorCode FSBoundaryJoinWallNames_Private(FSBoundary b, char **names)
 {
-  size_t len = 1;
+  size_t len = 1, at = 0;
 
   PetscFunctionBegin;
   for (PetscInt q = 0; q < b->nwalls; q++) len += strlen(b->wallname[q]) + 1;
   PetscCall(PetscCalloc1(len, names));
   for (PetscInt q = 0; q < b->nwalls; q++) {
-    if (q) PetscCall(PetscStrlcat(*names, ",", len));
-    PetscCall(PetscStrlcat(*names, b->wallname[q], len));
+    const size_t n = strlen(b->wallname[q]);
+
+    if (q) (*names)[at++] = ',';
+    PetscCall(PetscArraycpy(*names + at, b->wallname[q], n));
+    at += n;
   }
   PetscFunctionReturn(0);
 }
