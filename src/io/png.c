@@ -12,6 +12,11 @@
 #include <png.h>
 #include "fsimage.h"
 
+/* the palette of numbered things (fsimage.h) */
+const unsigned char FSImagePalette[FS_IMAGE_NPALETTE][3] = {
+    {40, 40, 40}, {170, 30, 30}, {0, 110, 50}, {120, 50, 160}, {180, 100, 0}, {0, 100, 120},
+};
+
 /*
    FSImageCreate - allocates a width x height image, filled with black.
 

@@ -1,30 +1,22 @@
 /*
    The polygon boundary's part of the geometry view (-fs_geometry_view, src/solver/geometryview.c):
-     the walls in geometry.png      each wall in its colour, with ticks along the normals
+     the walls in geometry.png      each wall in its colour (FSImagePalette), with ticks along the normals
      <dir>/walls.h5, walls.xdmf     the wall segments, for ParaView next to particles.xdmf
 
    Layout of walls.h5 (float64 unless said):
      /walls                     group; attributes nsegments, nwalls (int), names (the wall names,
                                 comma separated, in wall-index order)
      /walls/points              (2 nseg, 2): the end points p0, p1 of every segment
-     /walls/connectivity        (2 nseg,) integers: 2k, 2k+1 for segment k (the XDMF topology)
+     /walls/connectivity        (nseg, 2) integers: 2k, 2k+1 for segment k (the XDMF topology)
      /walls/wall                (nseg,): the wall index of each segment
      /walls/normal              (nseg, 2): the unit normal, pointing out of the liquid
      /walls/length              (nseg,): the segment length
 */
-#define _POSIX_C_SOURCE 200809L
-#include <errno.h>
-#include <stdio.h>
 #include <petscviewerhdf5.h>
 #include "polygonimpl.h"
 
 #define FS_GEOMETRY_TICK  7  /* length of a normal tick, pixels */
 #define FS_GEOMETRY_TICKS 24 /* pixels of wall between two ticks */
-
-/* the walls' colours in the picture (tests/python/test_geometry_view.py checks them) */
-static const unsigned char FSGeometryWall[6][3] = {
-    {40, 40, 40}, {170, 30, 30}, {0, 110, 50}, {120, 50, 160}, {180, 100, 0}, {0, 100, 120},
-};
 
 /* FSBoundaryDraw_Polygon - rank 0: the walls with their normal ticks, each wall in its colour */
 PetscErrorCode FSBoundaryDraw_Polygon(FSBoundary b, FSImage *img, const FSImageMap *m)
@@ -35,7 +27,7 @@ PetscErrorCode FSBoundaryDraw_Polygon(FSBoundary b, FSImage *img, const FSImageM
   PetscFunctionBegin;
   for (PetscInt k = 0; k < w->nseg; k++) {
     const PetscReal     *sg = &w->seg[k * FS_SEG_STRIDE];
-    const unsigned char *c  = FSGeometryWall[w->segwall[k] % 6];
+    const unsigned char *c  = FSImagePalette[w->segwall[k] % FS_IMAGE_NPALETTE];
     const PetscReal      mx = FSImageMapX(m, sg[FS_SEG_MID]), my = FSImageMapY(m, sg[FS_SEG_MID + 1]);
 
     /* the 2-pixel pen covers the pixel right and below the line: start half a pixel up-left */
@@ -54,58 +46,10 @@ PetscErrorCode FSBoundaryDraw_Polygon(FSBoundary b, FSImage *img, const FSImageM
   PetscFunctionReturn(0);
 }
 
-/* Rank 0: walls.xdmf to tmp; returns an errno value */
-static int FSGeometryWriteWallsXDMF(const char tmp[], PetscInt nseg, const char names[])
-{
-  FILE *fp;
-  int   st = 0, err = 0;
-
-  fp = fopen(tmp, "w");
-  if (!fp) return errno ? errno : EIO;
-  st |= fprintf(fp, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"walls\" "
-                    "GridType=\"Uniform\">\n") < 0;
-  st |= fprintf(fp, "      <Information Name=\"walls\" Value=\"%s\"/>\n", names) < 0;
-  st |= fprintf(fp,
-                "      <Topology TopologyType=\"Polyline\" NumberOfElements=\"%" PetscInt_FMT
-                "\" NodesPerElement=\"2\">\n",
-                nseg) < 0;
-  st |= fprintf(fp,
-                "        <DataItem Dimensions=\"%" PetscInt_FMT
-                " 2\" NumberType=\"Int\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/connectivity</DataItem>\n",
-                nseg, (int)sizeof(PetscInt)) < 0;
-  st |= fprintf(fp, "      </Topology>\n      <Geometry GeometryType=\"XY\">\n") < 0;
-  st |= fprintf(fp,
-                "        <DataItem Dimensions=\"%" PetscInt_FMT
-                " 2\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/points</DataItem>\n",
-                2 * nseg, (int)sizeof(PetscReal)) < 0;
-  st |= fprintf(fp, "      </Geometry>\n") < 0;
-  st |= fprintf(fp, "      <Attribute Name=\"wall\" AttributeType=\"Scalar\" Center=\"Cell\">\n") < 0;
-  st |= fprintf(fp,
-                "        <DataItem Dimensions=\"%" PetscInt_FMT
-                "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/wall</DataItem>\n      "
-                "</Attribute>\n",
-                nseg, (int)sizeof(PetscReal)) < 0;
-  st |= fprintf(fp, "      <Attribute Name=\"normal\" AttributeType=\"Vector\" Center=\"Cell\">\n") < 0;
-  st |= fprintf(fp,
-                "        <DataItem Dimensions=\"%" PetscInt_FMT
-                " 2\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/normal</DataItem>\n      "
-                "</Attribute>\n",
-                nseg, (int)sizeof(PetscReal)) < 0;
-  st |= fprintf(fp, "      <Attribute Name=\"length\" AttributeType=\"Scalar\" Center=\"Cell\">\n") < 0;
-  st |= fprintf(fp,
-                "        <DataItem Dimensions=\"%" PetscInt_FMT
-                "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/length</DataItem>\n      "
-                "</Attribute>\n",
-                nseg, (int)sizeof(PetscReal)) < 0;
-  st |= fprintf(fp, "    </Grid>\n  </Domain>\n</Xdmf>\n") < 0;
-  if (st) err = errno ? errno : EIO;
-  if (fclose(fp) != 0 && !err) err = errno ? errno : EIO;
-  return err;
-}
-
 /*
    FSBoundaryWriteGeometry_Polygon - walls.h5 (collective: rank 0 holds every segment) and walls.xdmf
-   (rank 0), each written to a temporary name and renamed; then says where they are.
+   (rank 0, FSBoundaryWriteWallsXDMF_Private), each written to a temporary name and renamed; then
+   says where they are.
 */
 PetscErrorCode FSBoundaryWriteGeometry_Polygon(FSBoundary b, const char dir[])
 {
@@ -118,19 +62,12 @@ PetscErrorCode FSBoundaryWriteGeometry_Polygon(FSBoundary b, const char dir[])
   FSOutputField  fields[4];
   IS             is;
   PetscViewer    viewer;
-  char           path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], *names;
-  size_t         namelen = 1;
-  int            err     = 0;
+  char           path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], what[64], *names;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   n = rank == 0 ? nseg : 0;
-  for (PetscInt q = 0; q < nw; q++) namelen += strlen(w->name[q]) + 1;
-  PetscCall(PetscCalloc1(namelen, &names));
-  for (PetscInt q = 0; q < nw; q++) {
-    if (q) PetscCall(PetscStrlcat(names, ",", namelen));
-    PetscCall(PetscStrlcat(names, w->name[q], namelen));
-  }
+  PetscCall(FSBoundaryJoinWallNames_Private(b, &names));
   PetscCall(PetscMalloc5(4 * n + 1, &pts, n + 1, &wall, 2 * n + 1, &nrm, n + 1, &len, 2 * n + 1, &conn));
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
@@ -168,19 +105,9 @@ PetscErrorCode FSBoundaryWriteGeometry_Polygon(FSBoundary b, const char dir[])
   PetscCallMPI(MPI_Barrier(comm)); /* every rank has closed the file before it is renamed */
   PetscCall(FSRenameFile_Private(comm, tmp, path));
   PetscCall(PetscFree5(pts, wall, nrm, len, conn));
-
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/walls.xdmf", dir));
-  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-  if (rank == 0) err = FSGeometryWriteWallsXDMF(tmp, nseg, names);
-  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
-  PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot write \"%s\": %s", tmp, strerror(err));
-  PetscCall(FSRenameFile_Private(comm, tmp, path));
   PetscCall(PetscFree(names));
-  PetscCall(PetscPrintf(
-      comm, "Geometry view: %s/walls.xdmf (+ walls.h5): %" PetscInt_FMT " segments of %" PetscInt_FMT " wall(s) (", dir,
-      w->nseg, w->nwalls));
-  for (PetscInt q = 0; q < w->nwalls; q++)
-    PetscCall(PetscPrintf(comm, "%s%" PetscInt_FMT " %s", q ? ", " : "", q, w->name[q]));
-  PetscCall(PetscPrintf(comm, "), to open in ParaView with the XDMF Reader next to particles.xdmf\n"));
+
+  PetscCall(PetscSNPrintf(what, sizeof(what), "%" PetscInt_FMT " segments", nseg));
+  PetscCall(FSBoundaryWriteWallsXDMF_Private(b, dir, "Polyline", 2, nseg, "length", what));
   PetscFunctionReturn(0);
 }

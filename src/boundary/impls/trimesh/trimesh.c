@@ -4,7 +4,8 @@
    owned particle, the leak check, and the cut of fluid pairs that see each other through a wall; per
    right-hand side, gamma_i and the facing elements within the support with their kernel values, the
    wall pressure and the loads (force and moment vectors). The mesh (mesh.h: building, STL, checks,
-   refinement) is in mesh.c and stl.c, gamma of a point in integrals.c.
+   refinement) is in mesh.c and stl.c, gamma of a point in integrals.c, the walls' part of the
+   geometry view in geometryview.c.
 */
 #include "trimeshimpl.h"
 
@@ -529,6 +530,9 @@ static PetscErrorCode Destroy(FSBoundary b)
   PetscFunctionReturn(0);
 }
 
+PETSC_INTERN PetscErrorCode FSBoundaryDraw_Trimesh(FSBoundary, FSImage *, const FSImageMap *);
+PETSC_INTERN PetscErrorCode FSBoundaryWriteGeometry_Trimesh(FSBoundary, const char[]);
+
 /*
    FSBoundaryCreate_Trimesh - the triangle-mesh boundary: 3-D boundary integrals on closed triangle
    meshes (mesh.h for the orientation convention), given by the case with FSBoundaryTrimeshSetMesh().
@@ -540,15 +544,17 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   PetscFunctionBegin;
   PetscCall(PetscNew(&tm));
   PetscCall(FSMeshCreate(&tm->mesh));
-  tm->element         = 0.5;
-  b->data             = tm;
-  b->ops->setup       = SetUp;
-  b->ops->update      = Update;
-  b->ops->prepare     = Prepare;
-  b->ops->bounce      = Bounce;
-  b->ops->boundingbox = BoundingBox;
-  b->ops->view        = View;
-  b->ops->destroy     = Destroy;
+  tm->element           = 0.5;
+  b->data               = tm;
+  b->ops->setup         = SetUp;
+  b->ops->update        = Update;
+  b->ops->prepare       = Prepare;
+  b->ops->bounce        = Bounce;
+  b->ops->boundingbox   = BoundingBox;
+  b->ops->draw          = FSBoundaryDraw_Trimesh;
+  b->ops->writegeometry = FSBoundaryWriteGeometry_Trimesh;
+  b->ops->view          = View;
+  b->ops->destroy       = Destroy;
   PetscCall(PetscObjectComposeFunction((PetscObject)b, "FSBoundaryTrimeshSetMesh_C", FSBoundaryTrimeshSetMesh_Trimesh));
   PetscFunctionReturn(0);
 }

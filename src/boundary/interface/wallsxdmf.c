@@ -1,0 +1,135 @@
+/*
+   What the boundary implementations share for the walls' files of the geometry view
+   (FSBoundaryWriteGeometry): the wall names as one string, and <dir>/walls.xdmf, the index that lets
+   ParaView open the walls.h5 the implementation wrote (segments in 2-D, triangles in 3-D).
+
+   walls.h5 is expected to hold, in the group /walls, with nel elements of nodes points each:
+     points       (nodes nel, dim) reals, the points of element k at nodes k .. nodes k + nodes - 1
+     connectivity (nel, nodes) integers
+     wall         (nel,) reals, the wall index
+     normal       (nel, dim) reals
+     <measure>    (nel,) reals, the element's length or area
+*/
+#define _POSIX_C_SOURCE 200809L
+#include <errno.h>
+#include <stdio.h>
+#include <string.h>
+#include "boundary/boundaryimpl.h"
+
+/*
+   FSBoundaryJoinWallNames_Private - the wall names, comma separated, in wall-index order (to free with
+   PetscFree()).
+
+   Not collective
+
+   Note: copied by length, not with PetscStrlcat(): PETSc 3.18's PetscStrlcat() limits what it appends
+   by the length of the appended string instead of the room left, and cut a single wall "tank" to "ta".
+*/
+PetscErrorCode FSBoundaryJoinWallNames_Private(FSBoundary b, char **names)
+{
+  size_t len = 1, at = 0;
+
+  PetscFunctionBegin;
+  for (PetscInt q = 0; q < b->nwalls; q++) len += strlen(b->wallname[q]) + 1;
+  PetscCall(PetscCalloc1(len, names));
+  for (PetscInt q = 0; q < b->nwalls; q++) {
+    const size_t n = strlen(b->wallname[q]);
+
+    if (q) (*names)[at++] = ',';
+    PetscCall(PetscArraycpy(*names + at, b->wallname[q], n));
+    at += n;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Rank 0: walls.xdmf to tmp; returns an errno value */
+static int FSWriteWallsXDMF(const char tmp[], const char names[], PetscInt dim, const char topology[], PetscInt nodes,
+                            PetscInt nel, const char measure[])
+{
+  const int psize = (int)sizeof(PetscReal);
+  FILE     *fp;
+  int       st = 0, err = 0;
+
+  fp = fopen(tmp, "w");
+  if (!fp) return errno ? errno : EIO;
+  st |= fprintf(fp, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"walls\" "
+                    "GridType=\"Uniform\">\n") < 0;
+  st |= fprintf(fp, "      <Information Name=\"walls\" Value=\"%s\"/>\n", names) < 0;
+  st |= fprintf(fp,
+                "      <Topology TopologyType=\"%s\" NumberOfElements=\"%" PetscInt_FMT
+                "\" NodesPerElement=\"%" PetscInt_FMT "\">\n",
+                topology, nel, nodes) < 0;
+  st |= fprintf(fp,
+                "        <DataItem Dimensions=\"%" PetscInt_FMT " %" PetscInt_FMT
+                "\" NumberType=\"Int\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/connectivity</DataItem>\n",
+                nel, nodes, (int)sizeof(PetscInt)) < 0;
+  st |= fprintf(fp, "      </Topology>\n      <Geometry GeometryType=\"%s\">\n", dim == 3 ? "XYZ" : "XY") < 0;
+  st |= fprintf(fp,
+                "        <DataItem Dimensions=\"%" PetscInt_FMT " %" PetscInt_FMT
+                "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/points</DataItem>\n",
+                nodes * nel, dim, psize) < 0;
+  st |= fprintf(fp, "      </Geometry>\n") < 0;
+  st |= fprintf(fp, "      <Attribute Name=\"wall\" AttributeType=\"Scalar\" Center=\"Cell\">\n") < 0;
+  st |= fprintf(fp,
+                "        <DataItem Dimensions=\"%" PetscInt_FMT
+                "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/wall</DataItem>\n      "
+                "</Attribute>\n",
+                nel, psize) < 0;
+  st |= fprintf(fp, "      <Attribute Name=\"normal\" AttributeType=\"Vector\" Center=\"Cell\">\n") < 0;
+  st |= fprintf(fp,
+                "        <DataItem Dimensions=\"%" PetscInt_FMT " %" PetscInt_FMT
+                "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/normal</DataItem>\n      "
+                "</Attribute>\n",
+                nel, dim, psize) < 0;
+  st |= fprintf(fp, "      <Attribute Name=\"%s\" AttributeType=\"Scalar\" Center=\"Cell\">\n", measure) < 0;
+  st |= fprintf(fp,
+                "        <DataItem Dimensions=\"%" PetscInt_FMT
+                "\" NumberType=\"Float\" Precision=\"%d\" Format=\"HDF\">walls.h5:/walls/%s</DataItem>\n      "
+                "</Attribute>\n",
+                nel, psize, measure) < 0;
+  st |= fprintf(fp, "    </Grid>\n  </Domain>\n</Xdmf>\n") < 0;
+  if (st) err = errno ? errno : EIO;
+  if (fclose(fp) != 0 && !err) err = errno ? errno : EIO;
+  return err;
+}
+
+/*
+   FSBoundaryWriteWallsXDMF_Private - writes <dir>/walls.xdmf (rank 0, to a temporary name renamed
+   when complete) for the walls.h5 the implementation has written, then says where they are.
+
+   Collective
+
+   Input Parameters:
++  b        - the boundary (its dimension and wall names are used)
+.  dir      - the directory of walls.h5
+.  topology - the XDMF topology of the elements: "Polyline" (segments) or "Triangle"
+.  nodes    - points per element: 2 or 3
+.  nel      - the number of elements
+.  measure  - the name of the elements' length or area dataset: "length" or "area"
+-  what     - the elements in words for the message, e.g. "564 segments"
+*/
+PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary b, const char dir[], const char topology[], PetscInt nodes,
+                                                PetscInt nel, const char measure[], const char what[])
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)b);
+  PetscMPIInt rank;
+  char        path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], *names;
+  int         err = 0;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(FSBoundaryJoinWallNames_Private(b, &names));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/walls.xdmf", dir));
+  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
+  if (rank == 0) err = FSWriteWallsXDMF(tmp, names, b->dim, topology, nodes, nel, measure);
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot write \"%s\": %s", tmp, strerror(err));
+  PetscCall(FSRenameFile_Private(comm, tmp, path));
+  PetscCall(PetscFree(names));
+  PetscCall(PetscPrintf(comm, "Geometry view: %s/walls.xdmf (+ walls.h5): %s of %" PetscInt_FMT " wall(s) (", dir, what,
+                        b->nwalls));
+  for (PetscInt q = 0; q < b->nwalls; q++)
+    PetscCall(PetscPrintf(comm, "%s%" PetscInt_FMT " %s", q ? ", " : "", q, b->wallname[q]));
+  PetscCall(PetscPrintf(comm, "), to open in ParaView with the XDMF Reader next to particles.xdmf\n"));
+  PetscFunctionReturn(0);
+}
