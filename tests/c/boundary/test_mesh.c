@@ -892,9 +892,10 @@ int main(int argc, char **argv)
   PetscMPIInt rank;
   char        dir[PETSC_MAX_PATH_LEN] = "/tmp/fsmeshXXXXXX";
   PetscInt    n                       = 64;
-  const char *files[]                 = {"two.stl",        "unnamed.stl",   "bin.stl",       "badcount.stl", "open.stl",
-                                         "degenerate.stl", "reversed.stl",  "insideout.stl", "overlap.stl",  "touch.stl",
-                                         "outside.stl",    "truncated.stl", "badnumber.stl"};
+  /* the files the test writes (removed at the end) */
+  const char *files[] = {"two.stl",        "unnamed.stl",   "bin.stl",       "badcount.stl", "open.stl",
+                         "degenerate.stl", "reversed.stl",  "insideout.stl", "overlap.stl",  "touch.stl",
+                         "outside.stl",    "truncated.stl", "badnumber.stl"};
 
   PetscFunctionBeginUser;
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));

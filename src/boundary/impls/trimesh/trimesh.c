@@ -194,8 +194,8 @@ static inline PetscBool CrossesTriangle(const FSMesh *m, PetscInt t, const Petsc
 static inline PetscBool WithinRadius(const PetscReal el[], const PetscReal x[], PetscReal R, PetscReal R2)
 {
   const PetscReal *c = el + FS_TRI_CENTROID, rad = el[FS_TRI_RADIUS];
-  const PetscReal  dc =
-      PetscSqrtReal((c[0] - x[0]) * (c[0] - x[0]) + (c[1] - x[1]) * (c[1] - x[1]) + (c[2] - x[2]) * (c[2] - x[2]));
+  const PetscReal  dc = PetscSqrtReal((c[0] - x[0]) * (c[0] - x[0]) + (c[1] - x[1]) * (c[1] - x[1]) +
+                                      (c[2] - x[2]) * (c[2] - x[2]));
   if (dc - rad >= R) return PETSC_FALSE;
   if (dc + rad < R) return PETSC_TRUE;
   return (PetscBool)(FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x) < R2);
@@ -260,8 +260,8 @@ static PetscBool Leaked(const FSBoundary_Trimesh *tm, const PetscReal x[], Petsc
 static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], PetscInt S, FSNeighbours *nb,
                              FSBoundaryLeak *lk)
 {
-  FSBoundary_Trimesh *tm  = (FSBoundary_Trimesh *)b->data;
-  const FSMesh       *m   = &tm->mesh;
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+  const FSMesh       *m  = &tm->mesh;
   const PetscReal     R = b->radius, R2 = R * R;
   const PetscBool     cut = (PetscBool)(tm->occlusion && !tm->visall);
   PetscInt            nc = 0, leak = -1, leakel = -1;
