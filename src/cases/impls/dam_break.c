@@ -1,7 +1,8 @@
 /*
    Case "dam_break": the 2-D dam break of Martin & Moyce (1952): a water column -fs_dam_width a wide
    and -fs_dam_height (2a) high at the left end of a tank -fs_dam_tank_length (4a) long and
-   -fs_dam_tank_height (2.5a... default 2a + a) high collapses under gravity.
+   -fs_dam_tank_height (2.5a... default 2a + a) high collapses under gravity. In 3-D (-fs_dim 3) the tank
+   and the column are -fs_dam_tank_width wide along z (default: as wide as the column is high).
    Reference (docs/validation.md): the surge front Z = x_front/a against T = t sqrt(2 g / a).
    The time series has the front position, the largest x of the particles on the floor (y < a/4),
    as column front_position, and the height of the liquid at the back wall (the top particle within dx
@@ -13,7 +14,8 @@
 #include "liquid.h"
 
 typedef struct {
-  PetscReal a, height, L, H;
+  PetscReal a, height, L, H, W;
+  PetscInt  dim;
 } DamBreak;
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
@@ -31,7 +33,13 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(PetscOptionsReal("-fs_dam_tank_length", "Length of the tank (4a)", "", db->L, &db->L, NULL));
   db->H = db->height + db->a;
   PetscCall(PetscOptionsReal("-fs_dam_tank_height", "Height of the tank (column height + a)", "", db->H, &db->H, NULL));
+  PetscCall(FSSolverGetDimension(s, &db->dim));
+  db->W = db->height;
+  PetscCall(PetscOptionsReal("-fs_dam_tank_width", "Width of the tank and the column along z, 3-D (column height)", "",
+                             db->W, &db->W, NULL));
   PetscOptionsHeadEnd();
+  PetscCheck(db->W > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_tank_width %g must be positive",
+             (double)db->W);
   PetscCheck(db->a > 0 && db->height > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_dam_width %g and -fs_dam_height %g must be positive", (double)db->a, (double)db->height);
   PetscCheck(db->L > db->a, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
@@ -57,7 +65,9 @@ static PetscErrorCode SetUp(FSSolver s)
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, comm, db->L, db->H));
   PetscCall(FSWallsCheck(&w, comm));
-  PetscCall(FSCaseFillLiquid(s, &w, 0, db->a, 0, db->height, "the water column"));
+  if (db->dim == 3)
+    PetscCall(FSCaseFillLiquidExtruded(s, &w, db->W, 0, db->a, 0, db->height, "the water column", NULL, NULL));
+  else PetscCall(FSCaseFillLiquid(s, &w, 0, db->a, 0, db->height, "the water column"));
   PetscFunctionReturn(0);
 }
 

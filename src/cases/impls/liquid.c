@@ -157,9 +157,28 @@ static PetscErrorCode RowCrossings(const FSMesh *m, PetscReal yr, PetscReal zr, 
    Collective
 
    Level: developer
+
+.seealso: FSCaseFillLiquidMeshWithVelocity(), FSCaseFillLiquid()
 */
 PetscErrorCode FSCaseFillLiquidMesh(FSSolver s, FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
                                     const char what[])
+{
+  PetscFunctionBegin;
+  PetscCall(FSCaseFillLiquidMeshWithVelocity(s, m, lo, hi, what, NULL, NULL));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCaseFillLiquidMeshWithVelocity - FSCaseFillLiquidMesh, with the particles' initial velocity given
+   by velocity(x, u, ctx) at each particle's position x (3 components; NULL: at rest). The density stays
+   hydrostatic.
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseFillLiquidMeshWithVelocity(FSSolver s, FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
+                                                const char what[], FSCaseVelocityFn velocity, void *ctx)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   PetscReal   dlo[3], dhi[3], *x, *u, *rho, *mass, g[3], gmag, dx, h, rho0, c0, hy, hz, *cross;
@@ -219,6 +238,7 @@ PetscErrorCode FSCaseFillLiquidMesh(FSSolver s, FSMesh *m, const PetscReal lo[3]
           x[3 * n + d] = p[d];
           u[3 * n + d] = 0;
         }
+        if (velocity) PetscCall((*velocity)(p, &u[3 * n], ctx));
         rho[n]  = rho0 + rho0 * gmag * (hi[1] - p[1]) / (c0 * c0);
         mass[n] = rho[n] * hx * hy * hz;
         n++;
@@ -233,5 +253,31 @@ PetscErrorCode FSCaseFillLiquidMesh(FSSolver s, FSMesh *m, const PetscReal lo[3]
   }
   PetscCall(FSSolverAddParticles(s, n, x, u, rho, mass));
   PetscCall(PetscFree5(x, u, rho, mass, cross));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCaseFillLiquidExtruded - the built-in 3-D tanks: the 2-D outline w (checked, made of horizontal and
+   vertical edges) extruded across width along z (FSMeshExtrude), filled with liquid over the whole width
+   in the box x0..x1, y0..ysurf (FSCaseFillLiquidMeshWithVelocity). w is destroyed.
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseFillLiquidExtruded(FSSolver s, FSWalls *w, PetscReal width, PetscReal x0, PetscReal x1,
+                                        PetscReal y0, PetscReal ysurf, const char what[], FSCaseVelocityFn velocity,
+                                        void *ctx)
+{
+  MPI_Comm  comm = PetscObjectComm((PetscObject)s);
+  FSMesh    m;
+  PetscReal lo[3] = {x0, y0, 0}, hi[3] = {x1, ysurf, width};
+
+  PetscFunctionBegin;
+  PetscCall(FSMeshCreate(&m));
+  PetscCall(FSMeshExtrude(&m, comm, w, width));
+  PetscCall(FSWallsDestroy(w));
+  PetscCall(FSCaseFillLiquidMeshWithVelocity(s, &m, lo, hi, what, velocity, ctx));
+  PetscCall(FSMeshDestroy(&m));
   PetscFunctionReturn(0);
 }

@@ -5,7 +5,7 @@
 /* the default -fs_terms of the cases with walls: the seed's delta-LES-SPH with boundary integrals */
 #define FS_WALL_CASE_TERMS \
   "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity"
-/* an initial velocity field for FSCaseFillLiquidWithVelocity: u at the point x (2-D) */
+/* an initial velocity field for FSCaseFillLiquidWithVelocity: u at the point x (dim components) */
 typedef PetscErrorCode (*FSCaseVelocityFn)(const PetscReal x[], PetscReal u[], void *ctx);
 PETSC_INTERN PetscErrorCode FSCaseFillLiquid(FSSolver, FSWalls *, PetscReal x0, PetscReal x1, PetscReal y0,
                                              PetscReal ysurf, const char what[]);
@@ -14,3 +14,11 @@ PETSC_INTERN PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver, FSWalls *, Pe
                                                          void *ctx);
 PETSC_INTERN PetscErrorCode FSCaseFillLiquidMesh(FSSolver, FSMesh *, const PetscReal lo[3], const PetscReal hi[3],
                                                  const char what[]);
+PETSC_INTERN PetscErrorCode FSCaseFillLiquidMeshWithVelocity(FSSolver, FSMesh *, const PetscReal lo[3],
+                                                             const PetscReal hi[3], const char what[], FSCaseVelocityFn,
+                                                             void *ctx);
+/* the tank walls w (2-D outline) extruded across width along z and filled with liquid at rest in the box
+   x0..x1, y0..ysurf over the whole width: the 3-D FSCaseFillLiquid of the built-in tanks */
+PETSC_INTERN PetscErrorCode FSCaseFillLiquidExtruded(FSSolver, FSWalls *, PetscReal width, PetscReal x0, PetscReal x1,
+                                                     PetscReal y0, PetscReal ysurf, const char what[], FSCaseVelocityFn,
+                                                     void *ctx);

@@ -25,6 +25,10 @@
    makes the floor no-slip with free-slip sides, which the mode cos(k x) still satisfies exactly, so that
    the exact linear viscous mode with a no-slip floor (tests/python/test_standing_wave.py) is the
    reference for the no-slip wall term (no contact line moves along a no-slip wall).
+   In 3-D (-fs_dim 3) the tank is -fs_sw_width Lz wide along z (default L) and the mode
+   cos(k_x x) cos(k_z z), k_x = n pi / L, k_z = m pi / Lz with m = -fs_sw_mode_z (0: the 2-D wave across
+   the width), k = sqrt(k_x^2 + k_z^2) in the dispersion relation and the decay; the velocity is the
+   gradient of phi = (g A / omega) cos(k_x x) cos(k_z z) cosh(k y) / cosh(k h) cos(omega t).
    Defaults: dx = h/50, c0 = 10 sqrt(g h) (the waves' speeds are below 0.1 sqrt(g h)), the wall cases'
    terms (delta-LES-SPH with boundary integrals) and CFL 1.5, final time 20 sqrt(h/g).
 */
@@ -32,8 +36,8 @@
 #include "liquid.h"
 
 typedef struct {
-  PetscReal L, h, A, Re, k, omega, ke0;
-  PetscInt  mode;
+  PetscReal L, h, A, Re, k, kx, kz, omega, ke0, Lz;
+  PetscInt  mode, modez, dim;
 } StandingWave;
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
@@ -52,7 +56,13 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(PetscOptionsReal("-fs_sw_amplitude", "Amplitude A/h of the surface elevation", "", sw->A, &sw->A, NULL));
   PetscCall(PetscOptionsReal("-fs_sw_reynolds", "Reynolds number h sqrt(g h) / nu (ignored when -fs_nu is given)", "",
                              sw->Re, &sw->Re, NULL));
+  if (sw->Lz <= 0) sw->Lz = sw->L;
+  PetscCall(
+      PetscOptionsReal("-fs_sw_width", "Width Lz of the tank along z (3-D; default L)", "", sw->Lz, &sw->Lz, NULL));
+  PetscCall(PetscOptionsInt("-fs_sw_mode_z", "Mode m of the wave across the width (3-D): k_z = m pi / Lz", "",
+                            sw->modez, &sw->modez, NULL));
   PetscOptionsHeadEnd();
+  sw->dim = dim;
   PetscCheck(sw->L > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_length %g must be positive", (double)sw->L);
   PetscCheck(sw->h > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_depth %g must be positive", (double)sw->h);
   PetscCheck(sw->mode >= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
@@ -62,8 +72,10 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
              (double)sw->A);
   PetscCheck(sw->Re > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_reynolds %g must be positive",
              (double)sw->Re);
-  PetscCheck(dim == 2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
-             "Case standing_wave is 2-D: -fs_dim %" PetscInt_FMT " is not supported", dim);
+  PetscCheck(sw->Lz > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_width %g must be positive",
+             (double)sw->Lz);
+  PetscCheck(sw->modez >= 0 && (dim == 3 || sw->modez == 0), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_sw_mode_z %" PetscInt_FMT " must be 0 or more, and 0 in 2-D", sw->modez);
   PetscCall(FSSolverSetDefaultPhysics(s, 1.0, 10 * PetscSqrtReal(sw->h), sw->h * PetscSqrtReal(sw->h) / sw->Re, g));
   PetscCall(FSSolverSetDefaultTerms(s, FS_WALL_CASE_TERMS));
   PetscCall(FSSolverSetDefaultSpacing(s, sw->h / 50));
@@ -72,15 +84,19 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscFunctionReturn(0);
 }
 
-/* the velocity of the standing wave when its surface is flat (the header comment) */
+/* the velocity of the standing wave when its surface is flat (the header comment), 2-D or 3-D */
 static PetscErrorCode Velocity(const PetscReal x[], PetscReal u[], void *ctx)
 {
   StandingWave   *sw = (StandingWave *)ctx;
   const PetscReal a  = sw->A * sw->h * sw->omega / PetscSinhReal(sw->k * sw->h);
+  const PetscReal cz = sw->dim == 3 ? PetscCosReal(sw->kz * x[2]) : 1;
 
   PetscFunctionBegin;
-  u[0] = -a * PetscSinReal(sw->k * x[0]) * PetscCoshReal(sw->k * x[1]);
-  u[1] = a * PetscCosReal(sw->k * x[0]) * PetscSinhReal(sw->k * x[1]);
+  u[0] = -a * (sw->kx / sw->k) * PetscSinReal(sw->kx * x[0]) * cz * PetscCoshReal(sw->k * x[1]);
+  u[1] = a * PetscCosReal(sw->kx * x[0]) * cz * PetscSinhReal(sw->k * x[1]);
+  if (sw->dim == 3)
+    u[2] = -a * (sw->kz / sw->k) * PetscCosReal(sw->kx * x[0]) * PetscSinReal(sw->kz * x[2]) *
+           PetscCoshReal(sw->k * x[1]);
   PetscFunctionReturn(0);
 }
 
@@ -100,20 +116,30 @@ static PetscErrorCode SetUp(FSSolver s)
   PetscCheck(g[0] == 0 && g[1] < 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "Case standing_wave needs gravity pointing down (-fs_gravity 0,-g), not %g,%g", (double)g[0],
              (double)g[1]);
-  sw->k     = sw->mode * PETSC_PI / sw->L;
+  sw->kx    = sw->mode * PETSC_PI / sw->L;
+  sw->kz    = sw->dim == 3 ? sw->modez * PETSC_PI / sw->Lz : 0;
+  sw->k     = PetscSqrtReal(sw->kx * sw->kx + sw->kz * sw->kz);
   sw->omega = PetscSqrtReal(-g[1] * sw->k * PetscTanhReal(sw->k * sw->h));
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, comm, sw->L, 1.5 * sw->h));
   PetscCall(FSWallsSetEdgeWall(&w, comm, 0, 0, "floor"));
   PetscCall(FSWallsCheck(&w, comm));
-  PetscCall(FSCaseFillLiquidWithVelocity(s, &w, 0, sw->L, 0, sw->h, "the liquid (-fs_sw_length x -fs_sw_depth)",
-                                         Velocity, sw));
+  if (sw->dim == 3)
+    PetscCall(FSCaseFillLiquidExtruded(s, &w, sw->Lz, 0, sw->L, 0, sw->h,
+                                       "the liquid (-fs_sw_length x -fs_sw_depth x -fs_sw_width)", Velocity, sw));
+  else
+    PetscCall(FSCaseFillLiquidWithVelocity(s, &w, 0, sw->L, 0, sw->h, "the liquid (-fs_sw_length x -fs_sw_depth)",
+                                           Velocity, sw));
   /* the particles' initial kinetic energy, the scale of kinetic_energy_linear */
   PetscCall(FSSolverGetSwarm(s, &swarm));
   PetscCall(DMSwarmGetLocalSize(swarm, &n));
   PetscCall(DMSwarmGetField(swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
   PetscCall(DMSwarmGetField(swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  for (PetscInt p = 0; p < n; p++) ke += 0.5 * m[p] * (u[2 * p] * u[2 * p] + u[2 * p + 1] * u[2 * p + 1]);
+  for (PetscInt p = 0; p < n; p++) {
+    PetscReal u2 = 0;
+    for (PetscInt d = 0; d < sw->dim; d++) u2 += u[sw->dim * p + d] * u[sw->dim * p + d];
+    ke += 0.5 * m[p] * u2;
+  }
   PetscCall(DMSwarmRestoreField(swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
   PetscCallMPI(MPI_Allreduce(&ke, &sw->ke0, 1, MPIU_REAL, MPI_SUM, comm));

@@ -108,8 +108,8 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscFunctionReturn(0);
 }
 
-/* the 3-D tank: the mesh (the 2-D outline extruded across the width, or STL files) filled to the level */
-static PetscErrorCode SetUp3(FSSolver s, Tank *tk, FSWalls *w)
+/* the 3-D tank from STL files, filled to the level */
+static PetscErrorCode SetUpSTL(FSSolver s, Tank *tk)
 {
   MPI_Comm  comm = PetscObjectComm((PetscObject)s);
   FSMesh    m;
@@ -117,16 +117,14 @@ static PetscErrorCode SetUp3(FSSolver s, Tank *tk, FSWalls *w)
 
   PetscFunctionBegin;
   PetscCall(FSMeshCreate(&m));
-  if (!strcmp(tk->shape, "stl"))
-    for (PetscInt f = 0; f < tk->nstl; f++) {
-      char        name[64];
-      const char *base = strrchr(tk->stl[f], '/') ? strrchr(tk->stl[f], '/') + 1 : tk->stl[f];
-      char       *dot;
-      PetscCall(PetscStrncpy(name, base, sizeof(name)));
-      if ((dot = strrchr(name, '.'))) *dot = 0; /* the file's name without its extension names unnamed solids */
-      PetscCall(FSMeshLoadSTL(&m, comm, tk->stl[f], name));
-    }
-  else PetscCall(FSMeshExtrude(&m, comm, w, tk->width));
+  for (PetscInt f = 0; f < tk->nstl; f++) {
+    char        name[64];
+    const char *base = strrchr(tk->stl[f], '/') ? strrchr(tk->stl[f], '/') + 1 : tk->stl[f];
+    char       *dot;
+    PetscCall(PetscStrncpy(name, base, sizeof(name)));
+    if ((dot = strrchr(name, '.'))) *dot = 0; /* the file's name without its extension names unnamed solids */
+    PetscCall(FSMeshLoadSTL(&m, comm, tk->stl[f], name));
+  }
   PetscCall(FSMeshCheck(&m, comm)); /* sets the bounding box used below */
   for (PetscInt d = 0; d < 3; d++) {
     lo[d] = m.lo[d];
@@ -157,8 +155,12 @@ static PetscErrorCode SetUp(FSSolver s)
   if (tk->dim == 3) {
     PetscCheck(tk->fill > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
                "-fs_fill 0 (an empty tank) is two-dimensional only: give a positive fill in 3-D");
-    if (!stl) PetscCall(FSWallsCheck(&w, comm));
-    PetscCall(SetUp3(s, tk, &w));
+    if (stl) PetscCall(SetUpSTL(s, tk));
+    else {
+      PetscCall(FSWallsCheck(&w, comm));
+      PetscCall(FSCaseFillLiquidExtruded(s, &w, tk->width, w.lo[0], w.hi[0], w.lo[1],
+                                         w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill", NULL, NULL));
+    }
     PetscCall(FSWallsDestroy(&w));
     PetscFunctionReturn(0);
   }

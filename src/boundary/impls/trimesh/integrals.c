@@ -13,28 +13,28 @@
 */
 #include "mesh.h"
 
-/* Wendland C2 in 3-D, q = r/h <= 2: W = 21/(16 pi h^3) (1 - q/2)^4 (2q + 1)
-   = 21/(16 pi h^3) (1 - 5/2 q^2 + 5/2 q^3 - 15/16 q^4 + 1/8 q^5), and its mass inside r,
-   Phi = 4 pi int_0^r W s^2 ds = 21/4 (q^3/3 - q^5/2 + 5/12 q^6 - 15/112 q^7 + q^8/64). */
-static inline PetscReal Wendland3(PetscReal h, PetscReal r)
-{
-  const PetscReal q = r / h, a = 1 - 0.5 * q;
-  return q >= 2 ? 0 : 21.0 / (16.0 * PETSC_PI * h * h * h) * a * a * a * a * (2 * q + 1);
-}
-
-/* Phi(r)/r^3 (finite at r = 0) */
-static inline PetscReal PhiOverR3(PetscReal h, PetscReal r)
-{
-  const PetscReal q = r / h;
-  if (q >= 2) return 1.0 / (r * r * r);
-  return 5.25 / (h * h * h) * (1.0 / 3.0 + q * q * (-0.5 + q * (5.0 / 12.0 + q * (-15.0 / 112.0 + q / 64.0))));
-}
+/* Wendland C2 in 3-D, q = r/h <= 2: W = 21/(16 pi h^3) (1 - q/2)^4 (2q + 1), and its mass inside r,
+   Phi = 4 pi int_0^r W s^2 ds = 21/4 (q^3/3 - q^5/2 + 5/12 q^6 - 15/112 q^7 + q^8/64), so that
+   Phi/r^3 = 21/(4 h^3) (1/3 - q^2/2 + 5/12 q^3 - 15/112 q^4 + q^5/64) (FSTriangleIntegrals). */
 
 /* Dunavant's 7-point rule, degree 5: barycentric coordinates of the points and weights (sum 1) */
 #define FS_SQRT15 3.872983346207416885
 static const PetscReal DunavantA[3] = {1.0 / 3.0, (9 - 2 * FS_SQRT15) / 21, (9 + 2 * FS_SQRT15) / 21};
 static const PetscReal DunavantB[3] = {1.0 / 3.0, (6 + FS_SQRT15) / 21, (6 - FS_SQRT15) / 21};
 static const PetscReal DunavantW[3] = {0.225, (155 + FS_SQRT15) / 1200, (155 - FS_SQRT15) / 1200};
+
+/* FSTriangleQuadraturePoints - the 7 points of the rule on the element, into its row at FS_TRI_QUAD */
+void FSTriangleQuadraturePoints(PetscReal el[])
+{
+  const PetscReal *a = el + FS_TRI_P0, *b = el + FS_TRI_P1, *c = el + FS_TRI_P2;
+  for (PetscInt g = 0; g < 7; g++) {
+    const PetscInt  set = g == 0 ? 0 : (g < 4 ? 1 : 2), rot = (g - 1) % 3;
+    const PetscReal la = set && rot == 0 ? DunavantA[set] : DunavantB[set];
+    const PetscReal lb = set && rot == 1 ? DunavantA[set] : DunavantB[set];
+    const PetscReal lc = 1 - la - lb;
+    for (PetscInt d = 0; d < 3; d++) el[FS_TRI_QUAD + 3 * g + d] = la * a[d] + lb * b[d] + lc * c[d];
+  }
+}
 
 /*
    FSTriangleIntegrals - an element's contribution gamma_k to gamma(x) - 1, and int_k W(|y - x|) dS
@@ -49,34 +49,35 @@ static const PetscReal DunavantW[3] = {0.225, (155 + FS_SQRT15) / 1200, (155 - F
 void FSTriangleIntegrals(PetscReal h, const PetscReal x[], const PetscReal el[], PetscBool all, PetscReal *gammak,
                          PetscReal *wint)
 {
-  const PetscReal *a = el + FS_TRI_P0, *b = el + FS_TRI_P1, *c = el + FS_TRI_P2, *n = el + FS_TRI_NORMAL;
-  const PetscReal  d   = (a[0] - x[0]) * n[0] + (a[1] - x[1]) * n[1] + (a[2] - x[2]) * n[2]; /* > 0: facing */
-  const PetscReal  R   = 2 * h;
+  const PetscReal *a = el + FS_TRI_P0, *n = el + FS_TRI_NORMAL, *y = el + FS_TRI_QUAD;
+  const PetscReal  d = (a[0] - x[0]) * n[0] + (a[1] - x[1]) * n[1] + (a[2] - x[2]) * n[2]; /* > 0: facing */
+  const PetscReal  R = 2 * h, ih = 1 / h, wnorm = 21.0 / (16.0 * PETSC_PI * h * h * h), pnorm = 5.25 * ih * ih * ih;
   PetscReal        phi = 0, w = 0;
 
   *gammak = *wint = 0;
   if ((!all && d <= 0) || PetscAbsReal(d) >= R) return;
   { /* beyond the support: its bounding sphere first, the exact distance where the sphere straddles it */
     const PetscReal *ct = el + FS_TRI_CENTROID, rad = el[FS_TRI_RADIUS];
-    const PetscReal  dc = PetscSqrtReal((ct[0] - x[0]) * (ct[0] - x[0]) + (ct[1] - x[1]) * (ct[1] - x[1]) +
-                                        (ct[2] - x[2]) * (ct[2] - x[2]));
-    if (dc - rad >= R || (dc + rad > R && FSTriangleDistance2(a, b, c, x) >= R * R)) return;
+    const PetscReal  dc2 = (ct[0] - x[0]) * (ct[0] - x[0]) + (ct[1] - x[1]) * (ct[1] - x[1]) +
+                          (ct[2] - x[2]) * (ct[2] - x[2]);
+    if (dc2 >= (R + rad) * (R + rad)) return;
+    if ((rad >= R || dc2 > (R - rad) * (R - rad)) && FSTriangleDistance2(a, el + FS_TRI_P1, el + FS_TRI_P2, x) >= R * R)
+      return;
   }
   for (PetscInt g = 0; g < 7; g++) {
-    const PetscInt  set = g == 0 ? 0 : (g < 4 ? 1 : 2), rot = (g - 1) % 3;
-    const PetscReal la   = set && rot == 0 ? DunavantA[set] : DunavantB[set];
-    const PetscReal lb   = set && rot == 1 ? DunavantA[set] : DunavantB[set];
-    const PetscReal lc   = 1 - la - lb;
-    const PetscReal y[3] = {la * a[0] + lb * b[0] + lc * c[0], la * a[1] + lb * b[1] + lc * c[1],
-                            la * a[2] + lb * b[2] + lc * c[2]};
-    const PetscReal r    = PetscSqrtReal((y[0] - x[0]) * (y[0] - x[0]) + (y[1] - x[1]) * (y[1] - x[1]) +
-                                         (y[2] - x[2]) * (y[2] - x[2]));
-    phi += DunavantW[set] * PhiOverR3(h, r);
-    w += DunavantW[set] * Wendland3(h, r);
+    const PetscReal *p  = y + 3 * g;
+    const PetscReal  r2 = (p[0] - x[0]) * (p[0] - x[0]) + (p[1] - x[1]) * (p[1] - x[1]) + (p[2] - x[2]) * (p[2] - x[2]);
+    const PetscReal  wg = DunavantW[g == 0 ? 0 : (g < 4 ? 1 : 2)];
+    if (r2 >= R * R) phi += wg / (r2 * PetscSqrtReal(r2)); /* Phi = 1, W = 0 beyond the support */
+    else {
+      const PetscReal q = PetscSqrtReal(r2) * ih, s = 1 - 0.5 * q, s2 = s * s;
+      phi += wg * pnorm * (1.0 / 3.0 + q * q * (-0.5 + q * (5.0 / 12.0 + q * (-15.0 / 112.0 + q / 64.0))));
+      w += wg * wnorm * s2 * s2 * (2 * q + 1);
+    }
   }
   *wint = w * el[FS_TRI_AREA];
   if (d == 0) return; /* x in the element's plane: e_r . n = 0 and no solid angle */
-  *gammak = (d * phi * el[FS_TRI_AREA] - FSTriangleSolidAngle(a, b, c, x)) / (4 * PETSC_PI);
+  *gammak = (d * phi * el[FS_TRI_AREA] - FSTriangleSolidAngle(a, el + FS_TRI_P1, el + FS_TRI_P2, x)) / (4 * PETSC_PI);
 }
 
 /*
