@@ -41,6 +41,7 @@ bench: build
 	$(PYTHON) bench/bench_taylor_green.py
 	$(PYTHON) bench/bench_dam_break.py
 	$(PYTHON) bench/bench_coupled.py
+	$(PYTHON) bench/bench_dam_break_3d.py
 
 # the C sources in the project's format (.clang-format; tests/python/test_format.py checks it)
 format:
