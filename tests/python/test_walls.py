@@ -260,3 +260,49 @@ def test_dam_break_ranks_agree(tmp_path):
     assert a["position"][:, 0].max() > 1.5  # the surge has travelled
     for f in ("position", "velocity", "density", "pressure"):
         assert rel_max_diff(a[f], b[f]) < 1e-10, f
+
+
+def test_liquid_boxes_make_the_dam_break(tmp_path):
+    """-fs_liquid_box: the tank case with one box of liquid 1 x 2 m at the end of a 4 x 3 m tank places
+    the particles of the dam_break case exactly (same lattice, ids, hydrostatic densities for the same
+    c0); two boxes side by side each get their own lattice and hydrostatic profile below their own top."""
+    c0 = 10 * np.sqrt(2 * 9.81 * 2)
+    snaps = {}
+    for name, args in (("tank", ["-fs_case", "tank", "-fs_tank_length", 4, "-fs_tank_height", 3, "-fs_liquid_box", "0,1,0,2"]),
+                       ("dam", ["-fs_case", "dam_break"])):
+        out = tmp_path / name
+        run_flexslosh(args + ["-fs_dx", 0.05, "-fs_c0", c0, "-ts_max_steps", 0, "-fs_output_dir", out], cwd=tmp_path)
+        snaps[name] = last_snapshot(out)
+    a, b = snaps["tank"], snaps["dam"]
+    assert len(a["id"]) == 800 and np.array_equal(a["id"], b["id"])
+    assert np.array_equal(a["position"], b["position"]) and np.array_equal(a["density"], b["density"])
+    out = tmp_path / "two"
+    run_flexslosh(["-fs_case", "tank", "-fs_tank_length", 4, "-fs_tank_height", 3, "-fs_liquid_box", "0,1,0,2,3,4,0,1",
+                   "-fs_dx", 0.05, "-fs_c0", c0, "-ts_max_steps", 0, "-fs_output_dir", out], cwd=tmp_path)
+    s = last_snapshot(out)
+    x, rho = s["position"], s["density"]
+    right = x[:, 0] > 2
+    assert len(x) == 800 + 400 and right.sum() == 400 and x[right, 1].max() < 1
+    # each box hydrostatic below its own top: rho = rho0 (1 + g (top - y)/c0^2)
+    top = np.where(right, 1.0, 2.0)
+    np.testing.assert_allclose(rho, 1000 * (1 + 9.81 * (top - x[:, 1]) / c0**2), rtol=1e-12)
+
+
+@pytest.mark.parametrize("args,expect", [
+    (["-fs_liquid_box", "0,1,0,2,3"], ["-fs_liquid_box", "5 numbers", "4 (xmin,xmax,ymin,ymax)"]),
+    (["-fs_liquid_box", "0,1,0,0.1", "-fs_fill", 0.3], ["-fs_fill", "-fs_liquid_box"]),
+    (["-fs_liquid_box", "0.5,0.8,0,0.02"], ["-fs_liquid_box", "box 0", "outside the tank"]),
+    (["-fs_liquid_box", "0.05,0.14,0,0.02", "-fs_tank_shape", "baffled"], ["-fs_liquid_box", "box 0", "overlaps wall"]),
+    (["-fs_liquid_box", "0,0.1,0,0.02,0.05,0.2,0,0.02"], ["-fs_liquid_box", "boxes 0 and 1 overlap"]),
+    (["-fs_liquid_box", "0.1,0.05,0,0.02"], ["-fs_liquid_box", "box 0", "empty"]),
+])
+def test_bad_liquid_boxes(tmp_path, args, expect):
+    """A liquid box with the wrong count of numbers, outside the tank (0.7 x 0.06 m), crossing a
+    baffle, overlapping another, empty, or given with -fs_fill: an error naming the option and the box."""
+    proc = run_flexslosh(["-fs_case", "tank", "-fs_dx", 0.004, "-fs_output_dir", tmp_path / "o"] + args, cwd=tmp_path,
+                         check=False)
+    assert_no_crash(proc)
+    assert proc.returncode != 0
+    msg = petsc_error_message(proc.stdout)
+    for e in expect:
+        assert e in msg, msg

@@ -22,3 +22,10 @@ PETSC_INTERN PetscErrorCode FSCaseFillLiquidMeshWithVelocity(FSSolver, FSMesh *,
 PETSC_INTERN PetscErrorCode FSCaseFillLiquidExtruded(FSSolver, FSWalls *, PetscReal width, PetscReal x0, PetscReal x1,
                                                      PetscReal y0, PetscReal ysurf, const char what[], FSCaseVelocityFn,
                                                      void *ctx);
+/* liquid boxes (-fs_liquid_box), 4 reals each in 2-D (x0, x1, y0, y1), 6 in 3-D (and z0, z1) */
+PETSC_INTERN PetscErrorCode FSCaseFillLiquidBoxes(FSSolver, FSWalls *, PetscInt nbox, const PetscReal box[],
+                                                  const char what[]);
+PETSC_INTERN PetscErrorCode FSCaseFillLiquidMeshBoxes(FSSolver, FSMesh *, PetscInt nbox, const PetscReal box[],
+                                                      const char what[]);
+PETSC_INTERN PetscBool      FSSegmentEntersBox(const PetscReal p[], const PetscReal q[], const PetscReal lo[],
+                                               const PetscReal hi[], PetscInt dim, PetscReal eps);

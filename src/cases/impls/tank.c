@@ -15,7 +15,9 @@
                   named wall part (docs/walls.md).
    In 3-D (-fs_dim 3) the rectangular and baffled tanks are their 2-D outlines extruded across
    -fs_tank_width (0.1 m) along z: the 2-D cases are their cross-sections.
-   The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5) on a lattice of spacing
+   The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5), or the boxes given by
+   -fs_liquid_box xmin,xmax,ymin,ymax[,zmin,zmax][,...] (each box hydrostatic below its own top; a box
+   outside the tank, crossed by a wall or overlapping another is an error), on a lattice of spacing
    dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2. -fs_fill 0 is an empty
    tank: no particles and no walls, the structure alone (with -fs_beam_payload_mass all ballast), the
    0 % point of a fill sweep.
@@ -25,19 +27,24 @@
 #include <flexslosh.h>
 #include "liquid.h"
 
+#define FS_TANK_MAX_BOXES 16
+
 typedef struct {
   char      shape[32], file[PETSC_MAX_PATH_LEN];
   char      stl[8][PETSC_MAX_PATH_LEN]; /* -fs_tank_stl */
   PetscInt  nstl;
   PetscReal L, H, Lc, t, gap, hb, fill, width;
   PetscInt  ncomp, dim;
+  PetscReal box[6 * FS_TANK_MAX_BOXES]; /* -fs_liquid_box: 2 dim reals per box */
+  PetscInt  nbox;
 } Tank;
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
   Tank     *tk;
   PetscReal g[3] = {0, -9.81, 0};
-  PetscBool rect, baff, file, stl, stlset;
+  PetscBool rect, baff, file, stl, stlset, fillset, boxset;
+  PetscInt  nboxv;
   char     *stlfiles[9];
   PetscInt  nstl = 9;
 
@@ -65,8 +72,14 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
                                     stlfiles, &nstl, &stlset));
   PetscCall(PetscOptionsReal("-fs_tank_width", "Width of the 3-D rectangular and baffled tanks (along z)", "",
                              tk->width, &tk->width, NULL));
+  PetscCall(PetscOptionsReal("-fs_fill", "Filling level, as a fraction of the tank height", "", tk->fill, &tk->fill,
+                             &fillset));
+  nboxv = 6 * FS_TANK_MAX_BOXES;
   PetscCall(
-      PetscOptionsReal("-fs_fill", "Filling level, as a fraction of the tank height", "", tk->fill, &tk->fill, NULL));
+      PetscOptionsRealArray("-fs_liquid_box",
+                            "Boxes of liquid instead of a filling level: xmin,xmax,ymin,ymax[,zmin,zmax] for each "
+                            "box, one after the other (2 dim numbers per box)",
+                            "", tk->box, &nboxv, &boxset));
   PetscOptionsHeadEnd();
   if (stlset) {
     PetscCheck(nstl <= 8, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
@@ -98,6 +111,14 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
              "-fs_tank_width %g must be positive", (double)tk->width);
   PetscCheck(tk->H > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_height %g must be positive",
              (double)tk->H);
+  if (boxset) {
+    PetscCheck(nboxv > 0 && nboxv % (2 * tk->dim) == 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_SIZ,
+               "-fs_liquid_box gives %" PetscInt_FMT " numbers: expected %s for each box (at most %d boxes)", nboxv,
+               tk->dim == 3 ? "6 (xmin,xmax,ymin,ymax,zmin,zmax)" : "4 (xmin,xmax,ymin,ymax)", FS_TANK_MAX_BOXES);
+    PetscCheck(!fillset, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+               "-fs_fill and -fs_liquid_box both give the liquid: use one of them");
+    tk->nbox = nboxv / (2 * tk->dim);
+  }
   PetscCheck(tk->fill >= 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_fill %g is outside the tank: expected a fraction in [0, 1] of the tank height", (double)tk->fill);
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 20.0, 1e-6, g));
@@ -108,30 +129,50 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscFunctionReturn(0);
 }
 
-/* the 3-D tank from STL files, filled to the level */
-static PetscErrorCode SetUpSTL(FSSolver s, Tank *tk)
+/* the 3-D tank's mesh: its 2-D outline w extruded across the width, or the STL files */
+static PetscErrorCode TankMesh(FSSolver s, Tank *tk, PetscBool stl, FSWalls *w, FSMesh *m)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCall(FSMeshCreate(m));
+  if (stl)
+    for (PetscInt f = 0; f < tk->nstl; f++) {
+      char        name[64];
+      const char *base = strrchr(tk->stl[f], '/') ? strrchr(tk->stl[f], '/') + 1 : tk->stl[f];
+      char       *dot;
+      PetscCall(PetscStrncpy(name, base, sizeof(name)));
+      if ((dot = strrchr(name, '.'))) *dot = 0; /* the file's name without its extension names unnamed solids */
+      PetscCall(FSMeshLoadSTL(m, comm, tk->stl[f], name));
+    }
+  else {
+    PetscCall(FSWallsCheck(w, comm));
+    PetscCall(FSMeshExtrude(m, comm, w, tk->width));
+  }
+  PetscCall(FSMeshCheck(m, comm)); /* sets the bounding box */
+  PetscFunctionReturn(0);
+}
+
+/* the 3-D tank: the mesh, filled to the level or in the liquid boxes */
+static PetscErrorCode SetUp3(FSSolver s, Tank *tk, PetscBool stl, FSWalls *w)
 {
   MPI_Comm  comm = PetscObjectComm((PetscObject)s);
   FSMesh    m;
   PetscReal lo[3], hi[3];
 
   PetscFunctionBegin;
-  PetscCall(FSMeshCreate(&m));
-  for (PetscInt f = 0; f < tk->nstl; f++) {
-    char        name[64];
-    const char *base = strrchr(tk->stl[f], '/') ? strrchr(tk->stl[f], '/') + 1 : tk->stl[f];
-    char       *dot;
-    PetscCall(PetscStrncpy(name, base, sizeof(name)));
-    if ((dot = strrchr(name, '.'))) *dot = 0; /* the file's name without its extension names unnamed solids */
-    PetscCall(FSMeshLoadSTL(&m, comm, tk->stl[f], name));
+  PetscCheck(tk->nbox || tk->fill > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_fill 0 (an empty tank) is two-dimensional only: give a positive fill in 3-D");
+  PetscCall(TankMesh(s, tk, stl, w, &m));
+  if (tk->nbox) PetscCall(FSCaseFillLiquidMeshBoxes(s, &m, tk->nbox, tk->box, "-fs_liquid_box"));
+  else {
+    for (PetscInt d = 0; d < 3; d++) {
+      lo[d] = m.lo[d];
+      hi[d] = m.hi[d];
+    }
+    hi[1] = lo[1] + tk->fill * (m.hi[1] - m.lo[1]);
+    PetscCall(FSCaseFillLiquidMesh(s, &m, lo, hi, "-fs_fill"));
   }
-  PetscCall(FSMeshCheck(&m, comm)); /* sets the bounding box used below */
-  for (PetscInt d = 0; d < 3; d++) {
-    lo[d] = m.lo[d];
-    hi[d] = m.hi[d];
-  }
-  hi[1] = lo[1] + tk->fill * (m.hi[1] - m.lo[1]);
-  PetscCall(FSCaseFillLiquidMesh(s, &m, lo, hi, "-fs_fill"));
   PetscCall(FSMeshDestroy(&m));
   PetscFunctionReturn(0);
 }
@@ -153,19 +194,13 @@ static PetscErrorCode SetUp(FSSolver s)
   else if (baff) PetscCall(FSWallsBaffledTank(&w, comm, tk->ncomp, tk->Lc, tk->t, tk->H, tk->gap, tk->hb));
   else if (!stl) PetscCall(FSWallsLoad(&w, comm, tk->file));
   if (tk->dim == 3) {
-    PetscCheck(tk->fill > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
-               "-fs_fill 0 (an empty tank) is two-dimensional only: give a positive fill in 3-D");
-    if (stl) PetscCall(SetUpSTL(s, tk));
-    else {
-      PetscCall(FSWallsCheck(&w, comm));
-      PetscCall(FSCaseFillLiquidExtruded(s, &w, tk->width, w.lo[0], w.hi[0], w.lo[1],
-                                         w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill", NULL, NULL));
-    }
+    PetscCall(SetUp3(s, tk, stl, &w));
     PetscCall(FSWallsDestroy(&w));
     PetscFunctionReturn(0);
   }
   PetscCall(FSWallsCheck(&w, comm)); /* sets the bounding box used below */
-  if (tk->fill > 0)
+  if (tk->nbox) PetscCall(FSCaseFillLiquidBoxes(s, &w, tk->nbox, tk->box, "-fs_liquid_box"));
+  else if (tk->fill > 0)
     PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
   else { /* an empty tank (the 0 % point of a fill sweep): the structure alone, its payload all ballast */
     FSStructure st;

@@ -1,0 +1,276 @@
+/* Set-up shared by the 3-D cases with walls: a body of liquid on a lattice in a triangle-mesh tank, hydrostatic,
+ * at rest or with a given velocity field. */
+#include <flexslosh.h>
+#include "boundary/fsboundary.h"
+#include "liquid.h"
+
+/* the crossings of the line {y = yr, z = zr} with the mesh's triangles, sorted along x. The line is moved
+   by a tiny irrational offset first so that it never passes exactly through an edge or a vertex (the
+   lattice's rows would, through the diagonals of a box's faces). */
+static PetscErrorCode RowCrossings(const FSMesh *m, PetscReal yr, PetscReal zr, PetscReal *cross, PetscInt *nc)
+{
+  const PetscReal size = (m->hi[0] - m->lo[0]) + (m->hi[1] - m->lo[1]) + (m->hi[2] - m->lo[2]);
+  const PetscReal y = yr + 3.1830988618e-10 * size, z = zr + 2.7182818284e-10 * size;
+
+  PetscFunctionBegin;
+  *nc = 0;
+  for (PetscInt t = 0; t < m->ntri; t++) {
+    const PetscReal *a = &m->vert[3 * m->tri[3 * t]], *b = &m->vert[3 * m->tri[3 * t + 1]],
+                    *c = &m->vert[3 * m->tri[3 * t + 2]];
+    /* the barycentric coordinates of (y, z) in the triangle's projection on the y-z plane */
+    const PetscReal det = (b[1] - a[1]) * (c[2] - a[2]) - (c[1] - a[1]) * (b[2] - a[2]);
+    PetscReal       u, v;
+    if (det == 0) continue; /* parallel to the line */
+    u = ((y - a[1]) * (c[2] - a[2]) - (c[1] - a[1]) * (z - a[2])) / det;
+    v = ((b[1] - a[1]) * (z - a[2]) - (y - a[1]) * (b[2] - a[2])) / det;
+    if (u < 0 || v < 0 || u + v > 1) continue;
+    cross[(*nc)++] = a[0] + u * (b[0] - a[0]) + v * (c[0] - a[0]);
+  }
+  PetscCall(PetscSortReal(*nc, cross));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCaseFillLiquidMesh - the 3-D FSCaseFillLiquid: gives the solver the triangle-mesh walls m (checked
+   with FSMeshCheck) and a domain box around them (4h margin), and fills the liquid region of the mesh
+   inside the box lo..hi (x, y, z; hi[1] the free surface) with particles at rest, hydrostatic, on a
+   lattice that fits the region: rows along x at heights lo[1] + (j + 1/2) dx_y and depths
+   lo[2] + (k + 1/2) dx_z, dx_y and dx_z the spacings closest to dx that divide the box, and along
+   each row, each interval of liquid between walls with its own spacing dx_x closest to dx (the liquid
+   ends half a spacing from the walls). Points closer to a wall than half a spacing are left out.
+   The rows are split over the ranks, so ids do not depend on the number of ranks. The mesh is moved
+   into the solver; what names the liquid region in the error messages.
+
+   Collective
+
+   Level: developer
+
+.seealso: FSCaseFillLiquidMeshWithVelocity(), FSCaseFillLiquid()
+*/
+PetscErrorCode FSCaseFillLiquidMesh(FSSolver s, FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
+                                    const char what[])
+{
+  PetscFunctionBegin;
+  PetscCall(FSCaseFillLiquidMeshWithVelocity(s, m, lo, hi, what, NULL, NULL));
+  PetscFunctionReturn(0);
+}
+
+/* the domain box around the mesh (4h margin) */
+static PetscErrorCode MeshDomain(FSSolver s, const FSMesh *m)
+{
+  PetscReal dlo[3], dhi[3], h;
+  PetscBool per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetParameters(s, NULL, &h, NULL, NULL, NULL));
+  for (PetscInt d = 0; d < 3; d++) {
+    dlo[d] = m->lo[d] - 4 * h;
+    dhi[d] = m->hi[d] + 4 * h;
+  }
+  PetscCall(FSSolverSetDomain(s, dlo, dhi, per));
+  PetscFunctionReturn(0);
+}
+
+/* the mesh into the solver's boundary (which takes it over) */
+static PetscErrorCode MeshGive(FSSolver s, FSMesh *m)
+{
+  FSBoundary b;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetBoundary(s, &b));
+  PetscCall(FSBoundarySetType(b, FSBOUNDARYTRIMESH));
+  PetscCall(FSBoundaryTrimeshSetMesh(b, m));
+  PetscFunctionReturn(0);
+}
+
+/* this rank's rows of the lattice in the liquid region of m inside lo..hi (hi[1] the surface), added to the solver */
+static PetscErrorCode MeshLattice(FSSolver s, const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
+                                  const char what[], FSCaseVelocityFn velocity, void *ctx)
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  PetscReal  *x, *u, *rho, *mass, g[3], gmag, dx, rho0, c0, hy, hz, *cross;
+  PetscInt    ny, nz, n = 0, r0, r1, cap, nxmax;
+  PetscMPIInt rank, size;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetGravity(s, g));
+  PetscCall(FSSolverGetParameters(s, &dx, NULL, &rho0, &c0, NULL));
+  gmag  = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  ny    = (PetscInt)((hi[1] - lo[1]) / dx + 0.5);
+  nz    = (PetscInt)((hi[2] - lo[2]) / dx + 0.5);
+  nxmax = (PetscInt)((hi[0] - lo[0]) / dx + 0.5) + 1;
+  PetscCheck(nxmax >= 2 && ny >= 1 && nz >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "%s: -fs_dx %g leaves no particle in the liquid region %g x %g x %g", what, (double)dx,
+             (double)(hi[0] - lo[0]), (double)(hi[1] - lo[1]), (double)(hi[2] - lo[2]));
+  hy = (hi[1] - lo[1]) / ny;
+  hz = (hi[2] - lo[2]) / nz;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  r0  = (PetscInt)((PetscInt64)ny * nz * rank / size);
+  r1  = (PetscInt)((PetscInt64)ny * nz * (rank + 1) / size);
+  cap = (r1 - r0) * (nxmax + m->ntri) + 1;
+  PetscCall(PetscMalloc5(3 * cap, &x, 3 * cap, &u, cap, &rho, cap, &mass, m->ntri + 2, &cross));
+  for (PetscInt row = r0; row < r1; row++) {
+    const PetscReal yr = lo[1] + (row % ny + 0.5) * hy, zr = lo[2] + (row / ny + 0.5) * hz;
+    PetscInt        nc;
+    PetscCall(RowCrossings(m, yr, zr, cross, &nc));
+    for (PetscInt c = 0; c + 1 < nc; c++) {
+      const PetscReal a = PetscMax(cross[c], lo[0]), e = PetscMin(cross[c + 1], hi[0]),
+                      mid[3] = {0.5 * (cross[c] + cross[c + 1]), yr, zr};
+      PetscInt  na;
+      PetscReal hx;
+      if (e <= a || !FSMeshInLiquid(m, mid, 0)) continue; /* outside the box, or inside a wall */
+      na = (PetscInt)((e - a) / dx + 0.5);
+      if (na < 1) continue;
+      hx = (e - a) / na;
+      for (PetscInt i = 0; i < na; i++) {
+        const PetscReal p[3] = {a + (i + 0.5) * hx, yr, zr};
+        if (!FSMeshInLiquid(m, p, 0.499 * PetscMin(hx, PetscMin(hy, hz)))) continue;
+        for (PetscInt d = 0; d < 3; d++) {
+          x[3 * n + d] = p[d];
+          u[3 * n + d] = 0;
+        }
+        if (velocity) PetscCall((*velocity)(p, &u[3 * n], ctx));
+        rho[n]  = rho0 + rho0 * gmag * (hi[1] - p[1]) / (c0 * c0);
+        mass[n] = rho[n] * hx * hy * hz;
+        n++;
+      }
+    }
+  }
+  PetscCall(FSSolverAddParticles(s, n, x, u, rho, mass));
+  PetscCall(PetscFree5(x, u, rho, mass, cross));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCaseFillLiquidMeshWithVelocity - FSCaseFillLiquidMesh, with the particles' initial velocity given
+   by velocity(x, u, ctx) at each particle's position x (3 components; NULL: at rest). The density stays
+   hydrostatic.
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseFillLiquidMeshWithVelocity(FSSolver s, FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
+                                                const char what[], FSCaseVelocityFn velocity, void *ctx)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCall(FSMeshCheck(m, comm));
+  PetscCheck(lo[0] >= m->lo[0] && hi[0] <= m->hi[0] && lo[1] >= m->lo[1] && hi[1] <= m->hi[1] && lo[2] >= m->lo[2] &&
+                 hi[2] <= m->hi[2],
+             comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "%s: the liquid region [%g, %g] x [%g, %g] x [%g, %g] reaches outside the tank [%g, %g] x [%g, %g] x [%g, "
+             "%g]",
+             what, (double)lo[0], (double)hi[0], (double)lo[1], (double)hi[1], (double)lo[2], (double)hi[2],
+             (double)m->lo[0], (double)m->hi[0], (double)m->lo[1], (double)m->hi[1], (double)m->lo[2],
+             (double)m->hi[2]);
+  PetscCall(MeshDomain(s, m));
+  PetscCall(MeshLattice(s, m, lo, hi, what, velocity, ctx));
+  PetscCall(MeshGive(s, m));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCaseFillLiquidMeshBoxes - the 3-D FSCaseFillLiquidBoxes: gives the solver the triangle-mesh walls m
+   (checked with FSMeshCheck) and fills each of the nbox boxes (x0, x1, y0, y1, z0, z1 each,
+   -fs_liquid_box) with liquid at rest, hydrostatic below its own top y1. A box must lie in the liquid
+   region: inside the mesh's bounding box, not cut by a triangle (it may touch one), its middle in the
+   liquid; and boxes must not overlap: each failure an error naming the option, the box (and the
+   triangle).
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseFillLiquidMeshBoxes(FSSolver s, FSMesh *m, PetscInt nbox, const PetscReal box[], const char what[])
+{
+  MPI_Comm  comm = PetscObjectComm((PetscObject)s);
+  PetscReal eps;
+
+  PetscFunctionBegin;
+  PetscCall(FSMeshCheck(m, comm));
+  eps = 1e-9 * ((m->hi[0] - m->lo[0]) + (m->hi[1] - m->lo[1]) + (m->hi[2] - m->lo[2]));
+  for (PetscInt k = 0; k < nbox; k++) {
+    const PetscReal *b = &box[6 * k], lo[3] = {b[0], b[2], b[4]}, hi[3] = {b[1], b[3], b[5]};
+    const PetscReal  mid[3] = {0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5])};
+    PetscCheck(b[1] > b[0] && b[3] > b[2] && b[5] > b[4], comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "%s: box %" PetscInt_FMT " (%g,%g,%g,%g,%g,%g) is empty: expected xmin < xmax, ymin < ymax, zmin < zmax",
+               what, k, (double)b[0], (double)b[1], (double)b[2], (double)b[3], (double)b[4], (double)b[5]);
+    for (PetscInt d = 0; d < 3; d++)
+      PetscCheck(
+          lo[d] >= m->lo[d] - eps && hi[d] <= m->hi[d] + eps, comm, PETSC_ERR_ARG_OUTOFRANGE,
+          "%s: box %" PetscInt_FMT " (%g,%g,%g,%g,%g,%g) reaches outside the tank [%g, %g] x [%g, %g] x [%g, %g]", what,
+          k, (double)b[0], (double)b[1], (double)b[2], (double)b[3], (double)b[4], (double)b[5], (double)m->lo[0],
+          (double)m->hi[0], (double)m->lo[1], (double)m->hi[1], (double)m->lo[2], (double)m->hi[2]);
+    PetscCheck(FSMeshInLiquid(m, mid, 0), comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "%s: box %" PetscInt_FMT " (%g,%g,%g,%g,%g,%g) is not in the liquid region of the tank (its middle is "
+               "inside a wall)",
+               what, k, (double)b[0], (double)b[1], (double)b[2], (double)b[3], (double)b[4], (double)b[5]);
+    for (PetscInt t = 0; t < m->ntri; t++) {
+      const PetscReal *v[3] = {&m->vert[3 * m->tri[3 * t]], &m->vert[3 * m->tri[3 * t + 1]],
+                               &m->vert[3 * m->tri[3 * t + 2]]};
+      PetscBool        cut  = PETSC_FALSE;
+      /* a triangle enters the open box if one of its edges does, or if it cuts one of the box's edges */
+      for (PetscInt e = 0; e < 3 && !cut; e++) cut = FSSegmentEntersBox(v[e], v[(e + 1) % 3], lo, hi, 3, eps);
+      for (PetscInt e = 0; e < 12 && !cut; e++) {
+        /* the box's 12 edges, shrunk by eps: along axis a = e / 4, at the corner given by the bits of e % 4 */
+        const PetscInt a = e / 4, c1 = (a + 1) % 3, c2 = (a + 2) % 3;
+        PetscReal      p[3], q[3];
+        p[c1] = q[c1] = (e & 1) ? hi[c1] - eps : lo[c1] + eps;
+        p[c2] = q[c2] = (e & 2) ? hi[c2] - eps : lo[c2] + eps;
+        p[a]          = lo[a] + eps;
+        q[a]          = hi[a] - eps;
+        cut           = FSTriangleCrossesSegment(v[0], v[1], v[2], p, q);
+      }
+      PetscCheck(!cut, comm, PETSC_ERR_ARG_OUTOFRANGE,
+                 "%s: box %" PetscInt_FMT " (%g,%g,%g,%g,%g,%g) overlaps wall \"%s\": its triangle %" PetscInt_FMT
+                 " (of %s) cuts the box",
+                 what, k, (double)b[0], (double)b[1], (double)b[2], (double)b[3], (double)b[4], (double)b[5],
+                 m->name[m->triwall[t]], m->trisrc[t], m->source[m->triwall[t]]);
+    }
+    for (PetscInt j = 0; j < k; j++) {
+      const PetscReal *c     = &box[6 * j];
+      PetscBool        apart = PETSC_FALSE;
+      for (PetscInt d = 0; d < 3; d++)
+        apart = (PetscBool)(apart || b[2 * d + 1] <= c[2 * d] + eps || c[2 * d + 1] <= b[2 * d] + eps);
+      PetscCheck(apart, comm, PETSC_ERR_ARG_OUTOFRANGE, "%s: boxes %" PetscInt_FMT " and %" PetscInt_FMT " overlap",
+                 what, j, k);
+    }
+  }
+  PetscCall(MeshDomain(s, m));
+  for (PetscInt k = 0; k < nbox; k++) {
+    const PetscReal lo[3] = {box[6 * k], box[6 * k + 2], box[6 * k + 4]},
+                    hi[3] = {box[6 * k + 1], box[6 * k + 3], box[6 * k + 5]};
+    PetscCall(MeshLattice(s, m, lo, hi, what, NULL, NULL));
+  }
+  PetscCall(MeshGive(s, m));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCaseFillLiquidExtruded - the built-in 3-D tanks: the 2-D outline w (checked, made of horizontal and
+   vertical edges) extruded across width along z (FSMeshExtrude), filled with liquid over the whole width
+   in the box x0..x1, y0..ysurf (FSCaseFillLiquidMeshWithVelocity). w is destroyed.
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseFillLiquidExtruded(FSSolver s, FSWalls *w, PetscReal width, PetscReal x0, PetscReal x1,
+                                        PetscReal y0, PetscReal ysurf, const char what[], FSCaseVelocityFn velocity,
+                                        void *ctx)
+{
+  MPI_Comm  comm = PetscObjectComm((PetscObject)s);
+  FSMesh    m;
+  PetscReal lo[3] = {x0, y0, 0}, hi[3] = {x1, ysurf, width};
+
+  PetscFunctionBegin;
+  PetscCall(FSMeshCreate(&m));
+  PetscCall(FSMeshExtrude(&m, comm, w, width));
+  PetscCall(FSWallsDestroy(w));
+  PetscCall(FSCaseFillLiquidMeshWithVelocity(s, &m, lo, hi, what, velocity, ctx));
+  PetscCall(FSMeshDestroy(&m));
+  PetscFunctionReturn(0);
+}
