@@ -7,6 +7,8 @@
 #include "boundary/fsboundary.h"
 #include <petsc/private/petscimpl.h>
 
+#define FS_BOUNDARY_MAX_NAMES 32 /* walls -fs_walls_noslip can name */
+
 typedef struct _FSBoundaryOps *FSBoundaryOps;
 struct _FSBoundaryOps {
   PetscErrorCode (*setfromoptions)(FSBoundary, PetscOptionItems *);
@@ -37,8 +39,10 @@ struct _p_FSBoundary {
   PetscReal dx, h, radius; /* particle spacing, smoothing length, candidate radius (support + halo skin) */
   /* the walls: names, conditions, loads (set up by the implementation) */
   PetscInt     nwalls;
-  const char **wallname;     /* nwalls names, owned by the implementation */
-  PetscBool   *noslip;       /* per wall (-fs_walls_noslip) */
+  const char **wallname;                          /* nwalls names, owned by the implementation */
+  PetscBool   *noslip;                            /* per wall (-fs_walls_noslip) */
+  char        *noslipname[FS_BOUNDARY_MAX_NAMES]; /* -fs_walls_noslip as read, checked against the walls at set-up */
+  PetscInt     nnoslipname;
   PetscReal    loadpoint[3]; /* -fs_walls_load_point */
   PetscReal *load, *loadsum; /* per wall 6: this rank's share of the last right-hand side, and the sum over the ranks */
   PetscReal  bounce_distance, restitution; /* -fs_walls_bounce_distance (in dx), -fs_walls_bounce_restitution */

@@ -53,6 +53,7 @@ PETSC_INTERN PetscErrorCode FSBoundaryListView(PetscViewer);
 PETSC_INTERN PetscErrorCode FSBoundaryCreate(MPI_Comm, FSBoundary *);
 PETSC_INTERN PetscErrorCode FSBoundarySetType(FSBoundary, const char[]);
 PETSC_INTERN PetscErrorCode FSBoundarySetFromOptions(FSBoundary);
+PETSC_INTERN PetscErrorCode FSBoundaryHelpAll(MPI_Comm);
 PETSC_INTERN PetscErrorCode FSBoundarySetUp(FSBoundary, PetscInt dim, PetscReal dx, PetscReal h, PetscReal radius);
 PETSC_INTERN PetscErrorCode FSBoundaryUpdate(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride,
                                              FSNeighbours *, FSBoundaryLeak *);

@@ -452,6 +452,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       PetscCall(FSCaseHelpAll(s, s->opt.casename, PetscOptionsObject));
       PetscCall(FSTermHelpAll(s, &s->terms, PetscOptionsObject));
       PetscCall(FSStructureHelpAll(s, s->structure, PetscOptionsObject));
+      PetscCall(FSBoundaryHelpAll(comm));
     }
   }
   PetscOptionsEnd();

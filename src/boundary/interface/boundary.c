@@ -109,13 +109,40 @@ PetscErrorCode FSBoundarySetType(FSBoundary b, const char type[])
   PetscFunctionReturn(0);
 }
 
+/* the options every boundary method shares (FSBoundarySetFromOptions, FSBoundaryHelpAll) */
+static PetscErrorCode FSBoundaryOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
+{
+  PetscInt np = 3;
+
+  PetscFunctionBegin;
+  for (PetscInt k = 0; k < b->nnoslipname; k++) PetscCall(PetscFree(b->noslipname[k]));
+  b->nnoslipname = FS_BOUNDARY_MAX_NAMES;
+  PetscCall(PetscOptionsStringArray("-fs_walls_noslip",
+                                    "Walls with no-slip conditions, by name (the others are free-slip)",
+                                    "FSBoundarySetUp", b->noslipname, &b->nnoslipname, NULL));
+  PetscCall(
+      PetscOptionsReal("-fs_walls_bounce_distance",
+                       "Particles closer to a wall than this (in dx) and moving towards it bounce back (0: never)",
+                       "FSBoundaryBounce", b->bounce_distance, &b->bounce_distance, NULL));
+  PetscCall(PetscOptionsReal("-fs_walls_bounce_restitution",
+                             "Fraction of the normal velocity kept by a bounce (1: elastic)", "FSBoundaryBounce",
+                             b->restitution, &b->restitution, NULL));
+  PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken",
+                                  "FSBoundarySetUp", b->loadpoint, &np, NULL));
+  PetscFunctionReturn(0);
+}
+
 /*
-   FSBoundarySetFromOptions - reads -fs_boundary and the method's own options.
+   FSBoundarySetFromOptions - reads -fs_boundary, the options every method shares and the method's own.
 
    Collective
 
-   Options Database Key:
-.  -fs_boundary <name> - the boundary method (the case's choice by default; polygon in 2-D)
+   Options Database Keys:
++  -fs_boundary <name>                  - the boundary method (the case's choice by default; polygon in 2-D)
+.  -fs_walls_noslip <names>             - the walls with no-slip conditions (the others are free-slip)
+.  -fs_walls_bounce_distance <0.1>      - particles closer to a wall than this (in dx) and moving towards it bounce back
+.  -fs_walls_bounce_restitution <1>     - the fraction of the normal velocity a bounce keeps
+-  -fs_walls_load_point <x,y[,z]>       - the point about which the wall moments are taken (the origin)
 */
 PetscErrorCode FSBoundarySetFromOptions(FSBoundary b)
 {
@@ -129,28 +156,55 @@ PetscErrorCode FSBoundarySetFromOptions(FSBoundary b)
   PetscCall(PetscOptionsString("-fs_boundary", "Boundary method of the walls (the case's by default)",
                                "FSBoundarySetType", type, type, sizeof(type), &set));
   if (set || !((PetscObject)b)->type_name) PetscCall(FSBoundarySetType(b, type));
+  PetscCall(FSBoundaryOptions(b, PetscOptionsObject));
   if (b->ops->setfromoptions) PetscCall((*b->ops->setfromoptions)(b, PetscOptionsObject));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
 
 /*
-   FSBoundarySetUp - builds the wall elements from the case's geometry for particles of spacing dx and
-   smoothing length h, whose candidate neighbours lie within radius; then reads the wall conditions.
+   FSBoundaryHelpAll - with -help, lists the options of the walls: those every method shares, then each
+   registered method's own (on a scratch boundary, since a run's boundary exists only in wall cases and
+   reads its options at set-up).
 
    Collective
+*/
+PetscErrorCode FSBoundaryHelpAll(MPI_Comm comm)
+{
+  FSBoundary b;
 
-   Options Database Keys:
-+  -fs_walls_noslip <names>             - the walls with no-slip conditions (the others are free-slip)
-.  -fs_walls_bounce_distance <0.1>      - particles closer to a wall than this (in dx) and moving towards it bounce back
-.  -fs_walls_bounce_restitution <1>     - the fraction of the normal velocity a bounce keeps
--  -fs_walls_load_point <x,y>           - the point about which the wall moments are taken (the origin)
+  PetscFunctionBegin;
+  PetscCall(FSBoundaryCreate(comm, &b));
+  PetscOptionsBegin(comm, NULL, "Walls (boundary integrals): every method", "FSBoundary");
+  {
+    char type[64] = FSBOUNDARYPOLYGON;
+    PetscCall(PetscOptionsString("-fs_boundary", "Boundary method of the walls (the case's by default)",
+                                 "FSBoundarySetType", type, type, sizeof(type), NULL));
+  }
+  PetscCall(FSBoundaryOptions(b, PetscOptionsObject));
+  PetscOptionsEnd();
+  for (FSRegistryEntry *info = FSBoundaries.first; info; info = info->next) {
+    char title[128];
+    PetscCall(FSBoundarySetType(b, info->name));
+    PetscCall(PetscSNPrintf(title, sizeof(title), "Walls: boundary method %s", info->name));
+    PetscOptionsBegin(comm, NULL, title, "FSBoundary");
+    if (b->ops->setfromoptions) PetscCall((*b->ops->setfromoptions)(b, PetscOptionsObject));
+    PetscOptionsEnd();
+  }
+  PetscCall(FSBoundaryDestroy(&b));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundarySetUp - builds the wall elements from the case's geometry for particles of spacing dx and
+   smoothing length h, whose candidate neighbours lie within radius; then sets the wall conditions
+   (FSBoundarySetFromOptions read them).
+
+   Collective
 */
 PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscReal h, PetscReal radius)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)b);
-  char    *names[32];
-  PetscInt nnames = 32, np = 3;
 
   PetscFunctionBegin;
   if (b->setupcalled) PetscFunctionReturn(0);
@@ -163,30 +217,15 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
   PetscCall((*b->ops->setup)(b));
   PetscCall(PetscCalloc1(b->nwalls, &b->noslip));
   PetscCall(PetscCalloc2(6 * b->nwalls, &b->load, 6 * b->nwalls, &b->loadsum));
-  PetscOptionsBegin(comm, NULL, "Walls (boundary integrals)", "FS");
-  PetscCall(PetscOptionsStringArray("-fs_walls_noslip",
-                                    "Walls with no-slip conditions, by name (the others are free-slip)",
-                                    "FSBoundarySetUp", names, &nnames, NULL));
-  PetscCall(
-      PetscOptionsReal("-fs_walls_bounce_distance",
-                       "Particles closer to a wall than this (in dx) and moving towards it bounce back (0: never)",
-                       "FSBoundaryBounce", b->bounce_distance, &b->bounce_distance, NULL));
-  PetscCall(PetscOptionsReal("-fs_walls_bounce_restitution",
-                             "Fraction of the normal velocity kept by a bounce (1: elastic)", "FSBoundaryBounce",
-                             b->restitution, &b->restitution, NULL));
-  PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken",
-                                  "FSBoundarySetUp", b->loadpoint, &np, NULL));
-  PetscOptionsEnd();
-  for (PetscInt k = 0; k < nnames; k++) {
+  for (PetscInt k = 0; k < b->nnoslipname; k++) {
     PetscBool found = PETSC_FALSE;
     for (PetscInt q = 0; q < b->nwalls; q++)
-      if (!strcmp(names[k], b->wallname[q])) {
+      if (!strcmp(b->noslipname[k], b->wallname[q])) {
         b->noslip[q] = PETSC_TRUE;
         found        = PETSC_TRUE;
       }
     PetscCheck(found, comm, PETSC_ERR_ARG_WRONG, "-fs_walls_noslip names wall \"%s\", which this case does not have",
-               names[k]);
-    PetscCall(PetscFree(names[k]));
+               b->noslipname[k]);
   }
   b->view.dim    = dim;
   b->view.nwalls = b->nwalls;
@@ -379,6 +418,7 @@ PetscErrorCode FSBoundaryDestroy(FSBoundary *boundary)
   }
   if (b->ops->destroy) PetscCall((*b->ops->destroy)(b));
   PetscCall(PetscFree(b->noslip));
+  for (PetscInt k = 0; k < b->nnoslipname; k++) PetscCall(PetscFree(b->noslipname[k]));
   PetscCall(PetscFree2(b->load, b->loadsum));
   PetscCall(PetscHeaderDestroy(boundary));
   PetscFunctionReturn(0);

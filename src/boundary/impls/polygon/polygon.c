@@ -33,8 +33,7 @@ PetscErrorCode FSBoundaryPolygonSetWalls(FSBoundary b, FSWalls *w)
 }
 
 /*
-   SetUp - discretizes the walls into segments of about dx, reads the visibility option, and bins the
-   segments in a static grid.
+   SetFromOptions - the polygon boundary's options.
 
    Options Database Key:
 .  -fs_walls_visibility <cut|all> - what a particle near the walls interacts with. cut (default): fluid
@@ -45,26 +44,36 @@ PetscErrorCode FSBoundaryPolygonSetWalls(FSBoundary b, FSWalls *w)
    wall pressure p_k still comes only from the liquid on the side segment k faces, so each face of a
    thin baffle carries its own side's pressure, and the leak check and bounce are the same.
 */
-static PetscErrorCode SetUp(FSBoundary b)
+static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
 {
   FSBoundary_Polygon *wd         = (FSBoundary_Polygon *)b->data;
-  FSWalls            *w          = &wd->walls;
-  MPI_Comm            comm       = PetscObjectComm((PetscObject)b);
-  PetscInt            vis        = 0;
   const char *const   visnames[] = {"cut", "all"};
+  PetscInt            vis        = wd->visall ? 1 : 0;
+
+  PetscFunctionBegin;
+  PetscOptionsHeadBegin(PetscOptionsObject, "Walls (boundary integrals on polygons)");
+  PetscCall(PetscOptionsEList(
+      "-fs_walls_visibility",
+      "Fluid pairs and wall segments near walls: cut (pairs through walls cut, only facing and unhidden segments) or "
+      "all (every pair and segment within the support; wall pressure from the facing side)",
+      "FSBoundaryCreate_Polygon", visnames, 2, visnames[vis], &vis, NULL));
+  PetscOptionsHeadEnd();
+  wd->visall = (PetscBool)(vis == 1);
+  PetscFunctionReturn(0);
+}
+
+/* SetUp - discretizes the walls into segments of about dx and bins them in a static grid */
+static PetscErrorCode SetUp(FSBoundary b)
+{
+  FSBoundary_Polygon *wd   = (FSBoundary_Polygon *)b->data;
+  FSWalls            *w    = &wd->walls;
+  MPI_Comm            comm = PetscObjectComm((PetscObject)b);
   PetscReal           R;
 
   PetscFunctionBegin;
   PetscCheck(b->dim == 2, comm, PETSC_ERR_SUP, "Walls are two-dimensional (polygons): use -fs_dim 2 with a tank case");
   PetscCall(FSWallsCheck(w, comm));
   PetscCall(FSWallsDiscretize(w, b->dx));
-  PetscOptionsBegin(comm, NULL, "Walls (boundary integrals on polygons)", "FS");
-  PetscCall(PetscOptionsEList(
-      "-fs_walls_visibility",
-      "Fluid pairs and wall segments near walls: cut (pairs through walls cut, only facing and unhidden segments) or "
-      "all (every pair and segment within the support; wall pressure from the facing side)",
-      "FSBoundaryCreate_Polygon", visnames, 2, visnames[0], &vis, NULL));
-  PetscOptionsEnd();
   PetscCall(PetscMalloc1(w->nwalls, &wd->names));
   for (PetscInt q = 0; q < w->nwalls; q++) wd->names[q] = w->name[q];
   b->nwalls           = w->nwalls;
@@ -78,7 +87,6 @@ static PetscErrorCode SetUp(FSBoundary b)
   b->view.elementwall = w->segwall;
   /* a segment can hide another from a particle only if the liquid's region is not convex: obstacles, or
      a container with a reflex vertex (a notch, a baffle on the floor) */
-  wd->visall    = (PetscBool)(vis == 1);
   wd->occlusion = (PetscBool)(w->npoly > 1);
   for (PetscInt e = w->pstart[0]; e < w->pstart[1] && !wd->occlusion; e++) {
     const PetscInt n0 = w->pstart[1] - w->pstart[0], a = w->pstart[0] + (e - w->pstart[0] + n0 - 1) % n0,
@@ -439,16 +447,17 @@ PetscErrorCode FSBoundaryCreate_Polygon(FSBoundary b)
   PetscFunctionBegin;
   PetscCall(PetscNew(&wd));
   PetscCall(FSWallsCreate(&wd->walls));
-  b->data               = wd;
-  b->ops->setup         = SetUp;
-  b->ops->update        = Update;
-  b->ops->prepare       = Prepare;
-  b->ops->bounce        = Bounce;
-  b->ops->boundingbox   = BoundingBox;
-  b->ops->draw          = FSBoundaryDraw_Polygon;
-  b->ops->writegeometry = FSBoundaryWriteGeometry_Polygon;
-  b->ops->view          = View;
-  b->ops->destroy       = Destroy;
+  b->data                = wd;
+  b->ops->setfromoptions = SetFromOptions;
+  b->ops->setup          = SetUp;
+  b->ops->update         = Update;
+  b->ops->prepare        = Prepare;
+  b->ops->bounce         = Bounce;
+  b->ops->boundingbox    = BoundingBox;
+  b->ops->draw           = FSBoundaryDraw_Polygon;
+  b->ops->writegeometry  = FSBoundaryWriteGeometry_Polygon;
+  b->ops->view           = View;
+  b->ops->destroy        = Destroy;
   PetscCall(
       PetscObjectComposeFunction((PetscObject)b, "FSBoundaryPolygonSetWalls_C", FSBoundaryPolygonSetWalls_Polygon));
   PetscFunctionReturn(0);

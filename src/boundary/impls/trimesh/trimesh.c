@@ -84,28 +84,22 @@ static PetscBool MeshConvex(const FSMesh *m)
 }
 
 /*
-   SetUp - checks the mesh, refines it into elements, reads the visibility option, bins the elements in
-   a static grid and computes the container's Shepard factor at each element.
+   SetFromOptions - the triangle-mesh boundary's options.
 
    Options Database Keys:
 +  -fs_walls_element_size <0.5> - the longest element edge, in units of h: the mesh's triangles are split
-   until their edges are at most this (gamma to 1e-7 at 0.5, 6e-6 at 1; docs/walls.md)
+   until their edges are at most this (gamma to 1e-7 at 0.5, 3.5e-6 at 1; docs/walls.md)
 -  -fs_walls_visibility <cut|all> - as for polygons: cut (default) cuts fluid pairs through walls and
    counts only the elements that face a particle and are not hidden; all counts every pair and element
 */
-static PetscErrorCode SetUp(FSBoundary b)
+static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
 {
   FSBoundary_Trimesh *tm         = (FSBoundary_Trimesh *)b->data;
-  FSMesh             *m          = &tm->mesh;
-  MPI_Comm            comm       = PetscObjectComm((PetscObject)b);
-  PetscInt            vis        = 0, ncell;
   const char *const   visnames[] = {"cut", "all"};
-  PetscReal           emax       = 0;
+  PetscInt            vis        = tm->visall ? 1 : 0;
 
   PetscFunctionBegin;
-  PetscCheck(b->dim == 3, comm, PETSC_ERR_SUP,
-             "Triangle-mesh walls (STL tanks, 3-D built-in tanks) are three-dimensional: use -fs_dim 3");
-  PetscOptionsBegin(comm, NULL, "Walls (boundary integrals on triangle meshes)", "FS");
+  PetscOptionsHeadBegin(PetscOptionsObject, "Walls (boundary integrals on triangle meshes)");
   PetscCall(PetscOptionsReal("-fs_walls_element_size",
                              "Longest edge of the wall elements, in units of h (the mesh's triangles are split to it)",
                              "FSBoundaryCreate_Trimesh", tm->element, &tm->element, NULL));
@@ -113,11 +107,30 @@ static PetscErrorCode SetUp(FSBoundary b)
       "-fs_walls_visibility",
       "Fluid pairs and wall elements near walls: cut (pairs through walls cut, only facing and unhidden elements) or "
       "all (every pair and element within the support; wall pressure from the facing side)",
-      "FSBoundaryCreate_Trimesh", visnames, 2, visnames[0], &vis, NULL));
-  PetscOptionsEnd();
-  PetscCheck(tm->element > 0 && tm->element <= 4, comm, PETSC_ERR_ARG_OUTOFRANGE,
+      "FSBoundaryCreate_Trimesh", visnames, 2, visnames[vis], &vis, NULL));
+  PetscOptionsHeadEnd();
+  PetscCheck(tm->element > 0 && tm->element <= 4, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_walls_element_size %g is out of range: expected (0, 4] (in units of h; 0.5 keeps gamma to 1e-7)",
              (double)tm->element);
+  tm->visall = (PetscBool)(vis == 1);
+  PetscFunctionReturn(0);
+}
+
+/*
+   SetUp - checks the mesh, refines it into elements, bins the elements in a static grid and computes
+   the container's Shepard factor at each element.
+*/
+static PetscErrorCode SetUp(FSBoundary b)
+{
+  FSBoundary_Trimesh *tm   = (FSBoundary_Trimesh *)b->data;
+  FSMesh             *m    = &tm->mesh;
+  MPI_Comm            comm = PetscObjectComm((PetscObject)b);
+  PetscInt            ncell;
+  PetscReal           emax = 0;
+
+  PetscFunctionBegin;
+  PetscCheck(b->dim == 3, comm, PETSC_ERR_SUP,
+             "Triangle-mesh walls (STL tanks, 3-D built-in tanks) are three-dimensional: use -fs_dim 3");
   PetscCall(FSMeshCheck(m, comm));
   PetscCall(FSMeshRefine(m, tm->element * b->h));
   PetscCall(PetscMalloc1(m->nwalls, &tm->names));
@@ -131,7 +144,6 @@ static PetscErrorCode SetUp(FSBoundary b)
   b->view.measure     = FS_TRI_AREA;
   b->view.element     = m->el;
   b->view.elementwall = m->elwall;
-  tm->visall          = (PetscBool)(vis == 1);
   tm->occlusion       = (PetscBool)!MeshConvex(m);
   /* static grid of elements by centroid: an element within the candidate radius of x has its centroid
      within radius + (its largest centroid-vertex distance) of x, so within the 27 cells around x */
@@ -544,17 +556,18 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   PetscFunctionBegin;
   PetscCall(PetscNew(&tm));
   PetscCall(FSMeshCreate(&tm->mesh));
-  tm->element           = 0.5;
-  b->data               = tm;
-  b->ops->setup         = SetUp;
-  b->ops->update        = Update;
-  b->ops->prepare       = Prepare;
-  b->ops->bounce        = Bounce;
-  b->ops->boundingbox   = BoundingBox;
-  b->ops->draw          = FSBoundaryDraw_Trimesh;
-  b->ops->writegeometry = FSBoundaryWriteGeometry_Trimesh;
-  b->ops->view          = View;
-  b->ops->destroy       = Destroy;
+  tm->element            = 0.5;
+  b->data                = tm;
+  b->ops->setfromoptions = SetFromOptions;
+  b->ops->setup          = SetUp;
+  b->ops->update         = Update;
+  b->ops->prepare        = Prepare;
+  b->ops->bounce         = Bounce;
+  b->ops->boundingbox    = BoundingBox;
+  b->ops->draw           = FSBoundaryDraw_Trimesh;
+  b->ops->writegeometry  = FSBoundaryWriteGeometry_Trimesh;
+  b->ops->view           = View;
+  b->ops->destroy        = Destroy;
   PetscCall(PetscObjectComposeFunction((PetscObject)b, "FSBoundaryTrimeshSetMesh_C", FSBoundaryTrimeshSetMesh_Trimesh));
   PetscFunctionReturn(0);
 }
