@@ -67,22 +67,24 @@ PetscErrorCode FSCouplingCreate(MPI_Comm comm, FSCoupling *coupling)
    options and computes the loads of the liquid at rest (weight and its moment about the reference
    point), which the structure does not see. possible: there is a structure, walls and liquid; b: the
    walls (the default reference point is the middle of their floor); x, m: this rank's n particles'
-   positions (2-D) and masses. After the walls and particles, before the structure's set-up (its
-   payload may depend on the liquid's mass).
+   positions (dim each) and masses. After the walls and particles, before the structure's set-up (its
+   payload may depend on the liquid's mass). In 3-D the liquid's loads are the tank's (no width factor)
+   and the reference point's z is the middle of the walls' width.
 
    Collective
 */
-PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, const PetscReal gravity[], FSBoundary b, PetscInt n,
-                               const PetscReal x[], const PetscReal m[])
+PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, PetscInt dim, const PetscReal gravity[], FSBoundary b,
+                               PetscInt n, const PetscReal x[], const PetscReal m[])
 {
   MPI_Comm    comm = c->comm;
   PetscBool   want = PETSC_TRUE, set;
-  PetscReal   ref[2], loc[3] = {0, 0, 0}, glob[3], lo[3], hi[3];
+  PetscReal   ref[2], loc[4] = {0, 0, 0, 0}, glob[4], lo[3], hi[3];
   PetscInt    nref = 2, lt = 0;
   const char *loadtypes[] = {"reaction", "walls"};
 
   PetscFunctionBegin;
   c->coupled = PETSC_FALSE;
+  c->dim     = dim;
   for (PetscInt d = 0; d < 3; d++) c->gravity[d] = gravity[d];
   PetscCall(PetscMemzero(&c->body, sizeof(c->body))); /* without a coupling the frame's body acceleration is g */
   c->body.b[0] = gravity[0];
@@ -117,17 +119,25 @@ PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, const PetscReal
   c->coupled     = PETSC_TRUE;
   c->tank_ref[0] = ref[0];
   c->tank_ref[1] = ref[1];
+  c->tank_ref[2] = dim == 3 ? 0.5 * (lo[2] + hi[2]) : 0;
+  if (dim == 3) c->tank_width = 1; /* the liquid's loads are the whole tank's */
   /* the liquid at rest: its weight and the weight's moment about the reference point, per unit width */
   for (PetscInt p = 0; p < n; p++) {
     loc[0] += m[p];
-    loc[1] += m[p] * (x[2 * p] - ref[0]);
-    loc[2] += m[p] * (x[2 * p + 1] - ref[1]);
+    loc[1] += m[p] * (x[dim * p] - ref[0]);
+    loc[2] += m[p] * (x[dim * p + 1] - ref[1]);
+    if (dim == 3) loc[3] += m[p] * (x[dim * p + 2] - c->tank_ref[2]);
   }
-  PetscCallMPI(MPI_Allreduce(loc, glob, 3, MPIU_REAL, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(loc, glob, dim == 3 ? 4 : 3, MPIU_REAL, MPI_SUM, comm));
   c->liquid_mass            = glob[0] * c->tank_width;
   c->static_loads.force[0]  = glob[0] * c->gravity[0] * c->tank_width;
   c->static_loads.force[1]  = glob[0] * c->gravity[1] * c->tank_width;
   c->static_loads.moment[2] = (glob[1] * c->gravity[1] - glob[2] * c->gravity[0]) * c->tank_width;
+  if (dim == 3) { /* the weight's out-of-plane components: sum m r x g */
+    c->static_loads.force[2]  = glob[0] * c->gravity[2];
+    c->static_loads.moment[0] = glob[2] * c->gravity[2] - glob[3] * c->gravity[1];
+    c->static_loads.moment[1] = glob[3] * c->gravity[0] - glob[1] * c->gravity[2];
+  }
   PetscFunctionReturn(0);
 }
 
@@ -148,7 +158,7 @@ PetscErrorCode FSCouplingGetLiquidMass(FSCoupling c, PetscReal *mass)
 }
 
 /* FSCouplingGetWidth - the factor from the liquid's 2-D energies and loads to the tank's: the tank's
-   width when coupled, else 1. */
+   width when coupled in 2-D, else 1. */
 PetscErrorCode FSCouplingGetWidth(FSCoupling c, PetscReal *w)
 {
   PetscFunctionBegin;
@@ -183,7 +193,8 @@ PetscErrorCode FSCouplingSetPredictedMotion(FSCoupling c, const FSTankMotion *pr
 /*
    FSCouplingReaction - after the terms, before the inertial accelerations and the relaxation: the
    force (2) and moment about the reference point (1) that all terms but gravity put on the particles,
-   sum_i m_i (f_i - g) and sum_i r_i x m_i (f_i - g), per unit width in the tank's frame, from the n
+   sum_i m_i (f_i - g) and sum_i r_i x m_i (f_i - g), per unit width in the tank's frame (in 3-D the
+   whole tank's, the out-of-plane components F_z, M_x, M_y kept apart for the output), from the n
    owned particles' records rec (stride) and rates f (ustride): this rank's share in local[], the sum
    over the ranks kept for FSCouplingComputeLoads() and FSCouplingPower(). Internal forces cancel (up
    to the renormalization near walls, which the walls take): it is the walls' force on the liquid, whose
@@ -195,15 +206,40 @@ PetscErrorCode FSCouplingSetPredictedMotion(FSCoupling c, const FSTankMotion *pr
 PetscErrorCode FSCouplingReaction(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US,
                                   const PetscReal f[], PetscReal local[3])
 {
+  const PetscInt dim = c->dim;
+
   PetscFunctionBegin;
   local[0] = local[1] = local[2] = 0;
-  for (PetscInt i = 0; i < n; i++) {
-    const PetscReal *ri = &rec[i * S];
-    const PetscReal  rx = ri[0] - c->tank_ref[0], ry = ri[1] - c->tank_ref[1];
-    const PetscReal  fx = ri[5] * (f[i * US + 2] - c->gravity[0]), fy = ri[5] * (f[i * US + 3] - c->gravity[1]);
-    local[0] += fx;
-    local[1] += fy;
-    local[2] += rx * fy - ry * fx;
+  if (dim == 2)
+    for (PetscInt i = 0; i < n; i++) {
+      const PetscReal *ri = &rec[i * S];
+      const PetscReal  rx = ri[0] - c->tank_ref[0], ry = ri[1] - c->tank_ref[1];
+      const PetscReal  fx = ri[5] * (f[i * US + 2] - c->gravity[0]), fy = ri[5] * (f[i * US + 3] - c->gravity[1]);
+      local[0] += fx;
+      local[1] += fy;
+      local[2] += rx * fy - ry * fx;
+    }
+  else {
+    PetscReal all[6] = {0, 0, 0, 0, 0, 0}; /* in-plane F_x, F_y, M_z, then F_z, M_x, M_y */
+    for (PetscInt i = 0; i < n; i++) {
+      const PetscReal *ri = &rec[i * S], mi = ri[7];
+      const PetscReal  r[3] = {ri[0] - c->tank_ref[0], ri[1] - c->tank_ref[1], ri[2] - c->tank_ref[2]};
+      const PetscReal  F[3] = {mi * (f[i * US + 3] - c->gravity[0]), mi * (f[i * US + 4] - c->gravity[1]),
+                               mi * (f[i * US + 5] - c->gravity[2])};
+      all[0] += F[0];
+      all[1] += F[1];
+      all[2] += r[0] * F[1] - r[1] * F[0];
+      all[3] += F[2];
+      all[4] += r[1] * F[2] - r[2] * F[1];
+      all[5] += r[2] * F[0] - r[0] * F[2];
+    }
+    for (PetscInt k = 0; k < 3; k++) local[k] = all[k];
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, all, 6, MPIU_REAL, MPI_SUM, c->comm));
+    for (PetscInt k = 0; k < 3; k++) {
+      c->reaction[k]     = all[k];
+      c->reaction_out[k] = all[3 + k];
+    }
+    PetscFunctionReturn(0);
   }
   PetscCallMPI(MPI_Allreduce(local, c->reaction, 3, MPIU_REAL, MPI_SUM, c->comm));
   PetscFunctionReturn(0);
@@ -217,13 +253,13 @@ PetscErrorCode FSCouplingReaction(FSCoupling c, PetscInt n, PetscInt S, const Pe
 */
 PetscErrorCode FSCouplingComputeLoads(FSCoupling c, FSBoundary b, FSLoads *loads)
 {
-  PetscReal       F[2] = {0, 0}, M = 0;
+  PetscReal       F[2] = {0, 0}, M = 0, out[3] = {0, 0, 0}; /* out: 3-D F_z, M_x, M_y in the tank's frame */
   const PetscReal cs = PetscCosReal(c->angle), sn = PetscSinReal(c->angle);
 
   PetscFunctionBegin;
   if (c->loads_from_walls) {
     const PetscReal *L;
-    PetscReal        lp[3];
+    PetscReal        lp[3], r[3];
     PetscInt         nwalls;
     PetscCall(FSBoundaryGetLoads(b, &nwalls, &L));
     PetscCall(FSBoundaryGetLoadPoint(b, lp));
@@ -231,20 +267,33 @@ PetscErrorCode FSCouplingComputeLoads(FSCoupling c, FSBoundary b, FSLoads *loads
       F[0] += L[6 * w];
       F[1] += L[6 * w + 1];
       M += L[6 * w + 5];
+      out[0] += L[6 * w + 2];
+      out[1] += L[6 * w + 3];
+      out[2] += L[6 * w + 4];
     }
     M += (lp[0] - c->tank_ref[0]) * F[1] - (lp[1] - c->tank_ref[1]) * F[0];
+    for (PetscInt d = 0; d < 3; d++) r[d] = lp[d] - c->tank_ref[d]; /* the moments moved to the reference point */
+    out[1] += r[1] * out[0] - r[2] * F[1];
+    out[2] += r[2] * F[0] - r[0] * out[0];
   } else {
     F[0] = -c->reaction[0];
     F[1] = -c->reaction[1];
     M    = -c->reaction[2];
+    for (PetscInt k = 0; k < 3; k++) out[k] = -c->reaction_out[k];
   }
   c->tank_load[0] = F[0]; /* in the tank's frame, per unit width, about the reference point: for the energy budget */
   c->tank_load[1] = F[1];
   c->tank_load[2] = M;
+  for (PetscInt k = 0; k < 3; k++) c->tank_load_out[k] = out[k];
   PetscCall(PetscMemzero(loads, sizeof(*loads)));
   loads->force[0]  = (cs * F[0] - sn * F[1]) * c->tank_width - c->static_loads.force[0];
   loads->force[1]  = (sn * F[0] + cs * F[1]) * c->tank_width - c->static_loads.force[1];
   loads->moment[2] = M * c->tank_width - c->static_loads.moment[2];
+  if (c->dim == 3) { /* the components the beam does not carry, turned about z into the global axes */
+    loads->force[2]  = out[0] - c->static_loads.force[2];
+    loads->moment[0] = cs * out[1] - sn * out[2] - c->static_loads.moment[0];
+    loads->moment[1] = sn * out[1] + cs * out[2] - c->static_loads.moment[1];
+  }
   PetscFunctionReturn(0);
 }
 
@@ -264,22 +313,23 @@ PetscErrorCode FSCouplingSetMotion(FSCoupling c, const FSTankMotion *motion)
 PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US,
                                  PetscReal f[], PetscReal *power)
 {
-  FSFrameField ff;
-  PetscReal    pw = 0;
+  const PetscInt dim = c->dim;
+  FSFrameField   ff;
+  PetscReal      pw = 0;
 
   PetscFunctionBegin;
   FrameField(c, &c->motion, &ff);
   ff.b[0] -= c->gravity[0]; /* the gravity term adds g itself */
   ff.b[1] -= c->gravity[1];
-  for (PetscInt i = 0; i < n; i++) {
+  for (PetscInt i = 0; i < n; i++) { /* in 3-D the frame turns about z: nothing along z (b_z - g_z = 0) */
     const PetscReal *ri = &rec[i * S];
-    const PetscReal  ux = ri[2], uy = ri[3];
+    const PetscReal  ux = ri[dim], uy = ri[dim + 1];
     PetscReal        a[2];
     FSFrameFieldEval(&ff, ri, a);
     const PetscReal ax = a[0] + 2 * ff.omega * uy, ay = a[1] - 2 * ff.omega * ux; /* with Coriolis */
-    f[i * US + 2] += ax;
-    f[i * US + 3] += ay;
-    pw += ri[5] * (ux * ax + uy * ay);
+    f[i * US + dim] += ax;
+    f[i * US + dim + 1] += ay;
+    pw += ri[2 * dim + 1] * (ux * ax + uy * ay);
   }
   *power = pw;
   PetscFunctionReturn(0);
@@ -302,9 +352,9 @@ PetscErrorCode FSCouplingPower(FSCoupling c, const PetscReal R[3], PetscReal *po
   PetscFunctionReturn(0);
 }
 
-/* FSCouplingAbsoluteEnergy - a particle's kinetic and potential energy in the absolute frame (2-D,
-   coupled), its tank-frame position x and velocity v carried by the tank's motion mo (c, sn: cos and
-   sin of its angle). */
+/* FSCouplingAbsoluteEnergy - a particle's kinetic and potential energy in the absolute frame (coupled),
+   its tank-frame position x and velocity v carried by the tank's motion mo (c, sn: cos and sin of its
+   angle); in 3-D the frame turns about z, so z and v_z carry over. */
 void FSCouplingAbsoluteEnergy(FSCoupling cp, const FSTankMotion *mo, PetscReal c, PetscReal sn, const PetscReal x[],
                               const PetscReal v[], PetscReal m, PetscReal *kin, PetscReal *pot)
 {
@@ -315,6 +365,10 @@ void FSCouplingAbsoluteEnergy(FSCoupling cp, const FSTankMotion *mo, PetscReal c
                   Xy = cp->tank_ref[1] + mo->disp[1] + sn * rx + c * ry;
   *kin               = 0.5 * m * (Vx * Vx + Vy * Vy);
   *pot               = -m * (cp->gravity[0] * Xx + cp->gravity[1] * Xy);
+  if (cp->dim == 3) {
+    *kin += 0.5 * m * v[2] * v[2];
+    *pot -= m * cp->gravity[2] * x[2];
+  }
 }
 
 /* FSCouplingStaticLoadsWork - the potential of the liquid's static loads at the tank's motion mo:

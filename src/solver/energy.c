@@ -119,7 +119,7 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
     loc[FS_E_KIN] += 0.5 * m * v2;
     loc[FS_E_POT] -= m * gx;
     loc[FS_E_COMP] += m * FSCompressibilityEnergy(rho, s->opt.rho0, s->opt.c0, s->opt.background_pressure);
-    if (coupled && dim == 2) { /* the absolute frame */
+    if (coupled) { /* the absolute frame */
       PetscReal kin, pot;
       FSCouplingAbsoluteEnergy(s->coupling, &mo, c, sn, x, v, m, &kin, &pot);
       loc[FS_E_KIN_ABS] += kin;
@@ -127,7 +127,7 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
     }
   }
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  if (!(coupled && dim == 2)) {
+  if (!coupled) {
     loc[FS_E_KIN_ABS] = loc[FS_E_KIN];
     loc[FS_E_POT_ABS] = loc[FS_E_POT];
   }
@@ -172,12 +172,15 @@ PetscErrorCode FSSolverEnergyJumpFrame(FSSolver s, FSEnergyFrame *fr)
   PetscFunctionReturn(0);
 }
 
-/* FSEnergyParticle - one 2-D particle's mechanical energy in the tank's frame (e[0]) and in the absolute
-   frame (e[1], the tank's frame without a coupling); compressibility does not change in a bounce. */
+/* FSEnergyParticle - one particle's mechanical energy in the tank's frame (e[0]) and in the absolute frame
+   (e[1], the tank's frame without a coupling); compressibility does not change in a bounce. */
 void FSEnergyParticle(FSSolver s, const FSEnergyFrame *fr, const PetscReal x[], const PetscReal v[], PetscReal m,
                       PetscReal e[2])
 {
-  e[0] = 0.5 * m * (v[0] * v[0] + v[1] * v[1]) - m * (s->opt.gravity[0] * x[0] + s->opt.gravity[1] * x[1]);
+  const PetscReal *g = s->opt.gravity;
+  if (s->opt.dim == 3)
+    e[0] = 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - m * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]);
+  else e[0] = 0.5 * m * (v[0] * v[0] + v[1] * v[1]) - m * (g[0] * x[0] + g[1] * x[1]);
   if (fr->coupled) {
     PetscReal kin, pot;
     FSCouplingAbsoluteEnergy(s->coupling, &fr->mo, fr->c, fr->sn, x, v, m, &kin, &pot);

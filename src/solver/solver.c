@@ -624,15 +624,11 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
 
   /* the coupling (the liquid's mass, which the structure's payload may need), the structure, then the
      global DOFs: the structure's state, one dissipated energy per dissipative term */
-  PetscCheck(!(s->structure && s->boundary && s->opt.dim == 3), comm, PETSC_ERR_SUP,
-             "-fs_structure %s with -fs_dim 3: the liquid-structure coupling is two-dimensional so far (a 3-D tank "
-             "runs fixed; drop -fs_structure or use -fs_dim 2)",
-             s->structure->name);
   PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(FSCouplingSetUp(s->coupling, (PetscBool)(s->structure && s->boundary && s->pw.nglobal_particles),
-                            s->opt.gravity, s->boundary, n, x, m));
+                            s->opt.dim, s->opt.gravity, s->boundary, n, x, m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   if (s->structure) {
