@@ -60,3 +60,7 @@ PETSC_INTERN PetscErrorCode FSBoundaryJoinWallNames_Private(FSBoundary, char **n
 PETSC_INTERN PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary, const char dir[], const char topology[],
                                                              PetscInt nodes, PetscInt nel, const char measure[],
                                                              const char what[]);
+
+/* the wall pressure from the implementations' per-element sums (interface/boundary.c) */
+PETSC_INTERN PetscErrorCode FSBoundaryWallPressure(FSBoundary, PetscInt nel, const PetscReal wetfull[], PetscReal pamb,
+                                                   PetscReal wp[]);

@@ -184,8 +184,8 @@ def test_standing_wave_3d_mode_11(tmp_path):
     (k = pi sqrt(1/L^2 + 1/Lz^2) = 3.51/h, k h = 3.5: a wavelength of 1.8 h), at h/dx = 10 (2,000
     particles, about 60 s) to t sqrt(g/h) = 8: the triangle-mesh walls, the 3-D fill with the mode's
     velocity, and the dispersion relation with the 3-D wavenumber. Measured: period +4.2 % at h/dx = 10
-    (+0.8 % at h/dx = 20, docs/walls.md), decay 1.43 x the exact linear viscous rate (converging from above
-    as in 2-D). The test asserts the period within 5 % and the decay within [0.95, 1.6] x; a 2-D
+    (+1.4 % at h/dx = 20, docs/walls.md), decay 1.43 x the exact linear viscous rate (1.22 x at
+    h/dx = 20: converging from above as in 2-D). The test asserts the period within 5 % and the decay within [0.95, 1.6] x; a 2-D
     wavenumber (k = pi/L) would make the period 56 % longer."""
     Lz, k = 1.0, np.pi * np.sqrt(1 / L**2 + 1)
     omega = np.sqrt(G * k * np.tanh(k * H))

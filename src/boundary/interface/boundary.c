@@ -269,6 +269,36 @@ PetscErrorCode FSBoundaryPrepare(FSBoundary b, const FSBoundaryParticles *P, Pet
 }
 
 /*
+   FSBoundaryWallPressure - for the implementations' prepare: the wall pressure of the nel elements from
+   the sums over this rank's particles near each, num[k] = sum_i (p_i + rho_i g.(x_k - x_i)) W_ik V_i and
+   den[k] = sum_i W_ik V_i, held in wp[nel .. 3 nel): summed over the ranks, p_k = num/den (the ambient
+   pressure p_b where no liquid is near). Below p_b, p_k counts with the square of the element's wetted
+   share c_k = min(1, den_k / wetfull_k) (wetfull: the container's Shepard factor at the element), so
+   that the hydrostatic correction does not extrapolate suction onto a dry wall above a free surface
+   (docs/decisions.md), while a covered wall keeps its tension. Into wp[0 .. nel).
+
+   Collective
+*/
+PetscErrorCode FSBoundaryWallPressure(FSBoundary b, PetscInt nel, const PetscReal wetfull[], PetscReal pamb,
+                                      PetscReal wp[])
+{
+  PetscReal *num = wp + nel, *den = num + nel;
+
+  PetscFunctionBegin;
+  PetscCallMPI(
+      MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * nel), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
+  for (PetscInt k = 0; k < nel; k++) {
+    PetscReal pk = den[k] > 0 ? num[k] / den[k] : pamb;
+    if (pk < pamb) {
+      const PetscReal c = PetscMin(1.0, den[k] / wetfull[k]);
+      pk                = pamb + (pk - pamb) * c * c;
+    }
+    wp[k] = pk;
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
    FSBoundaryGetView - the wall terms' view (elements, wall pressure, conditions, loads) and the wall
    elements of every owned particle as the last FSBoundaryPrepare left them: particle i's are
    wk[wstart[i] .. wstart[i+1]-1] with the mean kernel values wW[...].

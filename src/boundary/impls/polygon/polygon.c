@@ -309,17 +309,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
         den[k] += wv;
       }
     }
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * w->nseg), MPIU_REAL, MPI_SUM,
-                               PetscObjectComm((PetscObject)b)));
-    for (PetscInt k = 0; k < w->nseg; k++) {
-      const PetscReal pamb = P->background_pressure;
-      PetscReal       pk   = den[k] > 0 ? num[k] / den[k] : pamb;
-      if (pk < pamb) {
-        const PetscReal c = PetscMin(1.0, den[k] / wd->wetfull[k]);
-        pk                = pamb + (pk - pamb) * c * c;
-      }
-      wd->wp[k] = pk;
-    }
+    PetscCall(FSBoundaryWallPressure(b, w->nseg, wd->wetfull, P->background_pressure, wd->wp));
   }
   /* the pressure loads on the walls, the integral of p_k n_k over the segments (rank 0's share: every
      rank knows every wall pressure) */

@@ -407,17 +407,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
         den[k] += wv;
       }
     }
-    PetscCallMPI(
-        MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * nel), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
-    for (PetscInt k = 0; k < nel; k++) {
-      const PetscReal pamb = P->background_pressure;
-      PetscReal       pk   = den[k] > 0 ? num[k] / den[k] : pamb;
-      if (pk < pamb) {
-        const PetscReal cw = PetscMin(1.0, den[k] / tm->wetfull[k]);
-        pk                 = pamb + (pk - pamb) * cw * cw;
-      }
-      tm->wp[k] = pk;
-    }
+    PetscCall(FSBoundaryWallPressure(b, nel, tm->wetfull, P->background_pressure, tm->wp));
   }
   /* the pressure loads: force sum_k p_k A_k n_k and its moment about the load point (rank 0's share) */
   {
