@@ -121,6 +121,13 @@ typedef struct {
   PetscReal loadpoint[3];
 } FSWallView;
 
+/* The liquid's load on each wall (FSWallView.load, FSSolverGetWallLoads): a row of FS_WALL_LOAD_STRIDE
+   reals per wall, the force (3) at FS_WALL_LOAD_FORCE and its moment about the load point (3) at
+   FS_WALL_LOAD_MOMENT; in 2-D the moment about z is the row's last entry. */
+#define FS_WALL_LOAD_STRIDE 6
+#define FS_WALL_LOAD_FORCE  0
+#define FS_WALL_LOAD_MOMENT 3
+
 /* The wall elements k[q] (q < n) of particle i within its kernel support, with the mean kernel value
    W[q] over each (W[q] measure_k = int_k W(x - x_i) dS), as the boundary's lists give them. */
 typedef struct {

@@ -264,12 +264,12 @@ PetscErrorCode FSCouplingComputeLoads(FSCoupling c, FSBoundary b, FSLoads *loads
     PetscCall(FSBoundaryGetLoads(b, &nwalls, &L));
     PetscCall(FSBoundaryGetLoadPoint(b, lp));
     for (PetscInt w = 0; w < nwalls; w++) {
-      F[0] += L[6 * w];
-      F[1] += L[6 * w + 1];
-      M += L[6 * w + 5];
-      out[0] += L[6 * w + 2];
-      out[1] += L[6 * w + 3];
-      out[2] += L[6 * w + 4];
+      F[0] += L[FS_WALL_LOAD_STRIDE * w];
+      F[1] += L[FS_WALL_LOAD_STRIDE * w + 1];
+      M += L[FS_WALL_LOAD_STRIDE * w + 5];
+      out[0] += L[FS_WALL_LOAD_STRIDE * w + 2];
+      out[1] += L[FS_WALL_LOAD_STRIDE * w + 3];
+      out[2] += L[FS_WALL_LOAD_STRIDE * w + 4];
     }
     M += (lp[0] - c->tank_ref[0]) * F[1] - (lp[1] - c->tank_ref[1]) * F[0];
     for (PetscInt d = 0; d < 3; d++) r[d] = lp[d] - c->tank_ref[d]; /* the moments moved to the reference point */

@@ -77,11 +77,13 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
     PetscInt         nwalls;
     PetscCall(FSBoundaryGetLoads(s->boundary, &nwalls, &L));
     for (PetscInt w = 0; w < PetscMin(nwalls, FS_MAX_WALL_COLUMNS); w++) {
-      if (s->opt.dim == 3) /* force and moment vectors */
-        for (PetscInt c = 0; c < 6; c++) vals[k++] = L[6 * w + c];
-      else { /* the in-plane force and the moment about z */ vals[k++] = L[6 * w];
-        vals[k++]                                                      = L[6 * w + 1];
-        vals[k++]                                                      = L[6 * w + 5];
+      const PetscReal *Lw = &L[FS_WALL_LOAD_STRIDE * w];
+      if (s->opt.dim == 3) { /* force and moment vectors */
+        for (PetscInt c = 0; c < FS_WALL_LOAD_STRIDE; c++) vals[k++] = Lw[c];
+      } else { /* the in-plane force and the moment about z */
+        vals[k++] = Lw[FS_WALL_LOAD_FORCE];
+        vals[k++] = Lw[FS_WALL_LOAD_FORCE + 1];
+        vals[k++] = Lw[FS_WALL_LOAD_MOMENT + 2];
       }
     }
   }

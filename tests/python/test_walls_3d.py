@@ -106,7 +106,7 @@ def test_stl_tank_with_an_obstacle(tmp_path):
     ("no-stl", ["-fs_dim", 3, "-fs_tank_shape", "stl"], ["-fs_tank_stl"]),
     ("width", ["-fs_dim", 3, "-fs_tank_width", 0], ["-fs_tank_width"]),
     ("element-size", ["-fs_dim", 3, "-fs_walls_element_size", 0], ["-fs_walls_element_size", "0"]),
-    ("structure-3d", ["-fs_dim", 3, "-fs_structure", "msd"], ["-fs_structure", "-fs_dim 3"]),
+    ("empty-3d", ["-fs_dim", 3, "-fs_fill", 0], ["-fs_fill 0", "two-dimensional"]),
 ])
 def test_bad_3d_input(tmp_path, name, args, expect):
     """Each bad 3-D input stops the run with an error naming the option or the file (and the triangle)."""

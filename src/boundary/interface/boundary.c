@@ -216,7 +216,7 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
   b->radius = radius;
   PetscCall((*b->ops->setup)(b));
   PetscCall(PetscCalloc1(b->nwalls, &b->noslip));
-  PetscCall(PetscCalloc2(6 * b->nwalls, &b->load, 6 * b->nwalls, &b->loadsum));
+  PetscCall(PetscCalloc2(FS_WALL_LOAD_STRIDE * b->nwalls, &b->load, FS_WALL_LOAD_STRIDE * b->nwalls, &b->loadsum));
   for (PetscInt k = 0; k < b->nnoslipname; k++) {
     PetscBool found = PETSC_FALSE;
     for (PetscInt q = 0; q < b->nwalls; q++)
@@ -263,7 +263,7 @@ PetscErrorCode FSBoundaryUpdate(FSBoundary b, PetscInt nowned, const PetscReal r
 PetscErrorCode FSBoundaryPrepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[])
 {
   PetscFunctionBegin;
-  PetscCall(PetscArrayzero(b->load, 6 * b->nwalls));
+  PetscCall(PetscArrayzero(b->load, FS_WALL_LOAD_STRIDE * b->nwalls));
   PetscCall((*b->ops->prepare)(b, P, gamma));
   PetscFunctionReturn(0);
 }
@@ -353,7 +353,7 @@ PetscErrorCode FSBoundaryGetLoads(FSBoundary b, PetscInt *nwalls, const PetscRea
 {
   PetscFunctionBegin;
   *nwalls = b->nwalls;
-  PetscCallMPI(MPI_Allreduce(b->load, b->loadsum, (PetscMPIInt)(6 * b->nwalls), MPIU_REAL, MPI_SUM,
+  PetscCallMPI(MPI_Allreduce(b->load, b->loadsum, (PetscMPIInt)(FS_WALL_LOAD_STRIDE * b->nwalls), MPIU_REAL, MPI_SUM,
                              PetscObjectComm((PetscObject)b)));
   *loads = b->loadsum;
   PetscFunctionReturn(0);

@@ -91,7 +91,7 @@ FS_ALWAYS_INLINE void ViscosityD(PetscInt D, FSTerm t, const FSParticles *P, con
     if (d <= 0) continue; /* a face turned away (-fs_walls_visibility all): the other side's wall */
     f  = c * nb->W[q] * e[A] / PetscMax(d, dmin);
     sw = Vi * rhoi * f; /* the shear force on the wall is sw u_i */
-    L  = &B->load[6 * B->elementwall[k]];
+    L  = &B->load[FS_WALL_LOAD_STRIDE * B->elementwall[k]];
     for (PetscInt a = 0; a < D; a++) {
       acc[a] -= f * ri[D + a];
       L[a] += sw * ri[D + a];

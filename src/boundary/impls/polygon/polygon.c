@@ -319,7 +319,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
     if (!rank)
       for (PetscInt k = 0; k < w->nseg; k++) {
         const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE], f = wd->wp[k] * sg[FS_SEG_LENGTH];
-        PetscReal       *L = &b->load[6 * w->segwall[k]];
+        PetscReal       *L = &b->load[FS_WALL_LOAD_STRIDE * w->segwall[k]];
         L[0] += f * sg[FS_SEG_NORMAL];
         L[1] += f * sg[FS_SEG_NORMAL + 1];
         L[5] += f * ((sg[FS_SEG_MID] - b->loadpoint[0]) * sg[FS_SEG_NORMAL + 1] -

@@ -419,7 +419,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
         const PetscReal  f[3] = {tm->wp[k] * el[FS_TRI_AREA] * nn[0], tm->wp[k] * el[FS_TRI_AREA] * nn[1],
                                  tm->wp[k] * el[FS_TRI_AREA] * nn[2]};
         const PetscReal  r[3] = {c[0] - b->loadpoint[0], c[1] - b->loadpoint[1], c[2] - b->loadpoint[2]};
-        PetscReal       *L    = &b->load[6 * m->elwall[k]];
+        PetscReal       *L    = &b->load[FS_WALL_LOAD_STRIDE * m->elwall[k]];
         L[0] += f[0];
         L[1] += f[1];
         L[2] += f[2];
