@@ -110,7 +110,8 @@ PetscErrorCode FSMeshAddVertex(FSMesh *m, const PetscReal x[3], PetscInt *v)
     m->vert = vert;
   }
   for (PetscInt d = 0; d < 3; d++) m->vert[3 * m->nvert + d] = x[d];
-  *v = m->nvert++;
+  *v         = m->nvert++;
+  m->checked = PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 
@@ -131,6 +132,7 @@ PetscErrorCode FSMeshAddTriangle(FSMesh *m, PetscInt wall, PetscInt a, PetscInt 
              a, b, c, m->nvert);
   PetscCheck(wall >= 0 && wall < m->nwalls, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
              "Wall %" PetscInt_FMT " does not exist (%" PetscInt_FMT " walls)", wall, m->nwalls);
+  m->checked = PETSC_FALSE;
   if (m->ntri == m->tcap) {
     PetscInt *tri, *triwall, *trisrc;
     m->tcap = PetscMax(64, 2 * m->tcap);
@@ -960,6 +962,7 @@ PetscErrorCode FSMeshCheck(FSMesh *m, MPI_Comm comm)
   PetscErrorCode ierr;
 
   PetscFunctionBegin;
+  if (m->checked) PetscFunctionReturn(0);
   PetscCheck(m->ntri > 0, comm, PETSC_ERR_ARG_WRONG, "The wall mesh has no triangles");
   for (PetscInt d = 0; d < 3; d++) {
     m->lo[d] = PETSC_MAX_REAL;
@@ -991,6 +994,7 @@ PetscErrorCode FSMeshCheck(FSMesh *m, MPI_Comm comm)
   }
   PetscCall(PetscFree2(parent, comp));
   PetscCall(ierr);
+  m->checked = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 

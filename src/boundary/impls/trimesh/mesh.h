@@ -29,6 +29,7 @@ typedef struct {
   char (*source)[PETSC_MAX_PATH_LEN]; /* per wall: the file (or builder) it came from, for error messages */
   PetscReal lo[3], hi[3];             /* bounding box of the vertices, after FSMeshCheck */
   PetscReal volume;                   /* volume enclosed by the container, after FSMeshCheck */
+  PetscBool checked;                  /* FSMeshCheck passed, and no vertex or triangle was added since */
   /* elements, after FSMeshRefine: the triangles subdivided to edges of at most hmax */
   PetscInt   nel;
   PetscReal *el;     /* per element FS_TRI_STRIDE reals */
@@ -65,9 +66,9 @@ PETSC_INTERN PetscErrorCode FSMeshExtrude(FSMesh *, MPI_Comm, const FSWalls *, P
    name (ASCII) or by `name` (binary, or an unnamed solid); rank 0 reads, all ranks get the triangles */
 PETSC_INTERN PetscErrorCode FSMeshLoadSTL(FSMesh *, MPI_Comm, const char path[], const char name[]);
 
-/* the checks before a run (each failure an error naming the file and the triangle): no degenerate
-   triangle, every edge shared by exactly two triangles with opposite orientation, no two triangles
-   intersecting, the container (the closed surface that holds the others) of positive volume; then the
+/* the checks before a run, once (again only after vertices or triangles were added; each failure an
+   error naming the file and the triangle): no degenerate triangle, every edge shared by exactly two
+   triangles with opposite orientation, no two triangles intersecting, the container (the closed surface that holds the others) of positive volume; then the
    obstacles oriented out of the liquid, the bounding box and volume */
 PETSC_INTERN PetscErrorCode FSMeshCheck(FSMesh *, MPI_Comm);
 /* the elements: each triangle split into m^2 similar triangles, m = ceil(longest edge / hmax) */
