@@ -81,6 +81,7 @@ typedef struct {
   PetscInt *cstart; /* nowned+1 */
   PetscInt *cand;
   PetscInt  ccandcap, ncand;
+  PetscInt  maxcand; /* the most candidates of one particle */
   /* neighbour list, built at every right-hand side */
   PetscInt  *start; /* nowned+1 */
   PetscInt  *nbr;   /* neighbour index per pair */
@@ -93,7 +94,14 @@ PETSC_INTERN PetscErrorCode FSNeighboursBuildCells(FSNeighbours *, PetscInt dim,
                                                    PetscInt stride, PetscReal cellsize);
 PETSC_INTERN PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *, PetscInt nowned, const PetscReal rec[],
                                                         PetscInt stride, PetscReal radius);
-PETSC_INTERN PetscErrorCode FSNeighboursReserveList(FSNeighbours *);
+PETSC_INTERN PetscErrorCode FSNeighboursReserveList(FSNeighbours *, PetscReal share, PetscBool all);
+/* the share of the candidates within the kernel support, (support / candidate radius)^dim, for uniformly
+   spread particles: the first estimate of the neighbour list's size */
+static inline PetscReal FSNeighboursShare(const FSNeighbours *nb, const FSKernel *k)
+{
+  const PetscReal r = k->support / nb->cellsize;
+  return nb->dim == 2 ? r * r : r * r * r;
+}
 PETSC_INTERN PetscErrorCode FSNeighboursBuildList(FSNeighbours *, const FSKernel *, PetscInt nowned,
                                                   const PetscReal rec[], PetscInt stride);
 PETSC_INTERN PetscErrorCode FSNeighboursDestroy(FSNeighbours *);

@@ -79,9 +79,9 @@ PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n
 
 static PetscErrorCode FSNeighboursGrow(FSNeighbours *nb, PetscInt64 need)
 {
-  PetscInt  *nbr;
-  PetscReal *F;
-  PetscInt64 cap = PetscMax(need, (PetscInt64)(1.5 * nb->pcap));
+  PetscInt        *nbr;
+  PetscReal       *F;
+  const PetscInt64 cap = need; /* the callers add their margins */
 
   PetscFunctionBegin;
   PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
@@ -99,7 +99,7 @@ static PetscErrorCode FSNeighboursGrow(FSNeighbours *nb, PetscInt64 need)
 static PetscErrorCode FSNeighboursGrowCandidates(FSNeighbours *nb, PetscInt64 need)
 {
   PetscInt  *cand;
-  PetscInt64 cap = PetscMax(need, (PetscInt64)(1.5 * nb->ccandcap));
+  PetscInt64 cap = PetscMax(need, (PetscInt64)(1.25 * nb->ccandcap));
 
   PetscFunctionBegin;
   PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
@@ -174,18 +174,32 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
   }
   nb->cstart[nowned] = nc;
   nb->ncand          = nc;
+  nb->maxcand        = 0;
+  for (PetscInt i = 0; i < nowned; i++) nb->maxcand = PetscMax(nb->maxcand, nb->cstart[i + 1] - nb->cstart[i]);
   PetscFunctionReturn(0);
 }
 
 /*
-   FSNeighboursReserveList - makes room in the neighbour list (nbr, F) for every candidate pair, the most
-   it can hold. For the builders of the list: FSNeighboursBuildList, and the first pass of the right-hand
-   side (src/solver/rhs.c), which picks the neighbours from the candidates itself while it visits them.
+   FSNeighboursReserveList - makes room in the neighbour list (nbr, F) for the pairs of this right-hand
+   side: all = PETSC_TRUE, for every candidate pair (the most the list can hold); otherwise for an
+   estimate, the pairs of the last list (or, the first time, the candidates' share within the support,
+   (support / candidate radius)^dim) and a tenth more, plus one particle's candidates (the builders
+   write each candidate before they know whether it is kept). The builders check the room particle by
+   particle: FSNeighboursBuildList grows the list, the first pass of the right-hand side (src/solver/rhs.c),
+   which picks the neighbours from the candidates itself while it visits them, starts again with all.
+   A list sized for every candidate held twice the pairs in 3-D (about 520 candidates, 270 neighbours).
 */
-PetscErrorCode FSNeighboursReserveList(FSNeighbours *nb)
+PetscErrorCode FSNeighboursReserveList(FSNeighbours *nb, PetscReal share, PetscBool all)
 {
+  PetscInt64 need = nb->ncand;
+
   PetscFunctionBegin;
-  if (nb->ncand > nb->pcap) PetscCall(FSNeighboursGrow(nb, nb->ncand));
+  if (!all) {
+    const PetscInt64 pairs = nb->npairs > 0 ? nb->npairs : (PetscInt64)(share * nb->ncand);
+    if (pairs + nb->maxcand + 1 <= nb->pcap) PetscFunctionReturn(0); /* room enough as it is */
+    need = PetscMin(need, (PetscInt64)(1.1 * pairs) + nb->maxcand + 1);
+  }
+  if (need > nb->pcap) PetscCall(FSNeighboursGrow(nb, need));
   PetscFunctionReturn(0);
 }
 
@@ -202,11 +216,14 @@ PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *kern, Pet
   PetscInt        np  = 0;
 
   PetscFunctionBegin;
-  PetscCall(FSNeighboursReserveList(nb));
+  PetscCall(FSNeighboursReserveList(nb, FSNeighboursShare(nb, kern), PETSC_FALSE));
   for (PetscInt i = 0; i < nowned; i++) {
     const PetscReal *xi = &rec[i * stride];
     const PetscInt   b0 = np;
     nb->start[i]        = np;
+    if (np + (nb->cstart[i + 1] - nb->cstart[i]) > nb->pcap)
+      PetscCall(FSNeighboursGrow(nb, PetscMax((PetscInt64)np + (nb->cstart[i + 1] - nb->cstart[i]) + nb->maxcand,
+                                              (PetscInt64)(1.25 * nb->pcap))));
     /* without branches, as in FSNeighboursBuildCandidates; F holds r^2 until the loop after */
     if (dim == 2) {
       for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {

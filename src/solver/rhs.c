@@ -89,7 +89,7 @@ static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscRe
    same as with the list built first. The body is written for a compile-time dimension (FS_ALWAYS_INLINE)
    so that the small dim x dim loops unroll and the sums stay in registers.
 */
-FS_ALWAYS_INLINE void FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const PetscBool build)
+FS_ALWAYS_INLINE PetscBool FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const PetscBool build)
 {
   FSNeighbours    *nb = &s->pw.nbrs;
   const PetscInt   S = s->pw.stride, A = s->pw.auxstride, n = s->pw.nowned;
@@ -107,6 +107,7 @@ FS_ALWAYS_INLINE void FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const
          good as random, and mispredicted branches cost more than the stores): every candidate is
          written at the end of the list and the end moves on only for those inside. F holds r^2
          until the next loop. */
+      if (np + (nb->cstart[i + 1] - nb->cstart[i]) > nb->pcap) return PETSC_FALSE; /* no room: again, with all */
       b0 = nb->start[i] = np;
       for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
         const PetscInt   j  = nb->cand[q];
@@ -169,20 +170,24 @@ FS_ALWAYS_INLINE void FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const
     nb->start[n] = np;
     nb->npairs   = np;
   }
+  return PETSC_TRUE;
 }
 
 static PetscErrorCode FSSolverFirstPass(FSSolver s, PetscBool build)
 {
+  PetscBool done = PETSC_FALSE;
+
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
-  if (build) PetscCall(FSNeighboursReserveList(&s->pw.nbrs));
-  if (s->opt.dim == 2) {
-    if (build) FSSolverFirstPassDim(s, 2, PETSC_TRUE);
-    else FSSolverFirstPassDim(s, 2, PETSC_FALSE);
-  } else {
-    if (build) FSSolverFirstPassDim(s, 3, PETSC_TRUE);
-    else FSSolverFirstPassDim(s, 3, PETSC_FALSE);
+  if (build)
+    PetscCall(FSNeighboursReserveList(&s->pw.nbrs, FSNeighboursShare(&s->pw.nbrs, &s->pw.kernel), PETSC_FALSE));
+  for (PetscInt attempt = 0; attempt < 2 && !done; attempt++) {
+    if (attempt) PetscCall(FSNeighboursReserveList(&s->pw.nbrs, 0, PETSC_TRUE)); /* the estimate was short */
+    if (s->opt.dim == 2)
+      done = build ? FSSolverFirstPassDim(s, 2, PETSC_TRUE) : FSSolverFirstPassDim(s, 2, PETSC_FALSE);
+    else done = build ? FSSolverFirstPassDim(s, 3, PETSC_TRUE) : FSSolverFirstPassDim(s, 3, PETSC_FALSE);
   }
+  PetscCheck(done, PETSC_COMM_SELF, PETSC_ERR_PLIB, "The neighbour list has no room for the candidate pairs");
   PetscCall(PetscLogEventEnd(FS_FirstPass, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

@@ -219,7 +219,7 @@ static PetscErrorCode GrowCandidates(FSBoundary_Trimesh *tm, PetscInt nc)
   PetscFunctionBegin;
   if (nc == tm->ccap) {
     PetscInt *cand;
-    tm->ccap = PetscMax(4096, 2 * tm->ccap);
+    tm->ccap = PetscMax(4096, (PetscInt)(1.25 * tm->ccap));
     PetscCall(PetscMalloc1(tm->ccap, &cand));
     if (nc) PetscCall(PetscArraycpy(cand, tm->cand, nc));
     PetscCall(PetscFree(tm->cand));
@@ -365,7 +365,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
   PetscFunctionBegin;
   if (tm->cstart[n] > tm->wcap) {
     PetscCall(PetscFree2(b->wk, b->wW));
-    tm->wcap = PetscMax(tm->cstart[n], 2 * tm->wcap);
+    tm->wcap = PetscMax(tm->cstart[n], (PetscInt)(1.25 * tm->wcap));
     PetscCall(PetscMalloc2(tm->wcap, &b->wk, tm->wcap, &b->wW));
   }
   for (PetscInt i = 0; i < n; i++) {
