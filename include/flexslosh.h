@@ -66,6 +66,8 @@ PETSC_EXTERN PetscErrorCode FSSolverRestoreField(FSSolver, const char[], PetscIn
 PETSC_EXTERN PetscErrorCode FSSolverGetWallLoads(FSSolver, PetscInt *, const char *[], const PetscReal *[]);
 PETSC_EXTERN PetscErrorCode FSSolverGetEnergy(FSSolver, PetscInt *, const char *[], PetscReal[]);
 PETSC_EXTERN PetscErrorCode FSSolverGetLiquidMass(FSSolver, PetscReal *);
+#define FS_PROBE_MAX_VALUES 4 /* values of one probe (pressure, velocity) or gauge (elevation) */
+PETSC_EXTERN PetscErrorCode FSSolverGetProbes(FSSolver, PetscInt *, const char *[], PetscInt[], PetscReal[]);
 
 /* ---------- terms ---------- */
 /* What a term needs the core to compute in the first pass over neighbour pairs. */

@@ -41,6 +41,7 @@ PetscErrorCode FSSolverGetField(FSSolver, const char[], PetscInt *, PetscInt *, 
 PetscErrorCode FSSolverRestoreField(FSSolver, const char[], PetscInt *, PetscInt *, const PetscReal *[]);
 PetscErrorCode FSSolverGetWallLoads(FSSolver, PetscInt *, const char *[], const PetscReal *[]);
 PetscErrorCode FSSolverGetEnergy(FSSolver, PetscInt *, const char *[], PetscReal[]);
+PetscErrorCode FSSolverGetProbes(FSSolver, PetscInt *, const char *[], PetscInt[], PetscReal[]);
 PetscErrorCode FSSolverGetLiquidMass(FSSolver, PetscReal *);
 PetscErrorCode FSSolverGetStructureState(FSSolver, PetscInt *, PetscReal[]);
 PetscErrorCode FSSolverGetTankMotion(FSSolver, FSTankMotion *);
@@ -91,6 +92,7 @@ typedef struct { PetscReal force[3], moment[3]; ...; } FSLoads;
 typedef struct { PetscReal disp[3], vel[3], acc[3]; PetscReal angle, rate, angacc; ...; } FSTankMotion;
 typedef struct { ...; } FSStructureCallbacks;
 #define FS_ENERGY_MAX_COLUMNS ...
+#define FS_PROBE_MAX_VALUES ...
 extern PetscBool PetscInitializeCalled;
 """ + HEADER_FUNCTIONS + HELPER_FUNCTIONS + CALLBACKS
 

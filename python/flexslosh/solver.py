@@ -521,3 +521,22 @@ class Solver:
         self.set_up()
         self._call("FSSolverGetEnergy", n, names, vals)
         return {ffi.string(names[k]).decode(): vals[k] for k in range(n[0])}
+
+    def probes(self) -> dict[str, Any]:
+        """The probes and wave gauges of -fs_probes at the current state (the columns of probes.csv):
+        {name: value} in the file's order, a probe's value a numpy array (pressure, velocity_x,
+        velocity_y[, velocity_z]), a gauge's its elevation (float); {} without -fs_probes, every
+        rank. Collective."""
+        ffi, n = self._core.ffi, self._new("PetscInt *")
+        self.set_up()
+        self._call("FSSolverGetProbes", n, ffi.NULL, ffi.NULL, ffi.NULL)
+        if not n[0]:
+            return {}
+        names, offsets = self._new("const char *[]", n[0]), self._new("PetscInt[]", n[0] + 1)
+        vals = self._new("PetscReal[]", self._core.lib.FS_PROBE_MAX_VALUES * n[0])
+        self._call("FSSolverGetProbes", n, names, offsets, vals)
+        out: dict[str, Any] = {}
+        for k in range(n[0]):
+            v = np.array([vals[q] for q in range(offsets[k], offsets[k + 1])], dtype=self._core.real)
+            out[ffi.string(names[k]).decode()] = float(v[0]) if v.size == 1 else v
+        return out

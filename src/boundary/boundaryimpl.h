@@ -24,6 +24,8 @@ struct _FSBoundaryOps {
   PetscErrorCode (*bounce)(FSBoundary, PetscInt n, PetscReal x[], PetscReal v[], const PetscReal m[],
                            FSParticleEnergyFn, void *, PetscReal de[2]);
   PetscErrorCode (*boundingbox)(FSBoundary, PetscReal lo[], PetscReal hi[]);
+  /* the walls' Shepard factor gamma at a point, from every element (FSBoundaryShepardAt); not collective */
+  PetscErrorCode (*shepard)(FSBoundary, const PetscReal x[], PetscReal *gamma);
   /* rank 0: the walls into the geometry picture */
   PetscErrorCode (*draw)(FSBoundary, FSImage *, const FSImageMap *);
   /* the walls as files for ParaView (collective) */

@@ -8,6 +8,7 @@
      FSBoundaryPrepare    at every right-hand side: gamma of the owned particles, each particle's wall
                           elements within the support, the wall pressure and loads (FSBoundaryGetView)
      FSBoundaryBounce     after each step: particles too close to a wall bounce back
+     FSBoundaryShepardAt  the walls' Shepard factor at any point (the wave gauges)
      FSBoundaryGetLoads, FSBoundaryDraw, FSBoundaryWriteGeometry, FSBoundarySummary, FSBoundaryView
 
    Implementations register with FSBoundaryRegister (src/boundary/impls/<name>/) and are chosen with
@@ -65,6 +66,7 @@ PETSC_INTERN PetscErrorCode FSBoundaryBounce(FSBoundary, PetscInt n, PetscReal x
                                              FSParticleEnergyFn, void *, PetscReal de[2]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetLoads(FSBoundary, PetscInt *nwalls, const PetscReal **loads);
 PETSC_INTERN PetscErrorCode FSBoundaryGetWallNames(FSBoundary, PetscInt *nwalls, const char *const **names);
+PETSC_INTERN PetscErrorCode FSBoundaryShepardAt(FSBoundary, const PetscReal x[], PetscReal *gamma);
 PETSC_INTERN PetscErrorCode FSBoundaryGetBoundingBox(FSBoundary, PetscReal lo[], PetscReal hi[]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetLoadPoint(FSBoundary, PetscReal point[3]);
 PETSC_INTERN PetscErrorCode FSBoundaryDraw(FSBoundary, FSImage *, const FSImageMap *);

@@ -178,6 +178,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   PetscCall(FSSnapshotWriterCreate(comm, s->opt.outdir, s->opt.restart[0] ? t : -1.0, &s->mon.snapshots));
   PetscCall(FSSolverCheckState(s));
   PetscCall(FSSolverAppendSeries(s)); /* on restart, the series was cut just before this row */
+  PetscCall(FSSolverProbesBegin(s));  /* probes.csv, as the series */
   if (!s->opt.restart[0]) PetscCall(FSSolverWriteSnapshot(s));
   PetscFunctionReturn(0);
 }
@@ -194,6 +195,7 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCall(FSSolverAppendSeries(s));
+  PetscCall(FSSolverProbesMonitor(s));
   if (s->opt.write_output && s->opt.output_interval > 0 && t >= s->mon.next_output - 1e-9 * s->opt.output_interval) {
     PetscCall(FSSolverWriteSnapshot(s));
     while (s->mon.next_output <= t + 1e-9 * s->opt.output_interval) s->mon.next_output += s->opt.output_interval;

@@ -45,6 +45,8 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.progress_interval     = 5.0;
   s->opt.write_output          = PETSC_TRUE;
   s->opt.sort_interval         = 1;
+  s->mon.probes.interval       = 1;
+  s->mon.probes.step           = -1;
   s->opt.final_time            = 1.0;
   s->opt.structure_cfl         = 0.02;
   PetscCall(PetscStrncpy(s->opt.structname, "none", sizeof(s->opt.structname)));
@@ -341,6 +343,15 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
              "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->opt.checkpoint_interval);
   PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint",
                                s->opt.restart, s->opt.restart, sizeof(s->opt.restart), NULL));
+  PetscCall(PetscOptionsString("-fs_probes",
+                               "File of pressure probes and wave gauges (\"probe NAME x y [z] [diameter D]\", "
+                               "\"gauge NAME x0 y0 [z0] x1 y1 [z1]\"): their values into <output_dir>/probes.csv",
+                               "FSSolverGetProbes", s->mon.probes.file, s->mon.probes.file, sizeof(s->mon.probes.file),
+                               NULL));
+  PetscCall(PetscOptionsInt("-fs_probe_interval", "Steps between the samples of the probes and gauges",
+                            "FSSolverGetProbes", s->mon.probes.interval, &s->mon.probes.interval, NULL));
+  PetscCheck(s->mon.probes.interval >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_probe_interval %" PetscInt_FMT " must be at least 1", s->mon.probes.interval);
   PetscCall(PetscOptionsBool("-fs_geometry_view",
                              "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 "
                              "snapshot), then stop without time stepping",
@@ -404,6 +415,8 @@ relaxation: the velocities are damped until this time .  -fs_output_dir <dir>   
 output/<case>) .  -fs_output_interval <t>         - simulated time between particle snapshots (0: first and last only)
 .  -fs_checkpoint_interval <n>     - steps between checkpoints (0: none)
 .  -fs_restart <file>              - continue from a checkpoint
+.  -fs_probes <file>               - pressure probes and wave gauges, sampled into probes.csv (docs/running.md)
+.  -fs_probe_interval <1>          - steps between the samples of the probes and gauges
 .  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) and
 stop after set-up
 -  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
@@ -660,6 +673,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscCall(FSSolverComputeStableDt(s, &dt));
     PetscCall(TSSetTimeStep(s->ts, dt));
   }
+  PetscCall(FSSolverProbesSetUp(s));
   s->setupcalled = PETSC_TRUE;
   if (s->opt.geometry_view) {
     PetscCall(FSSolverGeometryView(s, s->opt.outdir));
@@ -745,6 +759,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSSnapshotWriterDestroy(&s->mon.snapshots));
   PetscCall(FSTimeSeriesDestroy(&s->mon.series));
   PetscCall(FSTimeSeriesDestroy(&s->mon.energyseries));
+  PetscCall(FSSolverProbesDestroy(s));
   PetscCall(TSDestroy(&s->ts));
   PetscCall(VecDestroy(&s->state.U));
   PetscCall(VecDestroy(&s->state.Uprev));

@@ -96,6 +96,36 @@ typedef struct {
   PetscReal          relax_power; /* power of the start-up relaxation of the last right-hand side, this rank's share */
 } FSSolverState;
 
+/* Probes and wave gauges (-fs_probes, src/solver/probes.c): the items of the file, their current
+   values and probes.csv. */
+#define FS_PROBE_NAME_LEN 64
+typedef struct {
+  char      name[FS_PROBE_NAME_LEN];
+  PetscBool gauge;
+  PetscReal x0[3], x1[3];    /* a probe's point (x0), a gauge's line from x0 to x1 */
+  PetscReal diameter;        /* a probe on a wall: the diameter over which it averages the wall pressure (0: none) */
+  PetscInt  estart, eend;    /* a probe on a wall: its wall elements in FSProbeSet.elem[estart..eend), else equal */
+  PetscInt  sample, nsample; /* a gauge: its first sample (in the samples' arrays) and their number */
+  PetscBool vertical;        /* a gauge along y: its elevation is the y coordinate, else the distance from x0 */
+} FSProbe;
+
+typedef struct {
+  char       file[PETSC_MAX_PATH_LEN]; /* -fs_probes */
+  PetscInt   interval;                 /* -fs_probe_interval (steps) */
+  PetscInt   n, nvalues, nsamples, nelem;
+  FSProbe   *item;
+  PetscInt  *offset; /* n+1: item k's values are values[offset[k] .. offset[k+1]) */
+  PetscReal *values; /* the values of the state sampled last: a probe's pressure and velocity, a gauge's elevation */
+  PetscReal *sgamma; /* per gauge sample: the walls' Shepard factor there (1 without walls) */
+  PetscReal *sums;   /* the sums of one sample: per probe 2+dim, then one per gauge sample */
+  PetscInt  *elem;   /* the wall elements of the probes on walls */
+  char (*colname)[FS_PROBE_NAME_LEN + 32];
+  const char **names;  /* the items' names, for FSSolverGetProbes */
+  FSTimeSeries series; /* probes.csv */
+  PetscInt     step;   /* the step of values (-1: none yet) */
+  PetscReal    time;
+} FSProbeSet;
+
 /* The monitors and output writers, and the run's statistics. */
 typedef struct {
   FSSnapshotWriter snapshots;
@@ -111,6 +141,7 @@ typedef struct {
   PetscReal        t0, last_snapshot_time;
   PetscReal       *field; /* output staging */
   PetscInt         fieldcap;
+  FSProbeSet       probes; /* -fs_probes */
 } FSMonitorData;
 
 typedef struct _FSSolverOps *FSSolverOps;
@@ -157,6 +188,10 @@ PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverProbesSetUp(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverProbesBegin(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverProbesMonitor(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverProbesDestroy(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetParticles(FSSolver, FSParticles *);
 PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool count);
 

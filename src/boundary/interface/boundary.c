@@ -368,6 +368,24 @@ PetscErrorCode FSBoundaryGetWallNames(FSBoundary b, PetscInt *nwalls, const char
   PetscFunctionReturn(0);
 }
 
+/*
+   FSBoundaryShepardAt - the walls' Shepard factor gamma(x), the share of the kernel support of a point x
+   that lies inside the liquid region, from every wall element (as the particles' gamma, with the
+   visibility rule of -fs_walls_visibility); 1 far from the walls. Cost: one pass over the elements.
+
+   Not collective
+*/
+PetscErrorCode FSBoundaryShepardAt(FSBoundary b, const PetscReal x[], PetscReal *gamma)
+{
+  PetscFunctionBegin;
+  PetscCheck(b->setupcalled, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_WRONGSTATE,
+             "FSBoundaryShepardAt(): call FSBoundarySetUp() first");
+  PetscCheck(b->ops->shepard, PetscObjectComm((PetscObject)b), PETSC_ERR_SUP,
+             "Boundary type %s gives no Shepard factor at a point", ((PetscObject)b)->type_name);
+  PetscCall((*b->ops->shepard)(b, x, gamma));
+  PetscFunctionReturn(0);
+}
+
 /* FSBoundaryGetBoundingBox - the box around every wall (dim values each). Not collective. */
 PetscErrorCode FSBoundaryGetBoundingBox(FSBoundary b, PetscReal lo[], PetscReal hi[])
 {

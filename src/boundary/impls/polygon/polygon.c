@@ -379,6 +379,17 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal 
   PetscFunctionReturn(0);
 }
 
+/* gamma at a point from every element (FSBoundaryShepardAt) */
+static PetscErrorCode ShepardAt(FSBoundary b, const PetscReal x[], PetscReal *gamma)
+{
+  FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
+  PetscReal           grad[3];
+
+  PetscFunctionBegin;
+  PetscCall(FSWallsShepard(&wd->walls, b->h, x, wd->visall, gamma, grad));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode BoundingBox(FSBoundary b, PetscReal lo[], PetscReal hi[])
 {
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
@@ -444,6 +455,7 @@ PetscErrorCode FSBoundaryCreate_Polygon(FSBoundary b)
   b->ops->prepare        = Prepare;
   b->ops->bounce         = Bounce;
   b->ops->boundingbox    = BoundingBox;
+  b->ops->shepard        = ShepardAt;
   b->ops->draw           = FSBoundaryDraw_Polygon;
   b->ops->writegeometry  = FSBoundaryWriteGeometry_Polygon;
   b->ops->view           = View;

@@ -486,6 +486,17 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal 
   PetscFunctionReturn(0);
 }
 
+/* gamma at a point from every element (FSBoundaryShepardAt) */
+static PetscErrorCode ShepardAt(FSBoundary b, const PetscReal x[], PetscReal *gamma)
+{
+  FSBoundary_Trimesh *wd = (FSBoundary_Trimesh *)b->data;
+  PetscReal           grad[3];
+
+  PetscFunctionBegin;
+  PetscCall(FSMeshShepard(&wd->mesh, b->h, x, wd->visall, gamma, grad));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode BoundingBox(FSBoundary b, PetscReal lo[], PetscReal hi[])
 {
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
@@ -554,6 +565,7 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   b->ops->prepare        = Prepare;
   b->ops->bounce         = Bounce;
   b->ops->boundingbox    = BoundingBox;
+  b->ops->shepard        = ShepardAt;
   b->ops->draw           = FSBoundaryDraw_Trimesh;
   b->ops->writegeometry  = FSBoundaryWriteGeometry_Trimesh;
   b->ops->view           = View;

@@ -1,0 +1,513 @@
+/*
+   Probes and wave gauges (-fs_probes FILE, -fs_probe_interval N): the pressure and velocity of the
+   liquid at points, and the free-surface elevation along lines, every N steps into probes.csv and
+   through FSSolverGetProbes(). docs/running.md, "Probes and wave gauges", has the file format and the
+   interpolation.
+
+   Each sample evaluates the right-hand side once at the current state (as the snapshots' pressure
+   does), so that the particles' volumes and pressures, the body field of the tank's frame and the wall
+   pressure are those of the state sampled, not of the step's last stage.
+*/
+#include "solver/solverimpl.h"
+#include <ctype.h>
+
+/* The probe file's text, read on rank 0 and broadcast (every rank parses the same text, so that every
+   rank raises the same error). */
+static PetscErrorCode FSProbesReadFile(MPI_Comm comm, const char path[], char **text)
+{
+  PetscMPIInt rank;
+  long        len = 0;
+  char       *buf = NULL;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!rank) {
+    FILE *fp = fopen(path, "rb");
+    if (!fp) len = -1;
+    else {
+      if (fseek(fp, 0, SEEK_END) == 0) len = ftell(fp);
+      if (len < 0 || fseek(fp, 0, SEEK_SET) != 0) len = -1;
+      if (len >= 0) {
+        PetscCall(PetscMalloc1(len + 1, &buf));
+        if ((long)fread(buf, 1, (size_t)len, fp) != len) len = -1;
+      }
+      fclose(fp);
+    }
+  }
+  PetscCallMPI(MPI_Bcast(&len, 1, MPI_LONG, 0, comm));
+  PetscCheck(len >= 0, comm, PETSC_ERR_FILE_OPEN, "Cannot read the probe file \"%s\" (-fs_probes)", path);
+  if (rank) PetscCall(PetscMalloc1(len + 1, &buf));
+  PetscCallMPI(MPI_Bcast(buf, (PetscMPIInt)len, MPI_CHAR, 0, comm));
+  buf[len] = 0;
+  *text    = buf;
+  PetscFunctionReturn(0);
+}
+
+/* a number of the probe file, or PETSC_FALSE */
+static PetscBool FSProbesNumber(const char *tok, PetscReal *v)
+{
+  char  *end;
+  double d;
+  if (!tok) return PETSC_FALSE;
+  d = strtod(tok, &end);
+  if (end == tok || *end || PetscIsInfOrNanReal((PetscReal)d)) return PETSC_FALSE;
+  *v = (PetscReal)d;
+  return PETSC_TRUE;
+}
+
+/* Parses the probe file's text into the set's items, checking each line. */
+static PetscErrorCode FSProbesParse(FSSolver s, char *text)
+{
+  MPI_Comm        comm   = PetscObjectComm((PetscObject)s);
+  FSProbeSet     *ps     = &s->mon.probes;
+  const PetscInt  dim    = s->opt.dim;
+  const char     *path   = ps->file;
+  PetscInt        lineno = 0, cap = 0;
+  char           *line, *next     = text;
+  const PetscReal span = PetscMax(s->pw.hi[0] - s->pw.lo[0], s->pw.hi[1] - s->pw.lo[1]), tol = 1e-9 * span;
+
+  PetscFunctionBegin;
+  for (char *c = text; *c; c++) cap += (*c == '\n');
+  PetscCall(PetscCalloc1(cap + 1, &ps->item));
+  ps->n = 0;
+  while (next) { /* line by line (strtok would skip empty lines and miscount) */
+    char    *tok[16], *hash, *tsave = NULL;
+    PetscInt ntok = 0;
+    FSProbe *it   = &ps->item[ps->n];
+    line          = next;
+    next          = strchr(line, '\n');
+    if (next) *next++ = 0;
+    lineno++;
+    if ((hash = strchr(line, '#'))) *hash = 0;
+    for (char *t = strtok_r(line, " \t\r\f\v", &tsave); t; t = strtok_r(NULL, " \t\r\f\v", &tsave)) {
+      PetscCheck(ntok < 16, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": too many values", path, lineno);
+      tok[ntok++] = t;
+    }
+    if (!ntok) continue;
+    PetscCheck(!strcmp(tok[0], "probe") || !strcmp(tok[0], "gauge"), comm, PETSC_ERR_FILE_UNEXPECTED,
+               "%s:%" PetscInt_FMT ": unknown item \"%s\": expected \"probe NAME x y%s [diameter D]\" or \"gauge NAME "
+               "x0 y0%s x1 y1%s\"",
+               path, lineno, tok[0], dim == 3 ? " z" : "", dim == 3 ? " z0" : "", dim == 3 ? " z1" : "");
+    it->gauge = (PetscBool)!strcmp(tok[0], "gauge");
+    PetscCheck(ntok >= 2, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": \"%s\" needs a name", path, lineno,
+               tok[0]);
+    PetscCheck(strlen(tok[1]) < FS_PROBE_NAME_LEN && !strpbrk(tok[1], ",\"") && !isdigit((unsigned char)tok[1][0]) &&
+                   tok[1][0] != '-' && tok[1][0] != '.',
+               comm, PETSC_ERR_FILE_UNEXPECTED,
+               "%s:%" PetscInt_FMT ": bad name \"%s\": a name starts with a letter, has no comma or quote and fewer "
+               "than %d characters",
+               path, lineno, tok[1], FS_PROBE_NAME_LEN);
+    for (PetscInt k = 0; k < ps->n; k++)
+      PetscCheck(strcmp(ps->item[k].name, tok[1]), comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT ": duplicate name \"%s\": every probe and gauge needs its own", path, lineno,
+                 tok[1]);
+    PetscCall(PetscStrncpy(it->name, tok[1], sizeof(it->name)));
+    if (!it->gauge) {
+      const PetscBool diam = (PetscBool)(ntok == 2 + dim + 2 && !strcmp(tok[2 + dim], "diameter"));
+      PetscBool       ok   = (PetscBool)(ntok == 2 + dim || diam);
+      for (PetscInt d = 0; ok && d < dim; d++) ok = FSProbesNumber(tok[2 + d], &it->x0[d]);
+      if (ok && diam) ok = (PetscBool)(FSProbesNumber(tok[3 + dim], &it->diameter) && it->diameter > 0);
+      PetscCheck(ok, comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT ": probe \"%s\": expected \"probe NAME x y%s [diameter D]\" (%" PetscInt_FMT
+                 " coordinates, a positive diameter D)",
+                 path, lineno, it->name, dim == 3 ? " z" : "", dim);
+      for (PetscInt d = 0; d < dim; d++)
+        PetscCheck(it->x0[d] >= s->pw.lo[d] - tol && it->x0[d] <= s->pw.hi[d] + tol, comm, PETSC_ERR_FILE_UNEXPECTED,
+                   "%s:%" PetscInt_FMT ": probe \"%s\" is outside the domain: coordinate %" PetscInt_FMT
+                   " = %g is not in [%g, %g]",
+                   path, lineno, it->name, d, (double)it->x0[d], (double)s->pw.lo[d], (double)s->pw.hi[d]);
+    } else {
+      PetscBool ok = (PetscBool)(ntok == 2 + 2 * dim);
+      PetscReal L2 = 0;
+      for (PetscInt d = 0; ok && d < dim; d++)
+        ok = (PetscBool)(FSProbesNumber(tok[2 + d], &it->x0[d]) && FSProbesNumber(tok[2 + dim + d], &it->x1[d]));
+      PetscCheck(ok, comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT ": gauge \"%s\": expected \"gauge NAME x0 y0%s x1 y1%s\" (%" PetscInt_FMT
+                 " numbers: the line's start, then its end)",
+                 path, lineno, it->name, dim == 3 ? " z0" : "", dim == 3 ? " z1" : "", 2 * dim);
+      for (PetscInt d = 0; d < dim; d++) L2 += PetscSqr(it->x1[d] - it->x0[d]);
+      PetscCheck(PetscSqrtReal(L2) > tol, comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT ": gauge \"%s\" has zero length: its two ends are the same point", path, lineno,
+                 it->name);
+    }
+    ps->n++;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* the distance from x to a wall element's plane (line in 2-D), and whether x lies within the element's
+   extent along it (its half length in 2-D, the radius of a disc of twice its area in 3-D, plus tol) */
+static void FSProbesElementDistance(const FSWallView *B, PetscInt e, const PetscReal x[], PetscReal tol, PetscReal *dn,
+                                    PetscBool *over)
+{
+  const PetscReal *row = &B->element[e * B->stride], *c = row + B->centroid, *nrm = row + B->normal;
+  const PetscReal  ext = B->dim == 2 ? 0.5 * row[B->measure] : PetscSqrtReal(2 * row[B->measure] / PETSC_PI);
+  PetscReal        d = 0, r2 = 0;
+  for (PetscInt a = 0; a < B->dim; a++) d += (x[a] - c[a]) * nrm[a];
+  for (PetscInt a = 0; a < B->dim; a++) r2 += PetscSqr(x[a] - c[a] - d * nrm[a]);
+  *dn   = PetscAbsReal(d);
+  *over = (PetscBool)(PetscSqrtReal(r2) <= ext + tol);
+}
+
+/*
+   FSSolverProbesSetUp - reads -fs_probes, checks the items against the domain, finds the wall elements
+   of the probes on walls and the samples of the gauges with the walls' Shepard factor at each. Called
+   by FSSolverSetUp().
+
+   Collective
+*/
+PetscErrorCode FSSolverProbesSetUp(FSSolver s)
+{
+  MPI_Comm          comm = PetscObjectComm((PetscObject)s);
+  FSProbeSet       *ps   = &s->mon.probes;
+  const PetscInt    dim  = s->opt.dim;
+  const PetscReal   dx   = s->opt.dx;
+  const FSWallView *B    = NULL;
+  char             *text;
+  PetscInt          nv = 0;
+
+  PetscFunctionBegin;
+  if (!ps->file[0]) PetscFunctionReturn(0);
+  PetscCall(FSProbesReadFile(comm, ps->file, &text));
+  PetscCall(FSProbesParse(s, text));
+  PetscCall(PetscFree(text));
+  if (s->boundary) {
+    const PetscInt  *wstart, *wk;
+    const PetscReal *wW;
+    PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
+  }
+  /* the probes on walls: the nearest element, then those of its wall within D/2 */
+  PetscCall(PetscMalloc1(PetscMax(1, B ? B->nelements : 0), &ps->elem));
+  ps->nelem    = 0;
+  ps->nsamples = 0;
+  for (PetscInt k = 0; k < ps->n; k++) {
+    FSProbe *it = &ps->item[k];
+    it->estart = it->eend = ps->nelem;
+    if (it->gauge) {
+      PetscReal L = 0, dev = 0;
+      for (PetscInt d = 0; d < dim; d++) L += PetscSqr(it->x1[d] - it->x0[d]);
+      L = PetscSqrtReal(L);
+      for (PetscInt d = 0; d < dim; d++)
+        if (d != 1) dev = PetscMax(dev, PetscAbsReal(it->x1[d] - it->x0[d]));
+      it->vertical = (PetscBool)(dev <= 1e-12 * L);
+      it->sample   = ps->nsamples;
+      it->nsample  = (PetscInt)PetscCeilReal(L / (0.25 * dx) - 1e-9) + 1; /* spaced at most dx/4 */
+      ps->nsamples += it->nsample;
+      continue;
+    }
+    if (B && B->nelements) {
+      PetscInt  near = -1;
+      PetscReal best = PETSC_MAX_REAL, dn;
+      PetscBool over;
+      for (PetscInt e = 0; e < B->nelements; e++) { /* the nearest element among those x lies over */
+        FSProbesElementDistance(B, e, it->x0, 0.5 * dx, &dn, &over);
+        if (over && dn < best) {
+          best = dn;
+          near = e;
+        }
+      }
+      if (near >= 0 && best < 0.5 * dx) {
+        if (it->diameter > 0)
+          for (PetscInt e = 0; e < B->nelements; e++) {
+            const PetscReal *c  = &B->element[e * B->stride + B->centroid];
+            PetscReal        r2 = 0;
+            for (PetscInt a = 0; a < dim; a++) r2 += PetscSqr(it->x0[a] - c[a]);
+            if (B->elementwall[e] == B->elementwall[near] && r2 <= PetscSqr(0.5 * it->diameter))
+              ps->elem[ps->nelem++] = e;
+          }
+        if (ps->nelem == it->estart) ps->elem[ps->nelem++] = near; /* no diameter, or no centroid within it */
+      }
+      it->eend = ps->nelem;
+    }
+  }
+  /* the columns: per probe its pressure and velocity, per gauge its elevation */
+  PetscCall(PetscMalloc2(ps->n + 1, &ps->offset, ps->n, &ps->names));
+  for (PetscInt k = 0; k < ps->n; k++) {
+    ps->offset[k] = nv;
+    ps->names[k]  = ps->item[k].name;
+    nv += ps->item[k].gauge ? 1 : 1 + dim;
+  }
+  ps->offset[ps->n] = nv;
+  ps->nvalues       = nv;
+  PetscCall(PetscMalloc1(nv + 1, &ps->colname));
+  for (PetscInt k = 0; k < ps->n; k++) {
+    const FSProbe *it                  = &ps->item[k];
+    char(*col)[FS_PROBE_NAME_LEN + 32] = &ps->colname[ps->offset[k]];
+    if (it->gauge) {
+      PetscCall(
+          PetscSNPrintf(col[0], sizeof(col[0]), "%s_%s[m]", it->name, it->vertical ? "elevation" : "elevation_along"));
+    } else {
+      static const char *ax[] = {"x", "y", "z"};
+      PetscCall(PetscSNPrintf(col[0], sizeof(col[0]), "%s_pressure[Pa]", it->name));
+      for (PetscInt d = 0; d < dim; d++)
+        PetscCall(PetscSNPrintf(col[1 + d], sizeof(col[0]), "%s_velocity_%s[m/s]", it->name, ax[d]));
+    }
+  }
+  PetscCall(PetscMalloc3(nv + 1, &ps->values, ps->nsamples + 1, &ps->sgamma, ps->n * (2 + dim) + ps->nsamples + 1,
+                         &ps->sums));
+  /* the walls' Shepard factor at the gauges' samples; a sample on a wall's line is moved into the liquid by
+     1e-6 dx (on the wall itself the wall's own half of the support does not count) */
+  for (PetscInt k = 0; k < ps->n; k++) {
+    const FSProbe *it = &ps->item[k];
+    if (!it->gauge) continue;
+    for (PetscInt q = 0; q < it->nsample; q++) {
+      PetscReal x[3] = {0, 0, 0}, *gam = &ps->sgamma[it->sample + q];
+      for (PetscInt d = 0; d < dim; d++) x[d] = it->x0[d] + (it->x1[d] - it->x0[d]) * q / (it->nsample - 1);
+      *gam = 1;
+      if (!B) continue;
+      for (PetscInt e = 0; e < B->nelements; e++) {
+        const PetscReal *nrm = &B->element[e * B->stride + B->normal];
+        PetscReal        dn;
+        PetscBool        over;
+        FSProbesElementDistance(B, e, x, 1e-9 * dx, &dn, &over);
+        if (over && dn < 1e-9 * dx)
+          for (PetscInt d = 0; d < dim; d++) x[d] -= 1e-6 * dx * nrm[d];
+      }
+      PetscCall(FSBoundaryShepardAt(s->boundary, x, gam));
+    }
+  }
+  ps->step = -1;
+  PetscFunctionReturn(0);
+}
+
+/* the body acceleration at x (the coupling's frame field, gravity without a coupling) */
+static inline void FSProbesBody(const FSFrameField *body, PetscInt dim, const PetscReal x[], PetscReal g[])
+{
+  if (dim == 2) FSFrameFieldEval(body, x, g);
+  else FSFrameFieldEval3(body, x, g);
+}
+
+/*
+   FSProbesSample - the probes' and gauges' values at the current state: one evaluation of the
+   right-hand side, this rank's sums over its owned particles, one MPI_Allreduce of all the sums.
+
+   Collective
+*/
+static PetscErrorCode FSProbesSample(FSSolver s)
+{
+  FSProbeSet         *ps  = &s->mon.probes;
+  const PetscInt      dim = s->opt.dim, S = s->pw.stride, PS = 2 + dim, n = s->pw.nowned;
+  const PetscReal     R = s->pw.kernel.support, R2 = s->pw.kernel.support2;
+  const FSFrameField *body;
+  PetscReal          *sum = ps->sums, *ssum = ps->sums + ps->n * PS;
+  const FSWallView   *B = NULL;
+
+  PetscFunctionBegin;
+  PetscCall(TSGetTime(s->ts, &ps->time));
+  PetscCall(TSGetStepNumber(s->ts, &ps->step));
+  PetscCall(PetscArrayzero(ps->sums, ps->n * PS + ps->nsamples));
+  if (s->pw.nglobal_particles > 0) { /* the records, volumes, pressures, body field and wall pressure of the state */
+    const PetscScalar *u;
+    PetscScalar       *f;
+    Vec                F;
+    s->state.rhs_time = ps->time;
+    PetscCall(VecDuplicate(s->state.U, &F));
+    PetscCall(VecGetArrayRead(s->state.U, &u));
+    PetscCall(VecGetArray(F, &f));
+    PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
+    PetscCall(VecRestoreArray(F, &f));
+    PetscCall(VecRestoreArrayRead(s->state.U, &u));
+    PetscCall(VecDestroy(&F));
+  }
+  PetscCall(FSCouplingGetBody(s->coupling, &body));
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *xi = &s->pw.rec[i * S], rho = xi[2 * dim], V = s->pw.vol[i], p = s->pw.pressure[i];
+    for (PetscInt k = 0; k < ps->n; k++) {
+      const FSProbe *it = &ps->item[k];
+      if (!it->gauge) {
+        PetscReal r2 = 0, W, g[3], mid[3], gx = 0, *sk = &sum[k * PS];
+        for (PetscInt a = 0; a < dim; a++) r2 += PetscSqr(it->x0[a] - xi[a]);
+        if (r2 >= R2) continue;
+        W = FSKernelW(&s->pw.kernel, PetscSqrtReal(r2)) * V;
+        for (PetscInt a = 0; a < dim; a++) mid[a] = 0.5 * (it->x0[a] + xi[a]);
+        FSProbesBody(body, dim, mid, g);
+        for (PetscInt a = 0; a < dim; a++) gx += g[a] * (it->x0[a] - xi[a]);
+        sk[0] += (p + rho * gx) * W;
+        for (PetscInt a = 0; a < dim; a++) sk[1 + a] += xi[dim + a] * W;
+        sk[1 + dim] += W;
+      } else { /* the samples within the support: those whose distance along the line is within R */
+        PetscReal L = 0, t = 0, e[3], ds;
+        PetscInt  q0, q1;
+        for (PetscInt a = 0; a < dim; a++) L += PetscSqr(it->x1[a] - it->x0[a]);
+        L  = PetscSqrtReal(L);
+        ds = L / (it->nsample - 1);
+        for (PetscInt a = 0; a < dim; a++) {
+          e[a] = (it->x1[a] - it->x0[a]) / L;
+          t += (xi[a] - it->x0[a]) * e[a];
+        }
+        q0 = PetscMax(0, (PetscInt)PetscCeilReal((t - R) / ds));
+        q1 = PetscMin(it->nsample - 1, (PetscInt)PetscFloorReal((t + R) / ds));
+        for (PetscInt q = q0; q <= q1; q++) {
+          PetscReal r2 = 0;
+          for (PetscInt a = 0; a < dim; a++)
+            r2 += PetscSqr(it->x0[a] + (it->x1[a] - it->x0[a]) * q / (it->nsample - 1) - xi[a]);
+          if (r2 < R2) ssum[it->sample + q] += FSKernelW(&s->pw.kernel, PetscSqrtReal(r2)) * V;
+        }
+      }
+    }
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, ps->sums, (PetscMPIInt)(ps->n * PS + ps->nsamples), MPIU_REAL, MPI_SUM,
+                             PetscObjectComm((PetscObject)s)));
+  if (s->boundary) {
+    const PetscInt  *wstart, *wk;
+    const PetscReal *wW;
+    PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
+  }
+  for (PetscInt k = 0; k < ps->n; k++) {
+    const FSProbe *it = &ps->item[k];
+    PetscReal     *v  = &ps->values[ps->offset[k]];
+    if (!it->gauge) {
+      const PetscReal *sk = &sum[k * PS];
+      if (sk[1 + dim] > 0) {
+        v[0] = sk[0] / sk[1 + dim];
+        for (PetscInt a = 0; a < dim; a++) v[1 + a] = sk[1 + a] / sk[1 + dim];
+      } else { /* no liquid within the support */
+        v[0] = s->opt.background_pressure;
+        for (PetscInt a = 0; a < dim; a++) v[1 + a] = 0;
+      }
+      if (it->eend > it->estart && B && B->pressure) { /* on a wall: the wall pressure, area-weighted */
+        PetscReal pa = 0, a = 0;
+        for (PetscInt q = it->estart; q < it->eend; q++) {
+          const PetscInt  e  = ps->elem[q];
+          const PetscReal me = B->element[e * B->stride + B->measure];
+          pa += B->pressure[e] * me;
+          a += me;
+        }
+        v[0] = pa / a;
+      }
+    } else { /* the first sample, from the start, where S/gamma falls below 1/2 */
+      const PetscReal *Sq = &ssum[it->sample], *gq = &ps->sgamma[it->sample];
+      PetscReal        L = 0, tcross, rprev = 0;
+      PetscInt         q;
+      for (PetscInt a = 0; a < dim; a++) L += PetscSqr(it->x1[a] - it->x0[a]);
+      L      = PetscSqrtReal(L);
+      tcross = L;
+      for (q = 0; q < it->nsample; q++) {
+        const PetscReal r = gq[q] > 1e-6 ? Sq[q] / gq[q] : 0;
+        if (r < 0.5) {
+          tcross = q == 0 ? 0 : (q - 1 + (rprev - 0.5) / (rprev - r)) * L / (it->nsample - 1);
+          break;
+        }
+        rprev = r;
+      }
+      v[0] = it->vertical ? it->x0[1] + (it->x1[1] > it->x0[1] ? tcross : -tcross) : tcross;
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverProbesBegin - opens probes.csv (cut after the restart step on a restart) and records the
+   state the run starts from. Called by FSSolverMonitorBegin().
+
+   Collective
+*/
+PetscErrorCode FSSolverProbesBegin(FSSolver s)
+{
+  FSProbeSet  *ps = &s->mon.probes;
+  char         path[PETSC_MAX_PATH_LEN];
+  const char  *names[1 + 4 * 256];
+  const char **cols = names;
+  PetscInt     step;
+
+  PetscFunctionBegin;
+  if (!ps->n || !s->opt.write_output) PetscFunctionReturn(0);
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  if (ps->nvalues + 1 > (PetscInt)(sizeof(names) / sizeof(names[0]))) PetscCall(PetscMalloc1(ps->nvalues + 1, &cols));
+  cols[0] = "time";
+  for (PetscInt c = 0; c < ps->nvalues; c++) cols[1 + c] = ps->colname[c];
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/probes.csv", s->opt.outdir));
+  PetscCall(FSTimeSeriesCreate(PetscObjectComm((PetscObject)s), path, ps->nvalues + 1, cols,
+                               s->opt.restart[0] ? step : -1, &ps->series));
+  if (cols != names) PetscCall(PetscFree(cols));
+  PetscCall(FSSolverProbesMonitor(s));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverProbesMonitor - at the end of a step (and at the start of the run): every -fs_probe_interval
+   steps, the values at the current state into probes.csv.
+
+   Collective
+*/
+PetscErrorCode FSSolverProbesMonitor(FSSolver s)
+{
+  FSProbeSet *ps = &s->mon.probes;
+  PetscReal   row[1 + 4 * 256], *r = row;
+  PetscInt    step;
+
+  PetscFunctionBegin;
+  if (!ps->series) PetscFunctionReturn(0);
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  if (step % ps->interval) PetscFunctionReturn(0);
+  PetscCall(FSProbesSample(s));
+  if (ps->nvalues + 1 > (PetscInt)(sizeof(row) / sizeof(row[0]))) PetscCall(PetscMalloc1(ps->nvalues + 1, &r));
+  r[0] = ps->time;
+  PetscCall(PetscArraycpy(r + 1, ps->values, ps->nvalues));
+  PetscCall(FSTimeSeriesAppend(ps->series, step, r));
+  if (r != row) PetscCall(PetscFree(r));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverProbesDestroy - frees the probes and closes probes.csv. */
+PetscErrorCode FSSolverProbesDestroy(FSSolver s)
+{
+  FSProbeSet *ps = &s->mon.probes;
+
+  PetscFunctionBegin;
+  PetscCall(FSTimeSeriesDestroy(&ps->series));
+  PetscCall(PetscFree(ps->item));
+  PetscCall(PetscFree(ps->elem));
+  PetscCall(PetscFree2(ps->offset, ps->names));
+  PetscCall(PetscFree(ps->colname));
+  PetscCall(PetscFree3(ps->values, ps->sgamma, ps->sums));
+  ps->n = ps->nvalues = ps->nsamples = ps->nelem = 0;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetProbes - the values of the probes and wave gauges (-fs_probes) at the current state.
+
+   Collective
+
+   Input Parameter:
+.  s - the solver, set up
+
+   Output Parameters:
++  n       - the number of probes and gauges, in the order of the file (0 without -fs_probes)
+.  names   - their names (an array of n pointers, or NULL); owned by the solver
+.  offsets - (an array of n+1, or NULL) item k's values are values[offsets[k] .. offsets[k+1]): a probe's
+             pressure then its velocity (dim values), a gauge's elevation
+-  values  - (an array of at most FS_PROBE_MAX_VALUES n reals, or NULL) the values, as the columns of
+             probes.csv
+
+   Notes:
+   The values are those of the current state: sampled at this step by the run's output, or computed now
+   (one evaluation of the right-hand side). Pass NULL for names, offsets and values to get n only.
+
+.seealso: FSSolverStep(), docs/running.md, "Probes and wave gauges"
+*/
+PetscErrorCode FSSolverGetProbes(FSSolver s, PetscInt *n, const char *names[], PetscInt offsets[], PetscReal values[])
+{
+  FSProbeSet *ps = &s->mon.probes;
+  PetscReal   t;
+  PetscInt    step;
+
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
+  PetscCheck(s->setupcalled, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
+             "FSSolverGetProbes(): call FSSolverSetUp() first");
+  if (n) *n = ps->n;
+  if (!values || !ps->n) {
+    for (PetscInt k = 0; names && k < ps->n; k++) names[k] = ps->names[k];
+    for (PetscInt k = 0; offsets && k <= ps->n; k++) offsets[k] = ps->offset[k];
+    PetscFunctionReturn(0);
+  }
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  if (ps->step != step || ps->time != t) PetscCall(FSProbesSample(s));
+  for (PetscInt k = 0; names && k < ps->n; k++) names[k] = ps->names[k];
+  for (PetscInt k = 0; offsets && k <= ps->n; k++) offsets[k] = ps->offset[k];
+  PetscCall(PetscArraycpy(values, ps->values, ps->nvalues));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,153 @@
+"""Pressure probes and wave gauges (-fs_probes, probes.csv, FSSolverGetProbes / Solver.probes()).
+
+Measured (dx = 0.003 m, h/dx = 2, the hydrostatic tank of cases/hydrostatic.opts at t = 0.15 s):
+  probes in the liquid, deeper than 2h: -0.09 %, -0.37 %, -0.09 % of rho0 g (H - y); the probe 5 mm under
+  the surface (its support cut by the surface) +4.8 % of rho0 g (H - y) = +0.81 % of rho0 g H;
+  on the floor (the wall pressure): -0.95 % of rho0 g H (the same with a diameter);
+  the gauge in the middle 0.01 dx below H, at the side wall 0.14 dx below H (dx/4 = 0.75 mm);
+  1 and 2 ranks: 4e-11 of the columns' scale (the CSV's 11 digits).
+Standing wave (h/dx = 20, to two periods): the gauge at x = 0 fitted with A exp(-lam t/2) sin(w t + phi) + c
+(lam the exact viscous mode's decay, test_standing_wave.py): amplitude -1.9 %, period +0.1 % of linear
+theory, offset c = -0.09 dx (the gauges at walls read about 0.1 dx low).
+"""
+import numpy as np
+import pytest
+
+from conftest import MPI_ENV, read_series, run_flexslosh
+from test_standing_wave import H as SW_H, K as SW_K, NU as SW_NU, exact_viscous_mode
+
+RHO0, G, H, DX = 1000.0, 9.81, 0.03, 0.003
+TANK = ["-fs_case", "tank", "-fs_tank_length", 0.2, "-fs_dx", DX, "-fs_relax_time", 0.1, "-fs_delta_min", 0.1,
+        "-fs_delta_hydrostatic", "-fs_output_interval", 0]
+PROBES = """# the hydrostatic tank: 0.2 m x 0.06 m, liquid 0.03 m deep
+probe mid 0.1 0.015
+probe left 0.05 0.01    # a comment
+probe right 0.15 0.015
+probe top 0.1 0.025
+probe floor 0.1 0.0
+probe floorD 0.07 0.0 diameter 0.012
+
+gauge centre 0.1 0 0.1 0.06
+gauge side 0 0 0 0.06
+"""
+
+
+def read_probes(directory):
+    """probes.csv as a dict column name -> array."""
+    path = directory / "probes.csv"
+    with open(path) as fp:
+        header = fp.readline().strip().split(",")
+    data = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return {name: data[:, k] for k, name in enumerate(header)}
+
+
+@pytest.fixture(scope="module")
+def hydrostatic(tmp_path_factory):
+    d = tmp_path_factory.mktemp("hydro")
+    (d / "probes.txt").write_text(PROBES)
+    run_flexslosh(TANK + ["-ts_max_time", 0.15, "-fs_probes", "probes.txt", "-fs_output_dir", "out"], cwd=d)
+    return read_probes(d / "out"), d
+
+
+def test_hydrostatic_probes_and_gauges(hydrostatic):
+    P, d = hydrostatic
+    assert list(P)[:5] == ["step", "time", "mid_pressure[Pa]", "mid_velocity_x[m/s]", "mid_velocity_y[m/s]"]
+    assert "centre_elevation[m]" in P and "side_elevation[m]" in P
+    assert np.array_equal(P["step"], read_series(d / "out")["step"])  # every step, step 0 first
+    for name, y in (("mid", 0.015), ("left", 0.01), ("right", 0.015)):
+        p = P[f"{name}_pressure[Pa]"][-1]
+        assert p == pytest.approx(RHO0 * G * (H - y), rel=0.004), name
+    # near the surface the support is cut: within 1 % of rho0 g H
+    assert abs(P["top_pressure[Pa]"][-1] - RHO0 * G * (H - 0.025)) < 0.01 * RHO0 * G * H
+    for name in ("floor", "floorD"):
+        assert P[f"{name}_pressure[Pa]"][-1] == pytest.approx(RHO0 * G * H, rel=0.01), name
+    for name in ("centre", "side"):
+        assert abs(P[f"{name}_elevation[m]"][-1] - H) < DX / 4, name
+    assert abs(P["side_elevation[m]"][0] - H) < 0.01 * DX  # at rest on the lattice: the gamma correction
+    for c in ("mid_velocity_x[m/s]", "mid_velocity_y[m/s]", "floor_velocity_y[m/s]"):
+        assert np.abs(P[c]).max() < 0.01 * np.sqrt(G * H)
+
+
+def test_one_and_two_ranks_agree(tmp_path):
+    (tmp_path / "probes.txt").write_text(PROBES)
+    for n in (1, 2):
+        run_flexslosh(TANK + ["-ts_max_steps", 60, "-fs_probes", "probes.txt", "-fs_output_dir", f"r{n}"], nranks=n,
+                      cwd=tmp_path)
+    a, b = read_probes(tmp_path / "r1"), read_probes(tmp_path / "r2")
+    assert list(a) == list(b)
+    vel = max(np.abs(a[c]).max() for c in a if "velocity" in c)
+    for c in a:
+        scale = RHO0 * G * H if "pressure" in c else vel if "velocity" in c else H if "elevation" in c else 1
+        assert np.abs(a[c] - b[c]).max() <= 1e-10 * scale, c
+
+
+def test_standing_wave_gauge_follows_linear_theory(tmp_path):
+    omega0 = np.sqrt(SW_K * np.tanh(SW_K * SW_H))
+    A, T = 0.05 * SW_H, 2 * np.pi / omega0
+    (tmp_path / "sw.txt").write_text("gauge wall 0 0 0 1.5\n")
+    run_flexslosh(["-fs_case", "standing_wave", "-fs_dx", 0.05, "-ts_max_time", 2 * T, "-fs_output_interval", 0,
+                   "-fs_probes", "sw.txt", "-fs_output_dir", "out"], cwd=tmp_path)
+    P = read_probes(tmp_path / "out")
+    t, eta = P["time"], P["wall_elevation[m]"] - SW_H
+    _, lam = exact_viscous_mode(SW_K, SW_H, SW_NU)  # the laminar decay of the mode (energy rate)
+    env = np.exp(-0.5 * lam * t)
+
+    def fit(w):
+        M = np.c_[env * np.sin(w * t), env * np.cos(w * t), np.ones_like(t)]
+        coef, res, *_ = np.linalg.lstsq(M, eta, rcond=None)
+        return np.sum((M @ coef - eta) ** 2), coef
+
+    ws = np.linspace(0.9 * omega0, 1.1 * omega0, 2001)
+    w = ws[np.argmin([fit(x)[0] for x in ws])]
+    _, (a, b, c) = fit(w)
+    assert np.hypot(a, b) == pytest.approx(A, rel=0.10)
+    assert 2 * np.pi / w == pytest.approx(T, rel=0.02)
+    assert abs(c) < 0.05 / 4  # the mean level within dx/4
+
+
+def test_three_dimensional_probe_and_gauge(tmp_path):
+    (tmp_path / "p.txt").write_text("probe c 0.03 0.01 0.015\ngauge g 0.03 0 0.015 0.03 0.06 0.015\n")
+    run_flexslosh(["-fs_case", "tank", "-fs_dim", 3, "-fs_tank_length", 0.06, "-fs_tank_width", 0.03, "-fs_dx", 0.005,
+                   "-ts_max_steps", 5, "-fs_probes", "p.txt", "-fs_output_dir", "out"], cwd=tmp_path)
+    P = read_probes(tmp_path / "out")
+    assert list(P) == ["step", "time", "c_pressure[Pa]", "c_velocity_x[m/s]", "c_velocity_y[m/s]",
+                       "c_velocity_z[m/s]", "g_elevation[m]"]
+    assert len(P["step"]) == 6
+    assert P["c_pressure[Pa]"][0] == pytest.approx(RHO0 * G * (H - 0.01), rel=0.01)
+    assert np.all(np.abs(P["c_pressure[Pa]"] - RHO0 * G * (H - 0.01)) < 0.2 * RHO0 * G * H)
+    assert np.all(np.abs(P["g_elevation[m]"] - H) < 0.005 / 4)
+
+
+@pytest.mark.parametrize("text,line,what", [
+    ("probe a 0.1 0.01\nprobe b 0.1\n", 2, "expected \"probe NAME x y [diameter D]\""),
+    ("probe a 0.1 0.01\n\n# c\nprobe a 0.1 0.02\n", 4, "duplicate name \"a\""),
+    ("gauge g 0.1 0.0 0.1 0.0\n", 1, "zero length"),
+    ("probe far 0.5 0.01\n", 1, "outside the domain"),
+    ("gauge g 0 0 0\n", 1, "expected \"gauge NAME x0 y0 x1 y1\""),
+    ("sensor s 0 0\n", 1, "unknown item \"sensor\""),
+    ("probe a 0.1 0.01 diameter -1\n", 1, "a positive diameter"),
+])
+def test_bad_probe_files(tmp_path, text, line, what):
+    (tmp_path / "bad.txt").write_text(text)
+    proc = run_flexslosh(TANK + ["-ts_max_steps", 1, "-fs_probes", "bad.txt", "-fs_output_dir", "out"], cwd=tmp_path,
+                         check=False)
+    assert proc.returncode != 0
+    assert f"bad.txt:{line}:" in proc.stdout and what in proc.stdout, proc.stdout[-2000:]
+
+
+def test_python_probes_equal_the_csv(tmp_path):
+    from flexslosh import Solver
+
+    (tmp_path / "p.txt").write_text(PROBES)
+    opts = {"-fs_case": "tank", "-fs_tank_length": 0.2, "-fs_dx": DX, "-fs_output_dir": tmp_path / "out",
+            "-fs_probes": tmp_path / "p.txt", "-fs_output_interval": 0, "-fs_progress": 0}
+    with Solver(opts) as s:
+        s.step(3)
+        values = s.probes()
+    P = read_probes(tmp_path / "out")
+    assert list(values) == ["mid", "left", "right", "top", "floor", "floorD", "centre", "side"]
+    np.testing.assert_allclose(values["mid"], [P[f"mid_{c}"][-1] for c in ("pressure[Pa]", "velocity_x[m/s]",
+                                                                           "velocity_y[m/s]")], rtol=1e-9, atol=1e-12)
+    assert isinstance(values["side"], float)
+    assert values["side"] == pytest.approx(P["side_elevation[m]"][-1], rel=1e-9)
+    assert values["floor"][0] == pytest.approx(P["floor_pressure[Pa]"][-1], rel=1e-9)
