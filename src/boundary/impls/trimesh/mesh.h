@@ -68,8 +68,9 @@ PETSC_INTERN PetscErrorCode FSMeshLoadSTL(FSMesh *, MPI_Comm, const char path[],
 
 /* the checks before a run, once (again only after vertices or triangles were added; each failure an
    error naming the file and the triangle): no degenerate triangle, every edge shared by exactly two
-   triangles with opposite orientation, no two triangles intersecting, the container (the closed surface that holds the others) of positive volume; then the
-   obstacles oriented out of the liquid, the bounding box and volume */
+   triangles with opposite orientation, no two triangles intersecting, the container (the closed
+   surface that holds the others) of positive volume; then the obstacles oriented out of the liquid,
+   the bounding box and volume */
 PETSC_INTERN PetscErrorCode FSMeshCheck(FSMesh *, MPI_Comm);
 /* the elements: each triangle split into m^2 similar triangles, m = ceil(longest edge / hmax) */
 PETSC_INTERN PetscErrorCode FSMeshRefine(FSMesh *, PetscReal hmax);
