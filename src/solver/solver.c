@@ -270,6 +270,9 @@ static PetscErrorCode FSSolverOptionsPhysics(FSSolver s, PetscOptionItems *Petsc
     PetscCheck(ng == s->opt.dim, comm, PETSC_ERR_ARG_SIZ,
                "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng,
                s->opt.dim);
+    for (PetscInt d = 0; d < ng; d++)
+      PetscCheck(!PetscIsInfOrNanReal(g[d]), comm, PETSC_ERR_ARG_OUTOFRANGE,
+                 "-fs_gravity: component %" PetscInt_FMT " is %g: expected finite numbers", d, (double)g[d]);
     for (PetscInt d = 0; d < 3; d++) s->opt.gravity[d] = d < ng ? g[d] : 0;
   }
   PetscCall(PetscOptionsReal("-fs_background_pressure",

@@ -22,7 +22,27 @@ BAD = {
     "cfl_too_large": (["-fs_cfl", "3"], [r"-fs_cfl 3\b", "range"]),
     "delta_max_negative": (["-fs_delta_max", "-1"], [r"-fs_delta_max -1\b", "non-negative"]),
     "delta_max_below_min": (["-fs_delta_min", "0.2", "-fs_delta_max", "0.1"], [r"-fs_delta_max 0.1\b", r"below -fs_delta_min 0.2\b"]),
+    "gravity_nan": (["-fs_gravity", "0,nan"], ["-fs_gravity", "component 1", "finite"]),
 }
+
+# the same for the wall cases' options (a coarse tank)
+BAD_WALLS = {
+    "restitution": (["-fs_walls_bounce_restitution", "5"], [r"-fs_walls_bounce_restitution 5\b", r"\[0, 1\]"]),
+    "bounce_distance": (["-fs_walls_bounce_distance", "-1"], [r"-fs_walls_bounce_distance -1\b", r"\[0, 0.5\)"]),
+    "load_point": (["-fs_walls_load_point", "1,2,3,4"], ["-fs_walls_load_point", "2 or 3 values", "got 4"]),
+    "compartments": (["-fs_tank_shape", "baffled", "-fs_tank_compartments", "0"], [r"-fs_tank_compartments 0\b", "at least 1"]),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD_WALLS))
+def test_bad_wall_option(run, tmp_path, name):
+    args, patterns = BAD_WALLS[name]
+    proc = run(["-fs_case", "tank", "-fs_dx", "0.006", "-ts_max_steps", "2", "-fs_output_dir", tmp_path / "out"] + args,
+               check=False)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    for pat in patterns:
+        assert re.search(pat, msg), f"{pat!r} not in the error message:\n{msg}"
 
 
 @pytest.mark.parametrize("name", list(BAD))

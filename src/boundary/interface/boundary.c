@@ -112,7 +112,9 @@ PetscErrorCode FSBoundarySetType(FSBoundary b, const char type[])
 /* the options every boundary method shares (FSBoundarySetFromOptions, FSBoundaryHelpAll) */
 static PetscErrorCode FSBoundaryOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
 {
-  PetscInt np = 3;
+  PetscInt  np    = 4;
+  PetscReal lp[4] = {b->loadpoint[0], b->loadpoint[1], b->loadpoint[2], 0};
+  PetscBool set;
 
   PetscFunctionBegin;
   for (PetscInt k = 0; k < b->nnoslipname; k++) PetscCall(PetscFree(b->noslipname[k]));
@@ -128,7 +130,19 @@ static PetscErrorCode FSBoundaryOptions(FSBoundary b, PetscOptionItems *PetscOpt
                              "Fraction of the normal velocity kept by a bounce (1: elastic)", "FSBoundaryBounce",
                              b->restitution, &b->restitution, NULL));
   PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken",
-                                  "FSBoundarySetUp", b->loadpoint, &np, NULL));
+                                  "FSBoundarySetUp", lp, &np, &set));
+  PetscCheck(b->bounce_distance >= 0 && b->bounce_distance < 0.5, PetscObjectComm((PetscObject)b),
+             PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_walls_bounce_distance %g is out of range: expected [0, 0.5) (in units of dx; 0: no bounce)",
+             (double)b->bounce_distance);
+  PetscCheck(b->restitution >= 0 && b->restitution <= 1, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_walls_bounce_restitution %g is out of range: expected [0, 1] (1: elastic; more would create energy)",
+             (double)b->restitution);
+  if (set) {
+    PetscCheck(np == 2 || np == 3, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_SIZ,
+               "-fs_walls_load_point takes 2 or 3 values (x,y[,z]); got %" PetscInt_FMT, np);
+    for (PetscInt d = 0; d < 3; d++) b->loadpoint[d] = d < np ? lp[d] : 0;
+  }
   PetscFunctionReturn(0);
 }
 

@@ -111,6 +111,8 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
              "-fs_tank_width %g must be positive", (double)tk->width);
   PetscCheck(tk->H > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_height %g must be positive",
              (double)tk->H);
+  PetscCheck(!baff || tk->ncomp >= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_tank_compartments %" PetscInt_FMT " must be at least 1", tk->ncomp);
   if (boxset) {
     PetscCheck(nboxv > 0 && nboxv % (2 * tk->dim) == 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_SIZ,
                "-fs_liquid_box gives %" PetscInt_FMT " numbers: expected %s for each box (at most %d boxes)", nboxv,
