@@ -151,3 +151,18 @@ def test_python_probes_equal_the_csv(tmp_path):
     assert isinstance(values["side"], float)
     assert values["side"] == pytest.approx(P["side_elevation[m]"][-1], rel=1e-9)
     assert values["floor"][0] == pytest.approx(P["floor_pressure[Pa]"][-1], rel=1e-9)
+
+
+def test_restart_continues_probes_csv(tmp_path):
+    """A run restarted from its checkpoint at step 20 cuts probes.csv after that step and appends the
+    same rows as the uninterrupted run's (the probes.csv of a restart in place has no duplicate rows)."""
+    (tmp_path / "probes.txt").write_text(PROBES)
+    args = TANK + ["-ts_max_steps", 40, "-fs_probes", "probes.txt"]
+    run_flexslosh(args + ["-fs_checkpoint_interval", 20, "-fs_output_dir", "a"], cwd=tmp_path)
+    full = read_probes(tmp_path / "a")
+    run_flexslosh(args + ["-fs_restart", tmp_path / "a" / "checkpoint_000020.h5", "-fs_output_dir", "a"],
+                  cwd=tmp_path)
+    again = read_probes(tmp_path / "a")
+    assert list(again["step"]) == list(range(41))
+    for c in full:
+        assert np.array_equal(full[c], again[c]), c
