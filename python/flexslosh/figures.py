@@ -146,6 +146,41 @@ def tip_acceleration(run: Run, path: PathLike, label: Optional[str] = None) -> P
     return _finish(fig, ax, "tip acceleration (g)", "Tip acceleration (seed Figs. 5, 8)", path)
 
 
+def probes(run: Run, path: PathLike) -> Path:
+    """The pressure probes and wave gauges of probes.csv (-fs_probes) against time: the probes'
+    pressures (Pa) on the upper axes, the gauges' free-surface elevations (m) on the lower ones.
+
+    Args:
+        run: a run with probes.csv.
+        path: the PNG to write.
+
+    Returns:
+        path.
+
+    Raises:
+        ValueError: the run has no probes.csv, or it holds neither probes nor gauges.
+    """
+    t = run.column("time", "probes")
+    pressure = [c for c in run.probes if c.endswith("_pressure[Pa]")]
+    gauges = [c for c in run.probes if "_elevation" in c]
+    if not pressure and not gauges:
+        raise ValueError(f"{run.directory / 'probes.csv'}: neither probes nor gauges")
+    panels = [(pressure, "pressure (Pa)", "Pressure probes"), (gauges, "elevation (m)", "Wave gauges")]
+    panels = [p for p in panels if p[0]]
+    fig = _figure(8, 3.2 * len(panels))
+    axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, (cols, ylabel, title) in zip(axes, panels):
+        for c in cols:
+            ax.plot(t, run.probes[c], lw=0.9, label=c.split("_pressure")[0].split("_elevation")[0])
+        ax.set_ylabel(ylabel)
+        ax.set_title(title)
+        ax.legend(loc="upper right", fontsize="small")
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("t (s)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
 def normalized_motion(runs: Sequence[Run], labels: Optional[Sequence[str]], path: PathLike) -> Path:
     """The tip displacement over its initial value, x / x0, for several runs (seed Fig. 9).
 

@@ -209,6 +209,8 @@ class Run:
         summary: summary.json; empty when the run did not finish writing it.
         snapshots: (time, path) of each particle snapshot, in time order.
         beam_shapes: the beam_shape_NNNNNN.csv files (modal beam), in step order.
+        probes: probes.csv (-fs_probes), column name (with its unit, e.g. "p1_pressure[Pa]") -> 1-D
+            array; empty when the run had no probes.
     """
 
     directory: Path
@@ -217,6 +219,7 @@ class Run:
     summary: dict[str, Any] = field(default_factory=dict)
     snapshots: list[tuple[float, Path]] = field(default_factory=list)
     beam_shapes: list[Path] = field(default_factory=list)
+    probes: dict[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def name(self) -> str:
@@ -233,14 +236,14 @@ class Run:
         return 0
 
     def column(self, name: str, table: str = "timeseries") -> np.ndarray:
-        """A column of timeseries.csv (table="timeseries") or energy.csv (table="energy").
+        """A column of timeseries.csv (table="timeseries"), energy.csv ("energy") or probes.csv ("probes").
 
         Raises:
             ValueError: the file has no such column (the message names the file and the column).
         """
-        data = self.timeseries if table == "timeseries" else self.energy
+        data = {"timeseries": self.timeseries, "energy": self.energy, "probes": self.probes}[table]
         if name not in data:
-            what = "no energy.csv" if table == "energy" and not data else f"no column {name!r}"
+            what = f"no {table}.csv" if table != "timeseries" and not data else f"no column {name!r}"
             hint = " (a run without a structure?)" if name.startswith(("tip_", "tank_", "load_")) else ""
             raise ValueError(f"{self.directory / (table + '.csv')}: {what}{hint}")
         return data[name]
@@ -293,6 +296,8 @@ def read_run(directory: PathLike, allow_partial_last_row: bool = False) -> Run:
             run.summary = json.loads(summary.read_text())
         except json.JSONDecodeError as err:
             raise ValueError(f"{summary}: not valid JSON ({err})") from None
+    if (directory / "probes.csv").is_file():
+        run.probes = read_csv(directory / "probes.csv", allow_partial_last_row=allow_partial_last_row)
     run.snapshots = _snapshot_index(directory)
     run.beam_shapes = [Path(p) for p in sorted(glob.glob(str(directory / "beam_shape_[0-9]*.csv")))]
     return run

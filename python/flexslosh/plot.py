@@ -5,7 +5,8 @@ Usage::
     python3 -m flexslosh.plot OUTPUT_DIR [OUTPUT_DIR ...] [--labels a,b] [--out DIR] [--field NAME]
 
 For each run it writes ``tip_acceleration.png``, ``energy_terms.png``, ``snapshots.png`` (particles
-coloured by --field) and ``damping.csv`` (damping per cycle of tip_displacement: time, amplitude,
+coloured by --field), ``probes.png`` (the pressure probes and wave gauges of probes.csv, for a run
+with -fs_probes) and ``damping.csv`` (damping per cycle of tip_displacement: time, amplitude,
 period, delta, zeta) into the run's directory; for all the runs together ``normalized_motion.png``,
 ``acceleration_envelope.png`` and ``damping_vs_amplitude.png`` into the first run's directory. With
 ``--out DIR`` everything goes to DIR instead, the per-run files named ``<name>_<label>.<ext>``.
@@ -100,6 +101,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         _attempt(f"tip_acceleration of {label}", lambda: figures.tip_acceleration(run, place("tip_acceleration", "png"), label), written)
         _attempt(f"energy_terms of {label}", lambda: figures.energy_terms(run, place("energy_terms", "png")), written)
         _attempt(f"snapshots of {label}", lambda: figures.snapshots(run, place("snapshots", "png"), field=args.field), written)
+        if run.probes:
+            _attempt(f"probes of {label}", lambda: figures.probes(run, place("probes", "png")), written)
     common = out if out is not None else runs[0].directory
     for name in ("normalized_motion", "acceleration_envelope", "damping_vs_amplitude"):
         make = getattr(figures, name)

@@ -10,10 +10,12 @@ Standing wave (h/dx = 20, to two periods): the gauge at x = 0 fitted with A exp(
 (lam the exact viscous mode's decay, test_standing_wave.py): amplitude -1.9 %, period +0.1 % of linear
 theory, offset c = -0.09 dx (the gauges at walls read about 0.1 dx low).
 """
+import os
+
 import numpy as np
 import pytest
 
-from conftest import MPI_ENV, read_series, run_flexslosh
+from conftest import MPI_ENV, REPO_ROOT, read_series, run_flexslosh
 from test_standing_wave import H as SW_H, K as SW_K, NU as SW_NU, exact_viscous_mode
 
 RHO0, G, H, DX = 1000.0, 9.81, 0.03, 0.003
@@ -166,3 +168,22 @@ def test_restart_continues_probes_csv(tmp_path):
     assert list(again["step"]) == list(range(41))
     for c in full:
         assert np.array_equal(full[c], again[c]), c
+
+
+def test_probes_figure(tmp_path):
+    """python3 -m flexslosh.plot draws probes.png for a run with probes: the pressures and the gauges."""
+    import subprocess
+    import sys
+
+    from flexslosh.output import read_run
+
+    (tmp_path / "probes.txt").write_text(PROBES)
+    run_flexslosh(TANK + ["-ts_max_steps", 10, "-fs_probes", "probes.txt", "-fs_output_dir", "o"], cwd=tmp_path)
+    run = read_run(tmp_path / "o")
+    assert run.column("mid_pressure[Pa]", "probes").shape == (11,)
+    env = dict(os.environ, PYTHONPATH=str(REPO_ROOT / "python"))
+    proc = subprocess.run([sys.executable, "-m", "flexslosh.plot", str(tmp_path / "o")], env=env,
+                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stdout
+    png = tmp_path / "o" / "probes.png"
+    assert str(png) in proc.stdout and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
