@@ -118,6 +118,15 @@ static PetscErrorCode FSCheckpointOpen(MPI_Comm comm, const char path[], PetscVi
   PetscCheck(path, comm, PETSC_ERR_ARG_NULL, "Checkpoint path is required");
   PetscCall(FSTestFile_Private(comm, path, &exists));
   PetscCheck(exists, comm, PETSC_ERR_FILE_OPEN, "Checkpoint \"%s\" does not exist or cannot be read", path);
+  { /* an HDF5 file at all? (HDF5's own error would not name it) */
+    PetscMPIInt rank;
+    int         ishdf5 = 0;
+    PetscCallMPI(MPI_Comm_rank(comm, &rank));
+    if (!rank) ishdf5 = H5Fis_hdf5(path) > 0;
+    PetscCallMPI(MPI_Bcast(&ishdf5, 1, MPI_INT, 0, comm));
+    PetscCheck(ishdf5, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "Checkpoint \"%s\" is not an HDF5 file: give a checkpoint_NNNNNN.h5 that flexslosh wrote", path);
+  }
   PetscCall(PetscViewerHDF5Open(comm, path, FILE_MODE_READ, viewer));
   PetscCall(PetscViewerHDF5HasGroup(*viewer, "/header", &has));
   if (!has) PetscCall(PetscViewerDestroy(viewer));

@@ -101,6 +101,15 @@ def test_restart_missing_file(run, tmp_path):
     assert str(missing) in msg and re.search(r"does not exist|cannot be read", msg), msg
 
 
+def test_restart_from_a_file_that_is_not_hdf5(run, tmp_path):
+    bad = tmp_path / "checkpoint_000020.h5"
+    bad.write_text("not an HDF5 file\n")
+    proc = run(TG + ["-fs_restart", bad, "-fs_output_dir", tmp_path / "B", "-ts_max_steps", "40"], check=False)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert str(bad) in msg and "not an HDF5 file" in msg and "H5Fopen" not in msg, msg
+
+
 def test_restart_with_other_terms_is_refused(full_run, tmp_path):
     a = full_run(1)
     proc = run_flexslosh(TG + ["-fs_restart", a / "checkpoint_000020.h5", "-fs_output_dir", tmp_path / "B", "-ts_max_steps", "40",
