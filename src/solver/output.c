@@ -17,6 +17,31 @@ static PetscErrorCode FSSolverEnsureField(FSSolver s, PetscInt n)
 }
 
 /*
+   FSSolverEvaluateAtState - a fresh evaluation of the right-hand side at the current state U and time t,
+   for the outputs (not counted in the run's statistics): the particles' volumes, pressures, first-pass
+   fields, the wall pressure and the body field are then those of the state.
+
+   Collective
+*/
+PetscErrorCode FSSolverEvaluateAtState(FSSolver s, PetscReal t)
+{
+  const PetscScalar *u;
+  PetscScalar       *f;
+  Vec                F;
+
+  PetscFunctionBegin;
+  s->state.rhs_time = t;
+  PetscCall(VecDuplicate(s->state.U, &F));
+  PetscCall(VecGetArrayRead(s->state.U, &u));
+  PetscCall(VecGetArray(F, &f));
+  PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
+  PetscCall(VecRestoreArray(F, &f));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
+  PetscCall(VecDestroy(&F));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverDerivedFields - the fields of the owned particles that the state does not hold, from a fresh
    evaluation of the right-hand side at the current state (not counted in the run's statistics): the
    pressure p (the equation of state, as the right-hand side evaluates it), the strain rate ||D|| (0
@@ -27,22 +52,14 @@ static PetscErrorCode FSSolverEnsureField(FSSolver s, PetscInt n)
 */
 static PetscErrorCode FSSolverDerivedFields(FSSolver s, PetscReal p[], PetscReal nD[], PetscReal nut[])
 {
-  const PetscInt     n = s->pw.nowned, A = s->pw.auxstride;
-  const PetscScalar *u;
-  PetscScalar       *f;
-  Vec                F;
-  PetscBool          has = PETSC_FALSE;
-  FSParticles        P;
+  const PetscInt n = s->pw.nowned, A = s->pw.auxstride;
+  PetscReal      t;
+  PetscBool      has = PETSC_FALSE;
+  FSParticles    P;
 
   PetscFunctionBegin;
-  PetscCall(TSGetTime(s->ts, &s->state.rhs_time));
-  PetscCall(VecDuplicate(s->state.U, &F));
-  PetscCall(VecGetArrayRead(s->state.U, &u));
-  PetscCall(VecGetArray(F, &f));
-  PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
-  PetscCall(VecRestoreArray(F, &f));
-  PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  PetscCall(VecDestroy(&F));
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(FSSolverEvaluateAtState(s, t));
   for (PetscInt k = 0; k < n; k++) {
     if (p) p[k] = s->pw.pressure[k];
     if (nD) nD[k] = s->terms.needs ? s->pw.aux[k * A + s->opt.dim] : 0;

@@ -296,19 +296,8 @@ static PetscErrorCode FSProbesSample(FSSolver s)
   PetscCall(TSGetTime(s->ts, &ps->time));
   PetscCall(TSGetStepNumber(s->ts, &ps->step));
   PetscCall(PetscArrayzero(ps->sums, ps->n * PS + ps->nsamples));
-  if (s->pw.nglobal_particles > 0) { /* the records, volumes, pressures, body field and wall pressure of the state */
-    const PetscScalar *u;
-    PetscScalar       *f;
-    Vec                F;
-    s->state.rhs_time = ps->time;
-    PetscCall(VecDuplicate(s->state.U, &F));
-    PetscCall(VecGetArrayRead(s->state.U, &u));
-    PetscCall(VecGetArray(F, &f));
-    PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
-    PetscCall(VecRestoreArray(F, &f));
-    PetscCall(VecRestoreArrayRead(s->state.U, &u));
-    PetscCall(VecDestroy(&F));
-  }
+  /* the records, volumes, pressures, body field and wall pressure of the state */
+  if (s->pw.nglobal_particles > 0) PetscCall(FSSolverEvaluateAtState(s, ps->time));
   PetscCall(FSCouplingGetBody(s->coupling, &body));
   for (PetscInt i = 0; i < n; i++) {
     const PetscReal *xi = &s->pw.rec[i * S], rho = xi[2 * dim], V = s->pw.vol[i], p = s->pw.pressure[i];

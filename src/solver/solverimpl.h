@@ -194,6 +194,7 @@ PETSC_INTERN PetscErrorCode FSSolverProbesMonitor(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesDestroy(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetParticles(FSSolver, FSParticles *);
 PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool count);
+PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
 
 /* The energy block of the global DOFs: the time integrals of P_ext, of the start-up relaxation's
    power, of the structure's damping power (negative: energy lost) and of the coupling's power (the work
