@@ -48,6 +48,7 @@ struct _p_FSBoundary {
   PetscReal    loadpoint[3]; /* -fs_walls_load_point */
   PetscReal *load, *loadsum; /* per wall 6: this rank's share of the last right-hand side, and the sum over the ranks */
   PetscReal  bounce_distance, restitution; /* -fs_walls_bounce_distance (in dx), -fs_walls_bounce_restitution */
+  PetscBool  visall;                       /* -fs_walls_visibility all: no pair cut, no facing filter, no occlusion */
   PetscInt64 nbounce;
   /* the wall terms' view and each owned particle's wall elements (CSR), filled by ops->prepare */
   FSWallView view;

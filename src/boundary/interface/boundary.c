@@ -112,9 +112,11 @@ PetscErrorCode FSBoundarySetType(FSBoundary b, const char type[])
 /* the options every boundary method shares (FSBoundarySetFromOptions, FSBoundaryHelpAll) */
 static PetscErrorCode FSBoundaryOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
 {
-  PetscInt  np    = 4;
-  PetscReal lp[4] = {b->loadpoint[0], b->loadpoint[1], b->loadpoint[2], 0};
-  PetscBool set;
+  const char *const visnames[] = {"cut", "all"};
+  PetscInt          vis        = b->visall ? 1 : 0;
+  PetscInt          np         = 4;
+  PetscReal         lp[4]      = {b->loadpoint[0], b->loadpoint[1], b->loadpoint[2], 0};
+  PetscBool         set;
 
   PetscFunctionBegin;
   for (PetscInt k = 0; k < b->nnoslipname; k++) PetscCall(PetscFree(b->noslipname[k]));
@@ -131,6 +133,12 @@ static PetscErrorCode FSBoundaryOptions(FSBoundary b, PetscOptionItems *PetscOpt
                              b->restitution, &b->restitution, NULL));
   PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken",
                                   "FSBoundarySetUp", lp, &np, &set));
+  PetscCall(PetscOptionsEList(
+      "-fs_walls_visibility",
+      "Fluid pairs and wall elements near walls: cut (pairs through walls cut, only facing and unhidden elements) or "
+      "all (every pair and element within the support; wall pressure from the facing side)",
+      "FSBoundarySetFromOptions", visnames, 2, visnames[vis], &vis, NULL));
+  b->visall = (PetscBool)(vis == 1);
   PetscCheck(b->bounce_distance >= 0 && b->bounce_distance < 0.5, PetscObjectComm((PetscObject)b),
              PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_walls_bounce_distance %g is out of range: expected [0, 0.5) (in units of dx; 0: no bounce)",
@@ -156,7 +164,13 @@ static PetscErrorCode FSBoundaryOptions(FSBoundary b, PetscOptionItems *PetscOpt
 .  -fs_walls_noslip <names>             - the walls with no-slip conditions (the others are free-slip)
 .  -fs_walls_bounce_distance <0.1>      - particles closer to a wall than this (in dx) and moving towards it bounce back
 .  -fs_walls_bounce_restitution <1>     - the fraction of the normal velocity a bounce keeps
--  -fs_walls_load_point <x,y[,z]>       - the point about which the wall moments are taken (the origin)
+.  -fs_walls_load_point <x,y[,z]>       - the point about which the wall moments are taken (the origin)
+-  -fs_walls_visibility <cut|all>       - what a particle near the walls interacts with. cut (default): fluid pairs
+   whose connecting line crosses a wall are cut, and gamma and the wall terms count only the elements that face the
+   particle and are not hidden behind others. all: every fluid pair and every element within the support, far faces
+   and faces turned away included (the exact boundary-integral identity for any shape: no ray through a convex corner
+   bounds the region a particle sees); the wall pressure p_k still comes only from the liquid on the side element k
+   faces, so each face of a thin baffle carries its own side's pressure, and the leak check and bounce are the same.
 */
 PetscErrorCode FSBoundarySetFromOptions(FSBoundary b)
 {

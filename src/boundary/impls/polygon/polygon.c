@@ -32,36 +32,6 @@ PetscErrorCode FSBoundaryPolygonSetWalls(FSBoundary b, FSWalls *w)
   PetscFunctionReturn(0);
 }
 
-/*
-   SetFromOptions - the polygon boundary's options.
-
-   Options Database Key:
-.  -fs_walls_visibility <cut|all> - what a particle near the walls interacts with. cut (default): fluid
-   pairs whose connecting line crosses a wall are cut, and gamma and the wall terms count only the
-   segments that face the particle and are not hidden behind others. all: every fluid pair and every
-   segment within the support, far faces and faces turned away included (the exact boundary-integral
-   identity for any polygon: no ray through a convex corner bounds the region a particle sees); the
-   wall pressure p_k still comes only from the liquid on the side segment k faces, so each face of a
-   thin baffle carries its own side's pressure, and the leak check and bounce are the same.
-*/
-static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
-{
-  FSBoundary_Polygon *wd         = (FSBoundary_Polygon *)b->data;
-  const char *const   visnames[] = {"cut", "all"};
-  PetscInt            vis        = wd->visall ? 1 : 0;
-
-  PetscFunctionBegin;
-  PetscOptionsHeadBegin(PetscOptionsObject, "Walls (boundary integrals on polygons)");
-  PetscCall(PetscOptionsEList(
-      "-fs_walls_visibility",
-      "Fluid pairs and wall segments near walls: cut (pairs through walls cut, only facing and unhidden segments) or "
-      "all (every pair and segment within the support; wall pressure from the facing side)",
-      "FSBoundaryCreate_Polygon", visnames, 2, visnames[vis], &vis, NULL));
-  PetscOptionsHeadEnd();
-  wd->visall = (PetscBool)(vis == 1);
-  PetscFunctionReturn(0);
-}
-
 /* SetUp - discretizes the walls into segments of about dx and bins them in a static grid */
 static PetscErrorCode SetUp(FSBoundary b)
 {
@@ -200,7 +170,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
         }
       }
       /* keep the fluid candidates not seen through a wall (all of them with -fs_walls_visibility all) */
-      if (wd->visall)
+      if (b->visall)
         for (PetscInt q = os; q < oe; q++) nb->cand[wp++] = nb->cand[q];
       else
         for (PetscInt q = os; q < oe; q++) {
@@ -209,7 +179,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
           for (PetscInt r = first; r < nc && !cut; r++) cut = Crosses(x, xj, &w->seg[wd->cand[r] * FS_SEG_STRIDE]);
           if (!cut) nb->cand[wp++] = nb->cand[q];
         }
-      if (wd->occlusion && !wd->visall) { /* drop the segments hidden behind other walls: their shadows lie in those of
+      if (wd->occlusion && !b->visall) { /* drop the segments hidden behind other walls: their shadows lie in those of
                                              the nearer ones */
         PetscInt keep = first;
         for (PetscInt q = first; q < nc; q++) {
@@ -270,7 +240,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
       const PetscInt   k  = wd->cand[q];
       const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
       PetscReal        gk, wi;
-      FSSegmentIntegrals(h, x, sg, wd->visall, &gk, &wi); /* zero for a segment facing away, unless visall */
+      FSSegmentIntegrals(h, x, sg, b->visall, &gk, &wi); /* zero for a segment facing away, unless visall */
       g += gk;
       if (wi > 0) {
         b->wk[nw] = k;
@@ -301,7 +271,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
         const PetscReal  wv     = b->wW[q] * P->vol[i];
         const PetscReal  mid[2] = {0.5 * (sg[FS_SEG_MID] + x[0]), 0.5 * (sg[FS_SEG_MID + 1] + x[1])};
         PetscReal        g[2];
-        if (wd->visall &&
+        if (b->visall &&
             (sg[FS_SEG_P0] - x[0]) * sg[FS_SEG_NORMAL] + (sg[FS_SEG_P0 + 1] - x[1]) * sg[FS_SEG_NORMAL + 1] <= 0)
           continue; /* p_k from the side the segment faces (the lists hold only such segments otherwise) */
         FSFrameFieldEval(P->body, mid, g);
@@ -386,7 +356,7 @@ static PetscErrorCode ShepardAt(FSBoundary b, const PetscReal x[], PetscReal *ga
   PetscReal           grad[3];
 
   PetscFunctionBegin;
-  PetscCall(FSWallsShepard(&wd->walls, b->h, x, wd->visall, gamma, grad));
+  PetscCall(FSWallsShepard(&wd->walls, b->h, x, b->visall, gamma, grad));
   PetscFunctionReturn(0);
 }
 
@@ -409,7 +379,7 @@ static PetscErrorCode View(FSBoundary b, PetscViewer viewer)
   PetscFunctionBegin;
   PetscCall(PetscViewerASCIIPrintf(
       viewer, "%" PetscInt_FMT " polygon(s), %" PetscInt_FMT " segments of about dx, visibility %s\n", wd->walls.npoly,
-      wd->walls.nseg, wd->visall ? "all" : "cut"));
+      wd->walls.nseg, b->visall ? "all" : "cut"));
   PetscFunctionReturn(0);
 }
 
@@ -448,18 +418,17 @@ PetscErrorCode FSBoundaryCreate_Polygon(FSBoundary b)
   PetscFunctionBegin;
   PetscCall(PetscNew(&wd));
   PetscCall(FSWallsCreate(&wd->walls));
-  b->data                = wd;
-  b->ops->setfromoptions = SetFromOptions;
-  b->ops->setup          = SetUp;
-  b->ops->update         = Update;
-  b->ops->prepare        = Prepare;
-  b->ops->bounce         = Bounce;
-  b->ops->boundingbox    = BoundingBox;
-  b->ops->shepard        = ShepardAt;
-  b->ops->draw           = FSBoundaryDraw_Polygon;
-  b->ops->writegeometry  = FSBoundaryWriteGeometry_Polygon;
-  b->ops->view           = View;
-  b->ops->destroy        = Destroy;
+  b->data               = wd;
+  b->ops->setup         = SetUp;
+  b->ops->update        = Update;
+  b->ops->prepare       = Prepare;
+  b->ops->bounce        = Bounce;
+  b->ops->boundingbox   = BoundingBox;
+  b->ops->shepard       = ShepardAt;
+  b->ops->draw          = FSBoundaryDraw_Polygon;
+  b->ops->writegeometry = FSBoundaryWriteGeometry_Polygon;
+  b->ops->view          = View;
+  b->ops->destroy       = Destroy;
   PetscCall(
       PetscObjectComposeFunction((PetscObject)b, "FSBoundaryPolygonSetWalls_C", FSBoundaryPolygonSetWalls_Polygon));
   PetscFunctionReturn(0);

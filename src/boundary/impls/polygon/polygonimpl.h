@@ -17,7 +17,6 @@ typedef struct {
   PetscInt *cstart, *cand, ccap, scap;
   PetscBool
       occlusion; /* the walls can hide segments from a particle behind others (a non-convex container or obstacles) */
-  PetscBool visall; /* -fs_walls_visibility all: no pair cut, no facing filter, no occlusion */
   /* per right-hand side: the lists' capacities (the lists are the boundary's wstart, wk, wW) */
   PetscInt   wcap, wscap;
   PetscReal *wp;      /* per segment: wall pressure interpolated from the liquid; then 2*nseg work */

@@ -86,33 +86,23 @@ static PetscBool MeshConvex(const FSMesh *m)
 /*
    SetFromOptions - the triangle-mesh boundary's options.
 
-   Options Database Keys:
-+  -fs_walls_element_size <0.5> - the longest element edge, in units of h: the mesh's triangles are split
+   Options Database Key:
+.  -fs_walls_element_size <0.5> - the longest element edge, in units of h: the mesh's triangles are split
    until their edges are at most this (gamma to 1e-7 at 0.5, 3.5e-6 at 1; docs/walls.md)
--  -fs_walls_visibility <cut|all> - as for polygons: cut (default) cuts fluid pairs through walls and
-   counts only the elements that face a particle and are not hidden; all counts every pair and element
 */
 static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
 {
-  FSBoundary_Trimesh *tm         = (FSBoundary_Trimesh *)b->data;
-  const char *const   visnames[] = {"cut", "all"};
-  PetscInt            vis        = tm->visall ? 1 : 0;
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
 
   PetscFunctionBegin;
   PetscOptionsHeadBegin(PetscOptionsObject, "Walls (boundary integrals on triangle meshes)");
   PetscCall(PetscOptionsReal("-fs_walls_element_size",
                              "Longest edge of the wall elements, in units of h (the mesh's triangles are split to it)",
                              "FSBoundaryCreate_Trimesh", tm->element, &tm->element, NULL));
-  PetscCall(PetscOptionsEList(
-      "-fs_walls_visibility",
-      "Fluid pairs and wall elements near walls: cut (pairs through walls cut, only facing and unhidden elements) or "
-      "all (every pair and element within the support; wall pressure from the facing side)",
-      "FSBoundaryCreate_Trimesh", visnames, 2, visnames[vis], &vis, NULL));
   PetscOptionsHeadEnd();
   PetscCheck(tm->element > 0 && tm->element <= 4, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_walls_element_size %g is out of range: expected (0, 4] (in units of h; 0.5 keeps gamma to 1e-7)",
              (double)tm->element);
-  tm->visall = (PetscBool)(vis == 1);
   PetscFunctionReturn(0);
 }
 
@@ -275,7 +265,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
   const FSMesh       *m  = &tm->mesh;
   const PetscReal     R = b->radius, R2 = R * R;
-  const PetscBool     cut = (PetscBool)(tm->occlusion && !tm->visall);
+  const PetscBool     cut = (PetscBool)(tm->occlusion && !b->visall);
   PetscInt            nc = 0, leak = -1, leakel = -1;
 
   PetscFunctionBegin;
@@ -376,7 +366,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
       const PetscInt   k  = tm->cand[q];
       const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
       PetscReal        gk, wi;
-      FSTriangleIntegrals(b->h, x, el, tm->visall, &gk, &wi);
+      FSTriangleIntegrals(b->h, x, el, b->visall, &gk, &wi);
       g += gk;
       if (wi > 0) {
         b->wk[nw] = k;
@@ -401,7 +391,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
         const PetscReal  wv     = b->wW[q] * P->vol[i];
         const PetscReal  mid[3] = {0.5 * (c[0] + x[0]), 0.5 * (c[1] + x[1]), 0.5 * (c[2] + x[2])};
         PetscReal        g[3];
-        if (tm->visall && (el[0] - x[0]) * nn[0] + (el[1] - x[1]) * nn[1] + (el[2] - x[2]) * nn[2] <= 0) continue;
+        if (b->visall && (el[0] - x[0]) * nn[0] + (el[1] - x[1]) * nn[1] + (el[2] - x[2]) * nn[2] <= 0) continue;
         FSFrameFieldEval3(P->body, mid, g);
         num[k] += (P->pressure[i] + rho * (g[0] * (c[0] - x[0]) + g[1] * (c[1] - x[1]) + g[2] * (c[2] - x[2]))) * wv;
         den[k] += wv;
@@ -493,7 +483,7 @@ static PetscErrorCode ShepardAt(FSBoundary b, const PetscReal x[], PetscReal *ga
   PetscReal           grad[3];
 
   PetscFunctionBegin;
-  PetscCall(FSMeshShepard(&wd->mesh, b->h, x, wd->visall, gamma, grad));
+  PetscCall(FSMeshShepard(&wd->mesh, b->h, x, b->visall, gamma, grad));
   PetscFunctionReturn(0);
 }
 
@@ -517,7 +507,7 @@ static PetscErrorCode View(FSBoundary b, PetscViewer viewer)
   PetscCall(PetscViewerASCIIPrintf(
       viewer,
       "%" PetscInt_FMT " triangles, %" PetscInt_FMT " elements of edge <= %g h, liquid volume %g, visibility %s\n",
-      tm->mesh.ntri, tm->mesh.nel, (double)tm->element, (double)tm->mesh.volume, tm->visall ? "all" : "cut"));
+      tm->mesh.ntri, tm->mesh.nel, (double)tm->element, (double)tm->mesh.volume, b->visall ? "all" : "cut"));
   PetscFunctionReturn(0);
 }
 

@@ -18,7 +18,6 @@ typedef struct {
   PetscInt *cstart, *cand, ccap, scap;
   PetscInt *tmark, *tlist; /* per input triangle: the last particle that listed it; the particle's input triangles */
   PetscBool occlusion;     /* the liquid region is not convex: walls can hide elements and cut pairs */
-  PetscBool visall;        /* -fs_walls_visibility all */
   /* per right-hand side */
   PetscInt   wcap;
   PetscReal *wp;      /* per element: the wall pressure; then 2 nel work */
