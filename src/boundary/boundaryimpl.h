@@ -67,3 +67,6 @@ PETSC_INTERN PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary, const c
 /* the wall pressure from the implementations' per-element sums (interface/boundary.c) */
 PETSC_INTERN PetscErrorCode FSBoundaryWallPressure(FSBoundary, PetscInt nel, const PetscReal wetfull[], PetscReal pamb,
                                                    PetscReal wp[]);
+/* one particle's bounce off an element (interface/boundary.c) */
+PETSC_INTERN void FSBoundaryBounceParticle(FSBoundary, const PetscReal n[], PetscReal d, PetscReal un, PetscReal x[],
+                                           PetscReal v[], PetscReal m, FSParticleEnergyFn, void *, PetscReal de[2]);

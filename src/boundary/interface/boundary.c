@@ -362,6 +362,32 @@ PetscErrorCode FSBoundaryBounce(FSBoundary b, PetscInt n, PetscReal x[], PetscRe
   PetscFunctionReturn(0);
 }
 
+/*
+   FSBoundaryBounceParticle - for the implementations' bounce: the rule of FSBoundaryBounce for one
+   particle (x, v, mass m) found at the distance d (< the bounce distance) from an element's plane and
+   moving towards it at the normal speed un > 0, n the element's unit normal (out of the liquid): put
+   back at the bounce distance, its normal velocity reversed and scaled by the restitution; the change
+   of its energy (energy callback) added to de.
+
+   Not collective
+*/
+void FSBoundaryBounceParticle(FSBoundary b, const PetscReal n[], PetscReal d, PetscReal un, PetscReal x[],
+                              PetscReal v[], PetscReal m, FSParticleEnergyFn energy, void *ctx, PetscReal de[2])
+{
+  const PetscReal dmin = b->bounce_distance * b->dx;
+  PetscReal       e0[2], e1[2];
+
+  energy(ctx, x, v, m, e0);
+  for (PetscInt a = 0; a < b->dim; a++) {
+    x[a] -= (dmin - d) * n[a];
+    v[a] -= (1 + b->restitution) * un * n[a];
+  }
+  energy(ctx, x, v, m, e1);
+  de[0] += e1[0] - e0[0];
+  de[1] += e1[1] - e0[1];
+  b->nbounce++;
+}
+
 /* FSBoundaryGetBounce - whether particles bounce off the walls (-fs_walls_bounce_distance > 0). Not collective. */
 PetscErrorCode FSBoundaryGetBounce(FSBoundary b, PetscBool *bounce)
 {

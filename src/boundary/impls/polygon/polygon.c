@@ -331,18 +331,8 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal 
                                (xi[1] - sg[FS_SEG_P0 + 1]) * (sg[FS_SEG_P1 + 1] - sg[FS_SEG_P0 + 1])) /
                               (sg[FS_SEG_LENGTH] * sg[FS_SEG_LENGTH]);
           const PetscReal un = vi[0] * sg[FS_SEG_NORMAL] + vi[1] * sg[FS_SEG_NORMAL + 1];
-          if (d < dmin && d > -dmin && t >= 0 && t <= 1 && un > 0) {
-            PetscReal e0[2], e1[2];
-            energy(ctx, xi, vi, m[i], e0);
-            xi[0] -= (dmin - d) * sg[FS_SEG_NORMAL];
-            xi[1] -= (dmin - d) * sg[FS_SEG_NORMAL + 1];
-            vi[0] -= (1 + b->restitution) * un * sg[FS_SEG_NORMAL];
-            vi[1] -= (1 + b->restitution) * un * sg[FS_SEG_NORMAL + 1];
-            energy(ctx, xi, vi, m[i], e1);
-            de[0] += e1[0] - e0[0];
-            de[1] += e1[1] - e0[1];
-            b->nbounce++;
-          }
+          if (d < dmin && d > -dmin && t >= 0 && t <= 1 && un > 0)
+            FSBoundaryBounceParticle(b, sg + FS_SEG_NORMAL, d, un, xi, vi, m[i], energy, ctx, de);
         }
       }
   }

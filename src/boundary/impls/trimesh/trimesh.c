@@ -459,17 +459,8 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal 
         const PetscReal p1    = p[0] * e1[0] + p[1] * e1[1] + p[2] * e1[2],
                         p2    = p[0] * e2[0] + p[1] * e2[1] + p[2] * e2[2];
         const PetscReal det = d11 * d22 - d12 * d12, s = (d22 * p1 - d12 * p2) / det, t = (d11 * p2 - d12 * p1) / det;
-        PetscReal       e0[2], eb[2];
         if (s < -1e-12 || t < -1e-12 || s + t > 1 + 1e-12) continue;
-        energy(ctx, xi, vi, m[i], e0);
-        for (PetscInt d = 0; d < 3; d++) {
-          xi[d] -= (dmin - dist) * nn[d];
-          vi[d] -= (1 + b->restitution) * un * nn[d];
-        }
-        energy(ctx, xi, vi, m[i], eb);
-        de[0] += eb[0] - e0[0];
-        de[1] += eb[1] - e0[1];
-        b->nbounce++;
+        FSBoundaryBounceParticle(b, nn, dist, un, xi, vi, m[i], energy, ctx, de);
       }
     }
   }
