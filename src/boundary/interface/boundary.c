@@ -424,8 +424,9 @@ PetscErrorCode FSBoundaryGetWallNames(FSBoundary b, PetscInt *nwalls, const char
 
 /*
    FSBoundaryShepardAt - the walls' Shepard factor gamma(x), the share of the kernel support of a point x
-   that lies inside the liquid region, from every wall element (as the particles' gamma, with the
-   visibility rule of -fs_walls_visibility); 1 far from the walls. Cost: one pass over the elements.
+   that lies inside the liquid region, from the wall elements within its support (as the particles'
+   gamma, with the visibility rule of -fs_walls_visibility, found through the method's static grid of
+   elements); 1 far from the walls.
 
    Not collective
 */

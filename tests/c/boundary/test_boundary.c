@@ -192,6 +192,12 @@ static PetscErrorCode TestGammaAndLists(MPI_Comm comm)
     const PetscInt   k    = mine[i];
     const PetscReal *x    = &pa.rec[i * S];
     PetscReal        sumW = 0;
+    { /* gamma at the same point through FSBoundaryShepardAt (the static grid, as the wave gauges use it) */
+      PetscReal g;
+      PetscCall(FSBoundaryShepardAt(b, x, &g));
+      TCHECK(PetscAbsReal(g - pa.gamma[i]) < 1e-14, "FSBoundaryShepardAt gives %.17g, the particle's gamma %.17g",
+             (double)g, (double)pa.gamma[i]);
+    }
     if (k == 5)
       TCHECK(pa.gamma[i] == 1.0, "far from the walls gamma must be exactly 1, got %.17g", (double)pa.gamma[i]);
     else {

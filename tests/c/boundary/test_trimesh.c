@@ -150,6 +150,12 @@ static PetscErrorCode TestGamma(MPI_Comm comm)
            (double)RefPoint[k][0], (double)RefPoint[k][1], (double)RefPoint[k][2], (double)pa.gamma[i],
            (double)RefGamma[k]);
     maxg = PetscMax(maxg, PetscAbsReal(pa.gamma[i] - RefGamma[k]));
+    { /* gamma at the same point through FSBoundaryShepardAt (the static grid, as the wave gauges use it) */
+      PetscReal g;
+      PetscCall(FSBoundaryShepardAt(b, &pa.rec[i * S], &g));
+      TCHECK(PetscAbsReal(g - pa.gamma[i]) < 1e-14, "FSBoundaryShepardAt gives %.17g, the particle's gamma %.17g",
+             (double)g, (double)pa.gamma[i]);
+    }
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &maxg, 1, MPIU_REAL, MPI_MAX, comm));
   PetscCall(

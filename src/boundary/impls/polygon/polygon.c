@@ -339,14 +339,26 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal 
   PetscFunctionReturn(0);
 }
 
-/* gamma at a point from every element (FSBoundaryShepardAt) */
+/* gamma at a point (FSBoundaryShepardAt) from the segments in the static grid's cells around it: a
+   segment within the support 2h of x has its midpoint within the candidate radius (the cell size) */
 static PetscErrorCode ShepardAt(FSBoundary b, const PetscReal x[], PetscReal *gamma)
 {
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
-  PetscReal           grad[3];
+  const PetscInt      cx = (PetscInt)PetscFloorReal((x[0] - wd->glo[0]) / wd->gcell),
+                 cy      = (PetscInt)PetscFloorReal((x[1] - wd->glo[1]) / wd->gcell);
 
   PetscFunctionBegin;
-  PetscCall(FSWallsShepard(&wd->walls, b->h, x, b->visall, gamma, grad));
+  *gamma = 1;
+  if (cx < 0 || cy < 0 || cx >= wd->gnc[0] || cy >= wd->gnc[1]) PetscFunctionReturn(0); /* farther than 2h */
+  for (PetscInt cb = PetscMax(cy - 1, 0); cb <= PetscMin(cy + 1, wd->gnc[1] - 1); cb++)
+    for (PetscInt ca = PetscMax(cx - 1, 0); ca <= PetscMin(cx + 1, wd->gnc[0] - 1); ca++) {
+      const PetscInt c = ca + wd->gnc[0] * cb;
+      for (PetscInt q = wd->gstart[c]; q < wd->gstart[c + 1]; q++) {
+        PetscReal gk, wi;
+        FSSegmentIntegrals(b->h, x, &wd->walls.seg[wd->gseg[q] * FS_SEG_STRIDE], b->visall, &gk, &wi);
+        *gamma += gk;
+      }
+    }
   PetscFunctionReturn(0);
 }
 

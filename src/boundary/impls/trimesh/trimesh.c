@@ -467,14 +467,11 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal 
   PetscFunctionReturn(0);
 }
 
-/* gamma at a point from every element (FSBoundaryShepardAt) */
+/* gamma at a point (FSBoundaryShepardAt) from the elements in the static grid's cells around it */
 static PetscErrorCode ShepardAt(FSBoundary b, const PetscReal x[], PetscReal *gamma)
 {
-  FSBoundary_Trimesh *wd = (FSBoundary_Trimesh *)b->data;
-  PetscReal           grad[3];
-
   PetscFunctionBegin;
-  PetscCall(FSMeshShepard(&wd->mesh, b->h, x, b->visall, gamma, grad));
+  *gamma = ShepardNear((FSBoundary_Trimesh *)b->data, b->h, x, b->visall);
   PetscFunctionReturn(0);
 }
 
