@@ -60,6 +60,10 @@ struct _p_FSBoundary {
 /* for the implementations' writegeometry (interface/wallsxdmf.c): the wall names comma separated, and
    <dir>/walls.xdmf for the walls.h5 they wrote, with the message saying where the files are */
 PETSC_INTERN PetscErrorCode FSBoundaryJoinWallNames_Private(FSBoundary, char **names);
+PETSC_INTERN PetscErrorCode FSBoundaryWriteWallsH5_Private(FSBoundary, const char dir[], PetscInt dim, PetscInt n,
+                                                           PetscInt nel, PetscReal pts[], PetscInt conn[],
+                                                           PetscReal wall[], PetscReal nrm[], const char measure[],
+                                                           PetscReal meas[], const char countname[]);
 PETSC_INTERN PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary, const char dir[], const char topology[],
                                                              PetscInt nodes, PetscInt nel, const char measure[],
                                                              const char what[]);

@@ -14,6 +14,7 @@
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <petscviewerhdf5.h>
 #include "boundary/boundaryimpl.h"
 
 /*
@@ -131,5 +132,55 @@ PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary b, const char dir[], 
   for (PetscInt q = 0; q < b->nwalls; q++)
     PetscCall(PetscPrintf(comm, "%s%" PetscInt_FMT " %s", q ? ", " : "", q, b->wallname[q]));
   PetscCall(PetscPrintf(comm, "), to open in ParaView with the XDMF Reader next to particles.xdmf\n"));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryWriteWallsH5_Private - <dir>/walls.h5 in the layout above, written to a temporary name and
+   renamed: the n elements this rank gives (rank 0 gives all nel, the others none), of dim nodes
+   each (segments in 2-D, triangles in 3-D): their points (nodes n x dim), connectivity (nodes n),
+   wall index, normal (dim) and measure (length or area, named measure); the attributes countname
+   (= nel), nwalls and names.
+
+   Collective
+*/
+PetscErrorCode FSBoundaryWriteWallsH5_Private(FSBoundary b, const char dir[], PetscInt dim, PetscInt n, PetscInt nel,
+                                              PetscReal pts[], PetscInt conn[], PetscReal wall[], PetscReal nrm[],
+                                              const char measure[], PetscReal meas[], const char countname[])
+{
+  MPI_Comm       comm  = PetscObjectComm((PetscObject)b);
+  const PetscInt nodes = dim, nw = b->nwalls;
+  FSOutputField  fields[4];
+  IS             is;
+  PetscViewer    viewer;
+  char           path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], *names;
+
+  PetscFunctionBegin;
+  PetscCall(FSBoundaryJoinWallNames_Private(b, &names));
+  fields[0] = (FSOutputField){"points", dim, pts};
+  fields[1] = (FSOutputField){"wall", 1, wall};
+  fields[2] = (FSOutputField){"normal", dim, nrm};
+  fields[3] = (FSOutputField){measure, 1, meas};
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/walls.h5", dir));
+  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
+  PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
+  PetscCall(PetscViewerHDF5WriteGroup(viewer, "/walls"));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/walls"));
+  /* the points are nodes per element: written as a field of nodes n entries */
+  PetscCall(FSViewFields_Private(viewer, comm, nodes * n, 1, &fields[0]));
+  PetscCall(FSViewFields_Private(viewer, comm, n, 3, &fields[1]));
+  PetscCall(ISCreateGeneral(comm, nodes * n, conn, PETSC_USE_POINTER, &is));
+  PetscCall(ISSetBlockSize(is, nodes)); /* written as (nel, nodes) */
+  PetscCall(PetscObjectSetName((PetscObject)is, "connectivity"));
+  PetscCall(ISView(is, viewer));
+  PetscCall(ISDestroy(&is));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/walls", countname, PETSC_INT, &nel));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/walls", "nwalls", PETSC_INT, &nw));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/walls", "names", PETSC_STRING, names));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(PetscViewerDestroy(&viewer));
+  PetscCallMPI(MPI_Barrier(comm)); /* every rank has closed the file before it is renamed */
+  PetscCall(FSRenameFile_Private(comm, tmp, path));
+  PetscCall(PetscFree(names));
   PetscFunctionReturn(0);
 }

@@ -56,18 +56,14 @@ PetscErrorCode FSBoundaryWriteGeometry_Polygon(FSBoundary b, const char dir[])
   const FSWalls *w    = &((FSBoundary_Polygon *)b->data)->walls;
   MPI_Comm       comm = PetscObjectComm((PetscObject)b);
   PetscMPIInt    rank;
-  PetscInt       n, nw = w->nwalls, nseg = w->nseg;
+  PetscInt       n, nseg = w->nseg;
   PetscReal     *pts, *wall, *nrm, *len;
   PetscInt      *conn;
-  FSOutputField  fields[4];
-  IS             is;
-  PetscViewer    viewer;
-  char           path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], what[64], *names;
+  char           what[64];
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   n = rank == 0 ? nseg : 0;
-  PetscCall(FSBoundaryJoinWallNames_Private(b, &names));
   PetscCall(PetscMalloc5(4 * n + 1, &pts, n + 1, &wall, 2 * n + 1, &nrm, n + 1, &len, 2 * n + 1, &conn));
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
@@ -79,33 +75,8 @@ PetscErrorCode FSBoundaryWriteGeometry_Polygon(FSBoundary b, const char dir[])
     conn[2 * k]     = 2 * k;
     conn[2 * k + 1] = 2 * k + 1;
   }
-  fields[0] = (FSOutputField){"points", 2, pts};
-  fields[1] = (FSOutputField){"wall", 1, wall};
-  fields[2] = (FSOutputField){"normal", 2, nrm};
-  fields[3] = (FSOutputField){"length", 1, len};
-
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/walls.h5", dir));
-  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-  PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
-  PetscCall(PetscViewerHDF5WriteGroup(viewer, "/walls"));
-  PetscCall(PetscViewerHDF5PushGroup(viewer, "/walls"));
-  /* the points are two per segment: written as a field of 2n entries with bs 2 */
-  PetscCall(FSViewFields_Private(viewer, comm, 2 * n, 1, &fields[0]));
-  PetscCall(FSViewFields_Private(viewer, comm, n, 3, &fields[1]));
-  PetscCall(ISCreateGeneral(comm, 2 * n, conn, PETSC_USE_POINTER, &is));
-  PetscCall(ISSetBlockSize(is, 2)); /* written as (nseg, 2) */
-  PetscCall(PetscObjectSetName((PetscObject)is, "connectivity"));
-  PetscCall(ISView(is, viewer));
-  PetscCall(ISDestroy(&is));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/walls", "nsegments", PETSC_INT, &nseg));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/walls", "nwalls", PETSC_INT, &nw));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/walls", "names", PETSC_STRING, names));
-  PetscCall(PetscViewerHDF5PopGroup(viewer));
-  PetscCall(PetscViewerDestroy(&viewer));
-  PetscCallMPI(MPI_Barrier(comm)); /* every rank has closed the file before it is renamed */
-  PetscCall(FSRenameFile_Private(comm, tmp, path));
+  PetscCall(FSBoundaryWriteWallsH5_Private(b, dir, 2, n, nseg, pts, conn, wall, nrm, "length", len, "nsegments"));
   PetscCall(PetscFree5(pts, wall, nrm, len, conn));
-  PetscCall(PetscFree(names));
 
   PetscCall(PetscSNPrintf(what, sizeof(what), "%" PetscInt_FMT " segments", nseg));
   PetscCall(FSBoundaryWriteWallsXDMF_Private(b, dir, "Polyline", 2, nseg, "length", what));

@@ -92,18 +92,14 @@ PetscErrorCode FSBoundaryWriteGeometry_Trimesh(FSBoundary b, const char dir[])
   const FSMesh *ms   = &((FSBoundary_Trimesh *)b->data)->mesh;
   MPI_Comm      comm = PetscObjectComm((PetscObject)b);
   PetscMPIInt   rank;
-  PetscInt      n, nw = b->nwalls, ntri = ms->ntri;
+  PetscInt      n, ntri = ms->ntri;
   PetscReal    *pts, *wall, *nrm, *area;
   PetscInt     *conn;
-  FSOutputField fields[4];
-  IS            is;
-  PetscViewer   viewer;
-  char          path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], what[128], *names;
+  char          what[128];
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   n = rank == 0 ? ntri : 0;
-  PetscCall(FSBoundaryJoinWallNames_Private(b, &names));
   PetscCall(PetscMalloc5(9 * n + 1, &pts, n + 1, &wall, 3 * n + 1, &nrm, n + 1, &area, 3 * n + 1, &conn));
   for (PetscInt t = 0; t < n; t++) {
     for (PetscInt i = 0; i < 3; i++) {
@@ -113,33 +109,8 @@ PetscErrorCode FSBoundaryWriteGeometry_Trimesh(FSBoundary b, const char dir[])
     TriangleNormal(ms, t, &nrm[3 * t], &area[t]);
     wall[t] = (PetscReal)ms->triwall[t];
   }
-  fields[0] = (FSOutputField){"points", 3, pts};
-  fields[1] = (FSOutputField){"wall", 1, wall};
-  fields[2] = (FSOutputField){"normal", 3, nrm};
-  fields[3] = (FSOutputField){"area", 1, area};
-
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/walls.h5", dir));
-  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-  PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
-  PetscCall(PetscViewerHDF5WriteGroup(viewer, "/walls"));
-  PetscCall(PetscViewerHDF5PushGroup(viewer, "/walls"));
-  /* the points are three per triangle: written as a field of 3n entries with bs 3 */
-  PetscCall(FSViewFields_Private(viewer, comm, 3 * n, 1, &fields[0]));
-  PetscCall(FSViewFields_Private(viewer, comm, n, 3, &fields[1]));
-  PetscCall(ISCreateGeneral(comm, 3 * n, conn, PETSC_USE_POINTER, &is));
-  PetscCall(ISSetBlockSize(is, 3)); /* written as (ntri, 3) */
-  PetscCall(PetscObjectSetName((PetscObject)is, "connectivity"));
-  PetscCall(ISView(is, viewer));
-  PetscCall(ISDestroy(&is));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/walls", "ntriangles", PETSC_INT, &ntri));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/walls", "nwalls", PETSC_INT, &nw));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/walls", "names", PETSC_STRING, names));
-  PetscCall(PetscViewerHDF5PopGroup(viewer));
-  PetscCall(PetscViewerDestroy(&viewer));
-  PetscCallMPI(MPI_Barrier(comm)); /* every rank has closed the file before it is renamed */
-  PetscCall(FSRenameFile_Private(comm, tmp, path));
+  PetscCall(FSBoundaryWriteWallsH5_Private(b, dir, 3, n, ntri, pts, conn, wall, nrm, "area", area, "ntriangles"));
   PetscCall(PetscFree5(pts, wall, nrm, area, conn));
-  PetscCall(PetscFree(names));
 
   PetscCall(PetscSNPrintf(what, sizeof(what),
                           "%" PetscInt_FMT " triangles as given (the run integrates over %" PetscInt_FMT
