@@ -19,7 +19,9 @@ static PetscErrorCode FSSolverEnsureField(FSSolver s, PetscInt n)
 /*
    FSSolverEvaluateAtState - a fresh evaluation of the right-hand side at the current state U and time t,
    for the outputs (not counted in the run's statistics): the particles' volumes, pressures, first-pass
-   fields, the wall pressure and the body field are then those of the state.
+   fields, the wall pressure and the body field are then those of the state. Done once per state: the
+   probes, a snapshot and the Python front's fields at the same step share it (a step, or the
+   integrator's own evaluations, make the next call evaluate again).
 
    Collective
 */
@@ -27,17 +29,23 @@ PetscErrorCode FSSolverEvaluateAtState(FSSolver s, PetscReal t)
 {
   const PetscScalar *u;
   PetscScalar       *f;
-  Vec                F;
+  PetscInt           nu = -1, nf = -1;
 
   PetscFunctionBegin;
+  if (s->state.evaluated && s->state.rhs_time == t) PetscFunctionReturn(0);
+  PetscCall(VecGetLocalSize(s->state.U, &nu));
+  if (s->state.Fout) PetscCall(VecGetLocalSize(s->state.Fout, &nf));
+  if (nf != nu) { /* the state's layout changes with the particles' migration */
+    PetscCall(VecDestroy(&s->state.Fout));
+    PetscCall(VecDuplicate(s->state.U, &s->state.Fout));
+  }
   s->state.rhs_time = t;
-  PetscCall(VecDuplicate(s->state.U, &F));
   PetscCall(VecGetArrayRead(s->state.U, &u));
-  PetscCall(VecGetArray(F, &f));
+  PetscCall(VecGetArray(s->state.Fout, &f));
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
-  PetscCall(VecRestoreArray(F, &f));
+  PetscCall(VecRestoreArray(s->state.Fout, &f));
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  PetscCall(VecDestroy(&F));
+  s->state.evaluated = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 

@@ -533,7 +533,8 @@ PetscErrorCode FSSolverRHS(TS ts, PetscReal t, Vec U, Vec F, void *ctx)
 
   PetscFunctionBegin;
   (void)ts;
-  s->state.rhs_time = t;
+  s->state.rhs_time  = t;
+  s->state.evaluated = PETSC_FALSE; /* the work arrays now hold this stage's evaluation */
   PetscCall(VecGetArrayRead(U, &u));
   PetscCall(VecGetArray(F, &f));
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_TRUE));

@@ -766,6 +766,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(TSDestroy(&s->ts));
   PetscCall(VecDestroy(&s->state.U));
   PetscCall(VecDestroy(&s->state.Uprev));
+  PetscCall(VecDestroy(&s->state.Fout));
   PetscCall(DMDestroy(&s->swarm));
   PetscCall(FSDecompDestroy(&s->pw.decomp));
   PetscCall(FSBoundaryDestroy(&s->boundary));

@@ -81,6 +81,7 @@ typedef struct {
 typedef struct {
   Vec           U;
   Vec           Uprev; /* state at the start of the step (for the displacement check) */
+  Vec           Fout;  /* the rates of the outputs' evaluations at the state (FSSolverEvaluateAtState), U's layout */
   FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
   PetscInt      ngblocks;
   PetscInt  gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
@@ -92,8 +93,10 @@ typedef struct {
   FSCheckpointHeader restart_hdr;
   PetscReal          max_variation; /* max |rho/rho0 - 1| at the last check */
   PetscReal          rhs_time;      /* time of the right-hand side being evaluated */
-  PetscReal          ext_power;     /* P_ext of the last right-hand side, this rank's share */
-  PetscReal          relax_power; /* power of the start-up relaxation of the last right-hand side, this rank's share */
+  PetscBool evaluated;   /* the work arrays hold FSSolverEvaluateAtState's evaluation at U and rhs_time (until a step
+                            or the integrator's next evaluation) */
+  PetscReal ext_power;   /* P_ext of the last right-hand side, this rank's share */
+  PetscReal relax_power; /* power of the start-up relaxation of the last right-hand side, this rank's share */
 } FSSolverState;
 
 /* Probes and wave gauges (-fs_probes, src/solver/probes.c): the items of the file, their current

@@ -315,6 +315,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscBool         bounced;
 
   PetscFunctionBegin;
+  s->state.evaluated = PETSC_FALSE; /* the step changes the state */
   PetscCall(FSSolverSetUp(s));
   PetscCall(PetscLogEventBegin(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverComputeStableDt(s, &dt));
