@@ -203,45 +203,40 @@ PetscErrorCode FSCouplingSetPredictedMotion(FSCoupling c, const FSTankMotion *pr
 
    Collective
 */
+/* the sums of FSCouplingReaction for a compile-time dimension D: in-plane F_x, F_y, M_z, then (3-D) F_z, M_x, M_y */
+FS_ALWAYS_INLINE void ReactionSums(PetscInt D, FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US,
+                                   const PetscReal f[], PetscReal all[6])
+{
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *ri = &rec[i * S], mi = ri[2 * D + 1];
+    const PetscReal  rx = ri[0] - c->tank_ref[0], ry = ri[1] - c->tank_ref[1];
+    const PetscReal  fx = mi * (f[i * US + D] - c->gravity[0]), fy = mi * (f[i * US + D + 1] - c->gravity[1]);
+    all[0] += fx;
+    all[1] += fy;
+    all[2] += rx * fy - ry * fx;
+    if (D == 3) {
+      const PetscReal rz = ri[2] - c->tank_ref[2], fz = mi * (f[i * US + D + 2] - c->gravity[2]);
+      all[3] += fz;
+      all[4] += ry * fz - rz * fy;
+      all[5] += rz * fx - rx * fz;
+    }
+  }
+}
+
 PetscErrorCode FSCouplingReaction(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US,
                                   const PetscReal f[], PetscReal local[3])
 {
-  const PetscInt dim = c->dim;
+  PetscReal all[6] = {0, 0, 0, 0, 0, 0};
 
   PetscFunctionBegin;
-  local[0] = local[1] = local[2] = 0;
-  if (dim == 2)
-    for (PetscInt i = 0; i < n; i++) {
-      const PetscReal *ri = &rec[i * S];
-      const PetscReal  rx = ri[0] - c->tank_ref[0], ry = ri[1] - c->tank_ref[1];
-      const PetscReal  fx = ri[5] * (f[i * US + 2] - c->gravity[0]), fy = ri[5] * (f[i * US + 3] - c->gravity[1]);
-      local[0] += fx;
-      local[1] += fy;
-      local[2] += rx * fy - ry * fx;
-    }
-  else {
-    PetscReal all[6] = {0, 0, 0, 0, 0, 0}; /* in-plane F_x, F_y, M_z, then F_z, M_x, M_y */
-    for (PetscInt i = 0; i < n; i++) {
-      const PetscReal *ri = &rec[i * S], mi = ri[7];
-      const PetscReal  r[3] = {ri[0] - c->tank_ref[0], ri[1] - c->tank_ref[1], ri[2] - c->tank_ref[2]};
-      const PetscReal  F[3] = {mi * (f[i * US + 3] - c->gravity[0]), mi * (f[i * US + 4] - c->gravity[1]),
-                               mi * (f[i * US + 5] - c->gravity[2])};
-      all[0] += F[0];
-      all[1] += F[1];
-      all[2] += r[0] * F[1] - r[1] * F[0];
-      all[3] += F[2];
-      all[4] += r[1] * F[2] - r[2] * F[1];
-      all[5] += r[2] * F[0] - r[0] * F[2];
-    }
-    for (PetscInt k = 0; k < 3; k++) local[k] = all[k];
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, all, 6, MPIU_REAL, MPI_SUM, c->comm));
-    for (PetscInt k = 0; k < 3; k++) {
-      c->reaction[k]     = all[k];
-      c->reaction_out[k] = all[3 + k];
-    }
-    PetscFunctionReturn(0);
+  if (c->dim == 2) ReactionSums(2, c, n, S, rec, US, f, all);
+  else ReactionSums(3, c, n, S, rec, US, f, all);
+  for (PetscInt k = 0; k < 3; k++) local[k] = all[k];
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, all, c->dim == 3 ? 6 : 3, MPIU_REAL, MPI_SUM, c->comm));
+  for (PetscInt k = 0; k < 3; k++) {
+    c->reaction[k]     = all[k];
+    c->reaction_out[k] = all[3 + k];
   }
-  PetscCallMPI(MPI_Allreduce(local, c->reaction, 3, MPIU_REAL, MPI_SUM, c->comm));
   PetscFunctionReturn(0);
 }
 
