@@ -29,20 +29,38 @@ PetscErrorCode FSCaseFillLiquid(FSSolver s, FSWalls *w, PetscReal x0, PetscReal 
   PetscFunctionReturn(0);
 }
 
-/* the domain box around the walls (4h margin); the segments, for the particles' distances to the walls */
-static PetscErrorCode PolygonDomain(FSSolver s, FSWalls *w)
+/*
+   FSCaseSetDomainAround - the solver's domain: the walls' box lo..hi (dim values each) with a margin of 4h
+   in every direction, not periodic.
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseSetDomainAround(FSSolver s, PetscInt dim, const PetscReal lo[], const PetscReal hi[])
 {
-  PetscReal lo[3], hi[3], dx, h;
+  PetscReal dlo[3] = {0, 0, 0}, dhi[3] = {0, 0, 0}, h;
   PetscBool per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
 
   PetscFunctionBegin;
-  PetscCall(FSSolverGetParameters(s, &dx, &h, NULL, NULL, NULL));
-  PetscCall(FSWallsDiscretize(w, dx));
-  for (PetscInt d = 0; d < 2; d++) {
-    lo[d] = w->lo[d] - 4 * h;
-    hi[d] = w->hi[d] + 4 * h;
+  PetscCall(FSSolverGetParameters(s, NULL, &h, NULL, NULL, NULL));
+  for (PetscInt d = 0; d < dim; d++) {
+    dlo[d] = lo[d] - 4 * h;
+    dhi[d] = hi[d] + 4 * h;
   }
-  PetscCall(FSSolverSetDomain(s, lo, hi, per));
+  PetscCall(FSSolverSetDomain(s, dlo, dhi, per));
+  PetscFunctionReturn(0);
+}
+
+/* the domain around the walls; the segments, for the particles' distances to the walls */
+static PetscErrorCode PolygonDomain(FSSolver s, FSWalls *w)
+{
+  PetscReal dx;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
+  PetscCall(FSWallsDiscretize(w, dx));
+  PetscCall(FSCaseSetDomainAround(s, 2, w->lo, w->hi));
   PetscFunctionReturn(0);
 }
 

@@ -29,3 +29,5 @@ PETSC_INTERN PetscErrorCode FSCaseFillLiquidMeshBoxes(FSSolver, FSMesh *, PetscI
                                                       const char what[]);
 PETSC_INTERN PetscBool      FSSegmentEntersBox(const PetscReal p[], const PetscReal q[], const PetscReal lo[],
                                                const PetscReal hi[], PetscInt dim, PetscReal eps);
+/* the domain: the walls' box with a margin of 4h */
+PETSC_INTERN PetscErrorCode FSCaseSetDomainAround(FSSolver, PetscInt dim, const PetscReal lo[], const PetscReal hi[]);

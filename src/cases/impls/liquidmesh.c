@@ -55,22 +55,6 @@ PetscErrorCode FSCaseFillLiquidMesh(FSSolver s, FSMesh *m, const PetscReal lo[3]
   PetscFunctionReturn(0);
 }
 
-/* the domain box around the mesh (4h margin) */
-static PetscErrorCode MeshDomain(FSSolver s, const FSMesh *m)
-{
-  PetscReal dlo[3], dhi[3], h;
-  PetscBool per[3] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
-
-  PetscFunctionBegin;
-  PetscCall(FSSolverGetParameters(s, NULL, &h, NULL, NULL, NULL));
-  for (PetscInt d = 0; d < 3; d++) {
-    dlo[d] = m->lo[d] - 4 * h;
-    dhi[d] = m->hi[d] + 4 * h;
-  }
-  PetscCall(FSSolverSetDomain(s, dlo, dhi, per));
-  PetscFunctionReturn(0);
-}
-
 /* the mesh into the solver's boundary (which takes it over) */
 static PetscErrorCode MeshGive(FSSolver s, FSMesh *m)
 {
@@ -166,7 +150,7 @@ PetscErrorCode FSCaseFillLiquidMeshWithVelocity(FSSolver s, FSMesh *m, const Pet
              what, (double)lo[0], (double)hi[0], (double)lo[1], (double)hi[1], (double)lo[2], (double)hi[2],
              (double)m->lo[0], (double)m->hi[0], (double)m->lo[1], (double)m->hi[1], (double)m->lo[2],
              (double)m->hi[2]);
-  PetscCall(MeshDomain(s, m));
+  PetscCall(FSCaseSetDomainAround(s, 3, m->lo, m->hi));
   PetscCall(MeshLattice(s, m, lo, hi, what, velocity, ctx));
   PetscCall(MeshGive(s, m));
   PetscFunctionReturn(0);
@@ -239,7 +223,7 @@ PetscErrorCode FSCaseFillLiquidMeshBoxes(FSSolver s, FSMesh *m, PetscInt nbox, c
                  what, j, k);
     }
   }
-  PetscCall(MeshDomain(s, m));
+  PetscCall(FSCaseSetDomainAround(s, 3, m->lo, m->hi));
   for (PetscInt k = 0; k < nbox; k++) {
     const PetscReal lo[3] = {box[6 * k], box[6 * k + 2], box[6 * k + 4]},
                     hi[3] = {box[6 * k + 1], box[6 * k + 3], box[6 * k + 5]};
