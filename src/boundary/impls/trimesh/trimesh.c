@@ -229,26 +229,25 @@ static PetscBool Leaked(const FSBoundary_Trimesh *tm, const PetscReal x[], Petsc
   const FSMesh *m    = &tm->mesh;
   PetscReal     best = PETSC_MAX_REAL;
   PetscBool     side = PETSC_TRUE;
+
   /* on the liquid side of every nearby element's plane: inside (the common case, without distances) */
   for (PetscInt q = first; q < nc && side; q++) {
     const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE], *n = el + FS_TRI_NORMAL;
     side = (PetscBool)((el[0] - x[0]) * n[0] + (el[1] - x[1]) * n[1] + (el[2] - x[2]) * n[2] > 0);
   }
   if (side) return PETSC_FALSE;
+  /* the nearest elements, ties (within a relative 1e-9) kept together, in one pass */
   for (PetscInt q = first; q < nc; q++) {
-    const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE];
-    const PetscReal  d2 = FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
+    const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE], *n = el + FS_TRI_NORMAL;
+    const PetscReal  d2     = FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
+    const PetscBool  facing = (PetscBool)((el[0] - x[0]) * n[0] + (el[1] - x[1]) * n[1] + (el[2] - x[2]) * n[2] > 0);
+    if (d2 > best * (1 + 1e-9) + 1e-30) continue;      /* farther than the nearest so far */
+    if (d2 < best * (1 - 1e-9) - 1e-30) side = facing; /* a new nearest: the earlier ones were farther */
+    else side = (PetscBool)(side && facing);           /* a tie: an edge or a corner shared by elements */
     if (d2 < best) {
       best     = d2;
       *nearest = tm->cand[q];
     }
-  }
-  side = PETSC_TRUE;
-  for (PetscInt q = first; q < nc && side; q++) {
-    const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE], *n = el + FS_TRI_NORMAL;
-    const PetscReal  d2 = FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
-    if (d2 <= best * (1 + 1e-9) + 1e-30)
-      side = (PetscBool)((el[0] - x[0]) * n[0] + (el[1] - x[1]) * n[1] + (el[2] - x[2]) * n[2] > 0);
   }
   return side ? PETSC_FALSE : (PetscBool)!FSMeshInLiquid(m, x, 0);
 }
