@@ -32,6 +32,7 @@ static PetscErrorCode FSProbesReadFile(MPI_Comm comm, const char path[], char **
         if ((long)fread(buf, 1, (size_t)len, fp) != len) len = -1;
       }
       fclose(fp);
+      if (len < 0) PetscCall(PetscFree(buf)); /* a short read: no text to keep */
     }
   }
   PetscCallMPI(MPI_Bcast(&len, 1, MPI_LONG, 0, comm));

@@ -22,7 +22,7 @@
    over all of them (FSBoundaryPrepare and FSBoundaryGetLoads are collective) and must not change.
 */
 #include <string.h>
-#include "boundary/fsboundary.h"
+#include "boundarytest.h"
 #include "boundary/impls/polygon/walls.h"
 
 #define TCHECK(cond, ...) PetscCheck(cond, PETSC_COMM_SELF, PETSC_ERR_PLIB, "test_boundary: " __VA_ARGS__)
@@ -54,43 +54,8 @@ static PetscErrorCode TankBoundary(MPI_Comm comm, PetscReal L, PetscReal H, Pets
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode WallIndex(FSBoundary b, const char name[], PetscInt *index)
-{
-  PetscInt           nwalls;
-  const char *const *names;
-
-  PetscFunctionBegin;
-  PetscCall(FSBoundaryGetWallNames(b, &nwalls, &names));
-  *index = -1;
-  for (PetscInt q = 0; q < nwalls; q++)
-    if (!strcmp(names[q], name)) *index = q;
-  TCHECK(*index >= 0, "the boundary has no wall \"%s\"", name);
-  PetscFunctionReturn(0);
-}
-
-/* n particles with their records, volumes and pressures */
-typedef struct {
-  PetscInt   n;
-  PetscReal *rec, *vol, *p, *gamma;
-} Particles;
-
-static PetscErrorCode ParticlesCreate(PetscInt n, Particles *pa)
-{
-  PetscFunctionBegin;
-  pa->n = n;
-  PetscCall(PetscCalloc4(S * n + 1, &pa->rec, n + 1, &pa->vol, n + 1, &pa->p, n + 1, &pa->gamma));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode ParticlesDestroy(Particles *pa)
-{
-  PetscFunctionBegin;
-  PetscCall(PetscFree4(pa->rec, pa->vol, pa->p, pa->gamma));
-  PetscFunctionReturn(0);
-}
-
 /* a particle at rest at (x, y) with density rho and mass rho0 dx^2 */
-static void Place(Particles *pa, PetscInt i, PetscReal x, PetscReal y, PetscReal rho, PetscReal dx)
+static void Place(TestParticles *pa, PetscInt i, PetscReal x, PetscReal y, PetscReal rho, PetscReal dx)
 {
   PetscReal *r = &pa->rec[i * S];
   r[0]         = x;
@@ -100,32 +65,6 @@ static void Place(Particles *pa, PetscInt i, PetscReal x, PetscReal y, PetscReal
   r[5]        = rho0 * dx * dx;
   pa->vol[i]  = r[5] / rho;
   pa->p[i]    = c0 * c0 * (rho - rho0);
-}
-
-/* The boundary's work of a step and of a right-hand side, as the solver does it: the candidate lists
-   (cells as wide as the candidate radius), FSBoundaryUpdate, then FSBoundaryPrepare (collective) */
-static PetscErrorCode UpdateAndPrepare(FSBoundary b, PetscReal h, Particles *pa, FSBoundaryLeak *leak)
-{
-  FSNeighbours        nb;
-  FSBoundaryParticles bp;
-  FSFrameField        body = {{0, -grav}, 0, 0, {0, 0}}; /* b = gravity, no rotation */
-
-  PetscFunctionBegin;
-  PetscCall(PetscMemzero(&nb, sizeof(nb)));
-  PetscCall(FSNeighboursBuildCells(&nb, 2, pa->n, pa->rec, S, 2.5 * h));
-  PetscCall(FSNeighboursBuildCandidates(&nb, pa->n, pa->rec, S, 2.5 * h));
-  PetscCall(FSBoundaryUpdate(b, pa->n, pa->rec, S, &nb, leak));
-  PetscCall(FSNeighboursDestroy(&nb));
-  bp.dim                 = 2;
-  bp.nowned              = pa->n;
-  bp.stride              = S;
-  bp.rec                 = pa->rec;
-  bp.vol                 = pa->vol;
-  bp.pressure            = pa->p;
-  bp.body                = &body;
-  bp.background_pressure = 0;
-  PetscCall(FSBoundaryPrepare(b, &bp, pa->gamma));
-  PetscFunctionReturn(0);
 }
 
 /* distance from x to the segment p0-p1 (computed here, not with the library's helper) */
@@ -166,7 +105,7 @@ static PetscErrorCode TestGammaAndLists(MPI_Comm comm)
   PetscInt        mine[6], n = 0;
   PetscMPIInt     rank, size;
   FSBoundary      b;
-  Particles       pa;
+  TestParticles   pa;
   FSBoundaryLeak  leak;
   const FSWallView *V;
   const PetscInt   *wstart, *wk;
@@ -179,9 +118,9 @@ static PetscErrorCode TestGammaAndLists(MPI_Comm comm)
   for (PetscInt k = 0; k < 6; k++)
     if (k % size == rank) mine[n++] = k;
   PetscCall(TankBoundary(comm, 2.0, 2.0, dx, h, &b));
-  PetscCall(ParticlesCreate(n, &pa));
+  PetscCall(TestParticlesCreate(2, n, &pa));
   for (PetscInt i = 0; i < n; i++) Place(&pa, i, all[mine[i]][0], all[mine[i]][1], rho0, dx);
-  PetscCall(UpdateAndPrepare(b, h, &pa, &leak));
+  PetscCall(TestUpdateAndPrepare(b, h, grav, &pa, &leak));
   TCHECK(leak.particle < 0, "a leak reported for particles inside the tank (particle %" PetscInt_FMT ")",
          leak.particle);
   PetscCall(FSBoundaryGetView(b, &V, &wstart, &wk, &wW));
@@ -251,7 +190,7 @@ static PetscErrorCode TestGammaAndLists(MPI_Comm comm)
                         "  gamma: largest difference from the reference values %.3g (tolerance 2e-6); int W dS against "
                         "the line integral: %.3g (tolerance 1e-8)\n",
                         (double)maxg, (double)maxint));
-  PetscCall(ParticlesDestroy(&pa));
+  PetscCall(TestParticlesDestroy(&pa));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);
 }
@@ -274,7 +213,7 @@ static PetscErrorCode TestHydrostatic(MPI_Comm comm)
   PetscMPIInt        rank, size;
   PetscInt           n = 0, floorw, rightw, leftw, lidw, nwalls;
   FSBoundary         b;
-  Particles          pa;
+  TestParticles      pa;
   FSBoundaryLeak     leak;
   const FSWallView  *V;
   const PetscInt    *wstart, *wk;
@@ -286,18 +225,18 @@ static PetscErrorCode TestHydrostatic(MPI_Comm comm)
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(TankBoundary(comm, L, Ht, dx, h, &b));
-  PetscCall(WallIndex(b, "floor", &floorw));
-  PetscCall(WallIndex(b, "right", &rightw));
-  PetscCall(WallIndex(b, "left", &leftw));
-  PetscCall(WallIndex(b, "tank", &lidw));
+  PetscCall(TestWallIndex(b, "floor", &floorw));
+  PetscCall(TestWallIndex(b, "right", &rightw));
+  PetscCall(TestWallIndex(b, "left", &leftw));
+  PetscCall(TestWallIndex(b, "tank", &lidw));
   for (PetscInt k = 0; k < nx * ny; k++) n += (k % size == rank);
-  PetscCall(ParticlesCreate(n, &pa));
+  PetscCall(TestParticlesCreate(2, n, &pa));
   for (PetscInt k = 0, i = 0; k < nx * ny; k++) {
     const PetscReal x = (k % nx + 0.5) * dx, y = (k / nx + 0.5) * dx;
     if (k % size != rank) continue;
     Place(&pa, i++, x, y, rho0 + rho0 * grav * (H - y) / (c0 * c0), dx);
   }
-  PetscCall(UpdateAndPrepare(b, h, &pa, &leak));
+  PetscCall(TestUpdateAndPrepare(b, h, grav, &pa, &leak));
   TCHECK(leak.particle < 0, "a leak reported in the hydrostatic column (particle %" PetscInt_FMT ")", leak.particle);
   PetscCall(FSBoundaryGetView(b, &V, &wstart, &wk, &wW));
   /* the wall pressure of the floor's elements (every rank knows every element's) */
@@ -339,7 +278,7 @@ static PetscErrorCode TestHydrostatic(MPI_Comm comm)
                         "%g), side loads %.3g and %.3g (tolerance %g)\n",
                         (double)maxp, (double)tolp, (double)ef, (double)tolfloor, (double)er, (double)el,
                         (double)tolside));
-  PetscCall(ParticlesDestroy(&pa));
+  PetscCall(TestParticlesDestroy(&pa));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);
 }
@@ -353,7 +292,7 @@ static PetscErrorCode TestLeak(void)
   const PetscInt     expect[2]   = {1, 2};
   const char        *wall[2]     = {"left", "floor"};
   FSBoundary         b;
-  Particles          pa;
+  TestParticles      pa;
   FSBoundaryLeak     leak;
   FSNeighbours       nb;
   PetscInt           w;
@@ -363,7 +302,7 @@ static PetscErrorCode TestLeak(void)
   PetscFunctionBegin;
   PetscCall(TankBoundary(PETSC_COMM_SELF, 2.0, 2.0, dx, h, &b));
   PetscCall(FSBoundaryGetWallNames(b, &nwalls, &names));
-  PetscCall(ParticlesCreate(3, &pa));
+  PetscCall(TestParticlesCreate(2, 3, &pa));
   for (PetscInt c = 0; c < 2; c++) {
     for (PetscInt i = 0; i < 3; i++) Place(&pa, i, xy[c][i][0], xy[c][i][1], rho0, dx);
     PetscCall(PetscMemzero(&nb, sizeof(nb)));
@@ -371,14 +310,14 @@ static PetscErrorCode TestLeak(void)
     PetscCall(FSNeighboursBuildCandidates(&nb, pa.n, pa.rec, S, 2.5 * h));
     PetscCall(FSBoundaryUpdate(b, pa.n, pa.rec, S, &nb, &leak));
     PetscCall(FSNeighboursDestroy(&nb));
-    PetscCall(WallIndex(b, wall[c], &w));
+    PetscCall(TestWallIndex(b, wall[c], &w));
     TCHECK(leak.particle == expect[c],
            "leak: particle %" PetscInt_FMT " reported, expected %" PetscInt_FMT " (at (%g, %g))", leak.particle,
            expect[c], (double)xy[c][expect[c]][0], (double)xy[c][expect[c]][1]);
     TCHECK(leak.wall == w, "leak of particle %" PetscInt_FMT ": wall \"%s\" reported, expected the nearest, \"%s\"",
            leak.particle, leak.wall >= 0 && leak.wall < nwalls ? names[leak.wall] : "(none)", wall[c]);
   }
-  PetscCall(ParticlesDestroy(&pa));
+  PetscCall(TestParticlesDestroy(&pa));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);
 }

@@ -13,7 +13,7 @@
    - the pair cut in a baffled tank: two particles on either side of a baffle do not interact.
 */
 #include <string.h>
-#include "boundary/fsboundary.h"
+#include "boundarytest.h"
 #include "boundary/impls/trimesh/mesh.h"
 
 #define TCHECK(cond, ...) PetscCheck(cond, PETSC_COMM_SELF, PETSC_ERR_PLIB, "test_trimesh: " __VA_ARGS__)
@@ -50,27 +50,7 @@ static PetscErrorCode BoxBoundary(MPI_Comm comm, PetscReal L, PetscReal H, Petsc
   PetscFunctionReturn(0);
 }
 
-typedef struct {
-  PetscInt   n;
-  PetscReal *rec, *vol, *p, *gamma;
-} Particles;
-
-static PetscErrorCode ParticlesCreate(PetscInt n, Particles *pa)
-{
-  PetscFunctionBegin;
-  pa->n = n;
-  PetscCall(PetscCalloc4(S * n + 1, &pa->rec, n + 1, &pa->vol, n + 1, &pa->p, n + 1, &pa->gamma));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode ParticlesDestroy(Particles *pa)
-{
-  PetscFunctionBegin;
-  PetscCall(PetscFree4(pa->rec, pa->vol, pa->p, pa->gamma));
-  PetscFunctionReturn(0);
-}
-
-static void Place(Particles *pa, PetscInt i, const PetscReal x[3], PetscReal rho, PetscReal dx)
+static void Place(TestParticles *pa, PetscInt i, const PetscReal x[3], PetscReal rho, PetscReal dx)
 {
   PetscReal *r = &pa->rec[i * S];
   for (PetscInt d = 0; d < 3; d++) {
@@ -81,33 +61,6 @@ static void Place(Particles *pa, PetscInt i, const PetscReal x[3], PetscReal rho
   r[7]       = rho0 * dx * dx * dx;
   pa->vol[i] = r[7] / rho;
   pa->p[i]   = c0 * c0 * (rho - rho0);
-}
-
-/* the solver's work of a step and a right-hand side: candidates, FSBoundaryUpdate, FSBoundaryPrepare */
-static PetscErrorCode UpdateAndPrepare(FSBoundary b, PetscReal h, Particles *pa, FSNeighbours *keep,
-                                       FSBoundaryLeak *leak)
-{
-  FSNeighbours        nb;
-  FSBoundaryParticles bp;
-  FSFrameField        body = {{0, -grav, 0}, 0, 0, {0, 0}};
-
-  PetscFunctionBegin;
-  PetscCall(PetscMemzero(&nb, sizeof(nb)));
-  PetscCall(FSNeighboursBuildCells(&nb, 3, pa->n, pa->rec, S, 2.5 * h));
-  PetscCall(FSNeighboursBuildCandidates(&nb, pa->n, pa->rec, S, 2.5 * h));
-  PetscCall(FSBoundaryUpdate(b, pa->n, pa->rec, S, &nb, leak));
-  if (keep) *keep = nb;
-  else PetscCall(FSNeighboursDestroy(&nb));
-  bp.dim                 = 3;
-  bp.nowned              = pa->n;
-  bp.stride              = S;
-  bp.rec                 = pa->rec;
-  bp.vol                 = pa->vol;
-  bp.pressure            = pa->p;
-  bp.body                = &body;
-  bp.background_pressure = 0;
-  PetscCall(FSBoundaryPrepare(b, &bp, pa->gamma));
-  PetscFunctionReturn(0);
 }
 
 static const PetscReal RefPoint[7][3] = {
@@ -125,7 +78,7 @@ static PetscErrorCode TestGamma(MPI_Comm comm)
   PetscMPIInt     rank, size;
   PetscInt        mine[7], n = 0;
   FSBoundary      b;
-  Particles       pa;
+  TestParticles   pa;
   FSBoundaryLeak  leak;
   PetscReal       maxg = 0;
 
@@ -135,12 +88,12 @@ static PetscErrorCode TestGamma(MPI_Comm comm)
   for (PetscInt k = 0; k < 7; k++)
     if (k % size == rank) mine[n++] = k;
   PetscCall(BoxBoundary(comm, 6 * h, 6 * h, 6 * h, dx, h, PETSC_FALSE, &b));
-  PetscCall(ParticlesCreate(n, &pa));
+  PetscCall(TestParticlesCreate(3, n, &pa));
   for (PetscInt i = 0; i < n; i++) {
     const PetscReal x[3] = {RefPoint[mine[i]][0] * h, RefPoint[mine[i]][1] * h, RefPoint[mine[i]][2] * h};
     Place(&pa, i, x, rho0, dx);
   }
-  PetscCall(UpdateAndPrepare(b, h, &pa, NULL, &leak));
+  PetscCall(TestUpdateAndPrepare(b, h, grav, &pa, &leak));
   TCHECK(leak.particle < 0, "a leak reported for particles inside the box (particle %" PetscInt_FMT ")", leak.particle);
   for (PetscInt i = 0; i < n; i++) {
     const PetscInt k = mine[i];
@@ -160,7 +113,7 @@ static PetscErrorCode TestGamma(MPI_Comm comm)
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &maxg, 1, MPIU_REAL, MPI_MAX, comm));
   PetscCall(
       PetscPrintf(comm, "  gamma: largest difference from the reference values %.3g (tolerance 1e-6)\n", (double)maxg));
-  PetscCall(ParticlesDestroy(&pa));
+  PetscCall(TestParticlesDestroy(&pa));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);
 }
@@ -255,20 +208,6 @@ static PetscErrorCode TestRotatedAndGradient(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode WallIndex(FSBoundary b, const char name[], PetscInt *index)
-{
-  PetscInt           nwalls;
-  const char *const *names;
-
-  PetscFunctionBegin;
-  PetscCall(FSBoundaryGetWallNames(b, &nwalls, &names));
-  *index = -1;
-  for (PetscInt q = 0; q < nwalls; q++)
-    if (!strcmp(names[q], name)) *index = q;
-  TCHECK(*index >= 0, "the boundary has no wall \"%s\"", name);
-  PetscFunctionReturn(0);
-}
-
 /*
    A hydrostatic box: 0.2 x 0.15 x 0.1 m filled to H = 0.06 m on a lattice of dx = 1 cm, h = 2 dx, at
    rest with p = rho0 g (H - y); particle k on rank k % size. Floor: pressure rho0 g H, load -rho0 g H L W
@@ -283,7 +222,7 @@ static PetscErrorCode TestHydrostatic(MPI_Comm comm)
   PetscMPIInt       rank, size;
   PetscInt          n = 0, floorw, rightw, leftw, lidw, nwalls;
   FSBoundary        b;
-  Particles         pa;
+  TestParticles     pa;
   FSBoundaryLeak    leak;
   const FSWallView *V;
   const PetscInt   *wstart, *wk;
@@ -295,18 +234,18 @@ static PetscErrorCode TestHydrostatic(MPI_Comm comm)
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(BoxBoundary(comm, L, Ht, W, dx, h, PETSC_TRUE, &b));
-  PetscCall(WallIndex(b, "floor", &floorw));
-  PetscCall(WallIndex(b, "right", &rightw));
-  PetscCall(WallIndex(b, "left", &leftw));
-  PetscCall(WallIndex(b, "tank", &lidw));
+  PetscCall(TestWallIndex(b, "floor", &floorw));
+  PetscCall(TestWallIndex(b, "right", &rightw));
+  PetscCall(TestWallIndex(b, "left", &leftw));
+  PetscCall(TestWallIndex(b, "tank", &lidw));
   for (PetscInt k = 0; k < nx * ny * nz; k++) n += (k % size == rank);
-  PetscCall(ParticlesCreate(n, &pa));
+  PetscCall(TestParticlesCreate(3, n, &pa));
   for (PetscInt k = 0, i = 0; k < nx * ny * nz; k++) {
     const PetscReal x[3] = {(k % nx + 0.5) * dx, ((k / nx) % ny + 0.5) * dx, (k / (nx * ny) + 0.5) * dx};
     if (k % size != rank) continue;
     Place(&pa, i++, x, rho0 + rho0 * grav * (H - x[1]) / (c0 * c0), dx);
   }
-  PetscCall(UpdateAndPrepare(b, h, &pa, NULL, &leak));
+  PetscCall(TestUpdateAndPrepare(b, h, grav, &pa, &leak));
   TCHECK(leak.particle < 0, "a leak reported in the hydrostatic box (particle %" PetscInt_FMT ")", leak.particle);
   PetscCall(FSBoundaryGetView(b, &V, &wstart, &wk, &wW));
   for (PetscInt e = 0; e < V->nelements; e++) {
@@ -345,7 +284,7 @@ static PetscErrorCode TestHydrostatic(MPI_Comm comm)
                   "(tol %g), floor moments %.3g %.3g\n",
                   (double)maxp, (double)tolp, (double)ef, (double)tolfloor, (double)er, (double)el, (double)tolside,
                   (double)mfx, (double)mfz));
-  PetscCall(ParticlesDestroy(&pa));
+  PetscCall(TestParticlesDestroy(&pa));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);
 }
@@ -364,21 +303,21 @@ static PetscErrorCode TestLeakAndBounce(void)
 {
   const PetscReal h = 0.02, dx = 0.01;
   FSBoundary      b;
-  Particles       pa;
+  TestParticles   pa;
   FSBoundaryLeak  leak;
   PetscInt        floorw;
 
   PetscFunctionBegin;
   PetscCall(BoxBoundary(PETSC_COMM_SELF, 0.2, 0.15, 0.1, dx, h, PETSC_TRUE, &b));
-  PetscCall(WallIndex(b, "floor", &floorw));
-  PetscCall(ParticlesCreate(3, &pa));
+  PetscCall(TestWallIndex(b, "floor", &floorw));
+  PetscCall(TestParticlesCreate(3, 3, &pa));
   {
     const PetscReal in[3] = {0.05, 0.05, 0.05}, out[3] = {0.13, -0.002, 0.031}, in2[3] = {0.1, 0.02, 0.05};
     Place(&pa, 0, in, rho0, dx);
     Place(&pa, 1, out, rho0, dx);
     Place(&pa, 2, in2, rho0, dx);
   }
-  PetscCall(UpdateAndPrepare(b, h, &pa, NULL, &leak));
+  PetscCall(TestUpdateAndPrepare(b, h, grav, &pa, &leak));
   TCHECK(leak.particle == 1 && leak.wall == floorw,
          "the leak report: particle %" PetscInt_FMT ", wall %" PetscInt_FMT
          " (expected particle 1 through the floor, wall %" PetscInt_FMT ")",
@@ -420,7 +359,7 @@ static PetscErrorCode TestLeakAndBounce(void)
     TCHECK(x[4] == 0.05 && v[4] == -0.5, "a particle far from the walls bounced");
     TCHECK(PetscAbsReal(de[0]) < 1e-15, "an elastic bounce changed the kinetic energy by %g", (double)de[0]);
   }
-  PetscCall(ParticlesDestroy(&pa));
+  PetscCall(TestParticlesDestroy(&pa));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);
 }
