@@ -177,10 +177,12 @@ PetscErrorCode FSSolverEnergyJumpFrame(FSSolver s, FSEnergyFrame *fr)
 void FSEnergyParticle(FSSolver s, const FSEnergyFrame *fr, const PetscReal x[], const PetscReal v[], PetscReal m,
                       PetscReal e[2])
 {
-  const PetscReal *g = s->opt.gravity;
-  if (s->opt.dim == 3)
-    e[0] = 0.5 * m * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) - m * (g[0] * x[0] + g[1] * x[1] + g[2] * x[2]);
-  else e[0] = 0.5 * m * (v[0] * v[0] + v[1] * v[1]) - m * (g[0] * x[0] + g[1] * x[1]);
+  PetscReal v2 = 0, gx = 0;
+  for (PetscInt d = 0; d < s->opt.dim; d++) {
+    v2 += v[d] * v[d];
+    gx += s->opt.gravity[d] * x[d];
+  }
+  e[0] = 0.5 * m * v2 - m * gx;
   if (fr->coupled) {
     PetscReal kin, pot;
     FSCouplingAbsoluteEnergy(s->coupling, &fr->mo, fr->c, fr->sn, x, v, m, &kin, &pot);
