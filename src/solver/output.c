@@ -29,16 +29,11 @@ PetscErrorCode FSSolverEvaluateAtState(FSSolver s, PetscReal t)
 {
   const PetscScalar *u;
   PetscScalar       *f;
-  PetscInt           nu = -1, nf = -1;
 
   PetscFunctionBegin;
   if (s->state.evaluated && s->state.rhs_time == t) PetscFunctionReturn(0);
-  PetscCall(VecGetLocalSize(s->state.U, &nu));
-  if (s->state.Fout) PetscCall(VecGetLocalSize(s->state.Fout, &nf));
-  if (nf != nu) { /* the state's layout changes with the particles' migration */
-    PetscCall(VecDestroy(&s->state.Fout));
-    PetscCall(VecDuplicate(s->state.U, &s->state.Fout));
-  }
+  /* created with the state (collective): dropped on every rank where the state is made anew */
+  if (!s->state.Fout) PetscCall(VecDuplicate(s->state.U, &s->state.Fout));
   s->state.rhs_time = t;
   PetscCall(VecGetArrayRead(s->state.U, &u));
   PetscCall(VecGetArray(s->state.Fout, &f));

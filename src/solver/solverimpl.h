@@ -79,9 +79,10 @@ typedef struct {
 /* The TS state: U packs (x, u, rho) per owned particle, then the global DOFs on rank 0 (blocks: the
    structure's DOFs, the dissipated energies, the energy budget's), and what the stepping keeps. */
 typedef struct {
-  Vec           U;
-  Vec           Uprev; /* state at the start of the step (for the displacement check) */
-  Vec           Fout;  /* the rates of the outputs' evaluations at the state (FSSolverEvaluateAtState), U's layout */
+  Vec U;
+  Vec Uprev; /* state at the start of the step (for the displacement check) */
+  Vec Fout;  /* the rates of the outputs' evaluations at the state (FSSolverEvaluateAtState), U's layout:
+                destroyed with U */
   FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
   PetscInt      ngblocks;
   PetscInt  gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */

@@ -150,6 +150,7 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
     }
     PetscCall(VecDestroy(&s->state.U));
     PetscCall(VecDestroy(&s->state.Uprev));
+    PetscCall(VecDestroy(&s->state.Fout)); /* the outputs' rates take the new layout */
     s->state.U = U;
     PetscCall(VecDuplicate(U, &s->state.Uprev));
     if (s->ts) {
