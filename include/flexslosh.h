@@ -175,12 +175,13 @@ struct _p_FSTerm {
   char      description[256];
   FSSolver  solver;
   FSTermOps ops;
-  PetscInt  needs;         /* FSNeed flags */
-  PetscBool renormalized;  /* the core divides the term's rates by the Shepard factor gamma_i (boundary integrals) */
-  PetscBool has_power;     /* the term dissipates: it accumulates power */
-  PetscReal power;         /* dissipation power of the last right-hand side, this rank's share (seed Eq. 38) */
-  PetscReal max_viscosity; /* largest kinematic viscosity the term applies (time-step limit), set in prepare */
-  void     *data;          /* implementation data */
+  PetscInt  needs;          /* FSNeed flags */
+  PetscBool renormalized;   /* the core divides the term's rates by the Shepard factor gamma_i (boundary integrals) */
+  PetscBool has_power;      /* the term dissipates: it accumulates power */
+  PetscReal power;          /* dissipation power of the last right-hand side, this rank's share (seed Eq. 38) */
+  PetscReal max_viscosity;  /* largest kinematic viscosity the term applies (time-step limit), set in prepare */
+  PetscReal dt_coefficient; /* the term's own limit dt <= c h^2/max_viscosity (0: -fs_cfl_viscous's) */
+  void     *data;           /* implementation data */
 };
 
 typedef PetscErrorCode (*FSTermCreateFn)(FSTerm);

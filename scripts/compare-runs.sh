@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Shows that a code change leaves the results unchanged: runs the reference cases with two builds
-# (on 1 and 2 ranks) and compares their time series and energy budgets column by column.
+# (on 1 and 2 ranks) and compares their time series and energy budgets column by column (the base's columns; new
+# columns are listed).
 #
 #   scripts/compare-runs.sh BASE_REF [NEW_BUILD]
 #
@@ -57,15 +58,20 @@ for f in ("timeseries.csv", "energy.csv"):
     except FileNotFoundError:
         continue
     b = list(csv.reader(open(f"{new}/{f}")))
-    if a[0] != b[0] or len(a) != len(b):
-        print(f"{label}: {f} differs in its columns or rows ({len(a)} against {len(b)} rows)")
+    missing = [n for n in a[0] if n not in b[0]]
+    if missing or len(a) != len(b):
+        print(f"{label}: {f} differs in its columns or rows ({len(a)} against {len(b)} rows; missing {missing})")
         sys.exit(1)
+    added = [n for n in b[0] if n not in a[0]]
+    if added:
+        print(f"{label}: {f} has new columns {added} (not compared)")
     for col, name in enumerate(a[0]):
         if name == "wall_time":
             continue
+        cb = b[0].index(name)
         scale = max(abs(float(r[col])) for r in a[1:]) or 1.0
         for ra, rb in zip(a[1:], b[1:]):
-            x, y = float(ra[col]), float(rb[col])
+            x, y = float(ra[col]), float(rb[cb])
             d = abs(x - y) / scale if not (math.isnan(x) and math.isnan(y)) else 0.0
             if d > worst:
                 worst, where = d, f"{f}:{name} row {ra[0]}"

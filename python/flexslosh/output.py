@@ -2,7 +2,7 @@
 
 A run (``-fs_output_dir DIR``) leaves in DIR:
 
-- ``timeseries.csv``: a header ``step,time,dt,...`` and one row per step (required);
+- ``timeseries.csv``: a header ``step,time,dt,dt_limit,...`` and one row per step (required);
 - ``energy.csv``: the energy budget, one row per step (``step,time,E_kin,E_pot,...``);
 - ``summary.json``: what ran (particles, ranks, steps, the structure, the options);
 - ``snapshots.csv`` + ``snapshot_NNNNNN.h5``: particle snapshots, HDF5 group ``/particles`` with the
@@ -247,6 +247,20 @@ class Run:
             hint = " (a run without a structure?)" if name.startswith(("tip_", "tank_", "load_")) else ""
             raise ValueError(f"{self.directory / (table + '.csv')}: {what}{hint}")
         return data[name]
+
+    def dt_limits(self) -> np.ndarray:
+        """What set each step's dt: timeseries.csv's ``dt_limit`` codes as names ("acoustic", "viscous",
+        "skin", "body_force", "structure", "final_time", "integrator", or a term's name such as "delta"
+        for its diffusivity), one per row, in the order of summary.json's ``dt_limit_steps``.
+
+        Raises:
+            ValueError: the run has no dt_limit column or no summary.json to name the codes.
+        """
+        codes = self.column("dt_limit")
+        if "dt_limit_steps" not in self.summary:
+            raise ValueError(f"{self.directory / 'summary.json'}: no dt_limit_steps to name the dt_limit codes")
+        names = list(self.summary["dt_limit_steps"])
+        return np.array([names[int(c)] if 0 <= int(c) < len(names) else "unknown" for c in codes])
 
 
 def _snapshot_index(directory: Path) -> list[tuple[float, Path]]:

@@ -56,6 +56,7 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   } else PetscCall(TSGetTimeStep(s->ts, &dt));
   vals[k++] = t;
   vals[k++] = dt;
+  vals[k++] = (PetscReal)s->state.dt_limit;
   vals[k++] = sums[0];
   vals[k++] = sums[1];
   for (PetscInt d = 0; d < s->opt.dim; d++) vals[k++] = sums[2 + d];
@@ -139,6 +140,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   PetscCall(FSMakeDirectory(comm, s->opt.outdir, "-fs_output_dir"));
   names[k++] = "time";
   names[k++] = "dt";
+  names[k++] = "dt_limit"; /* what set the step: FSDtLimit, its names in summary.json's dt_limit_steps order */
   names[k++] = "kinetic_energy";
   names[k++] = "mass";
   for (PetscInt d = 0; d < s->opt.dim; d++) names[k++] = mom[d];

@@ -251,8 +251,9 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   PetscCall(TSGetTime(s->ts, &hdr.time));
   PetscCall(TSGetStepNumber(s->ts, &hdr.step));
   PetscCall(TSGetTimeStep(s->ts, &hdr.dt));
-  hdr.nglobal = s->state.nglobaldofs +
-                2; /* the global DOFs, the viscosity bound of the next step, the structure's DOF count */
+  /* the global DOFs, the viscosity bound of the next step and its source, the limit that set the last step,
+     the structure's DOF count */
+  hdr.nglobal = s->state.nglobaldofs + 4;
   if (!rank && s->state.nglobaldofs) {
     const PetscScalar *u;
     PetscInt           nl;
@@ -262,9 +263,15 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
     PetscCall(VecRestoreArrayRead(s->state.U, &u));
   }
   PetscCallMPI(MPI_Bcast(hdr.global, (PetscMPIInt)s->state.nglobaldofs, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
-  PetscCallMPI(MPI_Allreduce(&s->state.nu_bound, &hdr.global[s->state.nglobaldofs], 1, MPIU_REAL, MPI_MAX,
-                             PetscObjectComm((PetscObject)s)));
-  hdr.global[s->state.nglobaldofs + 1] = (PetscReal)(s->state.gdiss - s->state.gstruct);
+  {
+    PetscReal nu;
+    PetscInt  source;
+    PetscCall(FSSolverViscosityBound(s, &nu, &source));
+    hdr.global[s->state.nglobaldofs]     = nu;
+    hdr.global[s->state.nglobaldofs + 1] = (PetscReal)source;
+    hdr.global[s->state.nglobaldofs + 2] = (PetscReal)s->state.dt_limit;
+    hdr.global[s->state.nglobaldofs + 3] = (PetscReal)(s->state.gdiss - s->state.gstruct);
+  }
   PetscCall(FSSolverEnsureField(s, n + 1));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
@@ -305,14 +312,14 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(FSCheckpointReadHeader(comm, s->opt.restart, &hdr, &nglob, &nranks));
-  PetscCheck(hdr.nglobal == s->state.nglobaldofs + 2 &&
+  PetscCheck(hdr.nglobal == s->state.nglobaldofs + 4 &&
                  hdr.global[hdr.nglobal - 1] == (PetscReal)(s->state.gdiss - s->state.gstruct),
              comm, PETSC_ERR_FILE_UNEXPECTED,
              "Checkpoint %s holds %" PetscInt_FMT
              " global values (%g of them structure DOFs) but this run needs %" PetscInt_FMT " (%" PetscInt_FMT
              "): restart with the same -fs_terms and -fs_structure (and its modes) as the run that wrote it",
              s->opt.restart, hdr.nglobal, hdr.nglobal > 0 ? (double)hdr.global[hdr.nglobal - 1] : 0.0,
-             s->state.nglobaldofs + 2, s->state.gdiss - s->state.gstruct);
+             s->state.nglobaldofs + 4, s->state.gdiss - s->state.gstruct);
   PetscCall(FSCheckpointGetLocalSize(comm, s->opt.restart, &n));
   PetscCall(DMSwarmSetLocalSizes(s->swarm, n, 1024));
   PetscCall(FSSolverEnsureField(s, n + 1));
@@ -336,7 +343,16 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   s->pw.nglobal_particles = nglob;
   s->state.restart_hdr    = hdr;
   for (PetscInt g = 0; g < s->state.nglobaldofs; g++) s->state.global0[g] = hdr.global[g];
-  s->state.nu_bound = hdr.global[s->state.nglobaldofs];
+  { /* the viscosity bound of the first step, from its source, and what limited the last step */
+    const PetscInt source = (PetscInt)hdr.global[s->state.nglobaldofs + 1];
+    PetscCheck(source >= 0 && source <= s->terms.nterms, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "Checkpoint %s: its time-step bound comes from source %" PetscInt_FMT " but this run has %" PetscInt_FMT
+               " terms: restart with the same -fs_terms",
+               s->opt.restart, source, s->terms.nterms);
+    PetscCall(PetscArrayzero(s->state.nu_src, FS_MAX_TERMS + 1));
+    s->state.nu_src[source] = hdr.global[s->state.nglobaldofs];
+    s->state.dt_limit       = (PetscInt)hdr.global[s->state.nglobaldofs + 2];
+  }
   PetscFunctionReturn(0);
 }
 
@@ -387,6 +403,13 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(
       FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->pw.nglobal_particles, 1)));
   PetscCall(FSJSONWriteInt(js, "migrations", s->mon.nmigrations));
+  PetscCall(FSJSONBeginObject(js, "dt_limit_steps")); /* how many steps each time-step limit set */
+  for (PetscInt l = 0; l < FS_DT_TERM + s->terms.nterms; l++) {
+    const char *name;
+    PetscCall(FSSolverDtLimitName(s, l, &name));
+    PetscCall(FSJSONWriteInt(js, name, s->state.dt_limit_steps[l]));
+  }
+  PetscCall(FSJSONEndObject(js));
   if (s->boundary) PetscCall(FSBoundarySummary(s->boundary, js));
   PetscCall(FSSolverStructureSummary(s, js));
   PetscCall(FSJSONBeginObject(js, "terms"));

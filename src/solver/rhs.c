@@ -462,9 +462,12 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     if (term->ops.prepare) PetscCall((*term->ops.prepare)(term, &P));
   }
   if (count) { /* the viscosity bound of the next time step comes from the integrator's own evaluations only */
-    s->state.nu_bound = s->opt.nu;
-    for (PetscInt t = 0; t < s->terms.nterms; t++)
-      s->state.nu_bound = PetscMax(s->state.nu_bound, s->terms.term[t]->max_viscosity);
+    s->state.nu_src[0] = s->opt.nu;
+    for (PetscInt t = 0; t < s->terms.nterms; t++) {
+      const FSTerm term      = s->terms.term[t];
+      s->state.nu_src[1 + t] = term->dt_coefficient > 0 ? term->max_viscosity * (s->opt.cfl_visc / term->dt_coefficient)
+                                                        : term->max_viscosity;
+    }
   }
 
   PetscCall(FSSolverPairPass(s, &P, f));

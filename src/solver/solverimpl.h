@@ -76,6 +76,18 @@ typedef struct {
   PetscInt gammacap;
 } FSParticleWork;
 
+/* What limits a time step (the time series' dt_limit column; FSSolverDtLimitName) */
+typedef enum {
+  FS_DT_ACOUSTIC,   /* CFL h/(c0 + |u|max) */
+  FS_DT_VISCOUS,    /* CFL_v h^2/nu, the laminar viscosity -fs_nu */
+  FS_DT_SKIN,       /* 0.4 skin h/|u|max: no particle outruns its candidate lists */
+  FS_DT_BODY_FORCE, /* CFL_f sqrt(h/|g|) */
+  FS_DT_STRUCTURE,  /* -fs_structure_cfl T_min */
+  FS_DT_FINAL_TIME, /* the step shortened to land on the final time */
+  FS_DT_INTEGRATOR, /* the integrator's own step control (adaptive TS) */
+  FS_DT_TERM        /* FS_DT_TERM + t: the diffusivity of term t (e.g. delta, les_viscosity) */
+} FSDtLimit;
+
 /* The TS state: U packs (x, u, rho) per owned particle, then the global DOFs on rank 0 (blocks: the
    structure's DOFs, the dissipated energies, the energy budget's), and what the stepping keeps. */
 typedef struct {
@@ -90,7 +102,12 @@ typedef struct {
   PetscInt  nglobaldofs;
   PetscReal global0[FS_MAX_GLOBAL];
   PetscInt  ustride; /* 2*dim+1 */
-  PetscReal dt_stable, umax, nu_bound;
+  PetscReal dt_stable, umax;
+  PetscReal nu_src[FS_MAX_TERMS + 1]; /* the viscosity bound of the next step per source, this rank's: -fs_nu, then
+                                         each term's (scaled to -fs_cfl_viscous when the term has its own
+                                         coefficient), from the integrator's last right-hand side */
+  PetscInt           dt_limit;        /* what set the last step (FSDtLimit; FS_DT_TERM + t: term t's diffusivity) */
+  PetscInt           dt_limit_steps[FS_DT_TERM + FS_MAX_TERMS]; /* steps each limit set since the run (re)started */
   FSCheckpointHeader restart_hdr;
   PetscReal          max_variation; /* max |rho/rho0 - 1| at the last check */
   PetscReal          rhs_time;      /* time of the right-hand side being evaluated */
@@ -183,6 +200,8 @@ PETSC_INTERN PetscErrorCode FSSolverEnsureWork(FSSolver, PetscInt n);
 PETSC_INTERN PetscErrorCode FSSolverSetUpTS(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRHS(TS, PetscReal, Vec, Vec, void *);
 PETSC_INTERN PetscErrorCode FSSolverComputeStableDt(FSSolver, PetscReal *);
+PETSC_INTERN PetscErrorCode FSSolverViscosityBound(FSSolver, PetscReal *, PetscInt *);
+PETSC_INTERN PetscErrorCode FSSolverDtLimitName(FSSolver, PetscInt, const char **);
 PETSC_INTERN PetscErrorCode FSSolverMonitor(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);

@@ -182,14 +182,75 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   PetscFunctionReturn(0);
 }
 
+/* this rank's viscosity bounds per source into v[0..nterms] (-fs_nu's included in v[0]) */
+static void FSViscositySources(FSSolver s, PetscReal v[])
+{
+  for (PetscInt k = 0; k < 1 + s->terms.nterms; k++) v[k] = s->state.nu_src[k];
+  v[0] = PetscMax(v[0], s->opt.nu);
+}
+
+/* the largest of the reduced bounds v[0..nterms] and its source (the first one on a tie) */
+static void FSViscosityLargest(FSSolver s, const PetscReal v[], PetscReal *nu, PetscInt *source)
+{
+  *nu     = v[0];
+  *source = 0;
+  for (PetscInt k = 1; k < 1 + s->terms.nterms; k++)
+    if (v[k] > *nu) {
+      *nu     = v[k];
+      *source = k;
+    }
+}
+
+/*
+   FSSolverViscosityBound - the largest viscosity the next time step must resolve, over the ranks and
+   the sources (-fs_nu, then each term's diffusivity), and the source that sets it (0: -fs_nu,
+   1 + t: term t; the first one on a tie).
+
+   Collective
+*/
+PetscErrorCode FSSolverViscosityBound(FSSolver s, PetscReal *nu, PetscInt *source)
+{
+  PetscReal v[FS_MAX_TERMS + 1];
+
+  PetscFunctionBegin;
+  FSViscositySources(s, v);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v, (PetscMPIInt)(1 + s->terms.nterms), MPIU_REAL, MPI_MAX,
+                             PetscObjectComm((PetscObject)s)));
+  FSViscosityLargest(s, v, nu, source);
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverDtLimitName - the name of a time-step limit (FSDtLimit, FS_DT_TERM + t: the term's name) */
+PetscErrorCode FSSolverDtLimitName(FSSolver s, PetscInt limit, const char **name)
+{
+  static const char *names[] = {"acoustic", "viscous", "skin", "body_force", "structure", "final_time", "integrator"};
+
+  PetscFunctionBegin;
+  if (limit >= 0 && limit < FS_DT_TERM) *name = names[limit];
+  else if (limit >= FS_DT_TERM && limit < FS_DT_TERM + s->terms.nterms) *name = s->terms.term[limit - FS_DT_TERM]->name;
+  else *name = "unknown";
+  PetscFunctionReturn(0);
+}
+
+/* dt = min(dt, cand), remembering which limit set it (the first one on a tie) */
+static inline void FSDtTake(PetscReal *dt, PetscInt *limit, PetscReal cand, PetscInt which)
+{
+  if (cand < *dt) {
+    *dt    = cand;
+    *limit = which;
+  }
+}
+
 /*
    FSSolverComputeStableDt - the SPH time-step limit for the current state:
-     dt = min(CFL h/(c0 + |u|max), CFL_v h^2/nu_max, CFL_f sqrt(h/|g|)),
+     dt = min(CFL h/(c0 + |u|max), CFL_v h^2/nu_max, 0.4 skin h/|u|max, CFL_f sqrt(h/|g|)),
    nu_max being the largest viscosity any term applied in the integrator's last right-hand side
-   (kept in checkpoints, so that a restarted run takes the same steps). With a structure, dt also
+   (kept in checkpoints, so that a restarted run takes the same steps); a term with its own
+   coefficient (the delta term's -fs_delta_cfl) enters scaled to CFL_v. With a structure, dt also
    resolves its shortest period (dt <= -fs_structure_cfl T_min, explicit integrators being stable
    and accurate only for omega dt = O(1)). Without particles dt comes from the structure alone
-   (FSSolverStructureDt: -ts_dt if given, else -fs_structure_cfl T_min).
+   (FSSolverStructureDt: -ts_dt if given, else -fs_structure_cfl T_min). Which limit set dt goes to
+   s->state.dt_limit (the time series' dt_limit column).
 
    Collective
 */
@@ -197,32 +258,39 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 {
   const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   const PetscScalar *u;
-  PetscReal          loc[2] = {0, PetscMax(s->opt.nu, s->state.nu_bound)}, g2 = 0;
+  PetscReal          loc[FS_MAX_TERMS + 2], v2 = 0, nu, g2 = 0;
+  PetscInt           source, limit = FS_DT_ACOUSTIC;
 
   PetscFunctionBegin;
   if (s->pw.nglobal_particles == 0) {
     PetscCall(FSSolverStructureDt(s, dt));
+    s->state.dt_limit = FS_DT_STRUCTURE;
     PetscFunctionReturn(0);
   }
   PetscCall(VecGetArrayRead(s->state.U, &u));
   for (PetscInt p = 0; p < s->pw.nowned; p++) {
-    PetscReal v2 = 0;
-    for (PetscInt d = 0; d < dim; d++) v2 += u[p * US + dim + d] * u[p * US + dim + d];
-    loc[0] = PetscMax(loc[0], v2);
+    PetscReal w2 = 0;
+    for (PetscInt d = 0; d < dim; d++) w2 += u[p * US + dim + d] * u[p * US + dim + d];
+    v2 = PetscMax(v2, w2);
   }
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 2, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  loc[0] = v2; /* one reduction for the speed and the viscosities */
+  FSViscositySources(s, &loc[1]);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, (PetscMPIInt)(2 + s->terms.nterms), MPIU_REAL, MPI_MAX,
+                             PetscObjectComm((PetscObject)s)));
+  FSViscosityLargest(s, &loc[1], &nu, &source);
   s->state.umax = PetscSqrtReal(loc[0]);
   *dt           = s->opt.cfl * s->opt.h / (s->opt.c0 + s->state.umax);
-  if (loc[1] > 0) *dt = PetscMin(*dt, s->opt.cfl_visc * s->opt.h * s->opt.h / loc[1]);
-  if (s->state.umax > 0)
-    *dt = PetscMin(*dt,
-                   0.4 * s->opt.halo_skin * s->opt.h / s->state.umax); /* no particle outruns its candidate lists */
+  if (nu > 0)
+    FSDtTake(dt, &limit, s->opt.cfl_visc * s->opt.h * s->opt.h / nu, source ? FS_DT_TERM + source - 1 : FS_DT_VISCOUS);
+  if (s->state.umax > 0) /* no particle outruns its candidate lists */
+    FSDtTake(dt, &limit, 0.4 * s->opt.halo_skin * s->opt.h / s->state.umax, FS_DT_SKIN);
   for (PetscInt d = 0; d < dim; d++) g2 += s->opt.gravity[d] * s->opt.gravity[d];
-  if (g2 > 0) *dt = PetscMin(*dt, s->opt.cfl_force * PetscSqrtReal(s->opt.h / PetscSqrtReal(g2)));
+  if (g2 > 0) FSDtTake(dt, &limit, s->opt.cfl_force * PetscSqrtReal(s->opt.h / PetscSqrtReal(g2)), FS_DT_BODY_FORCE);
   if (s->structure && s->structure->min_period > 0)
-    *dt = PetscMin(*dt, s->opt.structure_cfl * s->structure->min_period);
+    FSDtTake(dt, &limit, s->opt.structure_cfl * s->structure->min_period, FS_DT_STRUCTURE);
   s->state.dt_stable = *dt;
+  s->state.dt_limit  = limit;
   PetscFunctionReturn(0);
 }
 
@@ -327,9 +395,16 @@ PetscErrorCode FSSolverStep(FSSolver s)
   adaptive = (PetscBool)!adaptive;
   if (adaptive) {
     PetscCall(TSGetTimeStep(s->ts, &dtts));
-    if (dtts > 0 && s->mon.steps_taken > 0) dt = PetscMin(dt, dtts);
+    if (dtts > 0 && s->mon.steps_taken > 0 && dtts < dt) {
+      dt                = dtts;
+      s->state.dt_limit = FS_DT_INTEGRATOR;
+    }
   }
-  if (t + dt > tmax - 1e-12 * tmax) dt = tmax - t;
+  if (t + dt > tmax - 1e-12 * tmax) {
+    dt                = tmax - t;
+    s->state.dt_limit = FS_DT_FINAL_TIME;
+  }
+  s->state.dt_limit_steps[s->state.dt_limit]++;
   PetscCall(TSSetTimeStep(s->ts, dt));
   PetscCall(VecCopy(s->state.U, s->state.Uprev));
   PetscCall(TSStep(s->ts));

@@ -108,6 +108,14 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
   PetscCall(PetscOptionsReal(
       "-fs_delta_max", "Cap on the delta-LES delta_i (its diffusivity delta_i h c0 bounds the time step); 0 = none", "",
       ctx->dmax, &ctx->dmax, NULL));
+  PetscCall(PetscOptionsReal("-fs_delta_cfl",
+                             "Coefficient of the density diffusion's time-step limit dt <= c h^2/(delta_max h c0) "
+                             "(0: -fs_cfl_viscous's)",
+                             "FSSolverComputeStableDt", t->dt_coefficient, &t->dt_coefficient, NULL));
+  PetscCheck(!PetscIsInfOrNanReal(t->dt_coefficient) && t->dt_coefficient >= 0, PetscObjectComm((PetscObject)t->solver),
+             PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_delta_cfl %g is out of range: expected a finite number >= 0 (0: -fs_cfl_viscous's)",
+             (double)t->dt_coefficient);
   PetscCall(PetscOptionsBool("-fs_delta_hydrostatic",
                              "Correct the density difference by the hydrostatic one rho0 g.(x_j - x_i)/c0^2 instead of "
                              "the renormalized gradients",

@@ -1,0 +1,66 @@
+"""The time step's limits: timeseries.csv's dt_limit says which one set each step, and the step is
+that limit's formula (FSSolverComputeStableDt)."""
+import numpy as np
+import pytest
+
+from conftest import TG, read_series, read_summary, run_flexslosh
+
+# the Taylor-Green run of cases/taylor_green.opts at dx = 0.02: h = 0.04, c0 = 10, cfl 0.4
+H, C0, CFL = 0.04, 10.0, 0.4
+LAMINAR = ["-fs_terms", "continuity,pressure,viscosity"]  # no density diffusion, no eddy viscosity
+LIMITS = ["acoustic", "viscous", "skin", "body_force", "structure", "final_time", "integrator"]
+
+
+def names(directory):
+    s = read_series(directory)
+    order = list(read_summary(directory)["dt_limit_steps"])
+    assert order[: len(LIMITS)] == LIMITS
+    return s, [order[int(c)] for c in s["dt_limit"]]
+
+
+def test_the_viscous_and_the_acoustic_limit(tmp_path):
+    # nu = 0.05: 0.125 h^2/nu = 4e-3 against the acoustic 0.4 h/(c0 + U) = 1.45e-3 ... so -fs_cfl_viscous
+    # 0.02 makes the viscous one the smaller (6.4e-4)
+    visc = tmp_path / "viscous"
+    run_flexslosh(TG + LAMINAR + ["-fs_nu", 0.05, "-fs_cfl_viscous", 0.02, "-ts_max_steps", 6, "-fs_output_dir", visc])
+    s, lim = names(visc)
+    assert lim[1:] == ["viscous"] * 6
+    assert np.allclose(s["dt"][1:], 0.02 * H * H / 0.05, rtol=1e-10, atol=0)
+    acou = tmp_path / "acoustic"
+    run_flexslosh(TG + LAMINAR + ["-ts_max_steps", 6, "-fs_output_dir", acou])
+    s, lim = names(acou)
+    assert lim[1:] == ["acoustic"] * 6
+    # each step from the speed at its start: the previous row's max_velocity (11 digits in the file)
+    assert np.allclose(s["dt"][1:], CFL * H / (C0 + s["max_velocity"][:-1]), rtol=1e-9, atol=0)
+    assert read_summary(acou)["dt_limit_steps"]["acoustic"] == 6
+
+
+def test_the_last_step_lands_on_the_final_time(tmp_path):
+    run_flexslosh(TG + LAMINAR + ["-ts_max_time", 0.0100001, "-fs_output_dir", tmp_path])
+    s, lim = names(tmp_path)
+    assert lim[-1] == "final_time" and lim[-2] == "acoustic"
+    assert s["time"][-1] == pytest.approx(0.0100001, rel=1e-12)
+
+
+def test_the_density_diffusion_limit_and_its_coefficient(tmp_path):
+    # delta-LES's diffusivity delta_max h c0 bounds the step by c h^2/(delta_max h c0); a tiny -fs_delta_cfl
+    # makes it the limit of every step after the first (whose bound, before any right-hand side, is nu's);
+    # doubling the coefficient doubles the first such step (the same state: the first step is the same)
+    runs = {}
+    for c in (1e-4, 2e-4):
+        d = tmp_path / f"c{c}"
+        run_flexslosh(TG + ["-fs_delta_cfl", c, "-ts_max_steps", 3, "-fs_output_dir", d])
+        runs[c] = names(d)
+    for c, (s, lim) in runs.items():
+        assert lim[2:] == ["delta"] * 2, lim
+        assert read_summary(tmp_path / f"c{c}")["dt_limit_steps"]["delta"] == 2
+    (s1, _), (s2, _) = runs[1e-4], runs[2e-4]
+    assert s1["dt"][1] == s2["dt"][1]
+    assert s2["dt"][2] == pytest.approx(2 * s1["dt"][2], rel=1e-12)
+
+
+@pytest.mark.parametrize("value", ["-1", "nan", "inf"])
+def test_a_bad_delta_coefficient_is_refused(tmp_path, value):
+    p = run_flexslosh(TG + ["-fs_delta_cfl", value, "-ts_max_steps", 1, "-fs_output_dir", tmp_path], check=False)
+    assert p.returncode != 0
+    assert "-fs_delta_cfl" in p.output and "expected a finite number >= 0" in p.output
