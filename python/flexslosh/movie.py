@@ -47,7 +47,7 @@ FIELDS = {
     "density": "density",
     "strain_rate": "strain rate ||D||",
     "turbulent_viscosity": "Smagorinsky viscosity",
-    "rank": "MPI rank owning the particle",
+    "rank": "MPI rank",
 }
 
 _LOG_FIELDS = ("strain_rate", "turbulent_viscosity")  # drawn on a log scale, as in figures.snapshots
