@@ -14,6 +14,9 @@ A figure the data do not allow (no structure, no liquid, no snapshots) is skippe
 note on stderr; the paths written are printed on stdout, one per line. A directory that is not a
 flexslosh output (no timeseries.csv) or a malformed file stops it with a one-line message and exit
 status 1.
+
+``python3 -m flexslosh.plot movie OUTPUT_DIR [--field NAME] [--output FILE] [--fps N] [--every N]
+[--frame K]`` writes an animation of one run instead (see :mod:`flexslosh.movie`).
 """
 from __future__ import annotations
 
@@ -67,11 +70,17 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     """Runs the command line.
 
     Args:
-        argv: the arguments (default: sys.argv[1:]).
+        argv: the arguments (default: sys.argv[1:]); a first argument ``movie`` runs
+            :func:`flexslosh.movie.main` on the rest.
 
     Returns:
         The exit status: 0, or 1 when a directory cannot be read (argparse exits with 2 on bad usage).
     """
+    argv = list(sys.argv[1:] if argv is None else argv)
+    if argv[:1] == ["movie"]:  # the subcommand (a run directory named movie: ./movie)
+        from . import movie
+
+        return movie.main(argv[1:])
     args = _parser().parse_args(argv)
     labels = args.labels.split(",") if args.labels else None
     if labels is not None and len(labels) != len(args.dirs):

@@ -50,6 +50,7 @@ struct _p_FSBoundary {
   PetscReal  bounce_distance, restitution; /* -fs_walls_bounce_distance (in dx), -fs_walls_bounce_restitution */
   PetscBool  visall;                       /* -fs_walls_visibility all: no pair cut, no facing filter, no occlusion */
   PetscInt64 nbounce;
+  PetscBool  geometry_verbose; /* FSBoundaryWriteGeometry: say where the walls' files are */
   /* the wall terms' view and each owned particle's wall elements (CSR), filled by ops->prepare */
   FSWallView view;
   PetscInt  *wstart, *wk;

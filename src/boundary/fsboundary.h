@@ -70,7 +70,7 @@ PETSC_INTERN PetscErrorCode FSBoundaryShepardAt(FSBoundary, const PetscReal x[],
 PETSC_INTERN PetscErrorCode FSBoundaryGetBoundingBox(FSBoundary, PetscReal lo[], PetscReal hi[]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetLoadPoint(FSBoundary, PetscReal point[3]);
 PETSC_INTERN PetscErrorCode FSBoundaryDraw(FSBoundary, FSImage *, const FSImageMap *);
-PETSC_INTERN PetscErrorCode FSBoundaryWriteGeometry(FSBoundary, const char dir[]);
+PETSC_INTERN PetscErrorCode FSBoundaryWriteGeometry(FSBoundary, const char dir[], PetscBool verbose);
 PETSC_INTERN PetscErrorCode FSBoundarySummary(FSBoundary, FSJSON);
 PETSC_INTERN PetscErrorCode FSBoundaryView(FSBoundary, PetscViewer);
 PETSC_INTERN PetscErrorCode FSBoundaryDestroy(FSBoundary *);

@@ -192,7 +192,7 @@ PetscErrorCode FSSolverGeometryView(FSSolver s, const char dir[])
   PetscCall(PetscFree(all));
 
   /* the walls for ParaView */
-  if (s->boundary) PetscCall(FSBoundaryWriteGeometry(s->boundary, dir));
+  if (s->boundary) PetscCall(FSBoundaryWriteGeometry(s->boundary, dir, PETSC_TRUE));
   else PetscCall(PetscPrintf(comm, "Geometry view: this case has no walls (no walls.xdmf)\n"));
   PetscFunctionReturn(0);
 }

@@ -104,7 +104,7 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
 }
 
 /*
-   FSSolverMonitorBegin - opens the output (directory, time series, snapshots) and records the
+   FSSolverMonitorBegin - opens the output (directory, walls.h5 + walls.xdmf, time series, snapshots) and records the
    initial state. Called by FSSolverSolve, or by the first FSSolverStep.
 */
 PetscErrorCode FSSolverMonitorBegin(FSSolver s)
@@ -138,6 +138,8 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
     PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
   if (!s->opt.write_output) PetscFunctionReturn(0);
   PetscCall(FSMakeDirectory(comm, s->opt.outdir, "-fs_output_dir"));
+  /* the walls beside the snapshots, for ParaView and the movie (the geometry view has written them) */
+  if (s->boundary && !s->opt.geometry_view) PetscCall(FSBoundaryWriteGeometry(s->boundary, s->opt.outdir, PETSC_FALSE));
   names[k++] = "time";
   names[k++] = "dt";
   names[k++] = "dt_limit"; /* what set the step: FSDtLimit, its names in summary.json's dt_limit_steps order */

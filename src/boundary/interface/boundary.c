@@ -465,10 +465,11 @@ PetscErrorCode FSBoundaryDraw(FSBoundary b, FSImage *img, const FSImageMap *map)
   PetscFunctionReturn(0);
 }
 
-/* FSBoundaryWriteGeometry - the walls as files for ParaView in dir (collective). */
-PetscErrorCode FSBoundaryWriteGeometry(FSBoundary b, const char dir[])
+/* FSBoundaryWriteGeometry - the walls as files for ParaView in dir (collective); verbose: print where. */
+PetscErrorCode FSBoundaryWriteGeometry(FSBoundary b, const char dir[], PetscBool verbose)
 {
   PetscFunctionBegin;
+  b->geometry_verbose = verbose;
   if (b->ops->writegeometry) PetscCall((*b->ops->writegeometry)(b, dir));
   PetscFunctionReturn(0);
 }

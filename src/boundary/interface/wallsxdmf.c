@@ -96,7 +96,8 @@ static int FSWriteWallsXDMF(const char tmp[], const char names[], PetscInt dim, 
 
 /*
    FSBoundaryWriteWallsXDMF_Private - writes <dir>/walls.xdmf (rank 0, to a temporary name renamed
-   when complete) for the walls.h5 the implementation has written, then says where they are.
+   when complete) for the walls.h5 the implementation has written, then says where they are (when
+   FSBoundaryWriteGeometry was asked to).
 
    Collective
 
@@ -127,6 +128,7 @@ PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary b, const char dir[], 
   PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot write \"%s\": %s", tmp, strerror(err));
   PetscCall(FSRenameFile_Private(comm, tmp, path));
   PetscCall(PetscFree(names));
+  if (!b->geometry_verbose) PetscFunctionReturn(0);
   PetscCall(PetscPrintf(comm, "Geometry view: %s/walls.xdmf (+ walls.h5): %s of %" PetscInt_FMT " wall(s) (", dir, what,
                         b->nwalls));
   for (PetscInt q = 0; q < b->nwalls; q++)
