@@ -365,6 +365,13 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                              "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 "
                              "snapshot), then stop without time stepping",
                              "FSSolverGeometryView", s->opt.geometry_view, &s->opt.geometry_view, NULL));
+  { /* read at the end of the run by FSOptionsLeft(); here for -help */
+    PetscBool warn = PETSC_TRUE;
+    PetscCall(PetscOptionsBool("-fs_options_left",
+                               "At the end of the run, warn about the options given but never used (-options_left: "
+                               "PETSc's report instead)",
+                               "FSOptionsLeft", warn, &warn, NULL));
+  }
   PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor",
                              s->opt.progress, &s->opt.progress, NULL));
   PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor",
@@ -429,6 +436,7 @@ output/<case>) .  -fs_output_interval <t>         - simulated time between parti
 .  -fs_probe_interval <1>          - steps between the samples of the probes and gauges
 .  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) and
 stop after set-up
+.  -fs_options_left <true>         - at the end, warn about the options given but never used
 -  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
 */
 PetscErrorCode FSSolverSetFromOptions(FSSolver s)
