@@ -295,3 +295,21 @@ def test_coupled_restart_on_three_ranks_agrees(tmp_path):
         va, vb = sa[name][ka], sb[name][rows]
         scale = max(max(np.abs(sa[n]).max() for n in family(name)), 1e-300)
         assert np.abs(va - vb).max() <= 1e-12 * scale, f"time series column {name}: {np.abs(va - vb).max() / scale:.3g}"
+
+
+def test_restart_from_a_version_1_checkpoint(full_run, tmp_path):
+    """A checkpoint written before the set-up record (format version 1) is refused, saying so, unless
+    -fs_restart_allow_changes all: then it restarts unchecked, with a warning."""
+    def old(p):
+        with h5py.File(p, "r+") as h5:
+            del h5["header"].attrs["setup"]
+            h5["header"].attrs["version"] = np.int64(1)
+
+    ck = damaged_copy(full_run, tmp_path, old)
+    args = TG + ["-fs_restart", ck, "-fs_output_dir", tmp_path / "B", "-ts_max_steps", "22"]
+    proc = run_flexslosh(args, cwd=tmp_path, check=False)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert str(ck) in msg and "format version 1" in msg and "-fs_restart_allow_changes all" in msg, msg
+    proc = run_flexslosh(args + ["-fs_restart_allow_changes", "all"], cwd=tmp_path)
+    assert "has no record of its run's set-up: not checked" in proc.stdout
