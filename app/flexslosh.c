@@ -1,7 +1,7 @@
-static const char help[] =
-    "flexslosh: liquid sloshing in tanks on flexible structures (delta-LES-SPH, PETSc TS).\n"
-    "  flexslosh -options_file cases/taylor_green.opts [-fs_dx 0.01 -ts_type ssp ...]\n"
-    "  -fs_case_view lists the cases, -fs_terms_view the physics terms, -fs_view the set-up.\n\n";
+static const char help[] = "flexslosh: liquid sloshing in tanks on flexible structures (delta-LES-SPH, PETSc TS).\n"
+                           "  flexslosh -options_file cases/taylor_green.opts [-fs_dx 0.01 -ts_type ssp ...]\n"
+                           "  -fs_case_view lists the cases, -fs_terms_view the physics terms, -fs_view the set-up.\n"
+                           "  Options given but never used are reported at the end (-fs_options_left 0: not).\n\n";
 
 #include <flexslosh.h>
 
@@ -22,6 +22,7 @@ int main(int argc, char **argv)
     PetscCall(FSSolverSolve(solver));
   }
   PetscCall(FSSolverDestroy(&solver));
+  if (!help_only) PetscCall(FSOptionsLeft(PETSC_COMM_WORLD, 0, NULL)); /* a misspelt option: a warning */
   PetscCall(PetscFinalize());
   return 0;
 }

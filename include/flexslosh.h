@@ -34,6 +34,7 @@ PETSC_EXTERN PetscErrorCode FSInitializePackage(void);
 PETSC_EXTERN PetscErrorCode FSFinalizePackage(void);
 PETSC_EXTERN PetscErrorCode FSCheckPlugins(MPI_Comm);
 PETSC_EXTERN PetscErrorCode FSLoadPlugins(MPI_Comm);
+PETSC_EXTERN PetscErrorCode FSOptionsLeft(MPI_Comm, PetscInt, const char *const[]);
 PETSC_EXTERN PetscErrorCode FSErrorHandler(MPI_Comm, int, const char *, const char *, PetscErrorCode, PetscErrorType,
                                            const char *, void *);
 

@@ -59,6 +59,7 @@ HELPER_FUNCTIONS = """
 PetscErrorCode fs_py_load_plugins(const MPI_Comm *);
 PetscErrorCode fs_py_solver_create(const MPI_Comm *, FSSolver *);
 PetscErrorCode fs_py_options_insert_file(const MPI_Comm *, const char[], PetscBool);
+PetscErrorCode fs_py_options_left(const MPI_Comm *, PetscInt, char *[]);
 PetscErrorCode fs_py_push_error_handler(void);
 const FSStructureCallbacks *fs_py_structure_callbacks(void);
 int fs_py_wrap_ts(TS, void *);
@@ -108,6 +109,10 @@ static PetscErrorCode fs_py_solver_create(const MPI_Comm *comm, FSSolver *s) { r
 static PetscErrorCode fs_py_options_insert_file(const MPI_Comm *comm, const char file[], PetscBool require)
 {
   return PetscOptionsInsertFile(*comm, NULL, file, require);
+}
+static PetscErrorCode fs_py_options_left(const MPI_Comm *comm, PetscInt n, char *names[])
+{
+  return FSOptionsLeft(*comm, n, (const char *const *)names);
 }
 static PetscErrorCode fs_py_push_error_handler(void) { return PetscPushErrorHandler(FSErrorHandler, NULL); }
 

@@ -91,7 +91,7 @@ class _Core:
     # the functions that take an MPI_Comm, called through a helper of the binding that reads the
     # communicator from its address (errors keep the C function's name)
     _VIA_HELPER = {"FSLoadPlugins": "fs_py_load_plugins", "FSSolverCreate": "fs_py_solver_create",
-                   "PetscOptionsInsertFile": "fs_py_options_insert_file"}
+                   "PetscOptionsInsertFile": "fs_py_options_insert_file", "FSOptionsLeft": "fs_py_options_left"}
 
     def __init__(self, argv):
         import petsc4py
@@ -241,6 +241,7 @@ class Solver:
         self._core, self._h = core, core.ffi.new("FSSolver *")  # NULL until created
         self._ts = self._swarm = None
         self._set: dict[str, tuple[Any, Any]] = {}
+        self._created = False  # read its options: those it set and never used are reported by destroy
         self.comm, self._ccomm = core.comm(comm)
         if options_file is not None and not Path(options_file).is_file():
             raise FileNotFoundError(f"options file {options_file} not found")
@@ -260,6 +261,7 @@ class Solver:
             core.call("FSSolverCreate", self._ccomm, self._h)
             _live.add(self)
             core.call("FSSolverSetFromOptions", self._h[0])
+            self._created = True
         except BaseException:
             self.destroy()
             raise
@@ -318,8 +320,9 @@ class Solver:
         return self
 
     def destroy(self) -> None:
-        """Frees the C solver and the petsc4py wrappers of its TS and swarm, and takes this solver's
-        options out of the database. Idempotent; also called at exit, before PETSc is finalized."""
+        """Frees the C solver and the petsc4py wrappers of its TS and swarm, warns about the options this
+        solver set that were never used (a misspelt name; ``fs_options_left: False`` silences it), and takes
+        its options out of the database. Idempotent; also called at exit, before PETSc is finalized."""
         core = self._core
         _live.discard(self)
         if core.PETSc.Sys.isFinalized():
@@ -332,6 +335,9 @@ class Solver:
                         obj.destroy()  # drops the Python side's reference only
                 self._ts = self._swarm = None
                 core.call("FSSolverDestroy", self._h)
+                if self._created:  # a misspelt option among this solver's: a warning (FSOptionsLeft)
+                    names = [core.ffi.new("char[]", k.encode()) for k, (_, new) in self._set.items() if new is not _MISSING]
+                    core.call("FSOptionsLeft", self._ccomm, len(names), core.ffi.new("char *[]", names))
         finally:
             self._h[0] = core.ffi.NULL
             opts, now = core.PETSc.Options(), core.PETSc.Options().getAll()

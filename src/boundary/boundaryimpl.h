@@ -31,6 +31,9 @@ struct _FSBoundaryOps {
   /* the walls as files for ParaView (collective) */
   PetscErrorCode (*writegeometry)(FSBoundary, const char dir[]);
   PetscErrorCode (*view)(FSBoundary, PetscViewer);
+  /* the geometry as the case gave it (vertices, polygons or triangles, their walls) into the hash, with
+     FSBoundaryHashAdd_Private(); not collective */
+  PetscErrorCode (*hash)(FSBoundary, uint64_t *);
   PetscErrorCode (*destroy)(FSBoundary);
 };
 
@@ -68,6 +71,9 @@ PETSC_INTERN PetscErrorCode FSBoundaryWriteWallsH5_Private(FSBoundary, const cha
 PETSC_INTERN PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary, const char dir[], const char topology[],
                                                              PetscInt nodes, PetscInt nel, const char measure[],
                                                              const char what[]);
+
+/* adds n bytes to a 64-bit FNV-1a hash (interface/boundary.c) */
+PETSC_INTERN void FSBoundaryHashAdd_Private(uint64_t *hash, const void *data, size_t n);
 
 /* the wall pressure from the implementations' per-element sums (interface/boundary.c) */
 PETSC_INTERN PetscErrorCode FSBoundaryWallPressure(FSBoundary, PetscInt nel, const PetscReal wetfull[], PetscReal pamb,

@@ -9,6 +9,7 @@
                           elements within the support, the wall pressure and loads (FSBoundaryGetView)
      FSBoundaryBounce     after each step: particles too close to a wall bounce back
      FSBoundaryShepardAt  the walls' Shepard factor at any point (the wave gauges)
+     FSBoundaryGetGeometryHash  a fingerprint of the walls as given (checkpoints record it)
      FSBoundaryGetLoads, FSBoundaryDraw, FSBoundaryWriteGeometry, FSBoundarySummary, FSBoundaryView
 
    Implementations register with FSBoundaryRegister (src/boundary/impls/<name>/) and are chosen with
@@ -72,5 +73,6 @@ PETSC_INTERN PetscErrorCode FSBoundaryGetLoadPoint(FSBoundary, PetscReal point[3
 PETSC_INTERN PetscErrorCode FSBoundaryDraw(FSBoundary, FSImage *, const FSImageMap *);
 PETSC_INTERN PetscErrorCode FSBoundaryWriteGeometry(FSBoundary, const char dir[], PetscBool verbose);
 PETSC_INTERN PetscErrorCode FSBoundarySummary(FSBoundary, FSJSON);
+PETSC_INTERN PetscErrorCode FSBoundaryGetGeometryHash(FSBoundary, char hash[], size_t len);
 PETSC_INTERN PetscErrorCode FSBoundaryView(FSBoundary, PetscViewer);
 PETSC_INTERN PetscErrorCode FSBoundaryDestroy(FSBoundary *);

@@ -5,13 +5,15 @@
      /particles/<field>   dataset (N,) for bs = 1, (N, bs) for bs > 1, particles in rank order;
                           group attribute nparticles (int)
      /header              group; attributes format = "flexslosh-checkpoint", version (int),
-                          time, dt (double), step, nglobal, nparticles, nranks, nfields (int)
+                          time, dt (double), step, nglobal, nparticles, nranks, nfields (int),
+                          setup (string, version 2: the run's set-up, one "name=value" a line)
      /header/global       dataset (nglobal,): the replicated global values (absent if nglobal = 0)
      /layout/nlocal       dataset (nranks,): particles owned by each writing rank
 
    The file is written as "<path>.tmp" and renamed into place by rank 0 once complete. Reading
    on the same number of ranks restores the original distribution (FSCheckpointGetLocalSize());
-   on another number the particles are split evenly, keeping their order.
+   on another number the particles are split evenly, keeping their order. Version 1 (no set-up record)
+   is still read.
 */
 #include <string.h>
 #include <petscvec.h>
@@ -24,7 +26,7 @@
 #endif
 
 #define FS_CHECKPOINT_FORMAT  "flexslosh-checkpoint"
-#define FS_CHECKPOINT_VERSION 1
+#define FS_CHECKPOINT_VERSION 2 /* 2: the set-up record */
 
 /*@C
    FSCheckpointWrite - Writes a checkpoint: the header, the global values, the particle layout and
@@ -35,7 +37,8 @@
    Input Parameters:
 +  comm    - communicator of the particles
 .  path    - the checkpoint file (written as "<path>.tmp", then renamed)
-.  hdr     - time, dt, step and the nglobal (<= 64) global values, identical on all ranks (rank 0's are written)
+.  hdr     - time, dt, step, the nglobal (<= 64) global values and the set-up record (or NULL), identical on
+            all ranks (rank 0's are written)
 .  nlocal  - number of particles on this rank
 .  nfields - number of fields
 -  fields  - the fields (any bs >= 1); names as for snapshots
@@ -87,6 +90,17 @@ PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheck
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nparticles", PETSC_INT, &N));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nranks", PETSC_INT, &nranks));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nfields", PETSC_INT, &nf));
+  if (hdr->setup) { /* an attribute is written collectively, with the same value on every rank: rank 0's */
+    size_t len = 0;
+    char  *text;
+    if (!rank) PetscCall(PetscStrlen(hdr->setup, &len));
+    PetscCallMPI(MPI_Bcast(&len, sizeof(len), MPI_BYTE, 0, comm));
+    PetscCall(PetscMalloc1(len + 1, &text));
+    if (!rank) PetscCall(PetscArraycpy(text, hdr->setup, len + 1));
+    PetscCallMPI(MPI_Bcast(text, (PetscMPIInt)(len + 1), MPI_CHAR, 0, comm));
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "setup", PETSC_STRING, text));
+    PetscCall(PetscFree(text));
+  }
   if (hdr->nglobal > 0) {
     PetscCall(VecCreateMPIWithArray(comm, 1, rank == 0 ? hdr->nglobal : 0, hdr->nglobal,
                                     (const PetscScalar *)hdr->global, &v));
@@ -127,6 +141,26 @@ static PetscErrorCode FSCheckpointOpen(MPI_Comm comm, const char path[], PetscVi
     PetscCheck(ishdf5, comm, PETSC_ERR_FILE_UNEXPECTED,
                "Checkpoint \"%s\" is not an HDF5 file: give a checkpoint_NNNNNN.h5 that flexslosh wrote", path);
   }
+  { /* can HDF5 open it? A truncated file is refused here, quietly, instead of in every rank's H5Fopen */
+    PetscMPIInt rank;
+    int         opens = 0;
+    PetscCallMPI(MPI_Comm_rank(comm, &rank));
+    if (!rank) {
+      H5E_auto2_t func;
+      void       *data;
+      hid_t       fid;
+      H5Eget_auto2(H5E_DEFAULT, &func, &data);
+      H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+      fid = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+      if (fid >= 0) opens = H5Fclose(fid) >= 0;
+      H5Eset_auto2(H5E_DEFAULT, func, data);
+    }
+    PetscCallMPI(MPI_Bcast(&opens, 1, MPI_INT, 0, comm));
+    PetscCheck(opens, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "Checkpoint \"%s\" is damaged: HDF5 cannot open it (a truncated file, e.g. a copy or a run that was "
+               "cut short)",
+               path);
+  }
   PetscCall(PetscViewerHDF5Open(comm, path, FILE_MODE_READ, viewer));
   PetscCall(PetscViewerHDF5HasGroup(*viewer, "/header", &has));
   if (!has) PetscCall(PetscViewerDestroy(viewer));
@@ -159,8 +193,8 @@ static PetscErrorCode FSCheckpointReadHeader_Viewer(PetscViewer viewer, MPI_Comm
   PetscFunctionBegin;
   PetscCall(PetscMemzero(&h, sizeof(h)));
   PetscCall(FSCheckpointReadAttr(viewer, comm, path, "version", PETSC_INT, &version));
-  PetscCheck(version == FS_CHECKPOINT_VERSION, comm, PETSC_ERR_FILE_UNEXPECTED,
-             "Checkpoint \"%s\" has format version %" PetscInt_FMT "; this build reads version %d", path, version,
+  PetscCheck(version >= 1 && version <= FS_CHECKPOINT_VERSION, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\" has format version %" PetscInt_FMT "; this build reads versions 1 to %d", path, version,
              FS_CHECKPOINT_VERSION);
   PetscCall(FSCheckpointReadAttr(viewer, comm, path, "time", PETSC_DOUBLE, &t));
   PetscCall(FSCheckpointReadAttr(viewer, comm, path, "dt", PETSC_DOUBLE, &dt));
@@ -371,5 +405,37 @@ PetscErrorCode FSCheckpointReadField(MPI_Comm comm, const char path[], const cha
   for (PetscInt i = 0; i < nlocal * bs; i++) data[i] = PetscRealPart(a[i]);
   PetscCall(VecRestoreArrayRead(v, &a));
   PetscCall(VecDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSCheckpointReadSetUp - Reads the record of the set-up of the run that wrote a checkpoint.
+
+   Collective
+
+   Input Parameters:
++  comm - communicator
+-  path - the checkpoint file
+
+   Output Parameter:
+.  setup - the record as written (FSCheckpointHeader's setup), the same on every rank; free it with
+           PetscFree(). NULL for a checkpoint of format version 1, written before the record existed.
+
+   Notes:
+   A checkpoint of version 2 without the record is PETSC_ERR_FILE_UNEXPECTED, naming the file and the
+   attribute.
+@*/
+PetscErrorCode FSCheckpointReadSetUp(MPI_Comm comm, const char path[], char **setup)
+{
+  PetscViewer viewer;
+  PetscInt    version;
+
+  PetscFunctionBegin;
+  PetscCheck(setup, comm, PETSC_ERR_ARG_NULL, "FSCheckpointReadSetUp: setup is required");
+  *setup = NULL;
+  PetscCall(FSCheckpointOpen(comm, path, &viewer));
+  PetscCall(FSCheckpointReadAttr(viewer, comm, path, "version", PETSC_INT, &version));
+  if (version >= 2) PetscCall(FSCheckpointReadAttr(viewer, comm, path, "setup", PETSC_STRING, setup));
+  PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
 }

@@ -28,12 +28,14 @@ PETSC_EXTERN PetscErrorCode FSSnapshotWriterDestroy(FSSnapshotWriter *);
 
 /* ---------------- checkpoints ---------------- */
 /* Global (replicated) data of a checkpoint: time, step, dt, and nglobal extra doubles
-   (the state's global DOFs, e.g. structure DOFs and energy integrals). */
+   (the state's global DOFs, e.g. structure DOFs and energy integrals), and the text that records the
+   run's set-up (written when not NULL; read back with FSCheckpointReadSetUp()). */
 typedef struct {
-  PetscReal time, dt;
-  PetscInt  step;
-  PetscInt  nglobal;
-  PetscReal global[64];
+  PetscReal   time, dt;
+  PetscInt    step;
+  PetscInt    nglobal;
+  PetscReal   global[64];
+  const char *setup;
 } FSCheckpointHeader;
 
 PETSC_EXTERN PetscErrorCode FSCheckpointWrite(MPI_Comm, const char path[], const FSCheckpointHeader *, PetscInt nlocal,
@@ -43,6 +45,7 @@ PETSC_EXTERN PetscErrorCode FSCheckpointReadHeader(MPI_Comm, const char path[], 
 PETSC_EXTERN PetscErrorCode FSCheckpointReadField(MPI_Comm, const char path[], const char name[], PetscInt bs,
                                                   PetscInt nlocal, PetscReal data[]);
 PETSC_EXTERN PetscErrorCode FSCheckpointGetLocalSize(MPI_Comm, const char path[], PetscInt *nlocal);
+PETSC_EXTERN PetscErrorCode FSCheckpointReadSetUp(MPI_Comm, const char path[], char **setup);
 
 /* ---------------- time series (CSV) ---------------- */
 typedef struct _n_FSTimeSeries *FSTimeSeries;

@@ -230,9 +230,10 @@ PetscErrorCode FSSolverRestoreField(FSSolver s, const char name[], PetscInt *n, 
 /*
    FSSolverWriteCheckpoint - writes <output_dir>/checkpoint_<step>.h5 with the whole state: particles
    (position, velocity, density, mass, id), time, step, dt and the global DOFs (the structure's
-   state, the dissipated energies), then the viscosity bound of the next step and the number of
-   structure DOFs (to refuse a restart with another structure). A run started with -fs_restart on
-   that file continues exactly as the uninterrupted run.
+   state, the dissipated energies), then the viscosity bound of the next step with its source, the
+   limit that set the last step, and the number of structure DOFs (to refuse a restart with another
+   structure), and the record of the run's set-up (FSSolverSetUpRecord()). A run started with
+   -fs_restart on that file continues exactly as the uninterrupted run.
 */
 PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 {
@@ -285,6 +286,7 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   fields[2] = (FSOutputField){FS_FIELD_DENSITY, 1, rho};
   fields[3] = (FSOutputField){FS_FIELD_MASS, 1, m};
   fields[4] = (FSOutputField){FS_FIELD_ID, 1, id};
+  hdr.setup = s->mon.setup;
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt_FMT ".h5", s->opt.outdir, hdr.step));
   PetscCall(FSCheckpointWrite(PetscObjectComm((PetscObject)s), path, &hdr, n, 5, fields));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
@@ -298,7 +300,8 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 
 /*
    FSSolverLoadCheckpoint - replaces the case's particles by those of the checkpoint given to
-   -fs_restart and remembers its time, step, dt and global DOFs for the TS.
+   -fs_restart and remembers its time, step, dt and global DOFs for the TS, once the checkpoint's
+   set-up is found to be this run's (FSSolverCheckSetUp()).
 */
 PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
 {
@@ -312,6 +315,12 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(FSCheckpointReadHeader(comm, s->opt.restart, &hdr, &nglob, &nranks));
+  { /* the same set-up, but for the changes allowed */
+    char *record;
+    PetscCall(FSCheckpointReadSetUp(comm, s->opt.restart, &record));
+    PetscCall(FSSolverCheckSetUp(s, record));
+    PetscCall(PetscFree(record));
+  }
   PetscCheck(hdr.nglobal == s->state.nglobaldofs + 4 &&
                  hdr.global[hdr.nglobal - 1] == (PetscReal)(s->state.gdiss - s->state.gstruct),
              comm, PETSC_ERR_FILE_UNEXPECTED,

@@ -346,6 +346,12 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
              "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->opt.checkpoint_interval);
   PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint",
                                s->opt.restart, s->opt.restart, sizeof(s->opt.restart), NULL));
+  PetscCall(PetscOptionsString("-fs_restart_allow_changes",
+                               "Items of the set-up that may differ from the checkpoint's, comma separated (e.g. "
+                               "fs_nu,fs_beam_damping; all: any). The output options, -ts_max_time and -ts_max_steps "
+                               "may always change",
+                               "FSSolverCheckSetUp", s->opt.allow_changes, s->opt.allow_changes,
+                               sizeof(s->opt.allow_changes), NULL));
   PetscCall(PetscOptionsString("-fs_probes",
                                "File of pressure probes and wave gauges (\"probe NAME x y [z] [diameter D]\", "
                                "\"gauge NAME x0 y0 [z0] x1 y1 [z1]\"): their values into <output_dir>/probes.csv",
@@ -359,6 +365,13 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                              "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 "
                              "snapshot), then stop without time stepping",
                              "FSSolverGeometryView", s->opt.geometry_view, &s->opt.geometry_view, NULL));
+  { /* read at the end of the run by FSOptionsLeft(); here for -help */
+    PetscBool warn = PETSC_TRUE;
+    PetscCall(PetscOptionsBool("-fs_options_left",
+                               "At the end of the run, warn about the options given but never used (-options_left: "
+                               "PETSc's report instead)",
+                               "FSOptionsLeft", warn, &warn, NULL));
+  }
   PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor",
                              s->opt.progress, &s->opt.progress, NULL));
   PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor",
@@ -417,11 +430,13 @@ CFL_f sqrt(h/|g|) (CFL 0.4; the wall cases use 1.0 with the default RK4) .  -fs_
 relaxation: the velocities are damped until this time .  -fs_output_dir <dir>            - output directory (default
 output/<case>) .  -fs_output_interval <t>         - simulated time between particle snapshots (0: first and last only)
 .  -fs_checkpoint_interval <n>     - steps between checkpoints (0: none)
-.  -fs_restart <file>              - continue from a checkpoint
+.  -fs_restart <file>              - continue from a checkpoint (of a run set up the same way)
+.  -fs_restart_allow_changes <a,b> - items of the set-up the restart may change (docs/running.md)
 .  -fs_probes <file>               - pressure probes and wave gauges, sampled into probes.csv (docs/running.md)
 .  -fs_probe_interval <1>          - steps between the samples of the probes and gauges
 .  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) and
 stop after set-up
+.  -fs_options_left <true>         - at the end, warn about the options given but never used
 -  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
 */
 PetscErrorCode FSSolverSetFromOptions(FSSolver s)
@@ -661,8 +676,9 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscCall(FSSolverSetUpGlobalBlocks(s));
   if (s->structure && s->structure->ndof && s->structure->ops.initial)
     PetscCall((*s->structure->ops.initial)(s->structure, &s->state.global0[s->state.gstruct]));
-  if (s->opt.restart[0]) PetscCall(FSSolverLoadCheckpoint(s));
   if (!s->ts) PetscCall(FSSolverSetUpTS(s));
+  PetscCall(FSSolverSetUpRecord(s));
+  if (s->opt.restart[0]) PetscCall(FSSolverLoadCheckpoint(s));
   if (s->opt.restart[0]) {
     PetscCall(TSSetTime(s->ts, s->state.restart_hdr.time));
     PetscCall(TSSetStepNumber(s->ts, s->state.restart_hdr.step));
@@ -777,6 +793,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(PetscFree4(s->pw.rec, s->pw.aux, s->pw.vol, s->pw.pressure));
   PetscCall(PetscFree(s->pw.scratch));
   PetscCall(PetscFree(s->mon.field));
+  PetscCall(PetscFree(s->mon.setup));
   PetscCall(PetscHeaderDestroy(solver));
   PetscFunctionReturn(0);
 }

@@ -35,6 +35,7 @@ typedef struct {
   char      default_terms[1024]; /* the case's default for -fs_terms */
   char      outdir[PETSC_MAX_PATH_LEN];
   char      restart[PETSC_MAX_PATH_LEN];
+  char      allow_changes[1024]; /* -fs_restart_allow_changes: items of the set-up a restart may change */
   PetscInt  dim;
   PetscReal dx, h_over_dx, h, rho0, c0, nu, gravity[3], background_pressure;
   PetscReal cfl, cfl_visc, cfl_force, relax_time;
@@ -163,6 +164,7 @@ typedef struct {
   PetscReal       *field; /* output staging */
   PetscInt         fieldcap;
   FSProbeSet       probes; /* -fs_probes */
+  char            *setup;  /* the record of what defines the run, for the checkpoints (setuprecord.c) */
 } FSMonitorData;
 
 typedef struct _FSSolverOps *FSSolverOps;
@@ -211,6 +213,8 @@ PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverSetUpRecord(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverCheckSetUp(FSSolver, const char[]);
 PETSC_INTERN PetscErrorCode FSSolverProbesSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesMonitor(FSSolver);

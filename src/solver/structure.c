@@ -62,11 +62,11 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
   s->state.gblock[s->state.ngblocks].offset = s->state.genergy;
   s->state.gblock[s->state.ngblocks++].n    = FS_ENERGY_NDOF;
   s->state.nglobaldofs                      = s->state.genergy + FS_ENERGY_NDOF;
-  /* the checkpoint header keeps the global DOFs and two more values (FSSolverWriteCheckpoint) */
-  PetscCheck(s->state.nglobaldofs + 2 <= FS_MAX_GLOBAL, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+  /* the checkpoint header keeps the global DOFs and four more values (FSSolverWriteCheckpoint) */
+  PetscCheck(s->state.nglobaldofs + 4 <= FS_MAX_GLOBAL, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
              "The state has %" PetscInt_FMT " global DOFs (structure %" PetscInt_FMT
              ", dissipated energies %" PetscInt_FMT ", energy budget %d), more than %d: use fewer structure modes",
-             s->state.nglobaldofs, s->state.gdiss, ndiss, (int)FS_ENERGY_NDOF, FS_MAX_GLOBAL - 2);
+             s->state.nglobaldofs, s->state.gdiss, ndiss, (int)FS_ENERGY_NDOF, FS_MAX_GLOBAL - 4);
   PetscFunctionReturn(0);
 }
 

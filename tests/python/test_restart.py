@@ -5,7 +5,7 @@ import h5py
 import numpy as np
 import pytest
 
-from conftest import (TG, assert_no_crash, last_snapshot, petsc_error_message, read_series, read_snapshot,
+from conftest import (REPO_ROOT, TG, assert_no_crash, last_snapshot, petsc_error_message, read_series, read_snapshot,
                       rel_max_diff, run_flexslosh, snapshot_files)
 
 FIELDS = ("position", "velocity", "density", "pressure", "strain_rate", "turbulent_viscosity")
@@ -161,3 +161,155 @@ def test_restart_in_place_snapshot_schedule(same_dir):
         return [(int(r[0]), int(r[2])) for r in rows]
 
     assert index(re_) == index(ref)
+
+
+# ---- a restart continues the same run: the checkpoint's set-up record against this run's
+
+def restart_of(full_run, tmp_path, extra, nranks=1, check=False, timeout=120):
+    a = full_run(1)
+    return run_flexslosh(TG + ["-fs_restart", a / "checkpoint_000020.h5", "-fs_output_dir", tmp_path / "B",
+                               "-ts_max_steps", "40"] + extra, nranks=nranks, cwd=tmp_path, check=check, timeout=timeout)
+
+
+def test_restart_as_another_case_is_refused(full_run, tmp_path):
+    proc = restart_of(full_run, tmp_path, ["-fs_case", "standing_wave"])
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert "checkpoint_000020.h5" in msg and "-fs_case: taylor_green -> standing_wave" in msg, msg
+    assert "-fs_restart_allow_changes" in msg, msg
+
+
+def test_restart_with_another_spacing_names_both_values(full_run, tmp_path):
+    proc = restart_of(full_run, tmp_path, ["-fs_dx", "0.04"])
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert "-fs_dx: 0.02 -> 0.04" in msg, msg
+    # one error lists every difference: here only the spacing
+    assert "1 item(s) differ" in msg, msg
+
+
+def test_restart_allows_the_changes_named(full_run, tmp_path):
+    proc = restart_of(full_run, tmp_path, ["-fs_nu", "0.02"])
+    assert_no_crash(proc)
+    assert "-fs_nu: 0.01 -> 0.02" in petsc_error_message(proc.stdout)
+    restart_of(full_run, tmp_path, ["-fs_nu", "0.02", "-fs_restart_allow_changes", "fs_nu"], check=True)
+
+
+def test_restart_may_change_the_final_time_and_output(full_run, tmp_path):
+    # -ts_max_time, -ts_max_steps and the output options never define the run
+    proc = restart_of(full_run, tmp_path, ["-ts_max_time", "0.5", "-ts_max_steps", "25", "-fs_output_interval", "0.001",
+                                           "-fs_checkpoint_interval", "5"], check=True)
+    assert read_series(tmp_path / "B")["step"][-1] == 25, proc.stdout[-2000:]
+
+
+def test_restart_with_changed_walls_is_refused(tmp_path):
+    walls = tmp_path / "tank.walls"
+    box = "wall tank\n0 0\n0.4 0\n0.4 0.2\n0 0.2\nend\n"
+    walls.write_text(box)
+    base = ["-fs_case", "tank", "-fs_tank_shape", "file", "-fs_tank_file", walls, "-fs_dx", "0.02",
+            "-fs_output_interval", "0", "-ts_max_steps", "4"]
+    run_flexslosh(base + ["-fs_checkpoint_interval", "2", "-fs_output_dir", tmp_path / "A"], cwd=tmp_path)
+    walls.write_text(box.replace("0.4 0.2", "0.4 0.21"))  # the same file, one vertex moved
+    proc = run_flexslosh(base + ["-fs_restart", tmp_path / "A" / "checkpoint_000002.h5", "-fs_output_dir", tmp_path / "B"],
+                         cwd=tmp_path, check=False)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert "walls_geometry" in msg and "1 item(s) differ" in msg, msg
+
+
+def damaged_copy(full_run, tmp_path, how):
+    src = full_run(1) / "checkpoint_000020.h5"
+    dst = tmp_path / "checkpoint_000020.h5"
+    dst.write_bytes(src.read_bytes())
+    how(dst)
+    return dst
+
+
+@pytest.mark.parametrize("nranks", [1, 2])
+def test_restart_from_a_truncated_checkpoint(full_run, tmp_path, nranks):
+    def cut(p):
+        with open(p, "r+b") as fp:
+            fp.truncate(p.stat().st_size // 2)
+
+    bad = damaged_copy(full_run, tmp_path, cut)
+    proc = run_flexslosh(TG + ["-fs_restart", bad, "-fs_output_dir", tmp_path / "B", "-ts_max_steps", "40"],
+                         nranks=nranks, cwd=tmp_path, check=False, timeout=60)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert str(bad) in msg and "truncated" in msg, msg
+
+
+@pytest.mark.parametrize("item,expect", [("particles/velocity", "velocity"), ("layout/nlocal", "/layout/nlocal"),
+                                         ("header.setup", "/header.setup")])
+def test_restart_from_a_checkpoint_missing_an_item(full_run, tmp_path, item, expect):
+    def delete(p):
+        with h5py.File(p, "r+") as h5:
+            if "." in item:
+                group, attr = item.split(".")
+                del h5[group].attrs[attr]
+            else:
+                del h5[item]
+
+    bad = damaged_copy(full_run, tmp_path, delete)
+    # 1 rank wrote it: on 1 rank the layout is read, on 2 the particles are split evenly
+    for nranks in (1, 2) if item != "layout/nlocal" else (1,):
+        proc = run_flexslosh(TG + ["-fs_restart", bad, "-fs_output_dir", tmp_path / "B", "-ts_max_steps", "40"],
+                             nranks=nranks, cwd=tmp_path, check=False, timeout=60)
+        assert_no_crash(proc)
+        msg = petsc_error_message(proc.stdout)
+        assert str(bad) in msg and expect in msg and ("missing" in msg or "has no field" in msg), msg
+
+
+# ---- a coupled run restarted on another number of ranks
+
+COUPLED = ["-options_file", REPO_ROOT / "cases" / "coupled_rectangular.opts", "-fs_output_interval", "0",
+           "-ts_max_steps", "60", "-fs_checkpoint_interval", "30"]
+
+
+def test_coupled_restart_on_three_ranks_agrees(tmp_path):
+    """The coupled rectangular tank (msd beam), 60 steps on 2 ranks, against the same run restarted at
+    step 30 on 3 ranks. Observed: the particles of the final checkpoints agree to 3e-14 (relative to each
+    field's largest value), the global DOFs (beam, dissipated energies) to 3e-15; the time series'
+    columns agree to the 11 digits printed, but for the round-off columns (the x loads and momentum of
+    the symmetric tank, 1e-12 N against loads of 1e3 N), which agree to 1e-15 of their family's scale.
+    The rest is the sums' order over 3 ranks instead of 2."""
+    a, b = tmp_path / "A", tmp_path / "B"
+    run_flexslosh(COUPLED + ["-fs_output_dir", a], nranks=2, cwd=tmp_path)
+    run_flexslosh(COUPLED + ["-fs_output_dir", b, "-fs_restart", a / "checkpoint_000030.h5"], nranks=3, cwd=tmp_path)
+    with h5py.File(a / "checkpoint_000060.h5", "r") as ha, h5py.File(b / "checkpoint_000060.h5", "r") as hb:
+        assert ha["header"].attrs["nranks"] == 2 and hb["header"].attrs["nranks"] == 3
+        assert ha["header"].attrs["time"] == pytest.approx(hb["header"].attrs["time"], rel=1e-14)
+        oa, ob = np.argsort(ha["particles/id"][...]), np.argsort(hb["particles/id"][...])
+        for f in ("position", "velocity", "density"):
+            assert rel_max_diff(ha["particles/" + f][...][oa], hb["particles/" + f][...][ob]) <= 1e-12, f
+        assert rel_max_diff(ha["header/global"][...], hb["header/global"][...]) <= 1e-12
+    sa, sb = read_series(a), read_series(b)
+    assert list(sb["step"]) == list(range(30, 61))
+    rows = sb["step"] > 30
+    ka = [list(sa["step"]).index(s) for s in sb["step"][rows]]
+
+    def family(name):  # the columns a round-off column is measured against
+        return [n for n in sa if n.split("_")[0] == name.split("_")[0]] if name.split("_")[0] in ("momentum", "wall", "load") else [name]
+
+    for name in sa:
+        va, vb = sa[name][ka], sb[name][rows]
+        scale = max(max(np.abs(sa[n]).max() for n in family(name)), 1e-300)
+        assert np.abs(va - vb).max() <= 1e-12 * scale, f"time series column {name}: {np.abs(va - vb).max() / scale:.3g}"
+
+
+def test_restart_from_a_version_1_checkpoint(full_run, tmp_path):
+    """A checkpoint written before the set-up record (format version 1) is refused, saying so, unless
+    -fs_restart_allow_changes all: then it restarts unchecked, with a warning."""
+    def old(p):
+        with h5py.File(p, "r+") as h5:
+            del h5["header"].attrs["setup"]
+            h5["header"].attrs["version"] = np.int64(1)
+
+    ck = damaged_copy(full_run, tmp_path, old)
+    args = TG + ["-fs_restart", ck, "-fs_output_dir", tmp_path / "B", "-ts_max_steps", "22"]
+    proc = run_flexslosh(args, cwd=tmp_path, check=False)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert str(ck) in msg and "format version 1" in msg and "-fs_restart_allow_changes all" in msg, msg
+    proc = run_flexslosh(args + ["-fs_restart_allow_changes", "all"], cwd=tmp_path)
+    assert "has no record of its run's set-up: not checked" in proc.stdout

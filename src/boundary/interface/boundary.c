@@ -474,6 +474,46 @@ PetscErrorCode FSBoundaryWriteGeometry(FSBoundary b, const char dir[], PetscBool
   PetscFunctionReturn(0);
 }
 
+/* FSBoundaryHashAdd_Private - adds n bytes of data to the 64-bit FNV-1a hash *hash */
+void FSBoundaryHashAdd_Private(uint64_t *hash, const void *data, size_t n)
+{
+  const unsigned char *c = (const unsigned char *)data;
+
+  for (size_t i = 0; i < n; i++) *hash = (*hash ^ c[i]) * 1099511628211ULL;
+}
+
+/*@C
+   FSBoundaryGetGeometryHash - a fingerprint of the walls as the case gave them: a 64-bit FNV-1a hash
+   of the method, the wall names and the method's geometry (the polygons' vertices or the triangles, and
+   the wall of each edge or triangle), before they are cut into elements of about dx. Two runs whose
+   walls differ in any bit of a vertex have different hashes.
+
+   Not collective (the geometry is the same on every rank)
+
+   Input Parameters:
++  b   - the boundary, set up
+-  len - the size of hash, at least 17
+
+   Output Parameter:
+.  hash - 16 hexadecimal digits
+
+.seealso: FSBoundarySetUp()
+@*/
+PetscErrorCode FSBoundaryGetGeometryHash(FSBoundary b, char hash[], size_t len)
+{
+  uint64_t    h    = 14695981039346656037ULL;
+  const char *type = ((PetscObject)b)->type_name ? ((PetscObject)b)->type_name : "";
+
+  PetscFunctionBegin;
+  PetscCheck(len >= 17, PETSC_COMM_SELF, PETSC_ERR_ARG_SIZ, "FSBoundaryGetGeometryHash(): 17 characters needed");
+  PetscCheck(b->ops->hash, PETSC_COMM_SELF, PETSC_ERR_SUP, "Boundary method %s cannot hash its geometry", type);
+  FSBoundaryHashAdd_Private(&h, type, strlen(type) + 1);
+  for (PetscInt w = 0; w < b->nwalls; w++) FSBoundaryHashAdd_Private(&h, b->wallname[w], strlen(b->wallname[w]) + 1);
+  PetscCall((*b->ops->hash)(b, &h));
+  PetscCall(PetscSNPrintf(hash, len, "%016llx", (unsigned long long)h));
+  PetscFunctionReturn(0);
+}
+
 /* FSBoundarySummary - the boundary's members of summary.json (collective). */
 PetscErrorCode FSBoundarySummary(FSBoundary b, FSJSON js)
 {

@@ -374,6 +374,20 @@ static PetscErrorCode BoundingBox(FSBoundary b, PetscReal lo[], PetscReal hi[])
   PetscFunctionReturn(0);
 }
 
+/* Hash - the polygons as given: their vertices, their walls and each edge's wall */
+static PetscErrorCode Hash(FSBoundary b, uint64_t *h)
+{
+  FSWalls *w = &((FSBoundary_Polygon *)b->data)->walls;
+
+  PetscFunctionBegin;
+  FSBoundaryHashAdd_Private(h, &w->npoly, sizeof(w->npoly));
+  FSBoundaryHashAdd_Private(h, w->pstart, (size_t)(w->npoly + 1) * sizeof(PetscInt));
+  FSBoundaryHashAdd_Private(h, w->pwall, (size_t)w->npoly * sizeof(PetscInt));
+  FSBoundaryHashAdd_Private(h, w->vwall, (size_t)w->nvert * sizeof(PetscInt));
+  FSBoundaryHashAdd_Private(h, w->vert, (size_t)(2 * w->nvert) * sizeof(PetscReal));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode View(FSBoundary b, PetscViewer viewer)
 {
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
@@ -430,6 +444,7 @@ PetscErrorCode FSBoundaryCreate_Polygon(FSBoundary b)
   b->ops->draw          = FSBoundaryDraw_Polygon;
   b->ops->writegeometry = FSBoundaryWriteGeometry_Polygon;
   b->ops->view          = View;
+  b->ops->hash          = Hash;
   b->ops->destroy       = Destroy;
   PetscCall(
       PetscObjectComposeFunction((PetscObject)b, "FSBoundaryPolygonSetWalls_C", FSBoundaryPolygonSetWalls_Polygon));

@@ -486,6 +486,20 @@ static PetscErrorCode BoundingBox(FSBoundary b, PetscReal lo[], PetscReal hi[])
   PetscFunctionReturn(0);
 }
 
+/* Hash - the triangles as given: the vertices, the triangles and their walls */
+static PetscErrorCode Hash(FSBoundary b, uint64_t *h)
+{
+  FSMesh *m = &((FSBoundary_Trimesh *)b->data)->mesh;
+
+  PetscFunctionBegin;
+  FSBoundaryHashAdd_Private(h, &m->nvert, sizeof(m->nvert));
+  FSBoundaryHashAdd_Private(h, m->vert, (size_t)(3 * m->nvert) * sizeof(PetscReal));
+  FSBoundaryHashAdd_Private(h, &m->ntri, sizeof(m->ntri));
+  FSBoundaryHashAdd_Private(h, m->tri, (size_t)(3 * m->ntri) * sizeof(PetscInt));
+  FSBoundaryHashAdd_Private(h, m->triwall, (size_t)m->ntri * sizeof(PetscInt));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode View(FSBoundary b, PetscViewer viewer)
 {
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
@@ -546,6 +560,7 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   b->ops->draw           = FSBoundaryDraw_Trimesh;
   b->ops->writegeometry  = FSBoundaryWriteGeometry_Trimesh;
   b->ops->view           = View;
+  b->ops->hash           = Hash;
   b->ops->destroy        = Destroy;
   PetscCall(PetscObjectComposeFunction((PetscObject)b, "FSBoundaryTrimeshSetMesh_C", FSBoundaryTrimeshSetMesh_Trimesh));
   PetscFunctionReturn(0);
