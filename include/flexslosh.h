@@ -282,8 +282,8 @@ typedef struct {
   PetscErrorCode (*initial)(FSStructure, PetscReal y[]);
   /* dy/dt at time t for state y under the liquid loads (required) */
   PetscErrorCode (*rhs)(FSStructure, PetscReal t, const PetscReal y[], const FSLoads *, PetscReal ydot[]);
-  /* the tank's motion from the state and its rate (required) */
-  PetscErrorCode (*motion)(FSStructure, const PetscReal y[], const PetscReal ydot[], FSTankMotion *);
+  /* the tank's motion at time t from the state and its rate (required; t for prescribed motions) */
+  PetscErrorCode (*motion)(FSStructure, PetscReal t, const PetscReal y[], const PetscReal ydot[], FSTankMotion *);
   /* values of the model's own time-series columns (ncolumns of them) */
   PetscErrorCode (*columns)(FSStructure, PetscReal t, const PetscReal y[], const PetscReal ydot[], PetscReal vals[]);
   /* output at a snapshot time (rank 0; e.g. the deflected shape), into the directory given */
@@ -307,8 +307,10 @@ struct _p_FSStructure {
   PetscInt       ndof;       /* state size, set by setup */
   PetscReal      min_period; /* shortest period the model resolves (time step without particles), set by setup */
   PetscInt       ncolumns;   /* the model's own time-series columns */
-  char           column[FS_STRUCTURE_MAX_COLUMNS][32];
-  void          *data; /* implementation data */
+  PetscBool      prescribed; /* the motion is given, the loads do not move it: the energy budget books the work it
+                                does on the liquid (work_motion) instead of the structure's energies */
+  char  column[FS_STRUCTURE_MAX_COLUMNS][32];
+  void *data; /* implementation data */
 };
 
 typedef PetscErrorCode (*FSStructureCreateFn)(FSStructure);

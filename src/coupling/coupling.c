@@ -316,7 +316,7 @@ PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const Pet
   FrameField(c, &c->motion, &ff);
   ff.b[0] -= c->gravity[0]; /* the gravity term adds g itself */
   ff.b[1] -= c->gravity[1];
-  for (PetscInt i = 0; i < n; i++) { /* in 3-D the frame turns about z: nothing along z (b_z - g_z = 0) */
+  for (PetscInt i = 0; i < n; i++) { /* in 3-D the frame turns about z: along z only the tank's acceleration */
     const PetscReal *ri = &rec[i * S];
     const PetscReal  ux = ri[dim], uy = ri[dim + 1];
     PetscReal        a[2];
@@ -325,6 +325,13 @@ PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const Pet
     f[i * US + dim] += ax;
     f[i * US + dim + 1] += ay;
     pw += ri[2 * dim + 1] * (ux * ax + uy * ay);
+  }
+  if (dim == 3 && c->motion.acc[2] != 0) { /* a prescribed motion along z (a structure's is zero) */
+    const PetscReal az = -c->motion.acc[2];
+    for (PetscInt i = 0; i < n; i++) {
+      f[i * US + dim + 2] += az;
+      pw += rec[i * S + 2 * dim + 1] * rec[i * S + dim + 2] * az;
+    }
   }
   *power = pw;
   PetscFunctionReturn(0);
@@ -347,6 +354,25 @@ PetscErrorCode FSCouplingPower(FSCoupling c, const PetscReal R[3], PetscReal *po
   PetscFunctionReturn(0);
 }
 
+/*
+   FSCouplingMotionPower - the power a prescribed motion of the tank puts into the liquid: the walls'
+   forces on the liquid (the reaction R, the sum over the ranks of FSCouplingReaction's shares, in the
+   tank's frame) times the walls' rigid velocity, w [R . R(-theta) V_ref + omega R_M], and in 3-D the
+   force across the plane times the velocity along z. Its time integral is the work of the motion
+   (work_motion), which changes the liquid's energy in the absolute frame.
+*/
+PetscErrorCode FSCouplingMotionPower(FSCoupling c, const PetscReal R[3], PetscReal *power)
+{
+  const FSTankMotion *mo = &c->motion;
+  const PetscReal     cs = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
+  const PetscReal     vx = cs * mo->vel[0] + sn * mo->vel[1], vy = -sn * mo->vel[0] + cs * mo->vel[1];
+
+  PetscFunctionBegin;
+  *power = c->tank_width * (R[0] * vx + R[1] * vy + mo->rate * R[2]);
+  if (c->dim == 3) *power += c->reaction_out[0] * mo->vel[2];
+  PetscFunctionReturn(0);
+}
+
 /* FSCouplingAbsoluteEnergy - a particle's kinetic and potential energy in the absolute frame (coupled),
    its tank-frame position x and velocity v carried by the tank's motion mo (c, sn: cos and sin of its
    angle); in 3-D the frame turns about z, so z and v_z carry over. */
@@ -360,9 +386,10 @@ void FSCouplingAbsoluteEnergy(FSCoupling cp, const FSTankMotion *mo, PetscReal c
                   Xy = cp->tank_ref[1] + mo->disp[1] + sn * rx + c * ry;
   *kin               = 0.5 * m * (Vx * Vx + Vy * Vy);
   *pot               = -m * (cp->gravity[0] * Xx + cp->gravity[1] * Xy);
-  if (cp->dim == 3) {
-    *kin += 0.5 * m * v[2] * v[2];
-    *pot -= m * cp->gravity[2] * x[2];
+  if (cp->dim == 3) { /* plus the tank's translation along z (zero but for a prescribed motion) */
+    const PetscReal Vz = mo->vel[2] + v[2];
+    *kin += 0.5 * m * Vz * Vz;
+    *pot -= m * cp->gravity[2] * (x[2] + mo->disp[2]);
   }
 }
 

@@ -27,6 +27,7 @@ PETSC_INTERN PetscErrorCode FSCouplingSetMotion(FSCoupling, const FSTankMotion *
 PETSC_INTERN PetscErrorCode FSCouplingInertia(FSCoupling, PetscInt n, PetscInt stride, const PetscReal rec[],
                                               PetscInt ustride, PetscReal f[], PetscReal *power);
 PETSC_INTERN PetscErrorCode FSCouplingPower(FSCoupling, const PetscReal reaction[3], PetscReal *power);
+PETSC_INTERN PetscErrorCode FSCouplingMotionPower(FSCoupling, const PetscReal reaction[3], PetscReal *power);
 PETSC_INTERN PetscErrorCode FSCouplingStaticLoadsWork(FSCoupling, const FSTankMotion *, PetscReal *);
 PETSC_INTERN PetscErrorCode FSCouplingDestroy(FSCoupling *);
 

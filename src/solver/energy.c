@@ -30,7 +30,7 @@
    not see (its deflections are measured from the equilibrium under them), L_s . (d, theta):
      E_total = w E_liquid_abs + E_struct_kin + E_struct_elastic + L_s . (d, theta),
      residual_total = E_total - E_total(0) - w (work_delta + work_alpha + work_wall + work_relax)
-                      - work_struct_damping - work_coupling - work_bounce_total,
+                      - work_struct_damping - work_coupling - work_bounce_total - work_motion,
    where work_coupling integrates the power of the coupling's own error,
      P_coupling = w [(F_walls + F_L) . R(-theta) V_ref + omega (M_walls + M_L)],
    F_L, M_L the loads the structure receives (the wall-pressure integral and the wall shear, in the tank's
@@ -42,6 +42,9 @@
    while residual_total is the quadrature error only. work_bounce_total is the bounces' share (in the absolute frame a
    bounce is an impulse from the tank that the structure does not receive). Without coupling, w = 1, E_liquid_abs =
    E_liquid and L_s = 0: the sum of the two separate budgets.
+   A prescribed motion (FSStructure.prescribed, docs/motion.md) has no energy of its own and L_s = 0: it does the
+   work work_motion, the integral of w [R . R(-theta) V_ref + omega R_M] with R, R_M the force and moment of all terms
+   but gravity and the frame's inertia (the relaxation's included) on the liquid, which residual_total subtracts.
 */
 #include <math.h>
 #include "solver/solverimpl.h"
@@ -63,6 +66,7 @@ static const char *FSEnergyNames[] = {"time",
                                       "E_struct_elastic",
                                       "work_struct_damping",
                                       "work_coupling",
+                                      "work_motion",
                                       "work_bounce",
                                       "work_bounce_total",
                                       "E_liquid_abs",
@@ -140,7 +144,7 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
     st[0] = E[0];
     st[1] = E[1];
   }
-  PetscCall(FSCouplingStaticLoadsWork(s->coupling, &mo, &st[2]));
+  if (!s->structure || !s->structure->prescribed) PetscCall(FSCouplingStaticLoadsWork(s->coupling, &mo, &st[2]));
   PetscFunctionReturn(0);
 }
 
@@ -292,12 +296,13 @@ PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
     vals[k++]            = st[1];
     vals[k++]            = eb[FS_ENERGY_WORK_DAMPING];
     vals[k++]            = eb[FS_ENERGY_WORK_COUPLING];
+    vals[k++]            = eb[FS_ENERGY_WORK_MOTION];
     vals[k++]            = eb[FS_ENERGY_WORK_BOUNCE];
     vals[k++]            = eb[FS_ENERGY_WORK_BOUNCE_TOTAL];
     vals[k++]            = Eabs;
     vals[k++]            = Etot;
     vals[k++] = Etot - eb[FS_ENERGY_TOTAL0] - w * Wint - eb[FS_ENERGY_WORK_DAMPING] - eb[FS_ENERGY_WORK_COUPLING] -
-                eb[FS_ENERGY_WORK_BOUNCE_TOTAL];
+                eb[FS_ENERGY_WORK_BOUNCE_TOTAL] - eb[FS_ENERGY_WORK_MOTION];
   }
   PetscFunctionReturn(0);
 }

@@ -381,8 +381,8 @@ static void FSSolverRelaxation(FSSolver s, PetscReal *f)
 /*
    FSSolverPowerRates - the rates of the global DOFs after the structure's (rank 0): the dissipated
    energies of the terms with a power, and the energy block's integrals (P_ext, the relaxation's power,
-   the structure's damping power, the coupling's power) from this rank's shares summed over the ranks;
-   reaction is this rank's share of the reaction of the walls' forces (FSCouplingReaction).
+   the structure's damping power, the coupling's power or a prescribed motion's) from this rank's shares summed over the
+   ranks; reaction is this rank's share of the reaction of the walls' forces (FSCouplingReaction).
 
    Collective
 */
@@ -414,7 +414,9 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
       fe[FS_ENERGY_WORK_EXT]     = power[npower];
       fe[FS_ENERGY_WORK_RELAX]   = power[npower + 1];
       fe[FS_ENERGY_WORK_DAMPING] = -E[2];
-      if (coupled) PetscCall(FSCouplingPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_COUPLING]));
+      if (coupled && st->prescribed)
+        PetscCall(FSCouplingMotionPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_MOTION]));
+      else if (coupled) PetscCall(FSCouplingPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_COUPLING]));
     }
     if (s->structure && s->structure->ndof && s->structure->ops.energy)
       PetscCall(FSSolverStructureResultRank0(s, ierr, "energy", 0, NULL));
@@ -472,12 +474,20 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
 
   PetscCall(FSSolverPairPass(s, &P, f));
   if (s->boundary) PetscCall(FSSolverWallPass(s, &P, f));
-  if (coupled) {
+  /* the reaction of the forces on the liquid; for a prescribed motion with the relaxation's, whose work in the
+     absolute frame the motion also does (work_motion) */
+  const PetscBool prescribed = (PetscBool)(coupled && s->structure->prescribed);
+  if (coupled && !prescribed) {
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSCouplingReaction(s->coupling, n, S, s->pw.rec, US, f, reaction));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   }
   FSSolverRelaxation(s, f);
+  if (prescribed) {
+    PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
+    PetscCall(FSCouplingReaction(s->coupling, n, S, s->pw.rec, US, f, reaction));
+    PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
+  }
   if (count) {
     s->mon.pair_visits += s->pw.nbrs.npairs;
     s->mon.nrhs++;

@@ -226,14 +226,16 @@ PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
 /* The energy block of the global DOFs: the time integrals of P_ext, of the start-up relaxation's
    power, of the structure's damping power (negative: energy lost) and of the coupling's power (the work
    of the difference between the loads the structure receives and the reaction of the walls' forces on
-   the particles: energy the coupling creates), the energy changes of the wall bounces (liquid, whole
-   system; changed between steps, not by the integrator), and the liquid's and the whole
-   system's energies at the start of the run (rate zero: kept through restarts by the checkpoints). */
+   the particles: energy the coupling creates), of the power a prescribed motion puts into the liquid
+   (the walls' forces on the liquid times the walls' rigid velocity), the energy changes of the wall bounces (liquid,
+   whole system; changed between steps, not by the integrator), and the liquid's and the whole system's energies at the
+   start of the run (rate zero: kept through restarts by the checkpoints). */
 enum {
   FS_ENERGY_WORK_EXT,
   FS_ENERGY_WORK_RELAX,
   FS_ENERGY_WORK_DAMPING,
   FS_ENERGY_WORK_COUPLING,
+  FS_ENERGY_WORK_MOTION,
   FS_ENERGY_WORK_BOUNCE,
   FS_ENERGY_WORK_BOUNCE_TOTAL,
   FS_ENERGY_LIQUID0,

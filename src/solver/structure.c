@@ -188,7 +188,8 @@ static PetscErrorCode FSSolverStructureCurrent(FSSolver s, PetscErrorCode *rank0
 /*
    FSSolverGetTankMotion - the tank's motion at the current state (displacement, velocity and
    acceleration of its reference point, rotation angle, rate and angular acceleration), the same on
-   every rank (computed on rank 0 and broadcast). Zero without a structure.
+   every rank (computed on rank 0 and broadcast). Zero without a structure; a structure without DOFs
+   (a prescribed motion) gives its motion at the current time.
 
    Collective
 */
@@ -199,10 +200,10 @@ PetscErrorCode FSSolverGetTankMotion(FSSolver s, FSTankMotion *m)
 
   PetscFunctionBegin;
   PetscCall(PetscMemzero(m, sizeof(*m)));
-  if (!s->structure || !s->structure->ndof) PetscFunctionReturn(0);
+  if (!s->structure) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(FSSolverStructureCurrent(s, &ierr));
-  if (!rank && !ierr) ierr = (*s->structure->ops.motion)(s->structure, s->sy, s->sydot, m);
+  if (!rank && !ierr) ierr = (*s->structure->ops.motion)(s->structure, s->state.rhs_time, s->sy, s->sydot, m);
   PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)m));
   PetscFunctionReturn(0);
 }
@@ -291,7 +292,7 @@ PetscErrorCode FSSolverStructureValues(FSSolver s, PetscReal vals[])
   PetscCall(FSSolverStructureCurrent(s, NULL));
   if (rank) PetscFunctionReturn(0);
   PetscCall(TSGetTime(s->ts, &t));
-  PetscCall((*st->ops.motion)(st, s->sy, s->sydot, &m));
+  PetscCall((*st->ops.motion)(st, t, s->sy, s->sydot, &m));
   vals[k++] = m.disp[1];
   vals[k++] = m.vel[1];
   vals[k++] = m.acc[1];
@@ -372,7 +373,7 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
     PetscErrorCode ierr = 0;
     if (!rank) {
       ierr = (*st->ops.rhs)(st, s->state.rhs_time, s->sy, &none, s->sydot);
-      if (!ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &predicted);
+      if (!ierr) ierr = (*st->ops.motion)(st, s->state.rhs_time, s->sy, s->sydot, &predicted);
     }
     PetscCall(
         FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&predicted));
@@ -401,7 +402,7 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
   PetscCall(FSCouplingComputeLoads(s->coupling, s->boundary, &s->loads));
   /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
   PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f, &ierr));
-  if (!rank && !ierr) ierr = (*st->ops.motion)(st, s->sy, s->sydot, &motion);
+  if (!rank && !ierr) ierr = (*st->ops.motion)(st, s->state.rhs_time, s->sy, s->sydot, &motion);
   PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&motion));
   PetscCall(FSCouplingSetMotion(s->coupling, &motion));
   PetscFunctionReturn(0);

@@ -19,7 +19,7 @@ from conftest import REPO_ROOT, read_series, run_flexslosh
 
 COLUMNS = ["step", "time", "E_kin", "E_pot", "E_comp", "E_liquid", "work_delta", "work_alpha", "work_wall", "work_ext",
            "work_relax", "residual_liquid", "E_struct_kin", "E_struct_elastic", "work_struct_damping", "work_coupling",
-           "work_bounce", "work_bounce_total", "E_liquid_abs", "E_total", "residual_total"]
+           "work_motion", "work_bounce", "work_bounce_total", "E_liquid_abs", "E_total", "residual_total"]
 
 
 def read_energy(directory):

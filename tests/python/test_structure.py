@@ -286,8 +286,9 @@ def test_restart_with_structure_is_exact(tmp_path, case):
 
 def test_structure_view_lists_models(run):
     proc = run(["-fs_structure_view", "-ts_max_steps", "0", "-fs_output", "0"])
-    assert re.search(r"Registered structure models \(2\)", proc.stdout), proc.stdout
-    assert re.search(r"^\s+msd\s{2,}", proc.stdout, re.M) and re.search(r"^\s+modal\s{2,}", proc.stdout, re.M)
+    assert re.search(r"Registered structure models \(3\)", proc.stdout), proc.stdout
+    for name in ("msd", "modal", "prescribed"):
+        assert re.search(rf"^\s+{name}\s{{2,}}", proc.stdout, re.M), name
 
 
 def test_plugin_structure(tmp_path):
@@ -296,7 +297,7 @@ def test_plugin_structure(tmp_path):
     lib = build_dir() / "libfsspring.so"
     assert lib.exists(), f"{lib} not built"
     proc = run_flexslosh(["-dll_append", lib, "-fs_structure_view", "-ts_max_steps", "0", "-fs_output", "0"], cwd=tmp_path)
-    assert re.search(r"Registered structure models \(3\)", proc.stdout) and re.search(r"^\s+spring\s{2,}", proc.stdout, re.M)
+    assert re.search(r"Registered structure models \(4\)", proc.stdout) and re.search(r"^\s+spring\s{2,}", proc.stdout, re.M)
     d, _ = beam_run(tmp_path, "spring", ["-dll_append", lib, "-fs_structure", "spring", "-fs_spring_frequency", 2,
                                          "-fs_spring_amplitude", 0.01, "-ts_max_time", 1.0, "-fs_structure_cfl", 0.005])
     s = read_series(d)

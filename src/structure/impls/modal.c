@@ -170,7 +170,7 @@ static PetscErrorCode RHS(FSStructure st, PetscReal t, const PetscReal y[], cons
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Motion(FSStructure st, const PetscReal y[], const PetscReal ydot[], FSTankMotion *m)
+static PetscErrorCode Motion(FSStructure st, PetscReal t, const PetscReal y[], const PetscReal ydot[], FSTankMotion *m)
 {
   Modal         *p = (Modal *)st->data;
   const PetscInt n = p->nmodes;

@@ -89,7 +89,7 @@ static PetscErrorCode RHS(FSStructure st, PetscReal t, const PetscReal y[], cons
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Motion(FSStructure st, const PetscReal y[], const PetscReal ydot[], FSTankMotion *m)
+static PetscErrorCode Motion(FSStructure st, PetscReal t, const PetscReal y[], const PetscReal ydot[], FSTankMotion *m)
 {
   PetscFunctionBegin;
   PetscCall(PetscMemzero(m, sizeof(*m)));

@@ -11,6 +11,7 @@ static FSRegistry FSStructures; /* src/sys/registry.c */
 
 PETSC_EXTERN PetscErrorCode FSStructureCreate_MSD(FSStructure);
 PETSC_EXTERN PetscErrorCode FSStructureCreate_Modal(FSStructure);
+PETSC_EXTERN PetscErrorCode FSStructureCreate_Prescribed(FSStructure);
 
 /*
    FSStructureRegister - adds a structure model to the registry.
@@ -145,5 +146,9 @@ PetscErrorCode FSStructureRegisterAll(void)
                                 "modal Euler-Bernoulli cantilever, modes of Hermite finite elements with the tank by "
                                 "SLEPc (seed Eqs. 18-27), options -fs_beam_*, -fs_modal_*",
                                 FSStructureCreate_Modal));
+  PetscCall(FSStructureRegister("prescribed",
+                                "the tank moved by a given motion: translation and roll about z, sums of sines, "
+                                "polynomials or time-series files, options -fs_motion_*",
+                                FSStructureCreate_Prescribed));
   PetscFunctionReturn(0);
 }

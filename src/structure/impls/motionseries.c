@@ -1,0 +1,152 @@
+/*
+   A component of a prescribed motion from a time-series file. The file has one point a line, the time
+   (s) and the value, separated by blanks, tabs or a comma; '#' starts a comment, blank lines are
+   skipped. Times strictly increase; at least two points. The points are joined by a natural cubic
+   spline (second derivative zero at both ends) and continued by straight lines before the first and
+   after the last point: the value, the velocity and the acceleration are continuous everywhere (C2),
+   so the inertial forces the liquid feels have no jumps.
+*/
+#include <math.h>
+#include <stdio.h>
+#include "motionseries.h"
+
+/* the next number of a line (blanks, tabs and commas separate); PETSC_FALSE at the end of the line */
+static PetscBool NextNumber(char **p, PetscReal *v, PetscBool *bad)
+{
+  char  *end;
+  double d;
+
+  while (**p == ' ' || **p == '\t' || **p == ',' || **p == '\r' || **p == '\n') (*p)++;
+  if (!**p) return PETSC_FALSE;
+  d = strtod(*p, &end);
+  if (end == *p || !(*end == 0 || *end == ' ' || *end == '\t' || *end == ',' || *end == '\r' || *end == '\n') ||
+      !isfinite(d)) {
+    *bad = PETSC_TRUE;
+    return PETSC_FALSE;
+  }
+  *p = end;
+  *v = (PetscReal)d;
+  return PETSC_TRUE;
+}
+
+/* the natural spline's second derivatives M (tridiagonal system, Thomas algorithm; w: n work values) */
+static void SplineSecondDerivatives(PetscInt n, const PetscReal t[], const PetscReal y[], PetscReal M[], PetscReal w[])
+{
+  M[0] = M[n - 1] = 0;
+  w[0]            = 0;
+  for (PetscInt i = 1; i < n - 1; i++) { /* forward elimination of h_{i-1} M_{i-1} + 2(h_{i-1}+h_i) M_i + h_i M_{i+1} */
+    const PetscReal h0 = t[i] - t[i - 1], h1 = t[i + 1] - t[i];
+    const PetscReal r   = 6 * ((y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0);
+    const PetscReal piv = 2 * (h0 + h1) - h0 * w[i - 1];
+    w[i]                = h1 / piv;
+    M[i]                = (r - h0 * M[i - 1]) / piv;
+  }
+  for (PetscInt i = n - 2; i > 0; i--) M[i] -= w[i] * M[i + 1];
+}
+
+/*
+   FSMotionSeriesLoad - reads a time-series file and builds its spline; the values are multiplied by
+   scale (e.g. degrees to radians). Errors name the option, the file and the line.
+
+   Collective (every rank reads the file)
+*/
+PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char option[], PetscReal scale,
+                                  FSMotionSeries *s)
+{
+  FILE      *fp;
+  char       line[4096];
+  PetscInt   cap = 256, lineno = 0;
+  PetscReal *w;
+
+  PetscFunctionBegin;
+  PetscCall(PetscMemzero(s, sizeof(*s)));
+  PetscCall(PetscStrncpy(s->file, file, sizeof(s->file)));
+  fp = fopen(file, "r");
+  PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "%s: cannot open the time-series file %s", option, file);
+  PetscCall(PetscMalloc2(cap, &s->t, cap, &s->y));
+  while (fgets(line, sizeof(line), fp)) {
+    char     *p = line, *hash = strchr(line, '#');
+    PetscReal v[3];
+    PetscInt  nv  = 0;
+    PetscBool bad = PETSC_FALSE;
+
+    lineno++;
+    if (!strchr(line, '\n') && !feof(fp)) {
+      fclose(fp);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "%s: file %s, line %" PetscInt_FMT ": longer than %d characters", option,
+              file, lineno, (int)sizeof(line) - 1);
+    }
+    if (hash) *hash = 0;
+    while (nv < 3 && NextNumber(&p, &v[nv], &bad)) nv++;
+    if (!nv && !bad) continue; /* blank or comment */
+    if (bad || nv != 2) {
+      fclose(fp);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+              "%s: file %s, line %" PetscInt_FMT ": expected two finite numbers, the time and the value", option, file,
+              lineno);
+    }
+    if (s->n && v[0] <= s->t[s->n - 1]) {
+      fclose(fp);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+              "%s: file %s, line %" PetscInt_FMT ": the time %g does not follow the previous time %g (times must "
+              "strictly increase)",
+              option, file, lineno, (double)v[0], (double)s->t[s->n - 1]);
+    }
+    if (s->n == cap) { /* grow */
+      PetscReal *t, *y;
+      PetscCall(PetscMalloc2(2 * cap, &t, 2 * cap, &y));
+      PetscCall(PetscArraycpy(t, s->t, cap));
+      PetscCall(PetscArraycpy(y, s->y, cap));
+      PetscCall(PetscFree2(s->t, s->y));
+      s->t = t;
+      s->y = y;
+      cap *= 2;
+    }
+    s->t[s->n]   = v[0];
+    s->y[s->n++] = scale * v[1];
+  }
+  fclose(fp);
+  PetscCheck(s->n >= 2, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "%s: file %s has %" PetscInt_FMT " points (time, value): at least two are needed", option, file, s->n);
+  PetscCall(PetscMalloc1(s->n, &s->M));
+  PetscCall(PetscMalloc1(s->n, &w));
+  SplineSecondDerivatives(s->n, s->t, s->y, s->M, w);
+  PetscCall(PetscFree(w));
+  PetscFunctionReturn(0);
+}
+
+/* FSMotionSeriesEval - the value, velocity and acceleration v[0..2] at time t. */
+void FSMotionSeriesEval(const FSMotionSeries *s, PetscReal t, PetscReal v[3])
+{
+  const PetscInt n  = s->n;
+  PetscInt       lo = 0, hi = n - 1;
+
+  if (t <= s->t[0] || t >= s->t[n - 1]) { /* the straight line leaving the end point (M = 0 there) */
+    const PetscInt  e = t <= s->t[0] ? 0 : n - 1, i = e ? n - 2 : 0;
+    const PetscReal h = s->t[i + 1] - s->t[i], slope = (s->y[i + 1] - s->y[i]) / h;
+    const PetscReal d = e ? slope + h * s->M[i] / 6 : slope - h * s->M[1] / 6; /* the spline's end slopes */
+    v[0]              = s->y[e] + d * (t - s->t[e]);
+    v[1]              = d;
+    v[2]              = 0;
+    return;
+  }
+  while (hi - lo > 1) { /* bisection: t[lo] <= t < t[hi] */
+    const PetscInt mid = (lo + hi) / 2;
+    if (s->t[mid] <= t) lo = mid;
+    else hi = mid;
+  }
+  {
+    const PetscReal h = s->t[hi] - s->t[lo], a = (s->t[hi] - t) / h, b = 1 - a;
+    v[0] = a * s->y[lo] + b * s->y[hi] + ((a * a * a - a) * s->M[lo] + (b * b * b - b) * s->M[hi]) * h * h / 6;
+    v[1] = (s->y[hi] - s->y[lo]) / h + ((1 - 3 * a * a) * s->M[lo] + (3 * b * b - 1) * s->M[hi]) * h / 6;
+    v[2] = a * s->M[lo] + b * s->M[hi];
+  }
+}
+
+PetscErrorCode FSMotionSeriesDestroy(FSMotionSeries *s)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscFree2(s->t, s->y));
+  PetscCall(PetscFree(s->M));
+  PetscFunctionReturn(0);
+}
