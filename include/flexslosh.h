@@ -38,6 +38,16 @@ PETSC_EXTERN PetscErrorCode FSOptionsLeft(MPI_Comm, PetscInt, const char *const[
 PETSC_EXTERN PetscErrorCode FSErrorHandler(MPI_Comm, int, const char *, const char *, PetscErrorCode, PetscErrorType,
                                            const char *, void *);
 
+/* ---------- options, checked where they are read (src/sys/options.c) ---------- */
+/* Which bounds of a real option's range are open; PETSC_NINFINITY and PETSC_INFINITY stand for no bound. */
+typedef enum { FS_RANGE_CLOSED, FS_RANGE_OPEN_LOWER, FS_RANGE_OPEN_UPPER, FS_RANGE_OPEN } FSRange;
+PETSC_EXTERN PetscErrorCode FSOptionsReal(PetscOptionItems *, const char[], const char[], const char[], PetscReal *,
+                                          PetscBool *, PetscReal, PetscReal, FSRange);
+PETSC_EXTERN PetscErrorCode FSOptionsInt(PetscOptionItems *, const char[], const char[], const char[], PetscInt *,
+                                         PetscBool *, PetscInt, PetscInt);
+PETSC_EXTERN PetscErrorCode FSOptionsRealArray(PetscOptionItems *, const char[], const char[], const char[],
+                                               PetscReal[], PetscInt *, PetscBool *, PetscReal, PetscReal, FSRange);
+
 /* ---------- solver ---------- */
 PETSC_EXTERN PetscErrorCode FSSolverCreate(MPI_Comm, FSSolver *);
 PETSC_EXTERN PetscErrorCode FSSolverSetFromOptions(FSSolver);

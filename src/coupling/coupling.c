@@ -104,12 +104,12 @@ PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, PetscInt dim, c
       "particles: Newton's third law) or walls (the integral of the wall pressure and shear)",
       "FSCouplingSetUp", loadtypes, 2, loadtypes[c->loads_from_walls ? 1 : 0], &lt, NULL));
   c->loads_from_walls = lt == 1 ? PETSC_TRUE : PETSC_FALSE;
-  PetscCall(PetscOptionsReal("-fs_tank_width",
-                             "Width of the tank across the 2-D plane: the liquid's loads per unit width times this",
-                             "FSCouplingSetUp", c->tank_width, &c->tank_width, NULL));
-  PetscCall(PetscOptionsRealArray(
-      "-fs_tank_reference", "The tank's point on the beam, in the tank's frame (default: the middle of the floor)",
-      "FSCouplingSetUp", ref, &nref, &set));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_width",
+                          "Width of the tank across the 2-D plane: the liquid's loads per unit width times this",
+                          "FSCouplingSetUp", &c->tank_width, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_tank_reference",
+                               "The tank's point on the beam, in the tank's frame (default: the middle of the floor)",
+                               "FSCouplingSetUp", ref, &nref, &set, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscOptionsEnd();
   PetscCheck(!set || nref == 2, comm, PETSC_ERR_ARG_SIZ, "-fs_tank_reference takes two values x,y; got %" PetscInt_FMT,
              nref);

@@ -221,9 +221,8 @@ static PetscErrorCode FSSolverOptionsCase(FSSolver s, PetscOptionItems *PetscOpt
   PetscCall(FSCaseFind(s->opt.casename, &create));
   PetscCheck(create, comm, PETSC_ERR_ARG_UNKNOWN_TYPE,
              "Unknown case \"%s\" given to -fs_case: list the registered cases with -fs_case_view", s->opt.casename);
-  PetscCall(PetscOptionsInt("-fs_dim", "Dimension: 2 or 3", "FSSolverSetFromOptions", s->opt.dim, &s->opt.dim, NULL));
-  PetscCheck(s->opt.dim == 2 || s->opt.dim == 3, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_dim %" PetscInt_FMT " is not supported: expected 2 or 3", s->opt.dim);
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_dim", "Dimension: 2 or 3", "FSSolverSetFromOptions", &s->opt.dim,
+                         NULL, 2, 3));
   PetscCall(PetscMemzero(&s->caseops, sizeof(s->caseops)));
   PetscCall((*create)(s, &s->caseops));
   PetscCheck(s->caseops.ncolumns >= 0 && s->caseops.ncolumns <= FS_CASE_MAX_COLUMNS &&
@@ -248,36 +247,36 @@ static PetscErrorCode FSSolverOptionsPhysics(FSSolver s, PetscOptionItems *Petsc
   MPI_Comm  comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
-  PetscCall(PetscOptionsReal("-fs_dx", "Particle spacing", "FSSolverSetFromOptions", s->opt.dx, &s->opt.dx, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_dx", "Particle spacing", "FSSolverSetFromOptions", &s->opt.dx, NULL,
+                          0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscCheck(s->opt.dx > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dx %g must be positive", (double)s->opt.dx);
-  PetscCall(PetscOptionsReal("-fs_h_over_dx", "Smoothing length over particle spacing (kernel support is 2h)",
-                             "FSSolverSetFromOptions", s->opt.h_over_dx, &s->opt.h_over_dx, NULL));
-  PetscCheck(s->opt.h_over_dx >= 1.0 && s->opt.h_over_dx <= 4.0, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_h_over_dx %g is out of range: expected a value in [1, 4] (2 is usual)", (double)s->opt.h_over_dx);
-  PetscCall(PetscOptionsReal("-fs_rho0", "Reference density of the liquid", "FSSolverSetFromOptions", s->opt.rho0,
-                             &s->opt.rho0, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_h_over_dx",
+                          "Smoothing length over particle spacing (kernel support is 2h)", "FSSolverSetFromOptions",
+                          &s->opt.h_over_dx, NULL, 1, 4, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_rho0", "Reference density of the liquid", "FSSolverSetFromOptions",
+                          &s->opt.rho0, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscCheck(s->opt.rho0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_rho0 %g must be positive", (double)s->opt.rho0);
-  PetscCall(PetscOptionsReal("-fs_c0", "Artificial speed of sound (about 10 times the largest flow speed)",
-                             "FSSolverSetFromOptions", s->opt.c0, &s->opt.c0, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_c0",
+                          "Artificial speed of sound (about 10 times the largest flow speed)", "FSSolverSetFromOptions",
+                          &s->opt.c0, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscCheck(s->opt.c0 > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_c0 %g must be positive", (double)s->opt.c0);
-  PetscCall(PetscOptionsReal("-fs_nu", "Kinematic viscosity of the liquid", "FSSolverSetFromOptions", s->opt.nu,
-                             &s->opt.nu, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_nu", "Kinematic viscosity of the liquid", "FSSolverSetFromOptions",
+                          &s->opt.nu, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscCheck(s->opt.nu >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_nu %g must be non-negative", (double)s->opt.nu);
   for (PetscInt d = 0; d < 3; d++) g[d] = s->opt.gravity[d];
-  PetscCall(PetscOptionsRealArray("-fs_gravity", "Body force per unit mass, one value per dimension",
-                                  "FSSolverSetFromOptions", g, &ng, &set));
+  PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_gravity", "Body force per unit mass, one value per dimension",
+                               "FSSolverSetFromOptions", g, &ng, &set, PETSC_NINFINITY, PETSC_INFINITY,
+                               FS_RANGE_CLOSED));
   if (set) {
     PetscCheck(ng == s->opt.dim, comm, PETSC_ERR_ARG_SIZ,
                "-fs_gravity has %" PetscInt_FMT " values: expected %" PetscInt_FMT " (one per dimension)", ng,
                s->opt.dim);
-    for (PetscInt d = 0; d < ng; d++)
-      PetscCheck(!PetscIsInfOrNanReal(g[d]), comm, PETSC_ERR_ARG_OUTOFRANGE,
-                 "-fs_gravity: component %" PetscInt_FMT " is %g: expected finite numbers", d, (double)g[d]);
     for (PetscInt d = 0; d < 3; d++) s->opt.gravity[d] = d < ng ? g[d] : 0;
   }
-  PetscCall(PetscOptionsReal("-fs_background_pressure",
-                             "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b",
-                             "FSSolverSetFromOptions", s->opt.background_pressure, &s->opt.background_pressure, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_background_pressure",
+                          "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b",
+                          "FSSolverSetFromOptions", &s->opt.background_pressure, NULL, PETSC_NINFINITY, PETSC_INFINITY,
+                          FS_RANGE_CLOSED));
   PetscFunctionReturn(0);
 }
 
@@ -285,46 +284,31 @@ static PetscErrorCode FSSolverOptionsPhysics(FSSolver s, PetscOptionItems *Petsc
    and the particles' ordering. */
 static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
-  MPI_Comm comm = PetscObjectComm((PetscObject)s);
-
   PetscFunctionBegin;
-  PetscCall(PetscOptionsReal("-fs_cfl",
-                             "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)",
-                             "FSSolverComputeStableDt", s->opt.cfl, &s->opt.cfl, &s->opt.cfl_set));
-  PetscCheck(!s->opt.cfl_set || (s->opt.cfl > 0 && s->opt.cfl <= 2), comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_cfl %g is out of range: expected (0, 2]", (double)s->opt.cfl);
-  PetscCall(PetscOptionsReal("-fs_relax_time",
-                             "Start-up relaxation: damp the particle velocities until this time (0: none)",
-                             "FSSolverEvaluateRates", s->opt.relax_time, &s->opt.relax_time, NULL));
-  PetscCheck(s->opt.relax_time >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_relax_time %g must be non-negative",
-             (double)s->opt.relax_time);
-  PetscCall(PetscOptionsReal("-fs_cfl_viscous", "Viscous limit: dt <= CFL_v h^2/nu", "FSSolverComputeStableDt",
-                             s->opt.cfl_visc, &s->opt.cfl_visc, NULL));
-  PetscCheck(s->opt.cfl_visc > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_viscous %g must be positive",
-             (double)s->opt.cfl_visc);
-  PetscCall(PetscOptionsReal("-fs_cfl_force", "Body-force limit: dt <= CFL_f sqrt(h/|g|)", "FSSolverComputeStableDt",
-                             s->opt.cfl_force, &s->opt.cfl_force, NULL));
-  PetscCheck(s->opt.cfl_force > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_cfl_force %g must be positive",
-             (double)s->opt.cfl_force);
-  PetscCall(PetscOptionsReal("-fs_halo_skin", "Extra halo width beyond the kernel support, in units of h",
-                             "FSHaloBuild", s->opt.halo_skin, &s->opt.halo_skin, NULL));
-  PetscCheck(s->opt.halo_skin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_halo_skin %g must be positive",
-             (double)s->opt.halo_skin);
-  PetscCall(PetscOptionsReal("-fs_max_density_variation",
-                             "Stop the run when |rho/rho0 - 1| exceeds this (blow-up detection)", "FSSolverCheckState",
-                             s->opt.max_density_variation, &s->opt.max_density_variation, NULL));
-  PetscCall(PetscOptionsInt("-fs_sort_interval", "Steps between reorderings of the particles by cell",
-                            "FSSolverSortByCell", s->opt.sort_interval, &s->opt.sort_interval, NULL));
-  PetscCheck(s->opt.sort_interval >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_sort_interval %" PetscInt_FMT " must be at least 1", s->opt.sort_interval);
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_cfl",
+                          "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)",
+                          "FSSolverComputeStableDt", &s->opt.cfl, &s->opt.cfl_set, 0, 2, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_relax_time",
+                          "Start-up relaxation: damp the particle velocities until this time (0: none)",
+                          "FSSolverEvaluateRates", &s->opt.relax_time, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_cfl_viscous", "Viscous limit: dt <= CFL_v h^2/nu",
+                          "FSSolverComputeStableDt", &s->opt.cfl_visc, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_cfl_force", "Body-force limit: dt <= CFL_f sqrt(h/|g|)",
+                          "FSSolverComputeStableDt", &s->opt.cfl_force, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_halo_skin",
+                          "Extra halo width beyond the kernel support, in units of h", "FSHaloBuild", &s->opt.halo_skin,
+                          NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_max_density_variation",
+                          "Stop the run when |rho/rho0 - 1| exceeds this (blow-up detection)", "FSSolverCheckState",
+                          &s->opt.max_density_variation, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_sort_interval", "Steps between reorderings of the particles by cell",
+                         "FSSolverSortByCell", &s->opt.sort_interval, NULL, 1, PETSC_MAX_INT));
   PetscFunctionReturn(0);
 }
 
 /* FSSolverOptionsOutput - where and how often the run writes, restarts, the geometry view, progress. */
 static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
-  MPI_Comm comm = PetscObjectComm((PetscObject)s);
-
   PetscFunctionBegin;
   {
     char def[PETSC_MAX_PATH_LEN];
@@ -335,15 +319,11 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                              s->opt.write_output, &s->opt.write_output, NULL));
   PetscCall(PetscOptionsString("-fs_output_dir", "Output directory (default output/<case>)", "FSSolverSolve",
                                s->opt.outdir, s->opt.outdir, sizeof(s->opt.outdir), NULL));
-  PetscCall(PetscOptionsReal("-fs_output_interval",
-                             "Simulated time between particle snapshots (0: first and last only)",
-                             "FSSolverWriteSnapshot", s->opt.output_interval, &s->opt.output_interval, NULL));
-  PetscCheck(s->opt.output_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_output_interval %g must be non-negative",
-             (double)s->opt.output_interval);
-  PetscCall(PetscOptionsInt("-fs_checkpoint_interval", "Steps between checkpoints (0: none)", "FSSolverWriteCheckpoint",
-                            s->opt.checkpoint_interval, &s->opt.checkpoint_interval, NULL));
-  PetscCheck(s->opt.checkpoint_interval >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_checkpoint_interval %" PetscInt_FMT " must be non-negative", s->opt.checkpoint_interval);
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_output_interval",
+                          "Simulated time between particle snapshots (0: first and last only)", "FSSolverWriteSnapshot",
+                          &s->opt.output_interval, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_checkpoint_interval", "Steps between checkpoints (0: none)",
+                         "FSSolverWriteCheckpoint", &s->opt.checkpoint_interval, NULL, 0, PETSC_MAX_INT));
   PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint",
                                s->opt.restart, s->opt.restart, sizeof(s->opt.restart), NULL));
   PetscCall(PetscOptionsString("-fs_restart_allow_changes",
@@ -357,10 +337,8 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                                "\"gauge NAME x0 y0 [z0] x1 y1 [z1]\"): their values into <output_dir>/probes.csv",
                                "FSSolverGetProbes", s->mon.probes.file, s->mon.probes.file, sizeof(s->mon.probes.file),
                                NULL));
-  PetscCall(PetscOptionsInt("-fs_probe_interval", "Steps between the samples of the probes and gauges",
-                            "FSSolverGetProbes", s->mon.probes.interval, &s->mon.probes.interval, NULL));
-  PetscCheck(s->mon.probes.interval >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_probe_interval %" PetscInt_FMT " must be at least 1", s->mon.probes.interval);
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_probe_interval", "Steps between the samples of the probes and gauges",
+                         "FSSolverGetProbes", &s->mon.probes.interval, NULL, 1, PETSC_MAX_INT));
   PetscCall(PetscOptionsBool("-fs_geometry_view",
                              "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 "
                              "snapshot), then stop without time stepping",
@@ -374,8 +352,8 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
   }
   PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor",
                              s->opt.progress, &s->opt.progress, NULL));
-  PetscCall(PetscOptionsReal("-fs_progress_interval", "Seconds between progress lines", "FSSolverMonitor",
-                             s->opt.progress_interval, &s->opt.progress_interval, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_progress_interval", "Seconds between progress lines",
+                          "FSSolverMonitor", &s->opt.progress_interval, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
 
   PetscFunctionReturn(0);
 }
@@ -460,12 +438,10 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       "FSSolverSetFromOptions", s->opt.structname, s->opt.structname, sizeof(s->opt.structname), NULL));
   PetscCall(PetscOptionsBool("-fs_structure_view", "List the registered structure models", "FSStructureListView",
                              s->opt.structure_view, &s->opt.structure_view, NULL));
-  PetscCall(PetscOptionsReal(
-      "-fs_structure_cfl",
+  PetscCall(FSOptionsReal(
+      PetscOptionsObject, "-fs_structure_cfl",
       "Without particles: time step as a fraction of the shortest period the structure resolves (-ts_dt overrides)",
-      "FSSolverStructureDt", s->opt.structure_cfl, &s->opt.structure_cfl, NULL));
-  PetscCheck(s->opt.structure_cfl > 0 && s->opt.structure_cfl <= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_structure_cfl %g is out of range: expected (0, 1]", (double)s->opt.structure_cfl);
+      "FSSolverStructureDt", &s->opt.structure_cfl, NULL, 0, 1, FS_RANGE_OPEN_LOWER));
   PetscCall(FSSolverOptionsNumerics(s, PetscOptionsObject));
   PetscCall(FSSolverOptionsOutput(s, PetscOptionsObject));
   PetscCall(FSSolverCreateTerms(s, PetscOptionsObject, terms));

@@ -12,7 +12,7 @@ SOLVER_C = REPO_ROOT / "src" / "solver" / "solver.c"
 def registered_options():
     """(option, kind, default field) for every PetscOptions*("-fs_...") call in src/solver/solver.c."""
     src = SOLVER_C.read_text()
-    calls = re.findall(r'PetscOptions(\w+)\(\s*"(-fs_\w+)"\s*,\s*"(?:[^"\\]|\\.)*"\s*,\s*"[^"]*"\s*,\s*([^,]+),', src)
+    calls = re.findall(r'(?:PetscOptions|FSOptions)(\w+)\(\s*(?:PetscOptionsObject,\s*)?"(-fs_\w+)"\s*,\s*"(?:[^"\\]|\\.)*"\s*,\s*"[^"]*"\s*,\s*([^,]+),', src)
     assert len(calls) >= 25, f"parsed only {len(calls)} options from {SOLVER_C}: regex out of date?"
     return calls
 
@@ -57,7 +57,7 @@ def test_help_shows_defaults(help_output):
         if opt in case_defaults:
             expected = case_defaults[opt]
         else:
-            m = re.match(r"s->(?:\w+\.)?(\w+)$", field)
+            m = re.match(r"&?s->(?:\w+\.)?(\w+)$", field)
             if not m or m.group(1) not in defaults:
                 continue
             expected = defaults[m.group(1)]

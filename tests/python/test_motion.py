@@ -130,9 +130,9 @@ def test_time_series_file_is_interpolated_smoothly(tmp_path):
 @pytest.mark.parametrize("args,expect", [
     (["-fs_motion_x_sines", "0.01,0,0"], ["-fs_motion_x_sines", "period 0", "T > 0"]),
     (["-fs_motion_roll_sines", "2,1"], ["-fs_motion_roll_sines", "triples", "got 2"]),
-    (["-fs_motion_y_poly", "0,inf"], ["-fs_motion_y_poly", "value 2", "inf", "finite"]),
-    (["-fs_motion_ramp", "-1"], ["-fs_motion_ramp", "-1", ">= 0"]),
-    (["-fs_motion_ramp", "nan"], ["-fs_motion_ramp", "nan", "finite"]),
+    (["-fs_motion_y_poly", "0,inf"], ["-fs_motion_y_poly", "value inf", "component 1", "finite"]),
+    (["-fs_motion_ramp", "-1"], ["-fs_motion_ramp", "-1", "non-negative"]),
+    (["-fs_motion_ramp", "nan"], ["-fs_motion_ramp", "nan", "out of range"]),
     (["-fs_motion_z_sines", "0.01,1,0"], ["-fs_motion_z_sines", "3-D"]),
     (["-fs_motion_x_file", "missing.txt"], ["-fs_motion_x_file", "missing.txt", "cannot open"]),
     (["-fs_motion_x_file", "bad.txt"], ["-fs_motion_x_file", "bad.txt", "line 3", "two finite numbers"]),

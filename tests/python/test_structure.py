@@ -316,7 +316,7 @@ BAD = {
     "length_zero": (["-fs_beam_length", "0"], [r"-fs_beam_length 0\b", "positive"]),
     "mass_per_length_zero": (["-fs_beam_mass_per_length", "0"], [r"-fs_beam_mass_per_length 0\b", "positive"]),
     "tank_mass_negative": (["-fs_beam_tank_mass", "-2"], [r"-fs_beam_tank_mass -2\b", "non-negative"]),
-    "msd_mass_negative": (["-fs_structure", "msd", "-fs_msd_mass", "-1"], [r"-fs_msd_mass -1\b", "positive"]),
+    "msd_mass_negative": (["-fs_structure", "msd", "-fs_msd_mass", "-1"], [r"-fs_msd_mass -1\b", "non-negative"]),
     "damping_one": (["-fs_beam_damping", "1"], [r"-fs_beam_damping 1\b", r"\[0, 1\)"]),
     "damping_negative": (["-fs_beam_damping", "-0.1"], [r"-fs_beam_damping -0.1\b", r"\[0, 1\)"]),
     "modal_damping_one": (["-fs_modal_damping", "0.02,1.5"], [r"-fs_modal_damping value 1.5\b", r"\[0, 1\)"]),

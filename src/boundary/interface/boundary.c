@@ -124,28 +124,21 @@ static PetscErrorCode FSBoundaryOptions(FSBoundary b, PetscOptionItems *PetscOpt
   PetscCall(PetscOptionsStringArray("-fs_walls_noslip",
                                     "Walls with no-slip conditions, by name (the others are free-slip)",
                                     "FSBoundarySetUp", b->noslipname, &b->nnoslipname, NULL));
-  PetscCall(
-      PetscOptionsReal("-fs_walls_bounce_distance",
-                       "Particles closer to a wall than this (in dx) and moving towards it bounce back (0: never)",
-                       "FSBoundaryBounce", b->bounce_distance, &b->bounce_distance, NULL));
-  PetscCall(PetscOptionsReal("-fs_walls_bounce_restitution",
-                             "Fraction of the normal velocity kept by a bounce (1: elastic)", "FSBoundaryBounce",
-                             b->restitution, &b->restitution, NULL));
-  PetscCall(PetscOptionsRealArray("-fs_walls_load_point", "Point about which the moments of the wall loads are taken",
-                                  "FSBoundarySetUp", lp, &np, &set));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_walls_bounce_distance",
+                          "Particles closer to a wall than this (in dx) and moving towards it bounce back (0: never)",
+                          "FSBoundaryBounce", &b->bounce_distance, NULL, 0, 0.5, FS_RANGE_OPEN_UPPER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_walls_bounce_restitution",
+                          "Fraction of the normal velocity kept by a bounce (1: elastic)", "FSBoundaryBounce",
+                          &b->restitution, NULL, 0, 1, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_walls_load_point",
+                               "Point about which the moments of the wall loads are taken", "FSBoundarySetUp", lp, &np,
+                               &set, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscCall(PetscOptionsEList(
       "-fs_walls_visibility",
       "Fluid pairs and wall elements near walls: cut (pairs through walls cut, only facing and unhidden elements) or "
       "all (every pair and element within the support; wall pressure from the facing side)",
       "FSBoundarySetFromOptions", visnames, 2, visnames[vis], &vis, NULL));
   b->visall = (PetscBool)(vis == 1);
-  PetscCheck(b->bounce_distance >= 0 && b->bounce_distance < 0.5, PetscObjectComm((PetscObject)b),
-             PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_walls_bounce_distance %g is out of range: expected [0, 0.5) (in units of dx; 0: no bounce)",
-             (double)b->bounce_distance);
-  PetscCheck(b->restitution >= 0 && b->restitution <= 1, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_walls_bounce_restitution %g is out of range: expected [0, 1] (1: elastic; more would create energy)",
-             (double)b->restitution);
   if (set) {
     PetscCheck(np == 2 || np == 3, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_SIZ,
                "-fs_walls_load_point takes 2 or 3 values (x,y[,z]); got %" PetscInt_FMT, np);

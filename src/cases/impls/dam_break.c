@@ -26,17 +26,22 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscFunctionBegin;
   PetscCall(FSSolverGetCaseData(s, &db));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case dam_break");
-  PetscCall(PetscOptionsReal("-fs_dam_width", "Width a of the water column", "", db->a, &db->a, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_dam_width", "Width a of the water column", "", &db->a, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   db->height = 2 * db->a;
   db->L      = 4 * db->a;
-  PetscCall(PetscOptionsReal("-fs_dam_height", "Height of the water column (2a)", "", db->height, &db->height, NULL));
-  PetscCall(PetscOptionsReal("-fs_dam_tank_length", "Length of the tank (4a)", "", db->L, &db->L, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_dam_height", "Height of the water column (2a)", "", &db->height,
+                          NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_dam_tank_length", "Length of the tank (4a)", "", &db->L, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   db->H = db->height + db->a;
-  PetscCall(PetscOptionsReal("-fs_dam_tank_height", "Height of the tank (column height + a)", "", db->H, &db->H, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_dam_tank_height", "Height of the tank (column height + a)", "",
+                          &db->H, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscCall(FSSolverGetDimension(s, &db->dim));
   db->W = db->height;
-  PetscCall(PetscOptionsReal("-fs_dam_tank_width", "Width of the tank and the column along z, 3-D (column height)", "",
-                             db->W, &db->W, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_dam_tank_width",
+                          "Width of the tank and the column along z, 3-D (column height)", "", &db->W, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscOptionsHeadEnd();
   PetscCheck(db->W > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_dam_tank_width %g must be positive",
              (double)db->W);

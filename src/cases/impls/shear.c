@@ -20,9 +20,12 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscFunctionBegin;
   PetscCall(FSSolverGetCaseData(s, &sh));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case shear");
-  PetscCall(PetscOptionsReal("-fs_shear_U", "Velocity amplitude U", "", sh->U, &sh->U, NULL));
-  PetscCall(PetscOptionsReal("-fs_shear_L", "Box side L", "", sh->L, &sh->L, NULL));
-  PetscCall(PetscOptionsReal("-fs_shear_Re", "Reynolds number U L / nu", "", sh->Re, &sh->Re, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_shear_U", "Velocity amplitude U", "", &sh->U, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_shear_L", "Box side L", "", &sh->L, NULL, 0, PETSC_INFINITY,
+                          FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_shear_Re", "Reynolds number U L / nu", "", &sh->Re, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscOptionsHeadEnd();
   PetscCheck(sh->U > 0 && sh->L > 0 && sh->Re > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_shear_U %g, -fs_shear_L %g, -fs_shear_Re %g must all be positive", (double)sh->U, (double)sh->L,

@@ -50,28 +50,25 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(FSSolverGetCaseData(s, &sw));
   PetscCall(FSSolverGetDimension(s, &dim));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case standing_wave");
-  PetscCall(PetscOptionsReal("-fs_sw_length", "Length L of the tank", "", sw->L, &sw->L, NULL));
-  PetscCall(PetscOptionsReal("-fs_sw_depth", "Depth h of the liquid", "", sw->h, &sw->h, NULL));
-  PetscCall(PetscOptionsInt("-fs_sw_mode", "Mode n of the wave: k = n pi / L", "", sw->mode, &sw->mode, NULL));
-  PetscCall(PetscOptionsReal("-fs_sw_amplitude", "Amplitude A/h of the surface elevation", "", sw->A, &sw->A, NULL));
-  PetscCall(PetscOptionsReal("-fs_sw_reynolds", "Reynolds number h sqrt(g h) / nu (ignored when -fs_nu is given)", "",
-                             sw->Re, &sw->Re, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_sw_length", "Length L of the tank", "", &sw->L, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_sw_depth", "Depth h of the liquid", "", &sw->h, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_sw_mode", "Mode n of the wave: k = n pi / L", "", &sw->mode, NULL, 1,
+                         PETSC_MAX_INT));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_sw_amplitude", "Amplitude A/h of the surface elevation", "", &sw->A,
+                          NULL, 0, 0.25, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_sw_reynolds",
+                          "Reynolds number h sqrt(g h) / nu (ignored when -fs_nu is given)", "", &sw->Re, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   if (sw->Lz <= 0) sw->Lz = sw->L;
-  PetscCall(
-      PetscOptionsReal("-fs_sw_width", "Width Lz of the tank along z (3-D; default L)", "", sw->Lz, &sw->Lz, NULL));
-  PetscCall(PetscOptionsInt("-fs_sw_mode_z", "Mode m of the wave across the width (3-D): k_z = m pi / Lz", "",
-                            sw->modez, &sw->modez, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_sw_width", "Width Lz of the tank along z (3-D; default L)", "",
+                          &sw->Lz, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_sw_mode_z",
+                         "Mode m of the wave across the width (3-D): k_z = m pi / Lz", "", &sw->modez, NULL, 0,
+                         PETSC_MAX_INT));
   PetscOptionsHeadEnd();
   sw->dim = dim;
-  PetscCheck(sw->L > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_length %g must be positive", (double)sw->L);
-  PetscCheck(sw->h > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_depth %g must be positive", (double)sw->h);
-  PetscCheck(sw->mode >= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_sw_mode %" PetscInt_FMT " must be at least 1", sw->mode);
-  PetscCheck(sw->A > 0 && sw->A <= 0.25, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_sw_amplitude %g is out of range: expected A/h in (0, 0.25] (linear theory wants it small)",
-             (double)sw->A);
-  PetscCheck(sw->Re > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_reynolds %g must be positive",
-             (double)sw->Re);
   PetscCheck(sw->Lz > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_sw_width %g must be positive",
              (double)sw->Lz);
   PetscCheck(sw->modez >= 0 && (dim == 3 || sw->modez == 0), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,

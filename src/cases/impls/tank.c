@@ -54,32 +54,37 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscOptionsHeadBegin(PetscOptionsObject, "Case tank");
   PetscCall(PetscOptionsString("-fs_tank_shape", "Tank shape: rectangular, baffled, file (2-D) or stl (3-D)", "",
                                tk->shape, tk->shape, sizeof(tk->shape), NULL));
-  PetscCall(PetscOptionsReal("-fs_tank_length", "Length of the rectangular tank", "", tk->L, &tk->L, NULL));
-  PetscCall(PetscOptionsReal("-fs_tank_height", "Height of the tank", "", tk->H, &tk->H, NULL));
-  PetscCall(
-      PetscOptionsInt("-fs_tank_compartments", "Compartments of the baffled tank", "", tk->ncomp, &tk->ncomp, NULL));
-  PetscCall(PetscOptionsReal("-fs_tank_compartment_length", "Length of a compartment of the baffled tank", "", tk->Lc,
-                             &tk->Lc, NULL));
-  PetscCall(PetscOptionsReal("-fs_tank_baffle_thickness", "Thickness of the baffles", "", tk->t, &tk->t, NULL));
-  PetscCall(PetscOptionsReal("-fs_tank_baffle_gap",
-                             "Opening between the floor and the baffles (0: baffles stand on the floor)", "", tk->gap,
-                             &tk->gap, NULL));
-  PetscCall(PetscOptionsReal("-fs_tank_baffle_height", "Height of the baffles", "", tk->hb, &tk->hb, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_length", "Length of the rectangular tank", "", &tk->L, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_height", "Height of the tank", "", &tk->H, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_tank_compartments", "Compartments of the baffled tank", "",
+                         &tk->ncomp, NULL, 1, PETSC_MAX_INT));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_compartment_length",
+                          "Length of a compartment of the baffled tank", "", &tk->Lc, NULL, 0, PETSC_INFINITY,
+                          FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_baffle_thickness", "Thickness of the baffles", "", &tk->t, NULL,
+                          0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_baffle_gap",
+                          "Opening between the floor and the baffles (0: baffles stand on the floor)", "", &tk->gap,
+                          NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_baffle_height", "Height of the baffles", "", &tk->hb, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscCall(PetscOptionsString("-fs_tank_file", "Wall polygons of a tank of any shape (docs/walls.md: file format)", "",
                                tk->file, tk->file, sizeof(tk->file), NULL));
   PetscCall(PetscOptionsStringArray("-fs_tank_stl",
                                     "STL files of a 3-D tank (closed meshes; each solid a named wall part)", "",
                                     stlfiles, &nstl, &stlset));
-  PetscCall(PetscOptionsReal("-fs_tank_width", "Width of the 3-D rectangular and baffled tanks (along z)", "",
-                             tk->width, &tk->width, NULL));
-  PetscCall(PetscOptionsReal("-fs_fill", "Filling level, as a fraction of the tank height", "", tk->fill, &tk->fill,
-                             &fillset));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_width",
+                          "Width of the 3-D rectangular and baffled tanks (along z)", "", &tk->width, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_fill", "Filling level, as a fraction of the tank height", "",
+                          &tk->fill, &fillset, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
   nboxv = 6 * FS_TANK_MAX_BOXES;
-  PetscCall(
-      PetscOptionsRealArray("-fs_liquid_box",
-                            "Boxes of liquid instead of a filling level: xmin,xmax,ymin,ymax[,zmin,zmax] for each "
-                            "box, one after the other (2 dim numbers per box)",
-                            "", tk->box, &nboxv, &boxset));
+  PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_liquid_box",
+                               "Boxes of liquid instead of a filling level: xmin,xmax,ymin,ymax[,zmin,zmax] for each "
+                               "box, one after the other (2 dim numbers per box)",
+                               "", tk->box, &nboxv, &boxset, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscOptionsHeadEnd();
   if (stlset) {
     PetscCheck(nstl <= 8, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
@@ -109,10 +114,6 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
              tk->nstl ? tk->stl[0] : "");
   PetscCheck(tk->dim == 2 || tk->width > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_tank_width %g must be positive", (double)tk->width);
-  PetscCheck(tk->H > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_height %g must be positive",
-             (double)tk->H);
-  PetscCheck(!baff || tk->ncomp >= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_tank_compartments %" PetscInt_FMT " must be at least 1", tk->ncomp);
   if (boxset) {
     PetscCheck(nboxv > 0 && nboxv % (2 * tk->dim) == 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_SIZ,
                "-fs_liquid_box gives %" PetscInt_FMT " numbers: expected %s for each box (at most %d boxes)", nboxv,

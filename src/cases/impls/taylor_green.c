@@ -24,13 +24,16 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(FSSolverGetCaseData(s, &tg));
   PetscCall(FSSolverGetDimension(s, &dim));
   PetscOptionsHeadBegin(PetscOptionsObject, "Case taylor_green");
-  PetscCall(PetscOptionsReal("-fs_tg_U", "Velocity amplitude U", "", tg->U, &tg->U, NULL));
-  PetscCall(PetscOptionsReal("-fs_tg_L", "Box side L", "", tg->L, &tg->L, NULL));
-  PetscCall(PetscOptionsReal("-fs_tg_Re", "Reynolds number U L / nu", "", tg->Re, &tg->Re, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tg_U", "Velocity amplitude U", "", &tg->U, NULL, 0, PETSC_INFINITY,
+                          FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tg_L", "Box side L", "", &tg->L, NULL, 0, PETSC_INFINITY,
+                          FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tg_Re", "Reynolds number U L / nu", "", &tg->Re, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   tg->depth = tg->L;
   if (dim == 3)
-    PetscCall(
-        PetscOptionsReal("-fs_tg_depth", "Periodic depth of the extruded box (3-D)", "", tg->depth, &tg->depth, NULL));
+    PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tg_depth", "Periodic depth of the extruded box (3-D)", "",
+                            &tg->depth, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscOptionsHeadEnd();
   PetscCheck(tg->U > 0 && tg->L > 0 && tg->Re > 0 && tg->depth > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_tg_U %g, -fs_tg_L %g, -fs_tg_Re %g, -fs_tg_depth %g must all be positive", (double)tg->U,

@@ -51,60 +51,48 @@ PetscErrorCode FSBeamParamsSetFromOptions(FSBeamParams *p, MPI_Comm comm, PetscO
 
   PetscFunctionBegin;
   PetscOptionsHeadBegin(PetscOptionsObject, "Cantilever beam carrying the tank (structure models msd and modal)");
-  PetscCall(PetscOptionsReal("-fs_beam_E", "Young's modulus E (Pa)", "FSBeamParamsSetFromOptions", p->E, &p->E, NULL));
-  PetscCheck(p->E > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_E %g must be positive (Young's modulus in Pa)",
-             (double)p->E);
-  PetscCall(PetscOptionsReal("-fs_beam_I", "Second moment of area I (m^4)", "FSBeamParamsSetFromOptions", p->Iz, &p->Iz,
-                             NULL));
-  PetscCheck(p->Iz > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_I %g must be positive (second moment of area in m^4)",
-             (double)p->Iz);
-  PetscCall(
-      PetscOptionsReal("-fs_beam_length", "Effective length L (m)", "FSBeamParamsSetFromOptions", p->L, &p->L, NULL));
-  PetscCheck(p->L > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_length %g must be positive", (double)p->L);
-  PetscCall(PetscOptionsReal("-fs_beam_mass_per_length", "Mass per unit length (kg/m)", "FSBeamParamsSetFromOptions",
-                             p->mlin, &p->mlin, NULL));
-  PetscCheck(p->mlin > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_mass_per_length %g must be positive",
-             (double)p->mlin);
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_E", "Young's modulus E (Pa)", "FSBeamParamsSetFromOptions",
+                          &p->E, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_I", "Second moment of area I (m^4)",
+                          "FSBeamParamsSetFromOptions", &p->Iz, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_length", "Effective length L (m)", "FSBeamParamsSetFromOptions",
+                          &p->L, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_mass_per_length", "Mass per unit length (kg/m)",
+                          "FSBeamParamsSetFromOptions", &p->mlin, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   if (p->a <= 0) p->a = p->L;
-  PetscCall(PetscOptionsReal("-fs_beam_tank_position", "Where the tank is attached, x in (0, L] (default L, the tip)",
-                             "FSBeamParamsSetFromOptions", p->a, &p->a, &set));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_tank_position",
+                          "Where the tank is attached, x in (0, L] (default L, the tip)", "FSBeamParamsSetFromOptions",
+                          &p->a, &set, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscCheck(p->a > 0 && p->a <= p->L, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_beam_tank_position %g is outside the beam: expected a value in (0, %g] (-fs_beam_length)",
              (double)p->a, (double)p->L);
-  PetscCall(PetscOptionsReal("-fs_beam_tank_mass", "Tank mass with its supports (kg), at the tank position",
-                             "FSBeamParamsSetFromOptions", p->tank_mass, &p->tank_mass, NULL));
-  PetscCheck(p->tank_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_tank_mass %g must be non-negative",
-             (double)p->tank_mass);
-  PetscCall(PetscOptionsReal("-fs_beam_ballast_mass", "Ballast or solid mass in the tank (kg)",
-                             "FSBeamParamsSetFromOptions", p->ballast_mass, &p->ballast_mass, NULL));
-  PetscCheck(p->ballast_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_ballast_mass %g must be non-negative",
-             (double)p->ballast_mass);
-  PetscCall(PetscOptionsReal("-fs_beam_payload_mass",
-                             "Mass of the liquid and the ballast together (kg): the ballast makes up the difference to "
-                             "the liquid (0: -fs_beam_ballast_mass as given)",
-                             "FSBeamParamsSetFromOptions", p->payload_mass, &p->payload_mass, NULL));
-  PetscCheck(p->payload_mass >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_payload_mass %g must be non-negative",
-             (double)p->payload_mass);
-  PetscCall(PetscOptionsReal("-fs_beam_tank_inertia",
-                             "Rotary inertia of tank and ballast about z at the tank position (kg m^2)",
-                             "FSBeamParamsSetFromOptions", p->tank_inertia, &p->tank_inertia, NULL));
-  PetscCheck(p->tank_inertia >= 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_beam_tank_inertia %g must be non-negative",
-             (double)p->tank_inertia);
-  PetscCall(PetscOptionsReal("-fs_beam_damping", "Damping ratio xi (fraction of critical)",
-                             "FSBeamParamsSetFromOptions", p->xi, &p->xi, NULL));
-  PetscCheck(p->xi >= 0 && p->xi < 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_beam_damping %g is out of range: expected a damping ratio in [0, 1)", (double)p->xi);
-  PetscCall(PetscOptionsReal("-fs_beam_preload",
-                             "Initial deflection at the tank position (static shape), released from rest (m)",
-                             "FSBeamParamsSetFromOptions", p->preload, &p->preload, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_tank_mass",
+                          "Tank mass with its supports (kg), at the tank position", "FSBeamParamsSetFromOptions",
+                          &p->tank_mass, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_ballast_mass", "Ballast or solid mass in the tank (kg)",
+                          "FSBeamParamsSetFromOptions", &p->ballast_mass, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_payload_mass",
+                          "Mass of the liquid and the ballast together (kg): the ballast makes up the difference to "
+                          "the liquid (0: -fs_beam_ballast_mass as given)",
+                          "FSBeamParamsSetFromOptions", &p->payload_mass, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_tank_inertia",
+                          "Rotary inertia of tank and ballast about z at the tank position (kg m^2)",
+                          "FSBeamParamsSetFromOptions", &p->tank_inertia, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_damping", "Damping ratio xi (fraction of critical)",
+                          "FSBeamParamsSetFromOptions", &p->xi, NULL, 0, 1, FS_RANGE_OPEN_UPPER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_preload",
+                          "Initial deflection at the tank position (static shape), released from rest (m)",
+                          "FSBeamParamsSetFromOptions", &p->preload, NULL, PETSC_NINFINITY, PETSC_INFINITY,
+                          FS_RANGE_CLOSED));
   PetscCall(
-      PetscOptionsReal("-fs_beam_force",
-                       "Constant point force along y applied from t = 0 (N), e.g. the weight of masses hung at the tip",
-                       "FSBeamParamsSetFromOptions", p->force, &p->force, NULL));
+      FSOptionsReal(PetscOptionsObject, "-fs_beam_force",
+                    "Constant point force along y applied from t = 0 (N), e.g. the weight of masses hung at the tip",
+                    "FSBeamParamsSetFromOptions", &p->force, NULL, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
   if (p->force_position <= 0) p->force_position = p->a;
-  PetscCall(PetscOptionsReal("-fs_beam_force_position",
-                             "Where -fs_beam_force acts, x in (0, L] (default: the tank position)",
-                             "FSBeamParamsSetFromOptions", p->force_position, &p->force_position, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_beam_force_position",
+                          "Where -fs_beam_force acts, x in (0, L] (default: the tank position)",
+                          "FSBeamParamsSetFromOptions", &p->force_position, NULL, PETSC_NINFINITY, PETSC_INFINITY,
+                          FS_RANGE_CLOSED));
   PetscCheck(p->force_position > 0 && p->force_position <= p->L, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_beam_force_position %g is outside the beam: expected a value in (0, %g] (-fs_beam_length)",
              (double)p->force_position, (double)p->L);

@@ -45,31 +45,24 @@ static PetscErrorCode SetFromOptions(FSStructure st, PetscOptionItems *PetscOpti
   PetscOptionsHeadBegin(
       PetscOptionsObject,
       "Structure modal: modal Euler-Bernoulli beam, modes from finite elements and SLEPc (seed Eqs. 18-27)");
-  PetscCall(PetscOptionsInt("-fs_modal_elements", "Hermite cubic beam elements", "", p->ne, &p->ne, NULL));
-  PetscCheck(p->ne >= 1, st->comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_modal_elements %" PetscInt_FMT " must be at least 1",
-             p->ne);
-  PetscCall(PetscOptionsInt("-fs_modal_modes", "Number of modes kept", "", p->nmodes, &p->nmodes, NULL));
-  PetscCheck(p->nmodes >= 1 && p->nmodes <= FS_MODAL_MAX_MODES, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_modal_modes %" PetscInt_FMT " is out of range: expected 1 to %d", p->nmodes, FS_MODAL_MAX_MODES);
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_modal_elements", "Hermite cubic beam elements", "", &p->ne, NULL, 1,
+                         PETSC_MAX_INT));
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_modal_modes", "Number of modes kept", "", &p->nmodes, NULL, 1,
+                         FS_MODAL_MAX_MODES));
   PetscCheck(p->nmodes <= 2 * p->ne, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_modal_modes %" PetscInt_FMT " is more than the mesh can give: %" PetscInt_FMT
              " elements (-fs_modal_elements) have %" PetscInt_FMT " DOFs, hence at most %" PetscInt_FMT " modes",
              p->nmodes, p->ne, 2 * p->ne, 2 * p->ne);
   for (PetscInt i = 0; i < FS_MODAL_MAX_MODES; i++) p->damp[i] = p->beam.xi;
-  PetscCall(PetscOptionsRealArray("-fs_modal_damping",
-                                  "Damping ratio of each mode, comma separated (default -fs_beam_damping for all)", "",
-                                  p->damp, &nd, &set));
+  PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_modal_damping",
+                               "Damping ratio of each mode, comma separated (default -fs_beam_damping for all)", "",
+                               p->damp, &nd, &set, 0, 1, FS_RANGE_OPEN_UPPER));
   p->ndamp = set ? nd : 0;
   if (set) {
     PetscCheck(nd >= 1 && nd <= p->nmodes, st->comm, PETSC_ERR_ARG_SIZ,
                "-fs_modal_damping has %" PetscInt_FMT " values: expected 1 to %" PetscInt_FMT
                " (-fs_modal_modes); modes without a value take -fs_beam_damping",
                nd, p->nmodes);
-    for (PetscInt i = 0; i < nd; i++)
-      PetscCheck(p->damp[i] >= 0 && p->damp[i] < 1, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
-                 "-fs_modal_damping value %g (mode %" PetscInt_FMT
-                 ") is out of range: expected a damping ratio in [0, 1)",
-                 (double)p->damp[i], i + 1);
     for (PetscInt i = nd; i < FS_MODAL_MAX_MODES; i++) p->damp[i] = p->beam.xi;
   }
   PetscCall(PetscOptionsBool("-fs_modal_view", "Print the modes: frequencies, k_n L, modal masses", "", p->view,

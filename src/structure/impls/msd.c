@@ -27,19 +27,15 @@ static PetscErrorCode SetFromOptions(FSStructure st, PetscOptionItems *PetscOpti
   PetscFunctionBegin;
   PetscCall(FSBeamParamsSetFromOptions(&p->beam, st->comm, PetscOptionsObject));
   PetscOptionsHeadBegin(PetscOptionsObject, "Structure msd: mass-spring-damper at the tank (seed Eqs. 16-17)");
-  PetscCall(PetscOptionsReal("-fs_msd_beam_mass_fraction",
-                             "Share of the beam's mass moving with the tank (33/140: static tip-load shape)", "",
-                             p->beam_fraction, &p->beam_fraction, NULL));
-  PetscCheck(p->beam_fraction >= 0 && p->beam_fraction <= 1, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_msd_beam_mass_fraction %g is out of range: expected [0, 1]", (double)p->beam_fraction);
-  PetscCall(PetscOptionsReal("-fs_msd_mass", "Total moving mass m (kg), replacing the named parts (0: from the parts)",
-                             "", p->mass_given, &p->mass_given, NULL));
-  PetscCheck(p->mass_given >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_msd_mass %g must be positive (or 0: the sum of the named parts)", (double)p->mass_given);
-  PetscCall(PetscOptionsReal("-fs_msd_stiffness", "Stiffness K (N/m), replacing 3 EI/a^3 (0: from the beam)", "",
-                             p->stiffness_given, &p->stiffness_given, NULL));
-  PetscCheck(p->stiffness_given >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_msd_stiffness %g must be positive (or 0: 3 EI/a^3)", (double)p->stiffness_given);
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_msd_beam_mass_fraction",
+                          "Share of the beam's mass moving with the tank (33/140: static tip-load shape)", "",
+                          &p->beam_fraction, NULL, 0, 1, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_msd_mass",
+                          "Total moving mass m (kg), replacing the named parts (0: from the parts)", "", &p->mass_given,
+                          NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_msd_stiffness",
+                          "Stiffness K (N/m), replacing 3 EI/a^3 (0: from the beam)", "", &p->stiffness_given, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }

@@ -43,16 +43,6 @@ typedef struct {
   PetscInt  dim;
 } Prescribed;
 
-/* every value finite, or an error naming the option and the entry */
-static PetscErrorCode CheckFinite(MPI_Comm comm, const char opt[], PetscInt n, const PetscReal v[])
-{
-  PetscFunctionBegin;
-  for (PetscInt k = 0; k < n; k++)
-    PetscCheck(!PetscIsInfOrNanReal(v[k]), comm, PETSC_ERR_ARG_OUTOFRANGE,
-               "%s: value %" PetscInt_FMT " is %g: expected a finite number", opt, k + 1, (double)v[k]);
-  PetscFunctionReturn(0);
-}
-
 static PetscErrorCode SetFromOptions(FSStructure st, PetscOptionItems *PetscOptionsObject)
 {
   Prescribed *p = (Prescribed *)st->data;
@@ -61,12 +51,10 @@ static PetscErrorCode SetFromOptions(FSStructure st, PetscOptionItems *PetscOpti
   PetscOptionsHeadBegin(PetscOptionsObject,
                         "Structure prescribed: the tank moved by a given motion (translation x, y[, z] and roll about "
                         "z through -fs_tank_reference)");
-  PetscCall(PetscOptionsReal("-fs_motion_ramp",
-                             "Smooth start: the motion times s(t/T), s = 10u^3 - 15u^4 + 6u^5, over this time T (s; 0: "
-                             "none)",
-                             "", p->ramp, &p->ramp, NULL));
-  PetscCheck(!PetscIsInfOrNanReal(p->ramp) && p->ramp >= 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_motion_ramp %g is out of range: expected a finite time >= 0 (s)", (double)p->ramp);
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_motion_ramp",
+                          "Smooth start: the motion times s(t/T), s = 10u^3 - 15u^4 + 6u^5, over this time T (s; 0: "
+                          "none)",
+                          "", &p->ramp, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
   for (PetscInt c = 0; c < NCOMP; c++) {
     Component  *cp   = &p->comp[c];
     const char *unit = c == COMP_ROLL ? "degrees" : "m";
@@ -78,12 +66,12 @@ static PetscErrorCode SetFromOptions(FSStructure st, PetscOptionItems *PetscOpti
                             "%s: sum of A sin(2 pi t/T + phi), given as A,T,phi,... (A in %s, T in s, phi in degrees)",
                             CompName[c], unit));
     cp->nsines = 3 * MAX_SINES;
-    PetscCall(PetscOptionsRealArray(opt, help, "", cp->sine, &cp->nsines, &set));
+    PetscCall(FSOptionsRealArray(PetscOptionsObject, opt, help, "", cp->sine, &cp->nsines, &set, PETSC_NINFINITY,
+                                 PETSC_INFINITY, FS_RANGE_OPEN));
     if (!set) cp->nsines = 0;
     else {
       PetscCheck(cp->nsines > 0 && cp->nsines % 3 == 0, st->comm, PETSC_ERR_ARG_SIZ,
                  "%s takes triples A,T,phi (at most %d); got %" PetscInt_FMT " values", opt, MAX_SINES, cp->nsines);
-      PetscCall(CheckFinite(st->comm, opt, cp->nsines, cp->sine));
       for (PetscInt k = 0; k < cp->nsines; k += 3)
         PetscCheck(cp->sine[k + 1] > 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
                    "%s: the period %g of sine %" PetscInt_FMT " is out of range: expected T > 0 (s)", opt,
@@ -96,9 +84,9 @@ static PetscErrorCode SetFromOptions(FSStructure st, PetscOptionItems *PetscOpti
                             "acceleration)",
                             CompName[c], unit));
     cp->npoly = 3;
-    PetscCall(PetscOptionsRealArray(opt, help, "", cp->poly, &cp->npoly, &set));
+    PetscCall(FSOptionsRealArray(PetscOptionsObject, opt, help, "", cp->poly, &cp->npoly, &set, PETSC_NINFINITY,
+                                 PETSC_INFINITY, FS_RANGE_OPEN));
     if (!set) cp->npoly = 0;
-    else PetscCall(CheckFinite(st->comm, opt, cp->npoly, cp->poly));
     PetscCall(PetscSNPrintf(opt, sizeof(opt), "-fs_motion_%s_file", CompName[c]));
     PetscCall(PetscSNPrintf(help, sizeof(help),
                             "%s: a time-series file of lines 'time value' (value in %s), natural cubic spline",

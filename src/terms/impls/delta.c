@@ -98,37 +98,26 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
 
   PetscFunctionBegin;
   PetscOptionsHeadBegin(PetscOptionsObject, "Term delta: delta-LES diffusive term in the continuity equation");
-  PetscCall(PetscOptionsReal("-fs_delta_c", "C_delta of the delta-LES model (seed Eq. 8)", "", ctx->C, &ctx->C, NULL));
-  PetscCall(PetscOptionsReal("-fs_delta_constant",
-                             "A constant delta (classic delta-SPH, e.g. 0.1) instead of the LES one; 0 = LES", "",
-                             ctx->fixed, &ctx->fixed, NULL));
-  PetscCall(PetscOptionsReal(
-      "-fs_delta_min", "Floor under the delta-LES delta_i (damps the density modes of a liquid at rest); 0 = none", "",
-      ctx->dmin, &ctx->dmin, NULL));
-  PetscCall(PetscOptionsReal(
-      "-fs_delta_max", "Cap on the delta-LES delta_i (its diffusivity delta_i h c0 bounds the time step); 0 = none", "",
-      ctx->dmax, &ctx->dmax, NULL));
-  PetscCall(PetscOptionsReal("-fs_delta_cfl",
-                             "Coefficient of the density diffusion's time-step limit dt <= c h^2/(delta_max h c0) "
-                             "(0: -fs_cfl_viscous's)",
-                             "FSSolverComputeStableDt", t->dt_coefficient, &t->dt_coefficient, NULL));
-  PetscCheck(!PetscIsInfOrNanReal(t->dt_coefficient) && t->dt_coefficient >= 0, PetscObjectComm((PetscObject)t->solver),
-             PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_delta_cfl %g is out of range: expected a finite number >= 0 (0: -fs_cfl_viscous's)",
-             (double)t->dt_coefficient);
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_delta_c", "C_delta of the delta-LES model (seed Eq. 8)", "", &ctx->C,
+                          NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_delta_constant",
+                          "A constant delta (classic delta-SPH, e.g. 0.1) instead of the LES one; 0 = LES", "",
+                          &ctx->fixed, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_delta_min",
+                          "Floor under the delta-LES delta_i (damps the density modes of a liquid at rest); 0 = none",
+                          "", &ctx->dmin, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_delta_max",
+                          "Cap on the delta-LES delta_i (its diffusivity delta_i h c0 bounds the time step); 0 = none",
+                          "", &ctx->dmax, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_delta_cfl",
+                          "Coefficient of the density diffusion's time-step limit dt <= c h^2/(delta_max h c0) "
+                          "(0: -fs_cfl_viscous's)",
+                          "FSSolverComputeStableDt", &t->dt_coefficient, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscCall(PetscOptionsBool("-fs_delta_hydrostatic",
                              "Correct the density difference by the hydrostatic one rho0 g.(x_j - x_i)/c0^2 instead of "
                              "the renormalized gradients",
                              "", ctx->hydrostatic, &ctx->hydrostatic, NULL));
   PetscOptionsHeadEnd();
-  PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_c %g must be non-negative",
-             (double)ctx->C);
-  PetscCheck(ctx->fixed >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_constant %g must be non-negative",
-             (double)ctx->fixed);
-  PetscCheck(ctx->dmin >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_delta_min %g must be non-negative",
-             (double)ctx->dmin);
-  PetscCheck(ctx->dmax >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_delta_max %g must be non-negative (0: no cap)", (double)ctx->dmax);
   PetscCheck(ctx->dmax == 0 || ctx->dmax >= ctx->dmin, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_delta_max %g is below -fs_delta_min %g: expected a cap above the floor", (double)ctx->dmax,
              (double)ctx->dmin);

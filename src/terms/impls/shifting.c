@@ -53,16 +53,14 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
 
   PetscFunctionBegin;
   PetscOptionsHeadBegin(PetscOptionsObject, "Term shifting: particle shifting (delta+-SPH)");
-  PetscCall(PetscOptionsReal("-fs_shifting_c", "Shifting coefficient C", "", ctx->C, &ctx->C, NULL));
-  PetscCall(PetscOptionsReal("-fs_shifting_umin", "Smallest reference speed U of the shifting velocity", "", ctx->umin,
-                             &ctx->umin, NULL));
-  PetscCall(PetscOptionsReal("-fs_shifting_max", "Largest shifting velocity, as a fraction of U", "", ctx->limit,
-                             &ctx->limit, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_shifting_c", "Shifting coefficient C", "", &ctx->C, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_shifting_umin",
+                          "Smallest reference speed U of the shifting velocity", "", &ctx->umin, NULL, 0,
+                          PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_shifting_max", "Largest shifting velocity, as a fraction of U", "",
+                          &ctx->limit, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscOptionsHeadEnd();
-  PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_shifting_c %g must be non-negative",
-             (double)ctx->C);
-  PetscCheck(ctx->limit > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_shifting_max %g must be positive",
-             (double)ctx->limit);
   PetscFunctionReturn(0);
 }
 

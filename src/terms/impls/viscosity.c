@@ -137,16 +137,12 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
   ctx->K = 2.0 * (dim + 2);
   PetscOptionsHeadBegin(PetscOptionsObject, ctx->les ? "Term les_viscosity: delta-LES turbulent viscosity"
                                                      : "Term viscosity: laminar viscosity");
-  PetscCall(
-      PetscOptionsReal("-fs_viscosity_K", "K of the viscous term, 2(dim+2) (seed Eq. 12)", "", ctx->K, &ctx->K, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_viscosity_K", "K of the viscous term, 2(dim+2) (seed Eq. 12)", "",
+                          &ctx->K, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   if (ctx->les)
-    PetscCall(
-        PetscOptionsReal("-fs_les_c", "C_alpha, the Smagorinsky constant (seed Eq. 13)", "", ctx->C, &ctx->C, NULL));
+    PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_les_c", "C_alpha, the Smagorinsky constant (seed Eq. 13)", "",
+                            &ctx->C, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscOptionsHeadEnd();
-  PetscCheck(ctx->K > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_viscosity_K %g must be positive",
-             (double)ctx->K);
-  PetscCheck(ctx->C >= 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "-fs_les_c %g must be non-negative",
-             (double)ctx->C);
   PetscFunctionReturn(0);
 }
 

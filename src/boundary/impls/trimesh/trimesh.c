@@ -96,13 +96,10 @@ static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOption
 
   PetscFunctionBegin;
   PetscOptionsHeadBegin(PetscOptionsObject, "Walls (boundary integrals on triangle meshes)");
-  PetscCall(PetscOptionsReal("-fs_walls_element_size",
-                             "Longest edge of the wall elements, in units of h (the mesh's triangles are split to it)",
-                             "FSBoundaryCreate_Trimesh", tm->element, &tm->element, NULL));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_walls_element_size",
+                          "Longest edge of the wall elements, in units of h (the mesh's triangles are split to it)",
+                          "FSBoundaryCreate_Trimesh", &tm->element, NULL, 0, 4, FS_RANGE_OPEN_LOWER));
   PetscOptionsHeadEnd();
-  PetscCheck(tm->element > 0 && tm->element <= 4, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_walls_element_size %g is out of range: expected (0, 4] (in units of h; 0.5 keeps gamma to 1e-7)",
-             (double)tm->element);
   PetscFunctionReturn(0);
 }
 
