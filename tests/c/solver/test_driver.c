@@ -166,7 +166,7 @@ static PetscErrorCode TestFields(MPI_Comm comm)
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &kin, 1, MPIU_REAL, MPI_SUM, comm));
   PetscCall(FSSolverGetEnergy(s, &ne, names, E));
-  TCHECK(comm, ne == 20 && !strcmp(names[0], "time") && !strcmp(names[1], "E_kin"),
+  TCHECK(comm, ne == 21 && !strcmp(names[0], "time") && !strcmp(names[1], "E_kin"),
          "energy columns %" PetscInt_FMT ": %s, %s", ne, names[0], names[1]);
   TCHECK(comm, PetscAbsReal(E[1] - kin) <= 1e-12 * kin, "E_kin %g, from the fields %g", (double)E[1], (double)kin);
   PetscCall(FSSolverGetWallLoads(s, &nw, NULL, NULL));
