@@ -158,9 +158,10 @@ def test_summary_json(run, tmp_path):
 
 @pytest.mark.parametrize("opts", sorted(p.name for p in (REPO_ROOT / "cases").glob("*.opts")))
 def test_case_files_run(tmp_path, opts):
-    """Every case file in cases/ sets up and takes a few steps as written (its resolution included)."""
+    """Every case file in cases/ sets up and takes a few steps as written (its resolution included), from
+    the repository's root, against which case files name their data files (cases/data/)."""
     run_flexslosh(["-options_file", REPO_ROOT / "cases" / opts, "-ts_max_steps", 3, "-fs_output_interval", 0,
-                   "-fs_output_dir", tmp_path / "o"], cwd=tmp_path, timeout=300)
+                   "-fs_output_dir", tmp_path / "o"], cwd=REPO_ROOT, timeout=300)
     assert (tmp_path / "o" / "summary.json").exists()
 
 
