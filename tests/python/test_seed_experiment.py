@@ -74,8 +74,9 @@ def test_delta_cap_lengthens_the_slams_steps(tmp_path):
                        "-fs_output_interval", 0, "-fs_output_dir", d] + extra, cwd=tmp_path)
         ts = read_series(d)
         steps[name], tip[name] = len(ts["time"]) - 1, ts
-    assert steps["case"] < 0.5 * steps["les"], steps
-    assert steps["capped"] < 0.5 * steps["case"], steps
+    # measured: 9,049 steps uncapped, 2,679 (0.30) with the case's setting, 1,280 (0.48 of that) capped at 0.2
+    assert steps["case"] < 0.35 * steps["les"], steps
+    assert steps["capped"] < 0.55 * steps["case"], steps
     early_les = tip["les"]["time"] < 0.25  # before the first slam: the same motion
     for name in ("case", "capped"):
         w = np.interp(tip["les"]["time"][early_les], tip[name]["time"], tip[name]["tip_displacement"])
