@@ -200,6 +200,7 @@ PetscErrorCode FSSolverGetTankMotion(FSSolver s, FSTankMotion *m)
 
   PetscFunctionBegin;
   PetscCall(PetscMemzero(m, sizeof(*m)));
+  PetscCall(FSSolverSetUp(s)); /* the state exists from the set-up on */
   if (!s->structure) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(FSSolverStructureCurrent(s, &ierr));
@@ -219,6 +220,7 @@ PetscErrorCode FSSolverGetStructureState(FSSolver s, PetscInt *n, PetscReal y[])
   PetscFunctionBegin;
   *n = s->structure ? s->structure->ndof : 0;
   if (!*n || !y) PetscFunctionReturn(0);
+  PetscCall(FSSolverSetUp(s));
   PetscCall(FSSolverStructureCurrent(s, NULL));
   PetscCall(PetscArraycpy(y, s->sy, *n));
   PetscFunctionReturn(0);
