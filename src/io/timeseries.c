@@ -1,13 +1,16 @@
 /*
    FSTimeSeries: a CSV file with a header "step,<names...>" and one row per output step, written
-   by rank 0. Each row is formatted in memory, written with one fprintf and flushed, so a crash
-   leaves only complete lines (at worst a torn last line, which a restart drops).
+   by rank 0. Each row is formatted in memory and written with one write to the unbuffered stream, so a
+   crash leaves only complete lines (at worst a torn last line, which a restart drops); a row that cannot
+   be written whole (a full disk) is cut off again, so the file keeps only whole rows.
 */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <errno.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include "fsoutput.h"
 
 struct _n_FSTimeSeries {
@@ -18,6 +21,7 @@ struct _n_FSTimeSeries {
   char        path[PETSC_MAX_PATH_LEN];
   char       *row;    /* rank 0: buffer for one formatted row */
   size_t      rowlen; /* its size */
+  off_t       size;   /* rank 0: the file's length after its last whole row */
 };
 
 /* Header line (without newline) in a PetscMalloc'ed string */
@@ -168,6 +172,13 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
       if (!w->fp) st[0] = errno ? errno : EIO;
       else if (fprintf(w->fp, "%s\n", header) < 0 || fflush(w->fp) != 0) st[0] = errno ? errno : EIO;
     }
+    if (!st[0] && !st[1] && w->fp) { /* unbuffered: a row goes out whole or is cut off again (FSTimeSeriesAppend) */
+      struct stat sb;
+
+      if (fflush(w->fp) != 0 || setvbuf(w->fp, NULL, _IONBF, 0) != 0 || fstat(fileno(w->fp), &sb) != 0)
+        st[0] = errno ? errno : EIO;
+      else w->size = sb.st_size;
+    }
     w->rowlen = 32 + 32 * (size_t)ncols;
     PetscCall(PetscMalloc1(w->rowlen, &w->row));
   }
@@ -201,7 +212,8 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
 -  values - ncols values (read on rank 0 only)
 
    Notes:
-   The row is written with one fprintf and flushed.
+   The row is written with one fwrite to the unbuffered stream; when it cannot be written whole, the file is
+   cut back to its last whole row and the error names the file.
 @*/
 PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscReal values[])
 {
@@ -224,8 +236,16 @@ PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscRea
   PetscCheck(off + 1 < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
   ts->row[off]     = '\n';
   ts->row[off + 1] = '\0';
-  PetscCheck(fprintf(ts->fp, "%s", ts->row) >= 0 && fflush(ts->fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
-             "Cannot write to time series \"%s\": %s", ts->path, strerror(errno));
+  errno            = 0;
+  if (fwrite(ts->row, 1, off + 1, ts->fp) != off + 1 || fflush(ts->fp) != 0) {
+    int err = errno ? errno : EIO, cut;
+
+    clearerr(ts->fp);
+    cut = ftruncate(fileno(ts->fp), ts->size); /* no torn row: the file ends at its last whole row */
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot write to time series \"%s\": %s%s", ts->path, strerror(err),
+            cut ? " (and its last row could not be cut off)" : "");
+  }
+  ts->size += (off_t)(off + 1);
   PetscFunctionReturn(0);
 }
 
