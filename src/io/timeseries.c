@@ -22,6 +22,7 @@ struct _n_FSTimeSeries {
   char       *row;    /* rank 0: buffer for one formatted row */
   size_t      rowlen; /* its size */
   off_t       size;   /* rank 0: the file's length after its last whole row */
+  PetscInt    kept;   /* a restart's step whose row the file kept (not written again), or -1 */
 };
 
 /* Header line (without newline) in a PetscMalloc'ed string */
@@ -49,12 +50,13 @@ static PetscErrorCode FSTimeSeriesBuildHeader(MPI_Comm comm, const char path[], 
 }
 
 /*
-   Rank 0: keep the header and the complete rows with step < restart_step (the restarted run writes the row of
-   restart_step again) of an existing file, writing them to "<path>.tmp" and renaming it over path. Sets *ioerr (errno)
-   or *badheader on failure.
+   Rank 0: keep the header and the complete rows with step <= restart_step of an existing file, writing them to
+   "<path>.tmp" and renaming it over path; *kept says whether a row of restart_step was among them (the run that wrote
+   the checkpoint wrote it: a restart cannot recompute the loads of that step's last stage, so it keeps it). Sets
+   *ioerr (errno) or *badheader on failure.
 */
 static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[], PetscInt restart_step, int *ioerr,
-                                           PetscBool *badheader)
+                                           PetscBool *badheader, PetscBool *kept)
 {
   char    tmp[PETSC_MAX_PATH_LEN];
   FILE   *in, *out;
@@ -66,6 +68,7 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
   PetscFunctionBegin;
   *ioerr     = 0;
   *badheader = PETSC_FALSE;
+  *kept      = PETSC_FALSE;
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
   in = fopen(path, "r");
   if (!in) {
@@ -94,7 +97,9 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
       long  step = strtol(line, &end, 10);
 
       if (end == line || *end != ',') continue; /* not a data row */
-      if (step < (long)restart_step && fputs(line, out) == EOF) *ioerr = errno ? errno : EIO;
+      if (step > (long)restart_step) continue;
+      if (fputs(line, out) == EOF) *ioerr = errno ? errno : EIO;
+      if (step == (long)restart_step) *kept = PETSC_TRUE;
     }
     if (*ioerr) break;
   }
@@ -127,8 +132,9 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
 .  ncols        - number of value columns
 .  names        - their names (no commas, quotes or newlines)
 -  restart_step - < 0: a new file (an existing one is truncated); >= 0: a restart at this step: an
-                  existing file keeps its header and the rows with step < restart_step (rewritten
-                  through "<path>.tmp" and a rename), then rows are appended; a missing file is created
+                  existing file keeps its header and the rows with step <= restart_step (rewritten
+                  through "<path>.tmp" and a rename), then rows are appended (a kept row of
+                  restart_step is not appended again); a missing file is created
 
    Output Parameter:
 .  ts - the time series
@@ -142,7 +148,7 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
 {
   FSTimeSeries w;
   char        *header;
-  int          st[2] = {0, 0}; /* errno, bad header */
+  int          st[3] = {0, 0, 0}; /* errno, bad header, the row of restart_step kept */
 
   PetscFunctionBegin;
   PetscCheck(path && ts, comm, PETSC_ERR_ARG_NULL, "FSTimeSeriesCreate: path and output handle are required");
@@ -157,12 +163,13 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
   PetscCall(PetscStrcpy(w->path, path));
   PetscCallMPI(MPI_Comm_rank(comm, &w->rank));
   if (w->rank == 0) {
-    PetscBool exists = PETSC_FALSE, bad = PETSC_FALSE;
+    PetscBool exists = PETSC_FALSE, bad = PETSC_FALSE, kept = PETSC_FALSE;
 
     if (restart_step >= 0) PetscCall(PetscTestFile(path, 'r', &exists));
     if (exists) {
-      PetscCall(FSTimeSeriesTruncate(path, header, restart_step, &st[0], &bad));
+      PetscCall(FSTimeSeriesTruncate(path, header, restart_step, &st[0], &bad, &kept));
       st[1] = bad ? 1 : 0;
+      st[2] = kept ? 1 : 0;
       if (!st[0] && !bad) {
         w->fp = fopen(path, "a");
         if (!w->fp) st[0] = errno ? errno : EIO;
@@ -182,7 +189,8 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
     w->rowlen = 32 + 32 * (size_t)ncols;
     PetscCall(PetscMalloc1(w->rowlen, &w->row));
   }
-  PetscCallMPI(MPI_Bcast(st, 2, MPI_INT, 0, comm));
+  PetscCallMPI(MPI_Bcast(st, 3, MPI_INT, 0, comm));
+  w->kept = st[2] ? restart_step : -1;
   if (st[0] || st[1]) {
     char expected[256];
 
@@ -222,6 +230,10 @@ PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscRea
 
   PetscFunctionBegin;
   PetscCheck(ts, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSTimeSeries");
+  if (step == ts->kept) { /* a restart's first row: the file has it from the run that wrote the checkpoint */
+    ts->kept = -1;
+    PetscFunctionReturn(0);
+  }
   if (ts->rank != 0) PetscFunctionReturn(0);
   PetscCheck(values || ts->ncols == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Time series \"%s\": no values", ts->path);
   n = snprintf(ts->row, ts->rowlen, "%" PetscInt_FMT, step);
