@@ -446,7 +446,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   if (count && s->ts) { /* FLEXSLOSH_FAULT (tests only): an error on one rank, amid the collectives */
     PetscInt step;
     PetscCall(TSGetStepNumber(s->ts, &step));
-    PetscCall(FSDebugFault(PetscObjectComm((PetscObject)s), step));
+    PetscCall(FSDebugFault(PetscObjectComm((PetscObject)s), "alloc", step, NULL));
   }
   if (coupled) {
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));

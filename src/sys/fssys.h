@@ -21,8 +21,8 @@ PETSC_INTERN PetscErrorCode FSRegistryFind(FSRegistry *, const char[], void (**)
 PETSC_INTERN PetscErrorCode FSRegistryView(FSRegistry *, PetscViewer, const char[], const char[]);
 PETSC_INTERN PetscErrorCode FSRegistryNames(FSRegistry *, char[], size_t);
 
-/* test-only fault injection (src/sys/fault.c): FLEXSLOSH_FAULT=alloc:RANK:STEP */
-PETSC_INTERN PetscErrorCode FSDebugFault(MPI_Comm, PetscInt);
+/* fault injection for the tests (src/sys/fault.c): FLEXSLOSH_FAULT=alloc|leak:RANK:STEP */
+PETSC_INTERN PetscErrorCode FSDebugFault(MPI_Comm, const char[], PetscInt, PetscBool *);
 
 /* log events */
 PETSC_EXTERN PetscLogEvent FS_Structure, FS_Coupling;
