@@ -212,7 +212,7 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
 /*@C
    FSTimeSeriesAppend - Appends one row: step, then the values with "%.10e".
 
-   Not Collective (rank 0 writes, the other ranks return at once)
+   Collective (rank 0 writes; the outcome is broadcast, so a failure is raised on every rank)
 
    Input Parameters:
 +  ts     - the time series
@@ -220,13 +220,12 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
 -  values - ncols values (read on rank 0 only)
 
    Notes:
-   The row is written with one fwrite to the unbuffered stream; when it cannot be written whole, the file is
-   cut back to its last whole row and the error names the file.
+   The row is written with one fwrite to the unbuffered stream; when it cannot be written whole (a full
+   disk), the file is cut back to its last whole row and the error names the file.
 @*/
 PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscReal values[])
 {
-  size_t off;
-  int    n;
+  int st[2] = {0, 0}; /* errno, the torn row could not be cut off */
 
   PetscFunctionBegin;
   PetscCheck(ts, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSTimeSeries");
@@ -234,30 +233,34 @@ PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscRea
     ts->kept = -1;
     PetscFunctionReturn(0);
   }
-  if (ts->rank != 0) PetscFunctionReturn(0);
-  PetscCheck(values || ts->ncols == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Time series \"%s\": no values", ts->path);
-  n = snprintf(ts->row, ts->rowlen, "%" PetscInt_FMT, step);
-  PetscCheck(n > 0 && (size_t)n < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
-  off = (size_t)n;
-  for (PetscInt c = 0; c < ts->ncols; c++) {
-    n = snprintf(ts->row + off, ts->rowlen - off, ",%.10e", (double)values[c]);
-    PetscCheck(n > 0 && (size_t)n < ts->rowlen - off, PETSC_COMM_SELF, PETSC_ERR_PLIB,
-               "Time series row buffer too small");
-    off += (size_t)n;
-  }
-  PetscCheck(off + 1 < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
-  ts->row[off]     = '\n';
-  ts->row[off + 1] = '\0';
-  errno            = 0;
-  if (fwrite(ts->row, 1, off + 1, ts->fp) != off + 1 || fflush(ts->fp) != 0) {
-    int err = errno ? errno : EIO, cut;
+  if (ts->rank == 0) {
+    size_t off;
+    int    n;
 
-    clearerr(ts->fp);
-    cut = ftruncate(fileno(ts->fp), ts->size); /* no torn row: the file ends at its last whole row */
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot write to time series \"%s\": %s%s", ts->path, strerror(err),
-            cut ? " (and its last row could not be cut off)" : "");
+    PetscCheck(values || ts->ncols == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Time series \"%s\": no values",
+               ts->path);
+    n = snprintf(ts->row, ts->rowlen, "%" PetscInt_FMT, step);
+    PetscCheck(n > 0 && (size_t)n < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
+    off = (size_t)n;
+    for (PetscInt c = 0; c < ts->ncols; c++) {
+      n = snprintf(ts->row + off, ts->rowlen - off, ",%.10e", (double)values[c]);
+      PetscCheck(n > 0 && (size_t)n < ts->rowlen - off, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                 "Time series row buffer too small");
+      off += (size_t)n;
+    }
+    PetscCheck(off + 1 < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
+    ts->row[off]     = '\n';
+    ts->row[off + 1] = '\0';
+    errno            = 0;
+    if (fwrite(ts->row, 1, off + 1, ts->fp) != off + 1 || fflush(ts->fp) != 0) {
+      st[0] = errno ? errno : EIO;
+      clearerr(ts->fp);
+      st[1] = ftruncate(fileno(ts->fp), ts->size) != 0; /* no torn row: the file ends at its last whole row */
+    } else ts->size += (off_t)(off + 1);
   }
-  ts->size += (off_t)(off + 1);
+  PetscCallMPI(MPI_Bcast(st, 2, MPI_INT, 0, ts->comm));
+  PetscCheck(!st[0], ts->comm, PETSC_ERR_FILE_WRITE, "Cannot write to time series \"%s\": %s%s", ts->path,
+             strerror(st[0]), st[1] ? " (and its last row could not be cut off)" : "");
   PetscFunctionReturn(0);
 }
 
