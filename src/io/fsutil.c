@@ -139,18 +139,19 @@ PetscErrorCode FSTestFile_Private(MPI_Comm comm, const char path[], PetscBool *e
    system's reason syserr (errno after the write; ignored unless ENOSPC, EFBIG, EDQUOT, EIO or EROFS).
    Nothing happens when ierr is 0.
 
-   Not collective: raised on the ranks where the write failed (with a collective write all ranks are
-   then in an error path; flexslosh's main() ends every rank through MPI_Abort())
+   Not collective: raised on the ranks where the write failed; the others may be waiting in the writer's
+   collectives, so the error must end the run: flexslosh's main() ends every rank through MPI_Abort(), the
+   Python front when nothing catches the error
 */
 PetscErrorCode FSWriteCheck_Private(PetscErrorCode ierr, int syserr, const char file[])
 {
-  const char *specific = NULL;
-  PetscBool   sys      = (PetscBool)(syserr == ENOSPC || syserr == EFBIG || syserr == EDQUOT || syserr == EIO ||
+  char     *specific = NULL;
+  PetscBool sys      = (PetscBool)(syserr == ENOSPC || syserr == EFBIG || syserr == EDQUOT || syserr == EIO ||
                               syserr == EROFS);
 
   PetscFunctionBegin;
   if (!ierr) PetscFunctionReturn(0);
-  (void)PetscErrorMessage(ierr, NULL, (char **)&specific);
+  (void)PetscErrorMessage(ierr, NULL, &specific);
   SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot write \"%s\"%s%s: %s", file, sys ? ": " : "",
           sys ? strerror(syserr) : "", specific && specific[0] ? specific : "error in the writer");
 }
