@@ -1,7 +1,7 @@
 """What survives a crash: a coupled run killed with SIGKILL after its second checkpoint leaves only valid
 files and, restarted from its newest checkpoint, gives the uninterrupted run's rows and final snapshot
-bit for bit; a full disk (a file-size limit) stops the run with an error naming the file, and what
-was written before stays valid. docs/running.md, "What survives a crash"."""
+bit for bit; a full disk (a file-size limit, or a tiny tmpfs where one can be mounted) stops the run with
+an error naming the file, and what was written before stays valid. docs/running.md, "What survives a crash"."""
 import csv
 import os
 import re
@@ -20,8 +20,8 @@ from conftest import MPI_ENV, REPO_ROOT, assert_no_crash, flexslosh_bin, mpirun_
 
 # the coupled tank at dx 1 cm (210 particles, about 150 steps a second on 2 ranks); a snapshot every 33 steps
 BASE = ["-options_file", REPO_ROOT / "cases" / "coupled_rectangular.opts", "-fs_dx", "0.01", "-fs_output_interval", "0.02",
-        "-fs_checkpoint_interval", "60"]
-STEPS = 300
+        "-fs_checkpoint_interval", "40"]
+STEPS = 200
 NRANKS = 2
 
 
@@ -102,7 +102,7 @@ def test_a_killed_run_restarts_bit_for_bit(reference, tmp_path):
                             stderr=subprocess.DEVNULL, start_new_session=True)
     try:
         deadline = time.monotonic() + 60
-        while not (out / "checkpoint_000120.h5").exists():  # the second checkpoint
+        while not (out / "checkpoint_000080.h5").exists():  # the second checkpoint
             assert proc.poll() is None, "the run ended before its second checkpoint"
             assert time.monotonic() < deadline, "no second checkpoint within 60 s"
             time.sleep(0.01)
@@ -123,7 +123,7 @@ def test_a_killed_run_restarts_bit_for_bit(reference, tmp_path):
         assert re.fullmatch(r"(snapshot|checkpoint)_\d{6}\.h5\.tmp|(snapshots|timeseries|energy)\.csv\.tmp|"
                             r"particles\.xdmf\.tmp", name), name
     newest = max(out.glob("checkpoint_[0-9][0-9][0-9][0-9][0-9][0-9].h5"))
-    assert newest.name >= "checkpoint_000120.h5"
+    assert newest.name >= "checkpoint_000080.h5"
     run_flexslosh(BASE + ["-ts_max_steps", STEPS, "-fs_output_dir", out, "-fs_restart", newest], nranks=NRANKS, cwd=tmp_path,
                   timeout=120)
     for name in ("timeseries.csv", "energy.csv", "snapshots.csv", "particles.xdmf"):
@@ -179,8 +179,33 @@ def test_a_full_disk_names_the_time_series(reference, tmp_path):
     # whole rows, the uninterrupted run's; the checkpoints and snapshots written before are complete and equal
     rows = (out / "timeseries.csv").read_text().splitlines()
     assert 10 < len(rows) < STEPS and rows == (reference / "timeseries.csv").read_text().splitlines()[:len(rows)]
-    assert (out / "checkpoint_000060.h5").exists()
+    assert (out / "checkpoint_000040.h5").exists()
     for f in list(out.glob("snapshot_*.h5")) + list(out.glob("checkpoint_*.h5")):
         with h5py.File(f, "r") as a, h5py.File(reference / f.name, "r") as b:
             for name in a["particles"]:
                 assert np.array_equal(a["particles"][name][...], b["particles"][name][...]), (f.name, name)
+
+
+@pytest.fixture
+def tiny_disk(tmp_path):
+    """A 160 KiB tmpfs (root only: skipped where it cannot be mounted), unmounted afterwards."""
+    disk = tmp_path / "disk"
+    disk.mkdir()
+    if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=160k", "tmpfs", str(disk)], capture_output=True).returncode:
+        pytest.skip("cannot mount a tmpfs here")
+    yield disk
+    subprocess.run(["umount", str(disk)], check=True)
+
+
+def test_a_full_filesystem_names_the_file(reference, tiny_disk, tmp_path):
+    # a real full disk (ENOSPC): the run stops naming the file it could not write; the rest is valid
+    out = tiny_disk / "o"
+    proc = run_flexslosh(BASE + ["-ts_max_steps", STEPS, "-fs_output_dir", out], nranks=NRANKS, cwd=tmp_path, check=False,
+                         timeout=60)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert re.search(rf'Cannot write (to time series )?"{re.escape(str(out))}/[a-z_0-9.]+"', msg), msg
+    check_output_dir(out)
+    for name in ("timeseries.csv", "energy.csv"):
+        rows = (out / name).read_text().splitlines()
+        assert rows == (reference / name).read_text().splitlines()[:len(rows)], name
