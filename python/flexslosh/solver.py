@@ -194,6 +194,14 @@ def initialize(argv: list[str] | None = None) -> _Core:
 
 
 def _destroy_all():
+    if getattr(sys, "last_value", None) is not None and _core is not None and not _core.PETSc.Sys.isFinalized():
+        world = _core.PETSc.COMM_WORLD
+        if world.getSize() > 1:
+            # an exception nobody caught ends this rank: the others may wait for it in a collective, and PETSc's
+            # finalization would wait for them; end every rank now (mpi4py's own abort would come after it)
+            sys.stdout.flush()
+            sys.stderr.flush()
+            world.tompi4py().Abort(1)
     for s in list(_live):
         s.destroy()
 

@@ -15,6 +15,7 @@
    on another number the particles are split evenly, keeping their order. Version 1 (no set-up record)
    is still read.
 */
+#include <errno.h>
 #include <string.h>
 #include <petscvec.h>
 #include <petscviewerhdf5.h>
@@ -28,50 +29,21 @@
 #define FS_CHECKPOINT_FORMAT  "flexslosh-checkpoint"
 #define FS_CHECKPOINT_VERSION 2 /* 2: the set-up record */
 
-/*@C
-   FSCheckpointWrite - Writes a checkpoint: the header, the global values, the particle layout and
-   all particle fields.
-
-   Collective
-
-   Input Parameters:
-+  comm    - communicator of the particles
-.  path    - the checkpoint file (written as "<path>.tmp", then renamed)
-.  hdr     - time, dt, step, the nglobal (<= 64) global values and the set-up record (or NULL), identical on
-            all ranks (rank 0's are written)
-.  nlocal  - number of particles on this rank
-.  nfields - number of fields
--  fields  - the fields (any bs >= 1); names as for snapshots
-
-   Notes:
-   See the file comment of checkpoint.c for the layout.
-@*/
-PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheckpointHeader *hdr, PetscInt nlocal,
-                                 PetscInt nfields, const FSOutputField fields[])
+/* The HDF5 file of a checkpoint, written to tmp (collective) */
+static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], const FSCheckpointHeader *hdr, double t,
+                                            double dt, PetscInt N, PetscInt nlocal, PetscInt nfields,
+                                            const FSOutputField fields[])
 {
-  char        tmp[PETSC_MAX_PATH_LEN];
   PetscViewer viewer;
   PetscMPIInt rank, size;
-  PetscInt    N, nranks, nf = nfields, version = FS_CHECKPOINT_VERSION;
-  double      t, dt;
+  PetscInt    nranks, nf = nfields, version = FS_CHECKPOINT_VERSION;
   Vec         v;
   PetscReal   mine = (PetscReal)nlocal;
 
   PetscFunctionBegin;
-  PetscCheck(path && hdr, comm, PETSC_ERR_ARG_NULL, "FSCheckpointWrite: path and header are required");
-  PetscCheck(strlen(path) + 5 < sizeof(tmp), comm, PETSC_ERR_ARG_SIZ, "Checkpoint path too long: \"%s\"", path);
-  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-  PetscCheck(hdr->nglobal >= 0 && hdr->nglobal <= (PetscInt)(sizeof(hdr->global) / sizeof(hdr->global[0])), comm,
-             PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint \"%s\": nglobal %" PetscInt_FMT " must be in [0, %d]", path,
-             hdr->nglobal, (int)(sizeof(hdr->global) / sizeof(hdr->global[0])));
-  PetscCall(FSCheckFields_Private(comm, path, 0, nlocal, nfields, fields));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCallMPI(MPI_Allreduce(&nlocal, &N, 1, MPIU_INT, MPI_SUM, comm));
   nranks = size;
-  t      = (double)hdr->time;
-  dt     = (double)hdr->dt;
-
   PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
   /* particle fields */
   PetscCall(PetscViewerHDF5WriteGroup(viewer, "/particles"));
@@ -118,6 +90,55 @@ PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheck
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(VecDestroy(&v));
   PetscCall(PetscViewerDestroy(&viewer));
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSCheckpointWrite - Writes a checkpoint: the header, the global values, the particle layout and
+   all particle fields.
+
+   Collective
+
+   Input Parameters:
++  comm    - communicator of the particles
+.  path    - the checkpoint file (written as "<path>.tmp", then renamed)
+.  hdr     - time, dt, step, the nglobal (<= 64) global values and the set-up record (or NULL), identical on
+            all ranks (rank 0's are written)
+.  nlocal  - number of particles on this rank
+.  nfields - number of fields
+-  fields  - the fields (any bs >= 1); names as for snapshots
+
+   Notes:
+   See the file comment of checkpoint.c for the layout.
+@*/
+PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheckpointHeader *hdr, PetscInt nlocal,
+                                 PetscInt nfields, const FSOutputField fields[])
+{
+  char           tmp[PETSC_MAX_PATH_LEN];
+  PetscInt       N;
+  double         t, dt;
+  int            syserr;
+  PetscErrorCode ierr;
+
+  PetscFunctionBegin;
+  PetscCheck(path && hdr, comm, PETSC_ERR_ARG_NULL, "FSCheckpointWrite: path and header are required");
+  PetscCheck(strlen(path) + 5 < sizeof(tmp), comm, PETSC_ERR_ARG_SIZ, "Checkpoint path too long: \"%s\"", path);
+  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
+  PetscCheck(hdr->nglobal >= 0 && hdr->nglobal <= (PetscInt)(sizeof(hdr->global) / sizeof(hdr->global[0])), comm,
+             PETSC_ERR_ARG_OUTOFRANGE, "Checkpoint \"%s\": nglobal %" PetscInt_FMT " must be in [0, %d]", path,
+             hdr->nglobal, (int)(sizeof(hdr->global) / sizeof(hdr->global[0])));
+  PetscCall(FSCheckFields_Private(comm, path, 0, nlocal, nfields, fields));
+  PetscCallMPI(MPI_Allreduce(&nlocal, &N, 1, MPIU_INT, MPI_SUM, comm));
+  t  = (double)hdr->time;
+  dt = (double)hdr->dt;
+
+  /* a failed write (a full disk) is an error naming the file; the checkpoints written before stay as they are */
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  errno  = 0;
+  ierr   = FSCheckpointWriteHDF5(comm, tmp, hdr, t, dt, N, nlocal, nfields, fields);
+  syserr = errno;
+  PetscCall(PetscPopErrorHandler());
+  PetscCall(FSWriteCheck_Private(ierr, syserr, path));
   PetscCallMPI(MPI_Barrier(comm)); /* every rank has closed the file before it is renamed */
   PetscCall(FSRenameFile_Private(comm, tmp, path));
   PetscFunctionReturn(0);

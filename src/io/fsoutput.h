@@ -74,6 +74,7 @@ PETSC_EXTERN PetscErrorCode FSMakeDirectory(MPI_Comm, const char path[], const c
 /* Internal to the output writers (rank 0 acts, the outcome is broadcast over the communicator). */
 PETSC_INTERN PetscErrorCode FSRenameFile_Private(MPI_Comm, const char from[], const char to[]);
 PETSC_INTERN PetscErrorCode FSTestFile_Private(MPI_Comm, const char path[], PetscBool *exists);
+PETSC_INTERN PetscErrorCode FSWriteCheck_Private(PetscErrorCode, int syserr, const char file[]);
 PETSC_INTERN PetscErrorCode FSCheckFields_Private(MPI_Comm, const char file[], PetscInt dim, PetscInt nlocal,
                                                   PetscInt nfields, const FSOutputField fields[]);
 PETSC_INTERN PetscErrorCode FSViewFields_Private(PetscViewer, MPI_Comm, PetscInt nlocal, PetscInt nfields,

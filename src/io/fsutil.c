@@ -131,3 +131,27 @@ PetscErrorCode FSTestFile_Private(MPI_Comm comm, const char path[], PetscBool *e
   *exists = flag ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(0);
 }
+
+/*
+   FSWriteCheck_Private - turns an error caught while writing file (the writer ran under
+   PetscReturnErrorHandler, so nothing was printed) into one error that names the file, with the first
+   error's own message (HDF5's names only its call) and, for a full disk or a file-size limit, the
+   system's reason syserr (errno after the write; ignored unless ENOSPC, EFBIG, EDQUOT, EIO or EROFS).
+   Nothing happens when ierr is 0.
+
+   Not collective: raised on the ranks where the write failed; the others may be waiting in the writer's
+   collectives, so the error must end the run: flexslosh's main() ends every rank through MPI_Abort(), the
+   Python front when nothing catches the error
+*/
+PetscErrorCode FSWriteCheck_Private(PetscErrorCode ierr, int syserr, const char file[])
+{
+  char     *specific = NULL;
+  PetscBool sys      = (PetscBool)(syserr == ENOSPC || syserr == EFBIG || syserr == EDQUOT || syserr == EIO ||
+                              syserr == EROFS);
+
+  PetscFunctionBegin;
+  if (!ierr) PetscFunctionReturn(0);
+  (void)PetscErrorMessage(ierr, NULL, &specific);
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot write \"%s\"%s%s: %s", file, sys ? ": " : "",
+          sys ? strerror(syserr) : "", specific && specific[0] ? specific : "error in the writer");
+}

@@ -433,6 +433,26 @@ PetscErrorCode FSSnapshotWriterCreate(MPI_Comm comm, const char dir[], PetscReal
   PetscFunctionReturn(0);
 }
 
+/* The HDF5 file of one snapshot, written to tmp (collective) */
+static PetscErrorCode FSSnapshotWriteHDF5(MPI_Comm comm, const char tmp[], double t, PetscInt step, PetscInt dim,
+                                          PetscInt N, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[])
+{
+  PetscViewer viewer;
+
+  PetscFunctionBegin;
+  PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
+  PetscCall(PetscViewerHDF5WriteGroup(viewer, "/particles"));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
+  PetscCall(FSViewFields_Private(viewer, comm, nlocal, nfields, fields));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "time", PETSC_DOUBLE, &t));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "step", PETSC_INT, &step));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "dim", PETSC_INT, &dim));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "nparticles", PETSC_INT, &N));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(PetscViewerDestroy(&viewer));
+  PetscFunctionReturn(0);
+}
+
 /*@C
    FSSnapshotWriterWrite - Writes one snapshot file <dir>/snapshot_NNNNNN.h5 and updates the index
    and the XDMF file.
@@ -456,12 +476,12 @@ PetscErrorCode FSSnapshotWriterCreate(MPI_Comm comm, const char dir[], PetscReal
 PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter w, PetscReal time, PetscInt step, PetscInt dim, PetscInt nlocal,
                                      PetscInt nfields, const FSOutputField fields[])
 {
-  char        file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
-  PetscViewer viewer;
-  PetscInt    N, number;
-  PetscBool   haspos = PETSC_FALSE;
-  double      t      = (double)time;
-  int         st[2]  = {0, 0};
+  char           file[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
+  PetscInt       N, number;
+  PetscBool      haspos = PETSC_FALSE;
+  double         t      = (double)time;
+  int            st[2]  = {0, 0}, syserr;
+  PetscErrorCode ierr;
 
   PetscFunctionBegin;
   PetscCheck(w, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSSnapshotWriter");
@@ -483,16 +503,13 @@ PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter w, PetscReal time, PetscIn
              file, dim);
   PetscCallMPI(MPI_Allreduce(&nlocal, &N, 1, MPIU_INT, MPI_SUM, w->comm));
 
-  PetscCall(PetscViewerHDF5Open(w->comm, tmp, FILE_MODE_WRITE, &viewer));
-  PetscCall(PetscViewerHDF5WriteGroup(viewer, "/particles"));
-  PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
-  PetscCall(FSViewFields_Private(viewer, w->comm, nlocal, nfields, fields));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "time", PETSC_DOUBLE, &t));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "step", PETSC_INT, &step));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "dim", PETSC_INT, &dim));
-  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "nparticles", PETSC_INT, &N));
-  PetscCall(PetscViewerHDF5PopGroup(viewer));
-  PetscCall(PetscViewerDestroy(&viewer));
+  /* a failed write (a full disk) is an error naming the file; the files written before stay as they are */
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  errno  = 0;
+  ierr   = FSSnapshotWriteHDF5(w->comm, tmp, t, step, dim, N, nlocal, nfields, fields);
+  syserr = errno;
+  PetscCall(PetscPopErrorHandler());
+  PetscCall(FSWriteCheck_Private(ierr, syserr, file));
   PetscCallMPI(MPI_Barrier(w->comm)); /* every rank has closed the file before it is renamed */
   PetscCall(FSRenameFile_Private(w->comm, tmp, file));
 

@@ -1,13 +1,16 @@
 /*
    FSTimeSeries: a CSV file with a header "step,<names...>" and one row per output step, written
-   by rank 0. Each row is formatted in memory, written with one fprintf and flushed, so a crash
-   leaves only complete lines (at worst a torn last line, which a restart drops).
+   by rank 0. Each row is formatted in memory and written with one write to the unbuffered stream, so a
+   crash leaves only complete lines (at worst a torn last line, which a restart drops); a row that cannot
+   be written whole (a full disk) is cut off again, so the file keeps only whole rows.
 */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <errno.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include "fsoutput.h"
 
 struct _n_FSTimeSeries {
@@ -18,6 +21,8 @@ struct _n_FSTimeSeries {
   char        path[PETSC_MAX_PATH_LEN];
   char       *row;    /* rank 0: buffer for one formatted row */
   size_t      rowlen; /* its size */
+  off_t       size;   /* rank 0: the file's length after its last whole row */
+  PetscInt    kept;   /* a restart's step whose row the file kept (not written again), or -1 */
 };
 
 /* Header line (without newline) in a PetscMalloc'ed string */
@@ -45,12 +50,13 @@ static PetscErrorCode FSTimeSeriesBuildHeader(MPI_Comm comm, const char path[], 
 }
 
 /*
-   Rank 0: keep the header and the complete rows with step < restart_step (the restarted run writes the row of
-   restart_step again) of an existing file, writing them to "<path>.tmp" and renaming it over path. Sets *ioerr (errno)
-   or *badheader on failure.
+   Rank 0: keep the header and the complete rows with step <= restart_step of an existing file, writing them to
+   "<path>.tmp" and renaming it over path; *kept says whether a row of restart_step was among them (the run that wrote
+   the checkpoint wrote it: a restart cannot recompute the loads of that step's last stage, so it keeps it). Sets
+   *ioerr (errno) or *badheader on failure.
 */
 static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[], PetscInt restart_step, int *ioerr,
-                                           PetscBool *badheader)
+                                           PetscBool *badheader, PetscBool *kept)
 {
   char    tmp[PETSC_MAX_PATH_LEN];
   FILE   *in, *out;
@@ -62,6 +68,7 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
   PetscFunctionBegin;
   *ioerr     = 0;
   *badheader = PETSC_FALSE;
+  *kept      = PETSC_FALSE;
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
   in = fopen(path, "r");
   if (!in) {
@@ -90,7 +97,9 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
       long  step = strtol(line, &end, 10);
 
       if (end == line || *end != ',') continue; /* not a data row */
-      if (step < (long)restart_step && fputs(line, out) == EOF) *ioerr = errno ? errno : EIO;
+      if (step > (long)restart_step) continue;
+      if (fputs(line, out) == EOF) *ioerr = errno ? errno : EIO;
+      if (step == (long)restart_step) *kept = PETSC_TRUE;
     }
     if (*ioerr) break;
   }
@@ -123,8 +132,9 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
 .  ncols        - number of value columns
 .  names        - their names (no commas, quotes or newlines)
 -  restart_step - < 0: a new file (an existing one is truncated); >= 0: a restart at this step: an
-                  existing file keeps its header and the rows with step < restart_step (rewritten
-                  through "<path>.tmp" and a rename), then rows are appended; a missing file is created
+                  existing file keeps its header and the rows with step <= restart_step (rewritten
+                  through "<path>.tmp" and a rename), then rows are appended (a kept row of
+                  restart_step is not appended again); a missing file is created
 
    Output Parameter:
 .  ts - the time series
@@ -138,7 +148,7 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
 {
   FSTimeSeries w;
   char        *header;
-  int          st[2] = {0, 0}; /* errno, bad header */
+  int          st[3] = {0, 0, 0}; /* errno, bad header, the row of restart_step kept */
 
   PetscFunctionBegin;
   PetscCheck(path && ts, comm, PETSC_ERR_ARG_NULL, "FSTimeSeriesCreate: path and output handle are required");
@@ -153,12 +163,13 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
   PetscCall(PetscStrcpy(w->path, path));
   PetscCallMPI(MPI_Comm_rank(comm, &w->rank));
   if (w->rank == 0) {
-    PetscBool exists = PETSC_FALSE, bad = PETSC_FALSE;
+    PetscBool exists = PETSC_FALSE, bad = PETSC_FALSE, kept = PETSC_FALSE;
 
     if (restart_step >= 0) PetscCall(PetscTestFile(path, 'r', &exists));
     if (exists) {
-      PetscCall(FSTimeSeriesTruncate(path, header, restart_step, &st[0], &bad));
+      PetscCall(FSTimeSeriesTruncate(path, header, restart_step, &st[0], &bad, &kept));
       st[1] = bad ? 1 : 0;
+      st[2] = kept ? 1 : 0;
       if (!st[0] && !bad) {
         w->fp = fopen(path, "a");
         if (!w->fp) st[0] = errno ? errno : EIO;
@@ -168,10 +179,18 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
       if (!w->fp) st[0] = errno ? errno : EIO;
       else if (fprintf(w->fp, "%s\n", header) < 0 || fflush(w->fp) != 0) st[0] = errno ? errno : EIO;
     }
+    if (!st[0] && !st[1] && w->fp) { /* unbuffered: a row goes out whole or is cut off again (FSTimeSeriesAppend) */
+      struct stat sb;
+
+      if (fflush(w->fp) != 0 || setvbuf(w->fp, NULL, _IONBF, 0) != 0 || fstat(fileno(w->fp), &sb) != 0)
+        st[0] = errno ? errno : EIO;
+      else w->size = sb.st_size;
+    }
     w->rowlen = 32 + 32 * (size_t)ncols;
     PetscCall(PetscMalloc1(w->rowlen, &w->row));
   }
-  PetscCallMPI(MPI_Bcast(st, 2, MPI_INT, 0, comm));
+  PetscCallMPI(MPI_Bcast(st, 3, MPI_INT, 0, comm));
+  w->kept = st[2] ? restart_step : -1;
   if (st[0] || st[1]) {
     char expected[256];
 
@@ -193,7 +212,7 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
 /*@C
    FSTimeSeriesAppend - Appends one row: step, then the values with "%.10e".
 
-   Not Collective (rank 0 writes, the other ranks return at once)
+   Collective (rank 0 writes; the outcome is broadcast, so a failure is raised on every rank)
 
    Input Parameters:
 +  ts     - the time series
@@ -201,31 +220,47 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
 -  values - ncols values (read on rank 0 only)
 
    Notes:
-   The row is written with one fprintf and flushed.
+   The row is written with one fwrite to the unbuffered stream; when it cannot be written whole (a full
+   disk), the file is cut back to its last whole row and the error names the file.
 @*/
 PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscReal values[])
 {
-  size_t off;
-  int    n;
+  int st[2] = {0, 0}; /* errno, the torn row could not be cut off */
 
   PetscFunctionBegin;
   PetscCheck(ts, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSTimeSeries");
-  if (ts->rank != 0) PetscFunctionReturn(0);
-  PetscCheck(values || ts->ncols == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Time series \"%s\": no values", ts->path);
-  n = snprintf(ts->row, ts->rowlen, "%" PetscInt_FMT, step);
-  PetscCheck(n > 0 && (size_t)n < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
-  off = (size_t)n;
-  for (PetscInt c = 0; c < ts->ncols; c++) {
-    n = snprintf(ts->row + off, ts->rowlen - off, ",%.10e", (double)values[c]);
-    PetscCheck(n > 0 && (size_t)n < ts->rowlen - off, PETSC_COMM_SELF, PETSC_ERR_PLIB,
-               "Time series row buffer too small");
-    off += (size_t)n;
+  if (step == ts->kept) { /* a restart's first row: the file has it from the run that wrote the checkpoint */
+    ts->kept = -1;
+    PetscFunctionReturn(0);
   }
-  PetscCheck(off + 1 < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
-  ts->row[off]     = '\n';
-  ts->row[off + 1] = '\0';
-  PetscCheck(fprintf(ts->fp, "%s", ts->row) >= 0 && fflush(ts->fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
-             "Cannot write to time series \"%s\": %s", ts->path, strerror(errno));
+  if (ts->rank == 0) {
+    size_t off;
+    int    n;
+
+    PetscCheck(values || ts->ncols == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Time series \"%s\": no values",
+               ts->path);
+    n = snprintf(ts->row, ts->rowlen, "%" PetscInt_FMT, step);
+    PetscCheck(n > 0 && (size_t)n < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
+    off = (size_t)n;
+    for (PetscInt c = 0; c < ts->ncols; c++) {
+      n = snprintf(ts->row + off, ts->rowlen - off, ",%.10e", (double)values[c]);
+      PetscCheck(n > 0 && (size_t)n < ts->rowlen - off, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                 "Time series row buffer too small");
+      off += (size_t)n;
+    }
+    PetscCheck(off + 1 < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
+    ts->row[off]     = '\n';
+    ts->row[off + 1] = '\0';
+    errno            = 0;
+    if (fwrite(ts->row, 1, off + 1, ts->fp) != off + 1 || fflush(ts->fp) != 0) {
+      st[0] = errno ? errno : EIO;
+      clearerr(ts->fp);
+      st[1] = ftruncate(fileno(ts->fp), ts->size) != 0; /* no torn row: the file ends at its last whole row */
+    } else ts->size += (off_t)(off + 1);
+  }
+  PetscCallMPI(MPI_Bcast(st, 2, MPI_INT, 0, ts->comm));
+  PetscCheck(!st[0], ts->comm, PETSC_ERR_FILE_WRITE, "Cannot write to time series \"%s\": %s%s", ts->path,
+             strerror(st[0]), st[1] ? " (and its last row could not be cut off)" : "");
   PetscFunctionReturn(0);
 }
 

@@ -10,6 +10,7 @@
 */
 #include "solver/solverimpl.h"
 #include <ctype.h>
+#include <sys/stat.h>
 
 /* The probe file's text, read on rank 0 and broadcast (every rank parses the same text, so that every
    rank raises the same error). */
@@ -22,9 +23,13 @@ static PetscErrorCode FSProbesReadFile(MPI_Comm comm, const char path[], char **
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (!rank) {
-    FILE *fp = fopen(path, "rb");
+    FILE       *fp = fopen(path, "rb");
+    struct stat sb;
     if (!fp) len = -1;
-    else {
+    else if (fstat(fileno(fp), &sb) != 0 || !S_ISREG(sb.st_mode)) { /* a directory opens, and seeks to a huge size */
+      len = -2;
+      fclose(fp);
+    } else {
       if (fseek(fp, 0, SEEK_END) == 0) len = ftell(fp);
       if (len < 0 || fseek(fp, 0, SEEK_SET) != 0) len = -1;
       if (len >= 0) {
@@ -36,7 +41,8 @@ static PetscErrorCode FSProbesReadFile(MPI_Comm comm, const char path[], char **
     }
   }
   PetscCallMPI(MPI_Bcast(&len, 1, MPI_LONG, 0, comm));
-  PetscCheck(len >= 0, comm, PETSC_ERR_FILE_OPEN, "Cannot read the probe file \"%s\" (-fs_probes)", path);
+  PetscCheck(len >= 0, comm, PETSC_ERR_FILE_OPEN, "Cannot read the probe file \"%s\" (-fs_probes)%s", path,
+             len == -2 ? ": not a regular file" : "");
   if (rank) PetscCall(PetscMalloc1(len + 1, &buf));
   PetscCallMPI(MPI_Bcast(buf, (PetscMPIInt)len, MPI_CHAR, 0, comm));
   buf[len] = 0;

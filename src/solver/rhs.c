@@ -443,6 +443,11 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   PetscCall(PetscLogEventBegin(FS_RHS, 0, 0, 0, 0));
   PetscCall(FSCouplingGetActive(s->coupling, &coupled));
   PetscCall(FSSolverGatherRecords(s, u));
+  if (count && s->ts) { /* FLEXSLOSH_FAULT (tests only): an error on one rank, amid the collectives */
+    PetscInt step;
+    PetscCall(TSGetStepNumber(s->ts, &step));
+    PetscCall(FSDebugFault(PetscObjectComm((PetscObject)s), "alloc", step, NULL));
+  }
   if (coupled) {
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSSolverCouplingPredict(s, u));

@@ -38,6 +38,17 @@ static PetscErrorCode FSSolverBoundaryUpdate(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
+  if (s->ts && s->pw.nowned > 0) { /* FLEXSLOSH_FAULT=leak:RANK:STEP (tests only): a particle out of the tank */
+    PetscInt  step;
+    PetscBool fire;
+    PetscCall(TSGetStepNumber(s->ts, &step));
+    PetscCall(FSDebugFault(comm, "leak", step, &fire));
+    if (fire) { /* just under the walls' lowest point, within reach of the walls below it */
+      PetscReal lo[3], hi[3];
+      PetscCall(FSBoundaryGetBoundingBox(s->boundary, lo, hi));
+      s->pw.rec[1] = lo[1] - 0.25 * s->opt.dx;
+    }
+  }
   PetscCall(FSBoundaryUpdate(s->boundary, s->pw.nowned, s->pw.rec, s->pw.stride, &s->pw.nbrs, &leak));
   nleak = leak.particle >= 0 ? 1 : 0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nleak, 1, MPIU_INT, MPI_SUM, comm));

@@ -21,6 +21,9 @@ PETSC_INTERN PetscErrorCode FSRegistryFind(FSRegistry *, const char[], void (**)
 PETSC_INTERN PetscErrorCode FSRegistryView(FSRegistry *, PetscViewer, const char[], const char[]);
 PETSC_INTERN PetscErrorCode FSRegistryNames(FSRegistry *, char[], size_t);
 
+/* fault injection for the tests (src/sys/fault.c): FLEXSLOSH_FAULT=alloc|leak:RANK:STEP */
+PETSC_INTERN PetscErrorCode FSDebugFault(MPI_Comm, const char[], PetscInt, PetscBool *);
+
 /* log events */
 PETSC_EXTERN PetscLogEvent FS_Structure, FS_Coupling;
 PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls,

@@ -137,34 +137,16 @@ PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary b, const char dir[], 
   PetscFunctionReturn(0);
 }
 
-/*
-   FSBoundaryWriteWallsH5_Private - <dir>/walls.h5 in the layout above, written to a temporary name and
-   renamed: the n elements this rank gives (rank 0 gives all nel, the others none), of dim nodes
-   each (segments in 2-D, triangles in 3-D): their points (nodes n x dim), connectivity (nodes n),
-   wall index, normal (dim) and measure (length or area, named measure); the attributes countname
-   (= nel), nwalls and names.
-
-   Collective
-*/
-PetscErrorCode FSBoundaryWriteWallsH5_Private(FSBoundary b, const char dir[], PetscInt dim, PetscInt n, PetscInt nel,
-                                              PetscReal pts[], PetscInt conn[], PetscReal wall[], PetscReal nrm[],
-                                              const char measure[], PetscReal meas[], const char countname[])
+/* The HDF5 file of the walls, written to tmp (collective) */
+static PetscErrorCode FSWriteWallsH5(MPI_Comm comm, const char tmp[], PetscInt dim, PetscInt n, PetscInt nel,
+                                     PetscInt nw, const char names[], const FSOutputField fields[], PetscInt conn[],
+                                     const char countname[])
 {
-  MPI_Comm       comm  = PetscObjectComm((PetscObject)b);
-  const PetscInt nodes = dim, nw = b->nwalls;
-  FSOutputField  fields[4];
+  const PetscInt nodes = dim;
   IS             is;
   PetscViewer    viewer;
-  char           path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], *names;
 
   PetscFunctionBegin;
-  PetscCall(FSBoundaryJoinWallNames_Private(b, &names));
-  fields[0] = (FSOutputField){"points", dim, pts};
-  fields[1] = (FSOutputField){"wall", 1, wall};
-  fields[2] = (FSOutputField){"normal", dim, nrm};
-  fields[3] = (FSOutputField){measure, 1, meas};
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/walls.h5", dir));
-  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
   PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
   PetscCall(PetscViewerHDF5WriteGroup(viewer, "/walls"));
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/walls"));
@@ -181,6 +163,44 @@ PetscErrorCode FSBoundaryWriteWallsH5_Private(FSBoundary b, const char dir[], Pe
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/walls", "names", PETSC_STRING, names));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(PetscViewerDestroy(&viewer));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryWriteWallsH5_Private - <dir>/walls.h5 in the layout above, written to a temporary name and
+   renamed: the n elements this rank gives (rank 0 gives all nel, the others none), of dim nodes
+   each (segments in 2-D, triangles in 3-D): their points (nodes n x dim), connectivity (nodes n),
+   wall index, normal (dim) and measure (length or area, named measure); the attributes countname
+   (= nel), nwalls and names.
+
+   Collective
+*/
+PetscErrorCode FSBoundaryWriteWallsH5_Private(FSBoundary b, const char dir[], PetscInt dim, PetscInt n, PetscInt nel,
+                                              PetscReal pts[], PetscInt conn[], PetscReal wall[], PetscReal nrm[],
+                                              const char measure[], PetscReal meas[], const char countname[])
+{
+  MPI_Comm       comm = PetscObjectComm((PetscObject)b);
+  const PetscInt nw   = b->nwalls;
+  FSOutputField  fields[4];
+  char           path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], *names;
+  int            syserr;
+  PetscErrorCode ierr;
+
+  PetscFunctionBegin;
+  PetscCall(FSBoundaryJoinWallNames_Private(b, &names));
+  fields[0] = (FSOutputField){"points", dim, pts};
+  fields[1] = (FSOutputField){"wall", 1, wall};
+  fields[2] = (FSOutputField){"normal", dim, nrm};
+  fields[3] = (FSOutputField){measure, 1, meas};
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/walls.h5", dir));
+  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
+  /* a failed write (a full disk) is an error naming the file */
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  errno  = 0;
+  ierr   = FSWriteWallsH5(comm, tmp, dim, n, nel, nw, names, fields, conn, countname);
+  syserr = errno;
+  PetscCall(PetscPopErrorHandler());
+  PetscCall(FSWriteCheck_Private(ierr, syserr, path));
   PetscCallMPI(MPI_Barrier(comm)); /* every rank has closed the file before it is renamed */
   PetscCall(FSRenameFile_Private(comm, tmp, path));
   PetscCall(PetscFree(names));

@@ -62,7 +62,14 @@ PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char o
   PetscCall(PetscMemzero(s, sizeof(*s)));
   PetscCall(PetscStrncpy(s->file, file, sizeof(s->file)));
   fp = fopen(file, "r");
-  PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "%s: cannot open the time-series file %s", option, file);
+  { /* one rank that cannot open it (a path missing on its node) must not leave the others waiting */
+    const int mine = fp != NULL;
+    int       ok;
+    PetscCallMPI(MPI_Allreduce(&mine, &ok, 1, MPI_INT, MPI_MIN, comm));
+    if (!ok && mine) fclose(fp);
+    PetscCheck(ok, comm, PETSC_ERR_FILE_OPEN, "%s: cannot open the time-series file %s%s", option, file,
+               mine ? " on some of the other ranks" : "");
+  }
   PetscCall(PetscMalloc2(cap, &s->t, cap, &s->y));
   while (fgets(line, sizeof(line), fp)) {
     char     *p = line, *hash = strchr(line, '#');

@@ -8,6 +8,7 @@
 #include <errno.h>
 #include <stdint.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 /* what rank 0 read: the solids' names, and per facet its 9 coordinates and its solid */
 typedef struct {
@@ -225,6 +226,15 @@ static PetscErrorCode ReadSTL(const char path[], const char name[], STLData *s, 
     *err = PETSC_ERR_FILE_OPEN;
     snprintf(msg, msglen, "Cannot open the STL file \"%s\": %s", path, strerror(errno));
     PetscFunctionReturn(0);
+  }
+  { /* a directory opens, and seeks to a huge size */
+    struct stat sb;
+    if (fstat(fileno(fp), &sb) != 0 || !S_ISREG(sb.st_mode)) {
+      *err = PETSC_ERR_FILE_READ;
+      snprintf(msg, msglen, "Cannot read the STL file \"%s\": not a regular file", path);
+      fclose(fp);
+      PetscFunctionReturn(0);
+    }
   }
   if (fseek(fp, 0, SEEK_END) || (size = ftell(fp)) < 0 || fseek(fp, 0, SEEK_SET)) {
     *err = PETSC_ERR_FILE_READ;

@@ -1,0 +1,122 @@
+"""No hang on many ranks: an error raised on one rank only ends every rank, with its message, within
+seconds (each run under a timeout). The faults come from FLEXSLOSH_FAULT=KIND:RANK:STEP (src/sys/fault.c,
+for the tests only): alloc fails an allocation on RANK at STEP, leak moves one of RANK's particles out of
+the tank. docs/running.md, "What survives a crash"."""
+import os
+import subprocess
+import sys
+
+import pytest
+
+from conftest import MPI_ENV, REPO_ROOT, build_dir, flexslosh_bin, mpirun_bin, petsc_error_message
+
+TANK = ["-options_file", REPO_ROOT / "cases" / "coupled_rectangular.opts", "-fs_dx", "0.01", "-ts_max_steps", "200",
+        "-fs_progress", "0", "-fs_options_left", "0"]
+LIMIT = 60  # seconds: a run that has not ended by then hangs (each ends in 1-3 s on an idle machine)
+
+
+def run_timed(cmd, cwd, fault=None):
+    """Runs cmd (mpirun ...) with FLEXSLOSH_FAULT=fault; returns the process; fails on a hang."""
+    env = dict(os.environ, **MPI_ENV, FLEXSLOSH_BUILD=str(build_dir()))
+    env["PYTHONPATH"] = os.pathsep.join([str(REPO_ROOT / "python"), env.get("PYTHONPATH", "")])
+    env.pop("FLEXSLOSH_FAULT", None)
+    if fault:
+        env["FLEXSLOSH_FAULT"] = fault
+    try:
+        proc = subprocess.run([str(c) for c in cmd], cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                              text=True, timeout=LIMIT)
+    except subprocess.TimeoutExpired as e:
+        pytest.fail(f"hung: not ended after {LIMIT} s: {' '.join(map(str, cmd))}\n{(e.stdout or b'')[-3000:]}")
+    return proc
+
+
+def run_ranks(nranks, args, cwd, fault=None):
+    return run_timed([mpirun_bin(), "--oversubscribe", "-n", nranks, flexslosh_bin()] + args, cwd, fault)
+
+
+@pytest.mark.parametrize("nranks,rank", [(2, 1), (3, 2), (3, 0)])
+def test_an_allocation_failure_on_one_rank_ends_every_rank(tmp_path, nranks, rank):
+    proc = run_ranks(nranks, TANK + ["-fs_output_dir", tmp_path / "o"], tmp_path, fault=f"alloc:{rank}:5")
+    assert proc.returncode != 0, proc.stdout[-3000:]
+    assert f"Allocation failed on rank {rank} at step 5" in petsc_error_message(proc.stdout), proc.stdout[-3000:]
+
+
+@pytest.mark.parametrize("nranks,rank", [(2, 1), (3, 2)])
+def test_a_particle_leaving_the_tank_on_one_rank_ends_every_rank(tmp_path, nranks, rank):
+    proc = run_ranks(nranks, TANK + ["-fs_output_dir", tmp_path / "o"], tmp_path, fault=f"leak:{rank}:5")
+    assert proc.returncode != 0, proc.stdout[-3000:]
+    assert "[flexslosh] leak: particle" in proc.stdout and "at step 5" in proc.stdout, proc.stdout[-3000:]
+    assert "Particles crossed a wall on 1 rank(s)" in petsc_error_message(proc.stdout)
+
+
+def test_a_file_rank_0_cannot_read_ends_every_rank(tmp_path):
+    # the input files (probes, walls, motions) are read by rank 0 and broadcast: its error is every rank's
+    probes = tmp_path / "probes.txt"
+    probes.mkdir()  # a directory: not readable as a file, even by root
+    proc = run_ranks(3, TANK + ["-fs_output_dir", tmp_path / "o", "-fs_probes", probes], tmp_path)
+    assert proc.returncode != 0
+    assert str(probes) in petsc_error_message(proc.stdout), proc.stdout[-3000:]
+
+
+def test_a_wall_file_one_rank_cannot_open_ends_every_rank(tmp_path):
+    # every rank reads the wall file: one rank's path is missing (as on a node without the file; here mpirun
+    # gives rank 2 another path)
+    (tmp_path / "box.walls").write_text("wall tank\n0 0\n1 0\n1 1\n0 1\nend\n")
+    args = [flexslosh_bin(), "-fs_case", "tank", "-fs_tank_shape", "file", "-fs_dx", "0.05", "-ts_max_steps", "5",
+            "-fs_progress", "0", "-fs_output_dir", tmp_path / "o", "-fs_tank_file"]
+    proc = run_timed([mpirun_bin(), "--oversubscribe", "-n", 2] + args + [tmp_path / "box.walls", ":", "-n", 1] + args +
+                              [tmp_path / "missing.walls"], tmp_path)
+    assert proc.returncode != 0
+    assert "Cannot open the wall file" in petsc_error_message(proc.stdout), proc.stdout[-3000:]
+
+
+SCRIPT = """
+import sys
+import flexslosh
+from flexslosh import Solver
+from flexslosh.solver import FlexsloshError
+from mpi4py import MPI
+
+
+class Breaking(flexslosh.structure.MassSpringDamper):
+    def rhs(self, t, y, loads):
+        if t > 0.01:
+            raise ValueError(f"the spring broke at t = {t:.3f}")
+        return super().rhs(t, y, loads)
+
+
+flexslosh.register_structure("pybreak", Breaking)
+options = {"fs_output": False, "fs_progress": False, "fs_dx": 0.01, "ts_max_steps": 200}
+if sys.argv[1] == "structure":
+    options["fs_structure"] = "pybreak"
+try:
+    with Solver(options, options_file=sys.argv[2]) as s:
+        s.run()
+except FlexsloshError as e:
+    if sys.argv[1] != "structure":
+        raise  # uncaught on this rank only: flexslosh ends every rank
+    print(f"rank {MPI.COMM_WORLD.Get_rank()} caught: {str(e).splitlines()[0]}", flush=True)
+"""
+
+
+def run_script(tmp_path, nranks, mode, fault=None):
+    script = tmp_path / "script.py"
+    script.write_text(SCRIPT)
+    return run_timed([mpirun_bin(), "--oversubscribe", "-n", nranks, sys.executable, script, mode,
+                      REPO_ROOT / "cases" / "coupled_rectangular.opts"], tmp_path, fault)
+
+
+def test_a_python_structure_failing_on_rank_0_reaches_every_rank(tmp_path):
+    proc = run_script(tmp_path, 3, "structure")
+    assert proc.returncode == 0, proc.stdout[-3000:]
+    for r in range(3):
+        assert f"rank {r} caught: FSSolverSolve: Structure pybreak" in proc.stdout and "the spring broke" in proc.stdout
+
+
+@pytest.mark.parametrize("nranks", [2, 3])
+def test_an_uncaught_error_on_one_python_rank_ends_every_rank(tmp_path, nranks):
+    # rank 1 raises FlexsloshError and nobody catches it: at exit flexslosh aborts the run (else PETSc's
+    # finalization would wait for the ranks still in a collective)
+    proc = run_script(tmp_path, nranks, "alloc", fault="alloc:1:3")
+    assert proc.returncode != 0
+    assert "FlexsloshError: FSSolverSolve: Allocation failed on rank 1 at step 3" in proc.stdout, proc.stdout[-3000:]
