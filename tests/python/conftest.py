@@ -205,3 +205,13 @@ def series():
 @pytest.fixture
 def snapshot():
     return read_snapshot
+
+
+PYTHON = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
+
+
+def plot_cli(*args):
+    """Runs `python -m flexslosh.plot ARGS` with the repository's package; the CompletedProcess."""
+    env = dict(os.environ, PYTHONPATH=str(REPO_ROOT / "python"))
+    return subprocess.run([PYTHON, "-m", "flexslosh.plot", *map(str, args)], env=env, stdout=subprocess.PIPE,
+                          stderr=subprocess.PIPE, text=True, timeout=120)

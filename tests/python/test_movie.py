@@ -4,19 +4,15 @@ One run for the module: the rectangular tank on the beam at dx = 1 cm (210 parti
 snapshot every 0.05 s (3 snapshots, under a second); then GIFs of 2 and 3 frames, a frame PNG, the
 walls the run wrote, and the errors. One tiny 3-D run checks the slice.
 """
-import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
-from conftest import REPO_ROOT, run_flexslosh
+from conftest import REPO_ROOT, plot_cli, run_flexslosh
 
 from flexslosh import movie
 from flexslosh.output import read_run
 
-PYTHON = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
 Image = pytest.importorskip("PIL.Image")
 
 
@@ -27,11 +23,6 @@ def tank_dir(tmp_path_factory):
                    "-ts_max_time", "0.1", "-fs_output_interval", "0.05", "-fs_output_dir", out])
     return out
 
-
-def plot_cli(*args):
-    env = dict(os.environ, PYTHONPATH=str(REPO_ROOT / "python"))
-    return subprocess.run([PYTHON, "-m", "flexslosh.plot", *map(str, args)], env=env, stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, text=True, timeout=120)
 
 
 def test_run_writes_walls(tank_dir):

@@ -6,22 +6,18 @@ peaks wrong fails the test; and the coupled rectangular tank at dx = 5 mm (840 p
 about 3 s), which has snapshots, an energy budget and one cycle of motion.
 """
 import json
-import os
 import struct
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-from conftest import REPO_ROOT, run_flexslosh
+from conftest import REPO_ROOT, plot_cli, run_flexslosh
 
 from flexslosh import figures
 from flexslosh.damping import damping_per_cycle, fit_envelope
 from flexslosh.output import SNAPSHOT_FIELDS, read_csv, read_run, read_snapshot
 
-PYTHON = "/usr/bin/python3" if os.path.exists("/usr/bin/python3") else sys.executable
 ZETA = 0.015  # -fs_beam_damping of cases/beam_free_decay_msd.opts
 
 
@@ -40,11 +36,6 @@ def tank_dir(tmp_path_factory):
                    "-ts_max_time", "0.25", "-fs_output_interval", "0.05", "-fs_output_dir", out])
     return out
 
-
-def plot_cli(*args):
-    env = dict(os.environ, PYTHONPATH=str(REPO_ROOT / "python"))
-    return subprocess.run([PYTHON, "-m", "flexslosh.plot", *map(str, args)], env=env, stdout=subprocess.PIPE,
-                          stderr=subprocess.PIPE, text=True, timeout=120)
 
 
 def png_size(path):

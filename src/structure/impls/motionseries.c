@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stdio.h>
 #include "motionseries.h"
+#include "sys/fssys.h"
 
 /* the next number of a line (blanks, tabs and commas separate); PETSC_FALSE at the end of the line */
 static PetscBool NextNumber(char **p, PetscReal *v, PetscBool *bad)
@@ -61,14 +62,11 @@ PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char o
   PetscFunctionBegin;
   PetscCall(PetscMemzero(s, sizeof(*s)));
   PetscCall(PetscStrncpy(s->file, file, sizeof(s->file)));
-  fp = fopen(file, "r");
-  { /* one rank that cannot open it (a path missing on its node) must not leave the others waiting */
-    const int mine = fp != NULL;
-    int       ok;
-    PetscCallMPI(MPI_Allreduce(&mine, &ok, 1, MPI_INT, MPI_MIN, comm));
-    if (!ok && mine) fclose(fp);
-    PetscCheck(ok, comm, PETSC_ERR_FILE_OPEN, "%s: cannot open the time-series file %s%s", option, file,
-               mine ? " on some of the other ranks" : "");
+  {
+    PetscBool elsewhere;
+    PetscCall(FSFileOpenOnEveryRank(comm, file, "r", &fp, &elsewhere));
+    PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "%s: cannot open the time-series file %s%s", option, file,
+               elsewhere ? " on some of the other ranks" : "");
   }
   PetscCall(PetscMalloc2(cap, &s->t, cap, &s->y));
   while (fgets(line, sizeof(line), fp)) {

@@ -3,6 +3,7 @@
    nested), built-in tanks, the polyline file format, and the discretization into segments.
 */
 #include "walls.h"
+#include "sys/fssys.h"
 #include <ctype.h>
 
 PetscErrorCode FSWallsCreate(FSWalls *w)
@@ -338,14 +339,11 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   /* every rank parses the (small) file, so that every rank raises the same error */
-  fp = fopen(path, "r");
-  { /* one rank that cannot open it (a path missing on its node) must not leave the others waiting */
-    const int mine = fp != NULL;
-    int       ok;
-    PetscCallMPI(MPI_Allreduce(&mine, &ok, 1, MPI_INT, MPI_MIN, comm));
-    if (!ok && mine) fclose(fp);
-    PetscCheck(ok, comm, PETSC_ERR_FILE_OPEN, "Cannot open the wall file \"%s\"%s", path,
-               mine ? " on some of the other ranks" : "");
+  {
+    PetscBool elsewhere;
+    PetscCall(FSFileOpenOnEveryRank(comm, path, "r", &fp, &elsewhere));
+    PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "Cannot open the wall file \"%s\"%s", path,
+               elsewhere ? " on some of the other ranks" : "");
   }
   while (fgets(line, sizeof(line), fp)) {
     char *c = strchr(line, '#'), *p = line, word[64];

@@ -1,0 +1,34 @@
+/*
+   Opening a file that every rank reads: the ranks agree on whether it opened, so that a path
+   missing on one node ends every rank with the same error instead of leaving the others waiting.
+*/
+#include "sys/fssys.h"
+
+/*
+   FSFileOpenOnEveryRank - fopen() on every rank of comm, then one decision for all.
+
+   Collective
+
+   Input Parameters:
++  comm - the ranks that read the file
+.  path - the file
+-  mode - as for fopen()
+
+   Output Parameters:
++  fp        - the open file, or NULL on every rank when any rank could not open it
+-  elsewhere - PETSC_TRUE when this rank opened it but another rank could not (for the message)
+*/
+PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm comm, const char path[], const char mode[], FILE **fp,
+                                     PetscBool *elsewhere)
+{
+  FILE     *f    = fopen(path, mode);
+  const int mine = f != NULL;
+  int       all;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, comm));
+  if (!all && f) fclose(f);
+  *fp        = all ? f : NULL;
+  *elsewhere = (PetscBool)(!all && mine);
+  PetscFunctionReturn(0);
+}
