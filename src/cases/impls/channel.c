@@ -7,6 +7,7 @@
    -fs_channel_shear S the liquid starts with the linear shear u = S y, whose viscous force vanishes away
    from the lid (the no-slip wall term's check). The walls are a closed outline reaching 4h beyond the
    periodic box, so that no particle sees its ends; the liquid fills the box on the lattice (i + 1/2) dx.
+   The energy budget's potential energy of the body force jumps by m g L when a particle wraps around.
    Options: -fs_channel_length (1), -fs_channel_height (1), -fs_channel_width (3-D, 0.25),
    -fs_channel_shear (0). Defaults: dx = H/20, rho0 = 1, g = 1 along x, nu = 0.1, c0 = 10 (10 times the
    steady centre-line speed g H^2/(8 nu) and S H), final time 5 H^2/(pi^2 nu).
