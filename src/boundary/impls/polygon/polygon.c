@@ -244,7 +244,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
       PetscReal        gk, wi;
       FSSegmentIntegrals(h, x, sg, b->visall, &gk, &wi); /* zero for a segment facing away, unless visall */
       g += gk;
-      if (b->noslip[b->view.elementwall[k]]) gn -= gk;
+      if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
       if (wi > 0) {
         b->wk[nw] = k;
         b->wW[nw] = wi / sg[FS_SEG_LENGTH]; /* the segment's mean kernel value: wW s_k = int_k W dS */

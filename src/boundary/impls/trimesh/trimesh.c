@@ -365,7 +365,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
       PetscReal        gk, wi;
       FSTriangleIntegrals(b->h, x, el, b->visall, &gk, &wi);
       g += gk;
-      if (b->noslip[b->view.elementwall[k]]) gn -= gk;
+      if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
       if (wi > 0) {
         b->wk[nw] = k;
         b->wW[nw] = wi / el[FS_TRI_AREA];
