@@ -104,6 +104,9 @@ typedef struct {
   /* the Shepard factor of the walls (boundary integrals): NULL without walls, where gamma = 1 */
   const PetscReal *gamma;    /* gamma of the owned and ghost particles */
   const PetscReal *invgamma; /* 1/gamma, the same particles */
+  /* 1/gamma of the laminar viscous terms: the share behind no-slip walls counts as liquid, since the
+     no-slip wall term fills it (wall.c); the same array as invgamma without no-slip walls */
+  const PetscReal *invgammav;
 } FSParticles;
 
 /* The neighbourhood of one owned particle i: n neighbours j[k] with x_j - x_i in dx[k*dim], the
@@ -118,13 +121,14 @@ typedef struct {
 /* ---------- walls, as the wall terms see them ---------- */
 /*
    The boundary's wall elements (segments in 2-D, triangles in 3-D), each a row of `stride` reals in
-   element[]: a point of the element at 0 (p0), its centroid at `centroid` (dim), its unit normal
+   element[]: its dim vertices at `vertex` (dim reals each, one after the other: a segment's two ends,
+   a triangle's three corners), its centroid at `centroid` (dim), its unit normal
    pointing out of the liquid at `normal` (dim) and its length or area at `measure`. The boundary
    (FSBoundary) hands this view to the wall terms with each particle's wall neighbourhood.
 */
 typedef struct {
   PetscInt         dim, nwalls, nelements;
-  PetscInt         stride, centroid, normal, measure; /* the element rows' layout */
+  PetscInt         stride, vertex, centroid, normal, measure; /* the element rows' layout */
   const PetscReal *element;
   const PetscInt  *elementwall; /* the wall each element belongs to */
   const PetscReal *pressure;    /* per element: the wall pressure interpolated from the liquid */

@@ -17,9 +17,10 @@ struct _FSBoundaryOps {
   /* once per step, after the fluid candidates are built (FSBoundaryUpdate) */
   PetscErrorCode (*update)(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *,
                            FSBoundaryLeak *);
-  /* at every right-hand side (FSBoundaryPrepare): gamma of the owned particles, the wall lists, the
-     wall pressure, the pressure loads; collective */
-  PetscErrorCode (*prepare)(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[]);
+  /* at every right-hand side (FSBoundaryPrepare): gamma of the owned particles, the share of their
+     support behind no-slip walls (when not NULL), the wall lists, the wall pressure, the pressure loads;
+     collective */
+  PetscErrorCode (*prepare)(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[], PetscReal noslip[]);
   /* after each step (FSBoundaryBounce); not collective */
   PetscErrorCode (*bounce)(FSBoundary, PetscInt n, PetscReal x[], PetscReal v[], const PetscReal m[],
                            FSParticleEnergyFn, void *, PetscReal de[2]);
@@ -46,6 +47,7 @@ struct _p_FSBoundary {
   PetscInt     nwalls;
   const char **wallname;                          /* nwalls names, owned by the implementation */
   PetscBool   *noslip;                            /* per wall (-fs_walls_noslip) */
+  PetscBool    anynoslip;                         /* some wall is no-slip */
   char        *noslipname[FS_BOUNDARY_MAX_NAMES]; /* -fs_walls_noslip as read, checked against the walls at set-up */
   PetscInt     nnoslipname;
   PetscReal    loadpoint[3]; /* -fs_walls_load_point */

@@ -59,7 +59,9 @@ PETSC_INTERN PetscErrorCode FSBoundaryHelpAll(MPI_Comm);
 PETSC_INTERN PetscErrorCode FSBoundarySetUp(FSBoundary, PetscInt dim, PetscReal dx, PetscReal h, PetscReal radius);
 PETSC_INTERN PetscErrorCode FSBoundaryUpdate(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride,
                                              FSNeighbours *, FSBoundaryLeak *);
-PETSC_INTERN PetscErrorCode FSBoundaryPrepare(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[]);
+PETSC_INTERN PetscErrorCode FSBoundaryPrepare(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[],
+                                              PetscReal noslip[]);
+PETSC_INTERN PetscErrorCode FSBoundaryHasNoSlip(FSBoundary, PetscBool *);
 PETSC_INTERN PetscErrorCode FSBoundaryGetView(FSBoundary, const FSWallView **, const PetscInt **wstart,
                                               const PetscInt **wk, const PetscReal **wW);
 PETSC_INTERN PetscErrorCode FSBoundaryGetBounce(FSBoundary, PetscBool *);

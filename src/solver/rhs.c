@@ -195,19 +195,24 @@ static PetscErrorCode FSSolverFirstPass(FSSolver s, PetscBool build)
 /*
    FSSolverBoundaryPrepare - the boundary's work of a right-hand side (FSBoundaryPrepare): gamma of the
    owned particles, their wall elements, the wall pressure and loads; then gamma of the ghosts (for the
-   symmetric, dissipative viscous terms) and 1/gamma of all.
+   symmetric, dissipative viscous terms) and 1/gamma of all. With no-slip walls also gamma_v, gamma
+   plus the share of the support behind them, which the laminar viscous terms use (FSParticles).
 */
 static PetscErrorCode FSSolverBoundaryPrepare(FSSolver s)
 {
   const PetscInt      n = s->pw.nowned;
   FSBoundaryParticles bp;
+  PetscBool           noslip;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
+  PetscCall(FSBoundaryHasNoSlip(s->boundary, &noslip));
   if (s->pw.reccap > s->pw.gammacap) { /* gamma of the owned and ghost particles */
     PetscCall(PetscFree2(s->pw.gamma, s->pw.invgamma));
+    PetscCall(PetscFree2(s->pw.gammav, s->pw.invgammav));
     s->pw.gammacap = s->pw.reccap;
     PetscCall(PetscMalloc2(s->pw.gammacap, &s->pw.gamma, s->pw.gammacap, &s->pw.invgamma));
+    if (noslip) PetscCall(PetscMalloc2(s->pw.gammacap, &s->pw.gammav, s->pw.gammacap, &s->pw.invgammav));
   }
   bp.dim      = s->opt.dim;
   bp.nowned   = n;
@@ -217,10 +222,16 @@ static PetscErrorCode FSSolverBoundaryPrepare(FSSolver s)
   bp.pressure = s->pw.pressure;
   PetscCall(FSCouplingGetBody(s->coupling, &bp.body));
   bp.background_pressure = s->opt.background_pressure;
-  PetscCall(FSBoundaryPrepare(s->boundary, &bp, s->pw.gamma));
+  PetscCall(FSBoundaryPrepare(s->boundary, &bp, s->pw.gamma, s->pw.gammav));
   for (PetscInt g = 0; g < s->pw.halo.nghost; g++) s->pw.gamma[n + g] = 1;
   PetscCall(FSHaloRefreshScalar(&s->pw.halo, s->pw.gamma));
   for (PetscInt k = 0; k < n + s->pw.halo.nghost; k++) s->pw.invgamma[k] = 1.0 / s->pw.gamma[k];
+  if (noslip) {
+    for (PetscInt k = 0; k < n; k++) s->pw.gammav[k] += s->pw.gamma[k];
+    for (PetscInt g = 0; g < s->pw.halo.nghost; g++) s->pw.gammav[n + g] = 1;
+    PetscCall(FSHaloRefreshScalar(&s->pw.halo, s->pw.gammav));
+    for (PetscInt k = 0; k < n + s->pw.halo.nghost; k++) s->pw.invgammav[k] = 1.0 / s->pw.gammav[k];
+  }
   PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -536,8 +547,9 @@ PetscErrorCode FSSolverGetParticles(FSSolver s, FSParticles *P)
   P->background_pressure = s->opt.background_pressure;
   for (PetscInt d = 0; d < 3; d++) P->gravity[d] = s->opt.gravity[d];
   if (s->boundary) {
-    P->gamma    = s->pw.gamma;
-    P->invgamma = s->pw.invgamma;
+    P->gamma     = s->pw.gamma;
+    P->invgamma  = s->pw.invgamma;
+    P->invgammav = s->pw.gammav ? s->pw.invgammav : s->pw.invgamma;
   }
   PetscFunctionReturn(0);
 }

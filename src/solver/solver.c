@@ -764,6 +764,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSBoundaryDestroy(&s->boundary));
   PetscCall(FSCouplingDestroy(&s->coupling));
   PetscCall(PetscFree2(s->pw.gamma, s->pw.invgamma));
+  PetscCall(PetscFree2(s->pw.gammav, s->pw.invgammav));
   PetscCall(FSHaloDestroy(&s->pw.halo));
   PetscCall(FSNeighboursDestroy(&s->pw.nbrs));
   PetscCall(PetscFree4(s->pw.rec, s->pw.aux, s->pw.vol, s->pw.pressure));

@@ -74,7 +74,8 @@ typedef struct {
   PetscInt     scratchcap;
   PetscReal   *gamma,
       *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
-  PetscInt gammacap;
+  PetscReal *gammav, *invgammav; /* with no-slip walls: gamma plus the share behind them, and its inverse */
+  PetscInt   gammacap;
 } FSParticleWork;
 
 /* What limits a time step (the time series' dt_limit column; FSSolverDtLimitName) */

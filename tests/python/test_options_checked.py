@@ -26,6 +26,9 @@ BASE = [
     ("-fs_tg_depth", ["-fs_case", "taylor_green", "-fs_dim", "3", "-fs_dx", "0.1"]),
     ("-fs_tg_", ["-fs_case", "taylor_green", "-fs_dx", "0.0625"]),
     ("-fs_shear_", ["-fs_case", "shear", "-fs_dx", "0.0625"]),
+    ("-fs_channel_width", ["-fs_case", "channel", "-fs_dim", "3", "-fs_dx", "0.125", "-fs_channel_length", "2",
+                           "-fs_channel_width", "2"]),
+    ("-fs_channel_", ["-fs_case", "channel", "-fs_dx", "0.125", "-fs_channel_length", "2"]),
     ("-fs_sw_width", ["-fs_case", "standing_wave", "-fs_dim", "3", "-fs_dx", "0.25"]),
     ("-fs_sw_mode_z", ["-fs_case", "standing_wave", "-fs_dim", "3", "-fs_dx", "0.25"]),
     ("-fs_sw_", ["-fs_case", "standing_wave", "-fs_dx", "0.125"]),
@@ -86,6 +89,8 @@ ACCEPT = {
     "-fs_tg_Re": {"1e300": "an inviscid vortex"},
     "-fs_shear_Re": {"1e300": "an inviscid shear flow"},
     "-fs_shear_U": {"1e300": "a fast shear flow: c0 and nu follow it, the time step shrinks"},
+    "-fs_channel_shear": {"-1": "a shear of either sign", "0": "the liquid at rest (the Poiseuille start-up)",
+                          "1e300": "a fast shear: c0 follows it, the time step shrinks"},
     "-fs_rho0": {"1e300": "only scales the masses and pressures"},
     "-fs_motion_ramp": {"0": "no smooth start", "1e300": "a start so slow the motion never grows"},
     **{f"-fs_motion_{c}_poly": {v: "an offset of either sign (the liquid feels accelerations only)" for v in ("-1", "0", "1e300")}
@@ -104,6 +109,8 @@ DOWNSTREAM = {
     **{o: {"1e300": (r"nan|inf|deflation|converge", "1e300 overflows the modes, which SLEPc refuses")} for o in (
         "-fs_beam_E", "-fs_beam_tank_mass", "-fs_beam_ballast_mass", "-fs_beam_payload_mass", "-fs_beam_tank_inertia")},
     "-fs_tg_U": {"1e300": (r"nan", "1e300 overflows the c0 derived from it")},
+    **{o: {"1e300": HUGE_LENGTH} for o in ("-fs_channel_length", "-fs_channel_height")},
+    "-fs_channel_width": {"1e300": (r"not finite", "the extruded walls' box is refused where the mesh is built")},
     "-fs_msd_beam_mass_fraction": {"0": (r"moving mass 0", "accepted, but the base has no other moving mass")},
 }
 

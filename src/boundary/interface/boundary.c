@@ -243,6 +243,7 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
     for (PetscInt q = 0; q < b->nwalls; q++)
       if (!strcmp(b->noslipname[k], b->wallname[q])) {
         b->noslip[q] = PETSC_TRUE;
+        b->anynoslip = PETSC_TRUE;
         found        = PETSC_TRUE;
       }
     PetscCheck(found, comm, PETSC_ERR_ARG_WRONG, "-fs_walls_noslip names wall \"%s\", which this case does not have",
@@ -277,15 +278,25 @@ PetscErrorCode FSBoundaryUpdate(FSBoundary b, PetscInt nowned, const PetscReal r
 /*
    FSBoundaryPrepare - at every right-hand side: gamma of the owned particles into gamma[0..nowned-1],
    their wall elements within the support (FSBoundaryGetView), the wall pressure interpolated from the
-   liquid, and the pressure loads on the walls (the wall terms add the shear).
+   liquid, and the pressure loads on the walls (the wall terms add the shear). With noslip not NULL,
+   also the share of each particle's kernel support that lies behind no-slip walls (the sum of -gamma_k
+   over their elements), which the no-slip wall term fills with the wall's velocity field (wall.c).
 
    Collective
 */
-PetscErrorCode FSBoundaryPrepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[])
+PetscErrorCode FSBoundaryPrepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[], PetscReal noslip[])
 {
   PetscFunctionBegin;
   PetscCall(PetscArrayzero(b->load, FS_WALL_LOAD_STRIDE * b->nwalls));
-  PetscCall((*b->ops->prepare)(b, P, gamma));
+  PetscCall((*b->ops->prepare)(b, P, gamma, noslip));
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryHasNoSlip - whether some wall is no-slip (-fs_walls_noslip); after FSBoundarySetUp. Not collective */
+PetscErrorCode FSBoundaryHasNoSlip(FSBoundary b, PetscBool *has)
+{
+  PetscFunctionBegin;
+  *has = b->anynoslip;
   PetscFunctionReturn(0);
 }
 

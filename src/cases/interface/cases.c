@@ -7,6 +7,7 @@ static FSRegistry FSCases; /* src/sys/registry.c */
 
 PETSC_EXTERN PetscErrorCode FSCaseCreate_TaylorGreen(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_Shear(FSSolver, FSCaseOps *);
+PETSC_EXTERN PetscErrorCode FSCaseCreate_Channel(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_Beam(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_Tank(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_DamBreak(FSSolver, FSCaseOps *);
@@ -55,6 +56,10 @@ PetscErrorCode FSCaseRegisterAll(void)
       FSCaseCreate_Beam));
   PetscCall(FSCaseRegister("shear", "periodic shear flow u = U sin(2 pi y/L) in 2-D or 3-D; exact viscous decay",
                            FSCaseCreate_Shear));
+  PetscCall(FSCaseRegister("channel",
+                           "plane channel flow between two walls, periodic along x (and z), driven by a body force: "
+                           "Poiseuille start-up with -fs_walls_noslip floor,lid",
+                           FSCaseCreate_Channel));
   PetscFunctionReturn(0);
 }
 

@@ -7,7 +7,8 @@
    inside a_i as well as in alpha_ij; we count the laminar part once (Antuono et al. 2021) so that the laminar term
    alone gives the exact viscous decay. Dissipation power (seed Eq. 38): P_alpha = sum_i m_i u_i . (D u_i/Dt)_alpha.
    With walls the pair sum carries (1/gamma_i + 1/gamma_j)/2, the renormalization that keeps the term
-   dissipative (its power is a sum of squares) where gamma varies.
+   dissipative (its power is a sum of squares) where gamma varies; the laminar term takes gamma_v, gamma
+   plus the share behind no-slip walls, which wall_viscosity fills (wall.c): gamma without them.
    Options: -fs_viscosity_K, -fs_les_c (C_alpha, the Smagorinsky constant, 0.12).
 */
 #include <flexslosh.h>
@@ -26,7 +27,8 @@ FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighb
 {
   Viscosity       *ctx = (Viscosity *)t->data;
   const PetscInt   S = P->stride, i = nb->i;
-  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *V = P->vol, *ig = P->invgamma;
+  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *V = P->vol;
+  const PetscReal *ig     = les || !P->invgammav ? P->invgamma : P->invgammav;
   PetscReal        acc[3] = {0, 0, 0}, f, pw = 0;
   if (les) {
     const PetscReal ai = ctx->a[i], *a = ctx->a;

@@ -56,7 +56,7 @@ static inline PetscErrorCode TestUpdateAndPrepare(FSBoundary b, PetscReal h, Pet
   bp.pressure            = pa->p;
   bp.body                = &body;
   bp.background_pressure = 0;
-  PetscCall(FSBoundaryPrepare(b, &bp, pa->gamma));
+  PetscCall(FSBoundaryPrepare(b, &bp, pa->gamma, NULL));
   PetscFunctionReturn(0);
 }
 

@@ -50,6 +50,7 @@ static PetscErrorCode SetUp(FSBoundary b)
   b->wallname         = wd->names;
   b->view.nelements   = w->nseg;
   b->view.stride      = FS_SEG_STRIDE;
+  b->view.vertex      = FS_SEG_P0;
   b->view.centroid    = FS_SEG_MID;
   b->view.normal      = FS_SEG_NORMAL;
   b->view.measure     = FS_SEG_LENGTH;
@@ -215,10 +216,11 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
 /*
    Prepare - at every right-hand side: gamma_i of every owned particle near a wall (1 elsewhere) and
    its facing segments within the support with their mean kernel values (int_k W dS / s_k); with
-   -fs_walls_visibility all every segment within the support, with the signed gamma_k. Then the wall
+   -fs_walls_visibility all every segment within the support, with the signed gamma_k; the share of the
+   support behind no-slip segments (-sum of their gamma_k) into noslip[i] when given. Then the wall
    pressure and the pressure loads.
 */
-static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[])
+static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[], PetscReal noslip[])
 {
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
   FSWalls            *w  = &wd->walls;
@@ -234,14 +236,15 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
   }
   for (PetscInt i = 0; i < n; i++) {
     const PetscReal *x = &P->rec[i * S];
-    PetscReal        g = 1;
-    b->wstart[i]       = nw;
+    PetscReal        g = 1, gn = 0;
+    b->wstart[i] = nw;
     for (PetscInt q = wd->cstart[i]; q < wd->cstart[i + 1]; q++) {
       const PetscInt   k  = wd->cand[q];
       const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE];
       PetscReal        gk, wi;
       FSSegmentIntegrals(h, x, sg, b->visall, &gk, &wi); /* zero for a segment facing away, unless visall */
       g += gk;
+      if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
       if (wi > 0) {
         b->wk[nw] = k;
         b->wW[nw] = wi / sg[FS_SEG_LENGTH]; /* the segment's mean kernel value: wW s_k = int_k W dS */
@@ -249,6 +252,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
       }
     }
     gamma[i] = g;
+    if (noslip) noslip[i] = gn;
   }
   b->wstart[n] = nw;
   /* wall pressure: p_k = sum_i (p_i + rho_i g.(x_k - x_i)) W_ik V_i / sum_i W_ik V_i over the liquid near

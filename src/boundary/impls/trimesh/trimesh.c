@@ -126,6 +126,7 @@ static PetscErrorCode SetUp(FSBoundary b)
   b->wallname         = tm->names;
   b->view.nelements   = m->nel;
   b->view.stride      = FS_TRI_STRIDE;
+  b->view.vertex      = FS_TRI_P0;
   b->view.centroid    = FS_TRI_CENTROID;
   b->view.normal      = FS_TRI_NORMAL;
   b->view.measure     = FS_TRI_AREA;
@@ -341,7 +342,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
    -fs_walls_visibility all every element within the support. Then the wall pressure and the pressure
    loads, as for polygons (polygon.c).
 */
-static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[])
+static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[], PetscReal noslip[])
 {
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
   const FSMesh       *m  = &tm->mesh;
@@ -356,14 +357,15 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
   }
   for (PetscInt i = 0; i < n; i++) {
     const PetscReal *x = &P->rec[i * S];
-    PetscReal        g = 1;
-    b->wstart[i]       = nw;
+    PetscReal        g = 1, gn = 0;
+    b->wstart[i] = nw;
     for (PetscInt q = tm->cstart[i]; q < tm->cstart[i + 1]; q++) {
       const PetscInt   k  = tm->cand[q];
       const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
       PetscReal        gk, wi;
       FSTriangleIntegrals(b->h, x, el, b->visall, &gk, &wi);
       g += gk;
+      if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
       if (wi > 0) {
         b->wk[nw] = k;
         b->wW[nw] = wi / el[FS_TRI_AREA];
@@ -371,6 +373,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
       }
     }
     gamma[i] = g;
+    if (noslip) noslip[i] = gn;
   }
   b->wstart[n] = nw;
   /* the wall pressure: the Shepard interpolation of the liquid's pressure with the hydrostatic
