@@ -5,10 +5,11 @@
 */
 #include "solver/solverimpl.h"
 
-static const char *FSFieldNames[] = {FS_FIELD_POSITION, FS_FIELD_VELOCITY, FS_FIELD_DENSITY, FS_FIELD_MASS,
-                                     FS_FIELD_ID};
+static const char *FSFieldNames[] = {FS_FIELD_POSITION, FS_FIELD_VELOCITY, FS_FIELD_DENSITY,
+                                     FS_FIELD_MASS,     FS_FIELD_ID,       FS_FIELD_BUILD};
 
-/* FSSolverCreateSwarm - the DMSwarm with fields position, velocity (dim), density, mass, id. */
+/* FSSolverCreateSwarm - the DMSwarm with fields position, velocity (dim), density, mass, id, and the
+   positions at the last build of the lists (FS_FIELD_BUILD, dim). */
 PetscErrorCode FSSolverCreateSwarm(FSSolver s)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)s);
@@ -24,6 +25,7 @@ PetscErrorCode FSSolverCreateSwarm(FSSolver s)
   PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_DENSITY, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_MASS, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_ID, 1, PETSC_INT));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_BUILD, s->opt.dim, PETSC_REAL));
   PetscCall(DMSwarmFinalizeFieldRegister(s->swarm));
   PetscCall(DMSwarmSetLocalSizes(s->swarm, 0, 1024));
   PetscFunctionReturn(0);
