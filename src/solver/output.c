@@ -119,6 +119,7 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
       pos[k * dim + d] = u[k * US + d];
       vel[k * dim + d] = u[k * US + dim + d];
     }
+    FSSolverWrapPeriodic(s, &pos[k * dim]); /* between rebuilds a particle may have crossed a periodic side */
     rho[k] = u[k * US + 2 * dim];
     rk[k]  = rank;
     id[k]  = pid[k];
@@ -188,6 +189,8 @@ PetscErrorCode FSSolverGetField(FSSolver s, const char name[], PetscInt *n, Pets
     PetscCall(VecGetArrayRead(s->state.U, &u));
     for (PetscInt i = 0; i < np; i++)
       for (PetscInt d = 0; d < b; d++) v[i * b + d] = u[i * US + off + d];
+    if (k == 0)
+      for (PetscInt i = 0; i < np; i++) FSSolverWrapPeriodic(s, &v[i * dim]); /* inside the periodic domain */
     PetscCall(VecRestoreArrayRead(s->state.U, &u));
   } else if (k == 3) { /* the mass, from the particle records */
     for (PetscInt i = 0; i < np; i++) v[i] = s->pw.rec[i * S + 2 * dim + 1];

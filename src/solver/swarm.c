@@ -94,6 +94,17 @@ PetscErrorCode FSSolverAddParticles(FSSolver s, PetscInt n, const PetscReal x[],
   PetscFunctionReturn(0);
 }
 
+/* FSSolverWrapPeriodic - brings a position into the domain along its periodic directions. */
+void FSSolverWrapPeriodic(FSSolver s, PetscReal x[])
+{
+  for (PetscInt d = 0; d < s->opt.dim; d++)
+    if (s->pw.periodic[d]) {
+      const PetscReal L = s->pw.hi[d] - s->pw.lo[d];
+      if (x[d] < s->pw.lo[d] || x[d] >= s->pw.hi[d]) x[d] -= L * PetscFloorReal((x[d] - s->pw.lo[d]) / L);
+      if (x[d] >= s->pw.hi[d]) x[d] = s->pw.lo[d]; /* round-off at the upper edge */
+    }
+}
+
 /*
    FSSolverMigrate - wraps periodic coordinates, checks that no particle left the domain through a
    non-periodic side (an error naming the particle, step, time and place), and sends every particle
@@ -122,12 +133,9 @@ PetscErrorCode FSSolverMigrate(FSSolver s, PetscBool *changed)
   for (PetscInt p = 0; p < n; p++) {
     PetscReal  *xp = &x[p * dim];
     PetscMPIInt dest;
+    FSSolverWrapPeriodic(s, xp);
     for (PetscInt d = 0; d < dim; d++) {
-      if (s->pw.periodic[d]) {
-        const PetscReal L = s->pw.hi[d] - s->pw.lo[d];
-        if (xp[d] < s->pw.lo[d] || xp[d] >= s->pw.hi[d]) xp[d] -= L * PetscFloorReal((xp[d] - s->pw.lo[d]) / L);
-        if (xp[d] >= s->pw.hi[d]) xp[d] = s->pw.lo[d]; /* round-off at the upper edge */
-      } else if (!(xp[d] >= s->pw.lo[d] && xp[d] <= s->pw.hi[d])) {
+      if (!s->pw.periodic[d] && !(xp[d] >= s->pw.lo[d] && xp[d] <= s->pw.hi[d])) {
         if (lost < 0) lost = p;
         nlost++;
       }
