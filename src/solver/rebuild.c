@@ -84,9 +84,11 @@ PetscErrorCode FSSolverRecordsAtBuild(FSSolver s)
    lists must be rebuilt before the next one, and whether the particles are then ordered by cell.
 
    With auto: the largest displacement D since the build and the largest speed u are reduced over the
-   ranks (every rank takes the same decision); the next step's dt is at most dt_max = min(CFL h/(c0 +
-   u), 0.4 skin h/u) (the other limits only shorten it), so it moves a particle by about d = max(dt_max
-   u, the last step's largest move scaled by dt_max/dt); the lists are rebuilt when 2 (D + 1.5 d) would
+   ranks (every rank takes the same decision); the next step's dt is at most dt_max, the stable step of
+   this speed and of the viscosities of the integrator's last right-hand side (FSSolverStableDtOf: what
+   the next step takes unless the final time or an adaptive integrator shortens it), so it moves a
+   particle by about d = max(dt_max u, the last step's largest move scaled by dt_max/dt); the lists are
+   rebuilt when 2 (D + 1.5 d) would
    exceed the skin. The ordering follows -fs_sort_interval, counted from the last ordering. With always:
    every step, ordered at the steps that are multiples of -fs_sort_interval (as before the lazy rebuild).
 
@@ -96,10 +98,10 @@ PetscErrorCode FSSolverRebuildNeeded(FSSolver s, PetscBool *rebuild, PetscBool *
 {
   const PetscInt     dim    = s->opt.dim;
   const PetscInt     US     = s->state.ustride;
-  PetscReal          loc[3] = {0, 0, 0}, u, dtmax, next, t, tprev, skin = s->opt.halo_skin * s->opt.h;
+  PetscReal          loc[3] = {0, 0, 0}, u, nu, dtmax, next, t, tprev, skin = s->opt.halo_skin * s->opt.h;
   PetscReal         *x, *v, *xb;
   const PetscScalar *u0;
-  PetscInt           step, n;
+  PetscInt           step, n, source, limit;
 
   PetscFunctionBegin;
   PetscCall(TSGetStepNumber(s->ts, &step));
@@ -132,8 +134,8 @@ PetscErrorCode FSSolverRebuildNeeded(FSSolver s, PetscBool *rebuild, PetscBool *
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 3, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
   s->pw.moved = PetscSqrtReal(loc[0]);
   u           = PetscSqrtReal(loc[1]);
-  dtmax       = s->opt.cfl * s->opt.h / (s->opt.c0 + u);
-  if (u > 0) dtmax = PetscMin(dtmax, 0.4 * skin / u);
+  PetscCall(FSSolverViscosityBound(s, &nu, &source));
+  FSSolverStableDtOf(s, u, nu, source, &dtmax, &limit);
   /* the next step's move: dt_max u, or the last step's move scaled to dt_max (it holds the rates that
      move particles besides u, e.g. shifting, and the bounces) */
   next = dtmax * u;

@@ -217,6 +217,8 @@ PETSC_INTERN PetscErrorCode FSSolverEnsureWork(FSSolver, PetscInt n);
 PETSC_INTERN PetscErrorCode FSSolverSetUpTS(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRHS(TS, PetscReal, Vec, Vec, void *);
 PETSC_INTERN PetscErrorCode FSSolverComputeStableDt(FSSolver, PetscReal *);
+PETSC_INTERN void           FSSolverStableDtOf(FSSolver, PetscReal umax, PetscReal nu, PetscInt source, PetscReal *dt,
+                                               PetscInt *limit);
 PETSC_INTERN PetscErrorCode FSSolverViscosityBound(FSSolver, PetscReal *, PetscInt *);
 PETSC_INTERN PetscErrorCode FSSolverDtLimitName(FSSolver, PetscInt, const char **);
 PETSC_INTERN PetscErrorCode FSSolverMonitor(FSSolver);

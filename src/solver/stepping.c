@@ -247,6 +247,28 @@ static inline void FSDtTake(PetscReal *dt, PetscInt *limit, PetscReal cand, Pets
 }
 
 /*
+   FSSolverStableDtOf - the particles' time-step limits of FSSolverComputeStableDt for a largest speed
+   umax and the largest viscosity nu from its source (FSSolverViscosityBound), and the limit that sets it.
+
+   Not collective
+*/
+void FSSolverStableDtOf(FSSolver s, PetscReal umax, PetscReal nu, PetscInt source, PetscReal *dt, PetscInt *limit)
+{
+  PetscReal g2 = 0;
+
+  *limit = FS_DT_ACOUSTIC;
+  *dt    = s->opt.cfl * s->opt.h / (s->opt.c0 + umax);
+  if (nu > 0)
+    FSDtTake(dt, limit, s->opt.cfl_visc * s->opt.h * s->opt.h / nu, source ? FS_DT_TERM + source - 1 : FS_DT_VISCOUS);
+  if (umax > 0) /* no particle outruns its candidate lists */
+    FSDtTake(dt, limit, 0.4 * s->opt.halo_skin * s->opt.h / umax, FS_DT_SKIN);
+  for (PetscInt d = 0; d < s->opt.dim; d++) g2 += s->opt.gravity[d] * s->opt.gravity[d];
+  if (g2 > 0) FSDtTake(dt, limit, s->opt.cfl_force * PetscSqrtReal(s->opt.h / PetscSqrtReal(g2)), FS_DT_BODY_FORCE);
+  if (s->structure && s->structure->min_period > 0)
+    FSDtTake(dt, limit, s->opt.structure_cfl * s->structure->min_period, FS_DT_STRUCTURE);
+}
+
+/*
    FSSolverComputeStableDt - the SPH time-step limit for the current state:
      dt = min(CFL h/(c0 + |u|max), CFL_v h^2/nu_max, 0.4 skin h/|u|max, CFL_f sqrt(h/|g|)),
    nu_max being the largest viscosity any term applied in the integrator's last right-hand side
@@ -263,8 +285,8 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 {
   const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   const PetscScalar *u;
-  PetscReal          loc[FS_MAX_TERMS + 2], v2 = 0, nu, g2 = 0;
-  PetscInt           source, limit = FS_DT_ACOUSTIC;
+  PetscReal          loc[FS_MAX_TERMS + 2], v2 = 0, nu;
+  PetscInt           source, limit;
 
   PetscFunctionBegin;
   if (s->pw.nglobal_particles == 0) {
@@ -285,15 +307,7 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
                              PetscObjectComm((PetscObject)s)));
   FSViscosityLargest(s, &loc[1], &nu, &source);
   s->state.umax = PetscSqrtReal(loc[0]);
-  *dt           = s->opt.cfl * s->opt.h / (s->opt.c0 + s->state.umax);
-  if (nu > 0)
-    FSDtTake(dt, &limit, s->opt.cfl_visc * s->opt.h * s->opt.h / nu, source ? FS_DT_TERM + source - 1 : FS_DT_VISCOUS);
-  if (s->state.umax > 0) /* no particle outruns its candidate lists */
-    FSDtTake(dt, &limit, 0.4 * s->opt.halo_skin * s->opt.h / s->state.umax, FS_DT_SKIN);
-  for (PetscInt d = 0; d < dim; d++) g2 += s->opt.gravity[d] * s->opt.gravity[d];
-  if (g2 > 0) FSDtTake(dt, &limit, s->opt.cfl_force * PetscSqrtReal(s->opt.h / PetscSqrtReal(g2)), FS_DT_BODY_FORCE);
-  if (s->structure && s->structure->min_period > 0)
-    FSDtTake(dt, &limit, s->opt.structure_cfl * s->structure->min_period, FS_DT_STRUCTURE);
+  FSSolverStableDtOf(s, s->state.umax, nu, source, dt, &limit);
   s->state.dt_stable = *dt;
   s->state.dt_limit  = limit;
   PetscFunctionReturn(0);
