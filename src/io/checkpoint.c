@@ -430,6 +430,34 @@ PetscErrorCode FSCheckpointReadField(MPI_Comm comm, const char path[], const cha
 }
 
 /*@C
+   FSCheckpointHasField - Whether a checkpoint holds a particle field (a field added to the format
+   later is missing from older checkpoints).
+
+   Collective
+
+   Input Parameters:
++  comm - communicator
+.  path - the checkpoint file
+-  name - field name (dataset /particles/<name>)
+
+   Output Parameter:
+.  has - PETSC_TRUE if the dataset exists
+@*/
+PetscErrorCode FSCheckpointHasField(MPI_Comm comm, const char path[], const char name[], PetscBool *has)
+{
+  PetscViewer viewer;
+  char        dset[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBegin;
+  PetscCheck(path && name && has, comm, PETSC_ERR_ARG_NULL, "FSCheckpointHasField: path, name and has are required");
+  PetscCall(PetscSNPrintf(dset, sizeof(dset), "/particles/%s", name));
+  PetscCall(FSCheckpointOpen(comm, path, &viewer));
+  PetscCall(PetscViewerHDF5HasDataset(viewer, dset, has));
+  PetscCall(PetscViewerDestroy(&viewer));
+  PetscFunctionReturn(0);
+}
+
+/*@C
    FSCheckpointReadSetUp - Reads the record of the set-up of the run that wrote a checkpoint.
 
    Collective

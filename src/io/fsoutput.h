@@ -45,6 +45,7 @@ PETSC_EXTERN PetscErrorCode FSCheckpointReadHeader(MPI_Comm, const char path[], 
 PETSC_EXTERN PetscErrorCode FSCheckpointReadField(MPI_Comm, const char path[], const char name[], PetscInt bs,
                                                   PetscInt nlocal, PetscReal data[]);
 PETSC_EXTERN PetscErrorCode FSCheckpointGetLocalSize(MPI_Comm, const char path[], PetscInt *nlocal);
+PETSC_EXTERN PetscErrorCode FSCheckpointHasField(MPI_Comm, const char path[], const char name[], PetscBool *has);
 PETSC_EXTERN PetscErrorCode FSCheckpointReadSetUp(MPI_Comm, const char path[], char **setup);
 
 /* ---------------- time series (CSV) ---------------- */

@@ -128,6 +128,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.t0             = t;
   s->mon.particle_steps = 0;
   s->mon.steps_taken    = 0;
+  s->mon.nrebuilds      = 0;
   s->mon.pair_visits    = 0;
   /* snapshots at multiples of the interval, also after a restart */
   s->mon.next_output        = s->opt.output_interval > 0

@@ -119,6 +119,7 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
       pos[k * dim + d] = u[k * US + d];
       vel[k * dim + d] = u[k * US + dim + d];
     }
+    FSSolverWrapPeriodic(s, &pos[k * dim]); /* between rebuilds a particle may have crossed a periodic side */
     rho[k] = u[k * US + 2 * dim];
     rk[k]  = rank;
     id[k]  = pid[k];
@@ -188,6 +189,8 @@ PetscErrorCode FSSolverGetField(FSSolver s, const char name[], PetscInt *n, Pets
     PetscCall(VecGetArrayRead(s->state.U, &u));
     for (PetscInt i = 0; i < np; i++)
       for (PetscInt d = 0; d < b; d++) v[i * b + d] = u[i * US + off + d];
+    if (k == 0)
+      for (PetscInt i = 0; i < np; i++) FSSolverWrapPeriodic(s, &v[i * dim]); /* inside the periodic domain */
     PetscCall(VecRestoreArrayRead(s->state.U, &u));
   } else if (k == 3) { /* the mass, from the particle records */
     for (PetscInt i = 0; i < np; i++) v[i] = s->pw.rec[i * S + 2 * dim + 1];
@@ -229,7 +232,8 @@ PetscErrorCode FSSolverRestoreField(FSSolver s, const char name[], PetscInt *n, 
 
 /*
    FSSolverWriteCheckpoint - writes <output_dir>/checkpoint_<step>.h5 with the whole state: particles
-   (position, velocity, density, mass, id), time, step, dt and the global DOFs (the structure's
+   (position, velocity, density, mass, id, and the positions at the last build of the lists, from which
+   a restart rebuilds the same lists), time, step, dt and the global DOFs (the structure's
    state, the dissipated energies), then the viscosity bound of the next step with its source, the
    limit that set the last step, and the number of structure DOFs (to refuse a restart with another
    structure), and the record of the run's set-up (FSSolverSetUpRecord()). A run started with
@@ -239,8 +243,8 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 {
   const PetscInt     dim = s->opt.dim, n = s->pw.nowned;
   FSCheckpointHeader hdr;
-  FSOutputField      fields[5];
-  PetscReal         *x, *v, *rho, *m, *id;
+  FSOutputField      fields[6];
+  PetscReal         *x, *v, *rho, *m, *id, *xb;
   PetscInt          *pid;
   char               path[PETSC_MAX_PATH_LEN];
   PetscMPIInt        rank;
@@ -279,6 +283,7 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
   id = s->mon.field;
   for (PetscInt k = 0; k < n; k++) id[k] = pid[k];
   fields[0] = (FSOutputField){FS_FIELD_POSITION, dim, x};
@@ -286,9 +291,11 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   fields[2] = (FSOutputField){FS_FIELD_DENSITY, 1, rho};
   fields[3] = (FSOutputField){FS_FIELD_MASS, 1, m};
   fields[4] = (FSOutputField){FS_FIELD_ID, 1, id};
+  fields[5] = (FSOutputField){FS_FIELD_BUILD, dim, xb};
   hdr.setup = s->mon.setup;
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt_FMT ".h5", s->opt.outdir, hdr.step));
-  PetscCall(FSCheckpointWrite(PetscObjectComm((PetscObject)s), path, &hdr, n, 5, fields));
+  PetscCall(FSCheckpointWrite(PetscObjectComm((PetscObject)s), path, &hdr, n, 6, fields));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
@@ -310,8 +317,9 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   FSCheckpointHeader hdr;
   PetscInt           nglob, n;
   PetscMPIInt        nranks;
-  PetscReal         *x, *v, *rho, *m, *id;
+  PetscReal         *x, *v, *rho, *m, *id, *xb;
   PetscInt          *pid;
+  PetscBool          hasbuild;
 
   PetscFunctionBegin;
   PetscCall(FSCheckpointReadHeader(comm, s->opt.restart, &hdr, &nglob, &nranks));
@@ -344,6 +352,12 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_MASS, 1, n, m));
   PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_ID, 1, n, id));
   for (PetscInt k = 0; k < n; k++) pid[k] = (PetscInt)id[k];
+  /* the positions of the last build (a checkpoint older than them: the lists are built at the positions) */
+  PetscCall(FSCheckpointHasField(comm, s->opt.restart, FS_FIELD_BUILD, &hasbuild));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  if (hasbuild) PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_BUILD, dim, n, xb));
+  else PetscCall(PetscArraycpy(xb, x, n * dim));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
@@ -412,6 +426,7 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(
       FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->pw.nglobal_particles, 1)));
   PetscCall(FSJSONWriteInt(js, "migrations", s->mon.nmigrations));
+  PetscCall(FSJSONWriteInt(js, "neighbour_rebuilds", s->mon.nrebuilds));
   PetscCall(FSJSONBeginObject(js, "dt_limit_steps")); /* how many steps each time-step limit set */
   for (PetscInt l = 0; l < FS_DT_TERM + s->terms.nterms; l++) {
     const char *name;

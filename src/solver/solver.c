@@ -45,6 +45,7 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.progress_interval     = 5.0;
   s->opt.write_output          = PETSC_TRUE;
   s->opt.sort_interval         = 1;
+  s->opt.rebuild               = FS_REBUILD_AUTO;
   s->mon.probes.interval       = 1;
   s->mon.probes.step           = -1;
   s->opt.final_time            = 1.0;
@@ -284,6 +285,8 @@ static PetscErrorCode FSSolverOptionsPhysics(FSSolver s, PetscOptionItems *Petsc
    and the particles' ordering. */
 static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
+  static const char *const rebuildnames[] = {"auto", "always"};
+
   PetscFunctionBegin;
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_cfl",
                           "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)",
@@ -303,6 +306,11 @@ static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *Pets
                           &s->opt.max_density_variation, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_sort_interval", "Steps between reorderings of the particles by cell",
                          "FSSolverSortByCell", &s->opt.sort_interval, NULL, 1, PETSC_MAX_INT));
+  PetscCall(
+      PetscOptionsEList("-fs_neighbour_rebuild",
+                        "When the halo and the neighbour lists are rebuilt: auto (when a particle could have moved "
+                        "half the skin since the last build) or always (after every step)",
+                        "FSSolverRebuildNeeded", rebuildnames, 2, rebuildnames[s->opt.rebuild], &s->opt.rebuild, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -660,8 +668,13 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscCall(TSSetStepNumber(s->ts, s->state.restart_hdr.step));
     PetscCall(TSSetTimeStep(s->ts, s->state.restart_hdr.dt));
   }
+  /* a restart builds the lists where the checkpoint's run last built them, so that it goes on as that run */
+  if (s->opt.restart[0]) PetscCall(FSSolverSwapBuildPositions(s));
   PetscCall(FSSolverMigrate(s, &changed));
   PetscCall(FSSolverSortByCell(s));
+  PetscCall(TSGetStepNumber(s->ts, &s->pw.sort_step));
+  if (s->opt.restart[0]) PetscCall(FSSolverSwapBuildPositions(s));
+  s->pw.resume = (PetscBool)(s->opt.restart[0] != 0);
   PetscCall(FSSolverResize(s, PETSC_TRUE));
   if (!s->opt.restart[0]) {
     PetscReal dt;

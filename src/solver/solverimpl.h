@@ -20,6 +20,9 @@
 
 #define FS_MAX_GLOBAL 64
 
+/* the swarm's field of the particles' positions at the last build of the lists (src/solver/rebuild.c) */
+#define FS_FIELD_BUILD "build_position"
+
 /* The global DOFs of the state (on rank 0, after the particles) are a short list of blocks:
    the structure's DOFs first, then one dissipated energy per term with a power, then the energy
    budget's own integrals and constants (FS_ENERGY_*, src/solver/energy.c). */
@@ -50,10 +53,17 @@ typedef struct {
   PetscBool terms_view;
   PetscBool geometry_view; /* -fs_geometry_view: write the set-up's picture and walls, then stop */
   PetscInt  sort_interval;
+  PetscInt  rebuild; /* -fs_neighbour_rebuild: FS_REBUILD_AUTO or FS_REBUILD_ALWAYS */
   char      structname[64];
   PetscBool structure_view;
   PetscReal structure_cfl; /* dt = structure_cfl * shortest period, when there are no particles */
 } FSSolverOptions;
+
+/* When the particles' lists are rebuilt (-fs_neighbour_rebuild, src/solver/rebuild.c) */
+typedef enum {
+  FS_REBUILD_AUTO,  /* when a pair could come within the support without being a candidate */
+  FS_REBUILD_ALWAYS /* after every step */
+} FSRebuildType;
 
 /* The particles' work: the domain and its decomposition, the records of the owned and ghost particles
    and the quantities derived from them at each right-hand side, the halo and the neighbour lists. */
@@ -76,6 +86,9 @@ typedef struct {
       *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
   PetscReal *gammav, *invgammav; /* with no-slip walls: gamma plus the share behind them, and its inverse */
   PetscInt   gammacap;
+  PetscReal  moved;     /* the largest displacement of a particle since the last build of the lists (all ranks) */
+  PetscInt   sort_step; /* the step of the last ordering by cell */
+  PetscBool  resume;    /* the next build takes the positions of the swarm's build field (a restart) */
 } FSParticleWork;
 
 /* What limits a time step (the time series' dt_limit column; FSSolverDtLimitName) */
@@ -160,6 +173,7 @@ typedef struct {
   PetscInt64       pair_visits, particle_steps;
   PetscInt         nmigrations, nrhs;
   PetscInt         steps_taken; /* steps taken since set-up (this process) */
+  PetscInt         nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
   PetscBool        monitoring;
   PetscReal        t0, last_snapshot_time;
   PetscReal       *field; /* output staging */
@@ -195,6 +209,7 @@ struct _p_FSSolver {
 
 /* solver pieces, one file each */
 PETSC_INTERN PetscErrorCode FSSolverCreateSwarm(FSSolver);
+PETSC_INTERN void           FSSolverWrapPeriodic(FSSolver, PetscReal x[]);
 PETSC_INTERN PetscErrorCode FSSolverMigrate(FSSolver, PetscBool *changed);
 PETSC_INTERN PetscErrorCode FSSolverSortByCell(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverPackState(FSSolver);
@@ -203,6 +218,8 @@ PETSC_INTERN PetscErrorCode FSSolverEnsureWork(FSSolver, PetscInt n);
 PETSC_INTERN PetscErrorCode FSSolverSetUpTS(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRHS(TS, PetscReal, Vec, Vec, void *);
 PETSC_INTERN PetscErrorCode FSSolverComputeStableDt(FSSolver, PetscReal *);
+PETSC_INTERN void           FSSolverStableDtOf(FSSolver, PetscReal umax, PetscReal nu, PetscInt source, PetscReal *dt,
+                                               PetscInt *limit);
 PETSC_INTERN PetscErrorCode FSSolverViscosityBound(FSSolver, PetscReal *, PetscInt *);
 PETSC_INTERN PetscErrorCode FSSolverDtLimitName(FSSolver, PetscInt, const char **);
 PETSC_INTERN PetscErrorCode FSSolverMonitor(FSSolver);
@@ -210,6 +227,11 @@ PETSC_INTERN PetscErrorCode FSSolverMonitorBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverMarkBuild(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverSwapBuildPositions(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverRecordsAtBuild(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverRebuildNeeded(FSSolver, PetscBool *rebuild, PetscBool *sort);
+PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);

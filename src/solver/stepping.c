@@ -1,6 +1,6 @@
 /*
    Time stepping: the TS that advances the packed state, the stable time step, and the step loop
-   (TS step -> checks -> migration -> ordering by cell -> halo -> repack -> monitors).
+   (TS step -> checks -> [when needed: migration -> ordering by cell -> halo -> lists] -> repack -> monitors).
 */
 #include "solver/solverimpl.h"
 
@@ -127,8 +127,9 @@ static PetscErrorCode FSSolverBoundaryBounce(FSSolver s, PetscReal de[2], PetscB
 
 /*
    FSSolverResize - after a migration or reordering: (re)creates the state vector when the local
-   sizes changed, packs the particles into it, rebuilds the halo, and tells TS that the state
-   changed outside of it, keeping time, step number, dt and monitors.
+   sizes changed, packs the particles into it, rebuilds the halo, the cell and candidate lists and the
+   walls' candidates, records the positions of this build (FSSolverMarkBuild), and tells TS that the
+   state changed outside of it, keeping time, step number, dt and monitors.
 
    Collective
 */
@@ -175,6 +176,7 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   }
   PetscCall(FSSolverPackState(s));
   PetscCall(VecCopy(s->state.U, s->state.Uprev));
+  if (s->pw.resume) PetscCall(FSSolverRecordsAtBuild(s)); /* a restart: the lists of the checkpoint's last build */
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
   PetscCall(FSHaloBuild(&s->pw.halo, comm, &s->pw.decomp, s->pw.nowned, s->pw.rec, s->pw.stride,
                         s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
@@ -189,6 +191,9 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
                                         s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
   if (s->boundary) PetscCall(FSSolverBoundaryUpdate(s));
   PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
+  PetscCall(FSSolverMarkBuild(s));
+  if (s->pw.resume) PetscCall(FSSolverPackState(s)); /* the records of the state again */
+  s->pw.resume = PETSC_FALSE;
   if (s->ts) PetscCall(TSRestartStep(s->ts));
   PetscFunctionReturn(0);
 }
@@ -253,6 +258,28 @@ static inline void FSDtTake(PetscReal *dt, PetscInt *limit, PetscReal cand, Pets
 }
 
 /*
+   FSSolverStableDtOf - the particles' time-step limits of FSSolverComputeStableDt for a largest speed
+   umax and the largest viscosity nu from its source (FSSolverViscosityBound), and the limit that sets it.
+
+   Not collective
+*/
+void FSSolverStableDtOf(FSSolver s, PetscReal umax, PetscReal nu, PetscInt source, PetscReal *dt, PetscInt *limit)
+{
+  PetscReal g2 = 0;
+
+  *limit = FS_DT_ACOUSTIC;
+  *dt    = s->opt.cfl * s->opt.h / (s->opt.c0 + umax);
+  if (nu > 0)
+    FSDtTake(dt, limit, s->opt.cfl_visc * s->opt.h * s->opt.h / nu, source ? FS_DT_TERM + source - 1 : FS_DT_VISCOUS);
+  if (umax > 0) /* no particle outruns its candidate lists */
+    FSDtTake(dt, limit, 0.4 * s->opt.halo_skin * s->opt.h / umax, FS_DT_SKIN);
+  for (PetscInt d = 0; d < s->opt.dim; d++) g2 += s->opt.gravity[d] * s->opt.gravity[d];
+  if (g2 > 0) FSDtTake(dt, limit, s->opt.cfl_force * PetscSqrtReal(s->opt.h / PetscSqrtReal(g2)), FS_DT_BODY_FORCE);
+  if (s->structure && s->structure->min_period > 0)
+    FSDtTake(dt, limit, s->opt.structure_cfl * s->structure->min_period, FS_DT_STRUCTURE);
+}
+
+/*
    FSSolverComputeStableDt - the SPH time-step limit for the current state:
      dt = min(CFL h/(c0 + |u|max), CFL_v h^2/nu_max, 0.4 skin h/|u|max, CFL_f sqrt(h/|g|)),
    nu_max being the largest viscosity any term applied in the integrator's last right-hand side
@@ -269,8 +296,8 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 {
   const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   const PetscScalar *u;
-  PetscReal          loc[FS_MAX_TERMS + 2], v2 = 0, nu, g2 = 0;
-  PetscInt           source, limit = FS_DT_ACOUSTIC;
+  PetscReal          loc[FS_MAX_TERMS + 2], v2 = 0, nu;
+  PetscInt           source, limit;
 
   PetscFunctionBegin;
   if (s->pw.nglobal_particles == 0) {
@@ -291,15 +318,7 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
                              PetscObjectComm((PetscObject)s)));
   FSViscosityLargest(s, &loc[1], &nu, &source);
   s->state.umax = PetscSqrtReal(loc[0]);
-  *dt           = s->opt.cfl * s->opt.h / (s->opt.c0 + s->state.umax);
-  if (nu > 0)
-    FSDtTake(dt, &limit, s->opt.cfl_visc * s->opt.h * s->opt.h / nu, source ? FS_DT_TERM + source - 1 : FS_DT_VISCOUS);
-  if (s->state.umax > 0) /* no particle outruns its candidate lists */
-    FSDtTake(dt, &limit, 0.4 * s->opt.halo_skin * s->opt.h / s->state.umax, FS_DT_SKIN);
-  for (PetscInt d = 0; d < dim; d++) g2 += s->opt.gravity[d] * s->opt.gravity[d];
-  if (g2 > 0) FSDtTake(dt, &limit, s->opt.cfl_force * PetscSqrtReal(s->opt.h / PetscSqrtReal(g2)), FS_DT_BODY_FORCE);
-  if (s->structure && s->structure->min_period > 0)
-    FSDtTake(dt, &limit, s->opt.structure_cfl * s->structure->min_period, FS_DT_STRUCTURE);
+  FSSolverStableDtOf(s, s->state.umax, nu, source, dt, &limit);
   s->state.dt_stable = *dt;
   s->state.dt_limit  = limit;
   PetscFunctionReturn(0);
@@ -307,8 +326,8 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 
 /*
    FSSolverCheckState - stops the run on NaN, on a density blow-up (|rho/rho0 - 1| above
-   -fs_max_density_variation) and on particles that moved further in one step than the halo skin
-   allows, naming the step, time, particle and place.
+   -fs_max_density_variation) and on particles that moved further since the lists were built than the
+   halo skin allows (half the skin), naming the step, time, particle and place.
 
    Collective
 */
@@ -318,13 +337,14 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   const PetscScalar *u, *u0;
   PetscInt          *id, bad = -1, kind = 0, step;
-  PetscReal          worst = 0, move = 0, t, glob[3];
+  PetscReal          worst = 0, move = 0, t, glob[3], *xb;
   PetscMPIInt        rank;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(VecGetArrayRead(s->state.U, &u));
   PetscCall(VecGetArrayRead(s->state.Uprev, &u0));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
   for (PetscInt p = 0; p < s->pw.nowned; p++) {
     PetscReal d2 = 0, var;
     for (PetscInt a = 0; a < US; a++)
@@ -341,9 +361,10 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
         kind = 2;
       }
     }
-    for (PetscInt d = 0; d < dim; d++) d2 += (u[p * US + d] - u0[p * US + d]) * (u[p * US + d] - u0[p * US + d]);
+    for (PetscInt d = 0; d < dim; d++) d2 += PetscSqr(u[p * US + d] - xb[p * dim + d]);
     move = PetscMax(move, d2);
   }
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
   glob[0] = kind;
   glob[1] = worst;
   glob[2] = PetscSqrtReal(move);
@@ -371,7 +392,7 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
              ", time %g (the particle is named above); reduce -fs_cfl, raise -fs_c0, or check the set-up",
              (double)glob[1], (double)s->opt.max_density_variation, step, (double)t);
   PetscCheck(2 * glob[2] <= s->opt.halo_skin * s->opt.h, comm, PETSC_ERR_CONV_FAILED,
-             "A particle moved %g in one step (step %" PetscInt_FMT
+             "A particle moved %g since the neighbour lists were built (step %" PetscInt_FMT
              ", time %g), more than half the halo skin %g: reduce -fs_cfl or raise -fs_halo_skin",
              (double)glob[2], step, (double)t, (double)(s->opt.halo_skin * s->opt.h));
   s->state.max_variation = glob[1];
@@ -380,7 +401,8 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
 
 /*
    FSSolverStep - advances the run by one time step of the stable size (or less, to land on the
-   final time), then migrates, reorders and repacks the particles.
+   final time), then, when the lists must be rebuilt (FSSolverRebuildNeeded), migrates, reorders and
+   repacks the particles and rebuilds the lists; else repacks them in place.
 
    Collective
 */
@@ -392,7 +414,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   TSConvergedReason reason;
   PetscInt          step;
   PetscReal         ejump[2];
-  PetscBool         bounced;
+  PetscBool         bounced, rebuild, sort;
 
   PetscFunctionBegin;
   s->state.evaluated = PETSC_FALSE; /* the step changes the state */
@@ -428,9 +450,16 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscCall(FSSolverCheckState(s));
   PetscCall(FSSolverUnpackState(s));
   PetscCall(FSSolverBoundaryBounce(s, ejump, &bounced)); /* with the bounces' energy changes, for the energy budget */
-  PetscCall(FSSolverMigrate(s, &changed));
-  if (step % s->opt.sort_interval == 0) PetscCall(FSSolverSortByCell(s));
-  PetscCall(FSSolverResize(s, changed));
+  PetscCall(FSSolverRebuildNeeded(s, &rebuild, &sort));
+  if (rebuild) {
+    PetscCall(FSSolverMigrate(s, &changed));
+    if (sort) {
+      PetscCall(FSSolverSortByCell(s));
+      s->pw.sort_step = step;
+    }
+    PetscCall(FSSolverResize(s, changed));
+    s->mon.nrebuilds++;
+  } else PetscCall(FSSolverKeepLists(s));
   if (bounced && s->pw.nglobal_particles > 0) PetscCall(FSSolverEnergyAddJump(s, ejump));
   PetscCall(PetscLogEventEnd(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverMonitor(s));

@@ -5,10 +5,11 @@
 */
 #include "solver/solverimpl.h"
 
-static const char *FSFieldNames[] = {FS_FIELD_POSITION, FS_FIELD_VELOCITY, FS_FIELD_DENSITY, FS_FIELD_MASS,
-                                     FS_FIELD_ID};
+static const char *FSFieldNames[] = {FS_FIELD_POSITION, FS_FIELD_VELOCITY, FS_FIELD_DENSITY,
+                                     FS_FIELD_MASS,     FS_FIELD_ID,       FS_FIELD_BUILD};
 
-/* FSSolverCreateSwarm - the DMSwarm with fields position, velocity (dim), density, mass, id. */
+/* FSSolverCreateSwarm - the DMSwarm with fields position, velocity (dim), density, mass, id, and the
+   positions at the last build of the lists (FS_FIELD_BUILD, dim). */
 PetscErrorCode FSSolverCreateSwarm(FSSolver s)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)s);
@@ -24,6 +25,7 @@ PetscErrorCode FSSolverCreateSwarm(FSSolver s)
   PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_DENSITY, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_MASS, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_ID, 1, PETSC_INT));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(s->swarm, FS_FIELD_BUILD, s->opt.dim, PETSC_REAL));
   PetscCall(DMSwarmFinalizeFieldRegister(s->swarm));
   PetscCall(DMSwarmSetLocalSizes(s->swarm, 0, 1024));
   PetscFunctionReturn(0);
@@ -92,6 +94,17 @@ PetscErrorCode FSSolverAddParticles(FSSolver s, PetscInt n, const PetscReal x[],
   PetscFunctionReturn(0);
 }
 
+/* FSSolverWrapPeriodic - brings a position into the domain along its periodic directions. */
+void FSSolverWrapPeriodic(FSSolver s, PetscReal x[])
+{
+  for (PetscInt d = 0; d < s->opt.dim; d++)
+    if (s->pw.periodic[d]) {
+      const PetscReal L = s->pw.hi[d] - s->pw.lo[d];
+      if (x[d] < s->pw.lo[d] || x[d] >= s->pw.hi[d]) x[d] -= L * PetscFloorReal((x[d] - s->pw.lo[d]) / L);
+      if (x[d] >= s->pw.hi[d]) x[d] = s->pw.lo[d]; /* round-off at the upper edge */
+    }
+}
+
 /*
    FSSolverMigrate - wraps periodic coordinates, checks that no particle left the domain through a
    non-periodic side (an error naming the particle, step, time and place), and sends every particle
@@ -120,12 +133,9 @@ PetscErrorCode FSSolverMigrate(FSSolver s, PetscBool *changed)
   for (PetscInt p = 0; p < n; p++) {
     PetscReal  *xp = &x[p * dim];
     PetscMPIInt dest;
+    FSSolverWrapPeriodic(s, xp);
     for (PetscInt d = 0; d < dim; d++) {
-      if (s->pw.periodic[d]) {
-        const PetscReal L = s->pw.hi[d] - s->pw.lo[d];
-        if (xp[d] < s->pw.lo[d] || xp[d] >= s->pw.hi[d]) xp[d] -= L * PetscFloorReal((xp[d] - s->pw.lo[d]) / L);
-        if (xp[d] >= s->pw.hi[d]) xp[d] = s->pw.lo[d]; /* round-off at the upper edge */
-      } else if (!(xp[d] >= s->pw.lo[d] && xp[d] <= s->pw.hi[d])) {
+      if (!s->pw.periodic[d] && !(xp[d] >= s->pw.lo[d] && xp[d] <= s->pw.hi[d])) {
         if (lost < 0) lost = p;
         nlost++;
       }

@@ -122,6 +122,7 @@ NAMES = {
     "-fs_tank_shape": (["nosuch"], None),
     "-fs_boundary": (["nosuch"], None),
     "-fs_walls_visibility": (["nosuch"], None),
+    "-fs_neighbour_rebuild": (["nosuch"], None),
     "-fs_walls_noslip": (["nosuch"], None),
     "-fs_tank_file": (["-fs_tank_shape", "file", "-fs_tank_file", "/nonexistent.walls"], "/nonexistent.walls"),
     "-fs_tank_stl": (TANK3[4:] + ["-fs_dim", "3", "-fs_tank_shape", "stl", "-fs_tank_stl", "/nonexistent.stl"], "/nonexistent.stl"),

@@ -61,7 +61,7 @@ def test_checkpoint_file(full_run):
         hdr = h5["header"].attrs
         assert hdr["step"] == 20 and hdr["nparticles"] == 2500 and hdr["nranks"] == 1
         assert h5["particles/position"].shape == (2500, 2)
-        assert sorted(h5["particles"].keys()) == ["density", "id", "mass", "position", "velocity"]
+        assert sorted(h5["particles"].keys()) == ["build_position", "density", "id", "mass", "position", "velocity"]
         t20 = float(hdr["time"])
     series = read_series(a)
     assert t20 == pytest.approx(series["time"][series["step"] == 20][0], rel=1e-9)  # the CSV has 11 digits

@@ -1,0 +1,165 @@
+/*
+   When the particles' lists are rebuilt (-fs_neighbour_rebuild): the migration, the ordering by cell,
+   the halo, the cell list, the candidate lists and the walls' candidate elements are built with a
+   skin of -fs_halo_skin h beyond the kernel support, and stay valid while no particle has moved more
+   than half the skin since (two particles then come closer by less than the skin, so every pair within
+   the support is still a candidate and every ghost it needs is still in the halo). With auto they are
+   rebuilt only when the next step could break this; with always after every step.
+*/
+#include "solver/solverimpl.h"
+
+/* the next step's largest displacement is taken as at most this times dt |u|max: the stages of an
+   explicit integrator move a particle by dt times a speed that the step's accelerations change little
+   (the skin's time-step limit, 0.4 skin h/|u|max against the check's skin/2, leaves 1.25) */
+#define FS_REBUILD_SAFETY 1.5
+
+/*
+   FSSolverMarkBuild - records the owned particles' positions of the lists just built (from the work
+   records) in the swarm's build field, from which the displacements are measured until the next build
+   and which the checkpoints keep (a restart rebuilds the same lists from them).
+
+   Not collective
+*/
+PetscErrorCode FSSolverMarkBuild(FSSolver s)
+{
+  const PetscInt dim = s->opt.dim, S = s->pw.stride, n = s->pw.nowned;
+  PetscReal     *xb;
+
+  PetscFunctionBegin;
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  for (PetscInt p = 0; p < n; p++)
+    for (PetscInt d = 0; d < dim; d++) xb[p * dim + d] = s->pw.rec[p * S + d];
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  s->pw.moved = 0;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverSwapBuildPositions - swaps the swarm's positions and build positions: a restart migrates and
+   orders the particles by their positions at the checkpoint's last build, as that build did.
+
+   Not collective
+*/
+PetscErrorCode FSSolverSwapBuildPositions(FSSolver s)
+{
+  PetscInt   n;
+  PetscReal *x, *xb;
+
+  PetscFunctionBegin;
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  for (PetscInt k = 0; k < n * s->opt.dim; k++) {
+    const PetscReal a = x[k];
+    x[k]              = xb[k];
+    xb[k]             = a;
+  }
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverRecordsAtBuild - puts the owned particles' build positions (the swarm's build field) into
+   the work records, for a restart's build of the halo and the lists; the next pack puts the state's
+   positions back.
+
+   Not collective
+*/
+PetscErrorCode FSSolverRecordsAtBuild(FSSolver s)
+{
+  const PetscInt dim = s->opt.dim, S = s->pw.stride, n = s->pw.nowned;
+  PetscReal     *xb;
+
+  PetscFunctionBegin;
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  for (PetscInt p = 0; p < n; p++)
+    for (PetscInt d = 0; d < dim; d++) s->pw.rec[p * S + d] = xb[p * dim + d];
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverRebuildNeeded - after a step (and its bounces, the swarm holding the state), whether the
+   lists must be rebuilt before the next one, and whether the particles are then ordered by cell.
+
+   With auto: the largest displacement D since the build and the largest speed u are reduced over the
+   ranks (every rank takes the same decision); the next step's dt is at most dt_max, the stable step of
+   this speed and of the viscosities of the integrator's last right-hand side (FSSolverStableDtOf: what
+   the next step takes unless the final time or an adaptive integrator shortens it), so it moves a
+   particle by about d = max(dt_max u, the last step's largest move scaled by dt_max/dt); the lists are
+   rebuilt when 2 (D + 1.5 d) would
+   exceed the skin. The ordering follows -fs_sort_interval, counted from the last ordering. With always:
+   every step, ordered at the steps that are multiples of -fs_sort_interval (as before the lazy rebuild).
+
+   Collective
+*/
+PetscErrorCode FSSolverRebuildNeeded(FSSolver s, PetscBool *rebuild, PetscBool *sort)
+{
+  const PetscInt     dim    = s->opt.dim;
+  const PetscInt     US     = s->state.ustride;
+  PetscReal          loc[3] = {0, 0, 0}, u, nu, dtmax, next, t, tprev, skin = s->opt.halo_skin * s->opt.h;
+  PetscReal         *x, *v, *xb;
+  const PetscScalar *u0;
+  PetscInt           step, n, source, limit;
+
+  PetscFunctionBegin;
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  if (s->opt.rebuild == FS_REBUILD_ALWAYS) {
+    *rebuild = PETSC_TRUE;
+    *sort    = (PetscBool)(step % s->opt.sort_interval == 0);
+    PetscFunctionReturn(0);
+  }
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCheck(n == s->pw.nowned, PETSC_COMM_SELF, PETSC_ERR_PLIB, "The swarm changed size since the lists were built");
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  PetscCall(VecGetArrayRead(s->state.Uprev, &u0));
+  for (PetscInt p = 0; p < n; p++) {
+    PetscReal d2 = 0, w2 = 0, s2 = 0;
+    for (PetscInt d = 0; d < dim; d++) {
+      d2 += PetscSqr(x[p * dim + d] - xb[p * dim + d]);
+      w2 += PetscSqr(v[p * dim + d]);
+      s2 += PetscSqr(x[p * dim + d] - u0[p * US + d]);
+    }
+    loc[0] = PetscMax(loc[0], d2);
+    loc[1] = PetscMax(loc[1], w2);
+    loc[2] = PetscMax(loc[2], s2);
+  }
+  PetscCall(VecRestoreArrayRead(s->state.Uprev, &u0));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 3, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  s->pw.moved = PetscSqrtReal(loc[0]);
+  u           = PetscSqrtReal(loc[1]);
+  PetscCall(FSSolverViscosityBound(s, &nu, &source));
+  FSSolverStableDtOf(s, u, nu, source, &dtmax, &limit);
+  /* the next step's move: dt_max u, or the last step's move scaled to dt_max (it holds the rates that
+     move particles besides u, e.g. shifting, and the bounces) */
+  next = dtmax * u;
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetPrevTime(s->ts, &tprev));
+  if (t > tprev) next = PetscMax(next, PetscSqrtReal(loc[2]) * dtmax / (t - tprev));
+  *rebuild = (PetscBool)(2 * (s->pw.moved + FS_REBUILD_SAFETY * next) > skin);
+  *sort    = (PetscBool)(*rebuild && step - s->pw.sort_step >= s->opt.sort_interval);
+  PetscCall(PetscInfo(s, "step %" PetscInt_FMT ": moved %g, next %g, skin %g: %s\n", step, (double)s->pw.moved,
+                      (double)next, (double)skin, *rebuild ? "rebuild" : "keep"));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverKeepLists - after a step that keeps the lists: the state vector takes the swarm's fields
+   (the bounces changed some) in the same layout, and TS is told that the state changed outside of it.
+   The ghosts are refreshed by every right-hand side.
+
+   Collective
+*/
+PetscErrorCode FSSolverKeepLists(FSSolver s)
+{
+  PetscFunctionBegin;
+  PetscCall(FSSolverPackState(s));
+  PetscCall(TSRestartStep(s->ts));
+  PetscFunctionReturn(0);
+}
