@@ -718,6 +718,11 @@ def case_seed(ctx: Context, which: Optional[Sequence[str]] = None) -> Section:
             sec.checks.append(Check(f"{label}: mean zeta of the cycles below 5 mm", float(np.mean(c.zeta[small])), 0.03, fmt="{:.2%}"))
     ax.axhline(1.5, color="k", lw=1, label="structure's own damping (1.5 %)")
     ax.set_xscale("log")
+    from matplotlib.ticker import FixedLocator, NullFormatter, ScalarFormatter
+
+    ax.xaxis.set_major_locator(FixedLocator([2, 3, 5, 10, 20, 30, 40]))
+    ax.xaxis.set_major_formatter(ScalarFormatter())
+    ax.xaxis.set_minor_formatter(NullFormatter())
     ax.set_xlabel("cycle amplitude (mm)")
     ax.set_ylabel("zeta per cycle (%)")
     ax.invert_xaxis()
