@@ -425,9 +425,9 @@ def _dam_break(ctx: Context, name: str, dim: int) -> Section:
     for dx in ctx.dxs(name):
         r = ctx.run(name, _label(dx), ["-options_file", _case(name), "-fs_dx", dx, "-ts_max_time", tmax, "-fs_output_interval", 0], sec.runs)
         t = r.column("time")
-        T, Z = t * math.sqrt(2 * G / a), r.column("front_position")
-        tau, hc = t * math.sqrt(G / a), r.column("column_height") / 2
-        # the case writes front_position and column_height in units of a
+        # the case writes front_position and column_height in metres
+        T, Z = t * math.sqrt(2 * G / a), r.column("front_position") / a
+        tau, hc = t * math.sqrt(G / a), r.column("column_height") / (2 * a)
         ax1.plot(T, Z, "-", label=f"flexslosh a/dx = {a / dx:.0f}")
         ax2.plot(tau, hc, "-", label=f"flexslosh a/dx = {a / dx:.0f}")
         pts = (front["T"] >= 0.8) & (front["T"] <= T[-1]) & (front["Z"] < 3.9)
