@@ -142,6 +142,7 @@ class Section:
     checks: list[Check] = field(default_factory=list)
     runs: list[RunInfo] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    dxs: list[float] = field(default_factory=list)  # the resolutions run (set by run_cases)
 
     def markdown(self, quick: bool = False) -> str:
         """The section as Markdown (heading, compared, reference, figure, checks, runs, notes)."""
@@ -774,6 +775,7 @@ def run_cases(ctx: Context, names: Sequence[str]) -> dict[str, Section]:
         print(f"validate: {name} at dx = {ctx.dxs(name)}{' (quick)' if ctx.quick else ''}", flush=True)
         try:
             done[name] = CASES[name](ctx)
+            done[name].dxs = ctx.dxs(name)
         except (RuntimeError, ValueError, FileNotFoundError, KeyError, IndexError) as err:
             sec = Section(name, TITLES[name], "The case did not complete.", "See the case's function in python/flexslosh/validate.py.")
             sec.checks.append(Check("the case ran to its end", 0.0, 1.0, kind="min", fmt="{:g}"))
@@ -791,7 +793,9 @@ data are in [data/](data/README.md) with their sources; the formulas and the tes
 physics at coarse resolutions are in [../validation.md](../validation.md). A case not run in this report
 says so with the command that runs it. Resolutions: `make validate` runs those of `RESOLUTIONS` in
 validate.py (`--resolution CASE=dx1,dx2` overrides); `make validate CASES=a,b` runs a subset and rewrites
-only their sections; `--quick` is a smoke run (coarse and short, its numbers meaningless).
+only their sections; `--quick` is a smoke run (coarse and short, its numbers meaningless). The table
+gives the resolutions each case ran at and those `make validate` runs: where they differ the run was
+coarser, to fit the time of this report.
 """
 
 
@@ -804,9 +808,10 @@ def write_report(out: Path, sections: dict[str, Section], quick: bool = False) -
     for name, sec in sections.items():
         (secdir / f"{name}.json").write_text(json.dumps({"passed": sum(c.passed for c in sec.checks), "checks": len(sec.checks),
                                                          "wall": sum(r.wall for r in sec.runs),
-                                                         "runs": [r.label for r in sec.runs],
+                                                         "runs": [r.label for r in sec.runs], "dx": sec.dxs,
                                                          "markdown": sec.markdown(quick)}, indent=1) + "\n")
     body, rows = [], []
+    default = lambda name: ", ".join(f"{d:g}" for d in RESOLUTIONS[name]) if RESOLUTIONS[name] != [0.0] else "-"  # noqa: E731
     for name in CASES:
         js = secdir / f"{name}.json"
         anchor = _anchor(TITLES[name])
@@ -814,13 +819,16 @@ def write_report(out: Path, sections: dict[str, Section], quick: bool = False) -
             s = json.loads(js.read_text())
             body.append(s["markdown"] + "\n")
             verdict = "pass" if s["passed"] == s["checks"] else f"**{s['checks'] - s['passed']} of {s['checks']} FAIL**"
-            rows.append(f"| [{TITLES[name]}](#{anchor}) | {verdict} | {s['wall']:.0f} s |")
+            ran = ", ".join(f"{d:g}" for d in s["dx"]) if s.get("dx") else ", ".join(r[2:] for r in s.get("runs", []) if r.startswith("dx"))
+            ran = "-" if ran in ("", "0") else ran
+            rows.append(f"| [{TITLES[name]}](#{anchor}) | {verdict} | {ran} | {default(name)} | {s['wall']:.0f} s |")
         else:
             cmd = f"make validate CASES={name}"
             body.append(f"## {TITLES[name]}\n\n**Not run in this report.** Run it with `{cmd}` "
                         f"(resolution(s) dx = {', '.join(f'{d:g}' for d in RESOLUTIONS[name])}).\n")
-            rows.append(f"| [{TITLES[name]}](#{anchor}) | not run | |")
-    text = HEADER + "\n| case | checks | wall time |\n|---|---|---|\n" + "\n".join(rows) + "\n\n" + "\n".join(body)
+            rows.append(f"| [{TITLES[name]}](#{anchor}) | not run | | {default(name)} | |")
+    table = "\n| case | checks | dx run | dx of `make validate` | wall time |\n|---|---|---|---|---|\n"
+    text = HEADER + table + "\n".join(rows) + "\n\n" + "\n".join(body)
     path = out / "README.md"
     path.write_text(text)
     return path
