@@ -2,6 +2,8 @@
 #   make demo   install dependencies, build, run the seed's solid-mass and 50 % rectangular-tank cases on the
 #               beam (a few minutes on 2 cores), write the seed's figures, say where the results are
 #   make test   install dependencies, build, run the C tests (ctest) and the Python tests (pytest)
+#   make validate  build, run every validation case and write docs/validation/README.md (long: hours on
+#               2 cores; not part of make test); CASES=a,b runs a subset, VALIDATE_FLAGS=--quick a smoke run
 #   make format clang-format the C sources
 # `make build` also makes the Python package in python/ importable by $(PYTHON) (scripts/install-python.sh).
 BUILD   ?= build
@@ -11,7 +13,7 @@ export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
 
-.PHONY: all deps build demo test test-c test-python bench format clean
+.PHONY: all deps build demo test test-c test-python bench validate format clean
 
 all: build
 
@@ -42,6 +44,12 @@ bench: build
 	$(PYTHON) bench/bench_dam_break.py
 	$(PYTHON) bench/bench_coupled.py
 	$(PYTHON) bench/bench_dam_break_3d.py
+
+# the validation report (python/flexslosh/validate.py): every case, or CASES=taylor_green,dam_break
+CASES          ?=
+VALIDATE_FLAGS ?=
+validate: build
+	FLEXSLOSH_BUILD=$(abspath $(BUILD)) PYTHONPATH=$(abspath python) $(PYTHON) -m flexslosh.validate $(if $(CASES),--cases $(CASES)) $(VALIDATE_FLAGS)
 
 # the C sources in the project's format (.clang-format; tests/python/test_format.py checks it)
 format:
