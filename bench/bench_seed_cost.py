@@ -4,7 +4,7 @@ resolutions: particles, steps per simulated second, what limited the steps (time
 dt_limit), wall time per simulated second, over the first --time seconds after the release (the
 first slams are at about 0.1 and 0.25 s, where delta-LES's density diffusion takes the step down).
 
-    /usr/bin/python3 bench/bench_seed_cost.py [--dx 0.005,0.002,0.001] [--time 0.3] [--ranks 1] [-- extra options]
+    /usr/bin/python3 bench/bench_seed_cost.py [--dx 0.005,0.002] [--time 0.3] [--ranks 1] [-- extra options]
 
 Options after `--` go to every run (e.g. `-- -fs_delta_max 0.5` to compare a cap on delta_i).
 """
@@ -24,7 +24,7 @@ def main():
     extra = argv[argv.index("--") + 1:] if "--" in argv else []
     argv = argv[: argv.index("--")] if "--" in argv else argv
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--dx", default="0.005,0.002,0.001", help="particle spacings (m), comma separated")
+    ap.add_argument("--dx", default="0.005,0.002", help="particle spacings (m), comma separated")
     ap.add_argument("--time", type=float, default=0.3, help="simulated time of each run (s)")
     ap.add_argument("--ranks", type=int, default=1)
     ap.add_argument("--build", default=os.environ.get("FLEXSLOSH_BUILD", str(ROOT / "build")))
