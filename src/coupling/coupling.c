@@ -337,6 +337,17 @@ PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const Pet
   PetscFunctionReturn(0);
 }
 
+/* the power w [F . R(-theta) V_ref + omega F_M] of the in-plane force F[0..1] and moment F[2] on the liquid moving
+   with the tank's rigid motion (F in the tank's frame) */
+static PetscReal RigidPower(const FSCoupling c, const PetscReal F[3])
+{
+  const FSTankMotion *mo = &c->motion;
+  const PetscReal     cs = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
+  const PetscReal     vx = cs * mo->vel[0] + sn * mo->vel[1], vy = -sn * mo->vel[0] + cs * mo->vel[1];
+
+  return c->tank_width * (F[0] * vx + F[1] * vy + mo->rate * F[2]);
+}
+
 /*
    FSCouplingPower - the power of the difference between the loads the structure receives and the
    reaction R of the walls' forces on the liquid (the sum over the ranks of FSCouplingReaction's local
@@ -344,32 +355,26 @@ PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const Pet
 */
 PetscErrorCode FSCouplingPower(FSCoupling c, const PetscReal R[3], PetscReal *power)
 {
-  const FSTankMotion *mo = &c->motion;
-  const PetscReal     cs = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
-  const PetscReal     vx = cs * mo->vel[0] + sn * mo->vel[1], vy = -sn * mo->vel[0] + cs * mo->vel[1];
-  const PetscReal    *L = c->tank_load;
+  const PetscReal *L    = c->tank_load;
+  const PetscReal  F[3] = {R[0] + L[0], R[1] + L[1], R[2] + L[2]};
 
   PetscFunctionBegin;
-  *power = c->tank_width * ((R[0] + L[0]) * vx + (R[1] + L[1]) * vy + mo->rate * (R[2] + L[2]));
+  *power = RigidPower(c, F);
   PetscFunctionReturn(0);
 }
 
 /*
    FSCouplingMotionPower - the power a prescribed motion of the tank puts into the liquid: the walls'
-   forces on the liquid (the reaction R, the sum over the ranks of FSCouplingReaction's shares, in the
-   tank's frame) times the walls' rigid velocity, w [R . R(-theta) V_ref + omega R_M], and in 3-D the
-   force across the plane times the velocity along z. Its time integral is the work of the motion
-   (work_motion), which changes the liquid's energy in the absolute frame.
+   forces on the liquid (the reaction R, as for FSCouplingPower) times the walls' rigid velocity,
+   w [R . R(-theta) V_ref + omega R_M], and in 3-D the force across the plane times the velocity along
+   z. Its time integral is the work of the motion (work_motion), which changes the liquid's energy in the
+   absolute frame.
 */
 PetscErrorCode FSCouplingMotionPower(FSCoupling c, const PetscReal R[3], PetscReal *power)
 {
-  const FSTankMotion *mo = &c->motion;
-  const PetscReal     cs = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
-  const PetscReal     vx = cs * mo->vel[0] + sn * mo->vel[1], vy = -sn * mo->vel[0] + cs * mo->vel[1];
-
   PetscFunctionBegin;
-  *power = c->tank_width * (R[0] * vx + R[1] * vy + mo->rate * R[2]);
-  if (c->dim == 3) *power += c->reaction_out[0] * mo->vel[2];
+  *power = RigidPower(c, R);
+  if (c->dim == 3) *power += c->reaction_out[0] * c->motion.vel[2];
   PetscFunctionReturn(0);
 }
 
