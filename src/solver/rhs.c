@@ -490,20 +490,16 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
 
   PetscCall(FSSolverPairPass(s, &P, f));
   if (s->boundary) PetscCall(FSSolverWallPass(s, &P, f));
-  /* the reaction of the forces on the liquid; for a prescribed motion with the relaxation's, whose work in the
-     absolute frame the motion also does (work_motion) */
+  /* the reaction of the forces on the liquid: for a structure before the start-up relaxation, for a prescribed
+     motion after it (the motion also does the relaxation's work in the absolute frame: work_motion) */
   const PetscBool prescribed = (PetscBool)(coupled && s->structure->prescribed);
-  if (coupled && !prescribed) {
+  if (prescribed) FSSolverRelaxation(s, f);
+  if (coupled) {
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSCouplingReaction(s->coupling, n, S, s->pw.rec, US, f, reaction));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   }
-  FSSolverRelaxation(s, f);
-  if (prescribed) {
-    PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
-    PetscCall(FSCouplingReaction(s->coupling, n, S, s->pw.rec, US, f, reaction));
-    PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
-  }
+  if (!prescribed) FSSolverRelaxation(s, f);
   if (count) {
     s->mon.pair_visits += s->pw.nbrs.npairs;
     s->mon.nrhs++;
