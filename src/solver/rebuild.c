@@ -131,10 +131,9 @@ PetscErrorCode FSSolverRebuildNeeded(FSSolver s, PetscBool *rebuild, PetscBool *
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, 3, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  PetscCall(FSSolverReduceWithViscosity(s, 3, loc, &nu, &source)); /* one reduction */
   s->pw.moved = PetscSqrtReal(loc[0]);
   u           = PetscSqrtReal(loc[1]);
-  PetscCall(FSSolverViscosityBound(s, &nu, &source));
   FSSolverStableDtOf(s, u, nu, source, &dtmax, &limit);
   /* the next step's move: dt_max u, or the last step's move scaled to dt_max (it holds the rates that
      move particles besides u, e.g. shifting, and the bounces) */

@@ -220,6 +220,8 @@ PETSC_INTERN PetscErrorCode FSSolverRHS(TS, PetscReal, Vec, Vec, void *);
 PETSC_INTERN PetscErrorCode FSSolverComputeStableDt(FSSolver, PetscReal *);
 PETSC_INTERN void           FSSolverStableDtOf(FSSolver, PetscReal umax, PetscReal nu, PetscInt source, PetscReal *dt,
                                                PetscInt *limit);
+#define FS_REDUCE_MAX 4 /* values FSSolverReduceWithViscosity() reduces besides the viscosities */
+PETSC_INTERN PetscErrorCode FSSolverReduceWithViscosity(FSSolver, PetscInt, PetscReal[], PetscReal *, PetscInt *);
 PETSC_INTERN PetscErrorCode FSSolverViscosityBound(FSSolver, PetscReal *, PetscInt *);
 PETSC_INTERN PetscErrorCode FSSolverDtLimitName(FSSolver, PetscInt, const char **);
 PETSC_INTERN PetscErrorCode FSSolverMonitor(FSSolver);

@@ -198,41 +198,43 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   PetscFunctionReturn(0);
 }
 
-/* this rank's viscosity bounds per source into v[0..nterms] (-fs_nu's included in v[0]) */
-static void FSViscositySources(FSSolver s, PetscReal v[])
-{
-  for (PetscInt k = 0; k < 1 + s->terms.nterms; k++) v[k] = s->state.nu_src[k];
-  v[0] = PetscMax(v[0], s->opt.nu);
-}
-
-/* the largest of the reduced bounds v[0..nterms] and its source (the first one on a tie) */
-static void FSViscosityLargest(FSSolver s, const PetscReal v[], PetscReal *nu, PetscInt *source)
-{
-  *nu     = v[0];
-  *source = 0;
-  for (PetscInt k = 1; k < 1 + s->terms.nterms; k++)
-    if (v[k] > *nu) {
-      *nu     = v[k];
-      *source = k;
-    }
-}
-
 /*
-   FSSolverViscosityBound - the largest viscosity the next time step must resolve, over the ranks and
-   the sources (-fs_nu, then each term's diffusivity), and the source that sets it (0: -fs_nu,
+   FSSolverReduceWithViscosity - the largest of n values over the ranks (loc[0..n-1], replaced by the
+   maxima) in the same reduction as the largest viscosity the next time step must resolve, over the ranks
+   and the sources (-fs_nu, then each term's diffusivity), and the source that sets it (0: -fs_nu,
    1 + t: term t; the first one on a tie).
 
    Collective
 */
-PetscErrorCode FSSolverViscosityBound(FSSolver s, PetscReal *nu, PetscInt *source)
+PetscErrorCode FSSolverReduceWithViscosity(FSSolver s, PetscInt n, PetscReal loc[], PetscReal *nu, PetscInt *source)
 {
-  PetscReal v[FS_MAX_TERMS + 1];
+  const PetscInt nsrc = 1 + s->terms.nterms;
+  PetscReal      v[FS_REDUCE_MAX + FS_MAX_TERMS + 1];
 
   PetscFunctionBegin;
-  FSViscositySources(s, v);
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v, (PetscMPIInt)(1 + s->terms.nterms), MPIU_REAL, MPI_MAX,
-                             PetscObjectComm((PetscObject)s)));
-  FSViscosityLargest(s, v, nu, source);
+  PetscCheck(n >= 0 && n <= FS_REDUCE_MAX, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "At most %d values reduced with the viscosity", FS_REDUCE_MAX);
+  for (PetscInt k = 0; k < n; k++) v[k] = loc[k];
+  for (PetscInt k = 0; k < nsrc; k++) v[n + k] = s->state.nu_src[k];
+  v[n] = PetscMax(v[n], s->opt.nu);
+  PetscCallMPI(
+      MPI_Allreduce(MPI_IN_PLACE, v, (PetscMPIInt)(n + nsrc), MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  for (PetscInt k = 0; k < n; k++) loc[k] = v[k];
+  *nu     = v[n];
+  *source = 0;
+  for (PetscInt k = 1; k < nsrc; k++)
+    if (v[n + k] > *nu) {
+      *nu     = v[n + k];
+      *source = k;
+    }
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverViscosityBound - FSSolverReduceWithViscosity() without other values. Collective */
+PetscErrorCode FSSolverViscosityBound(FSSolver s, PetscReal *nu, PetscInt *source)
+{
+  PetscFunctionBegin;
+  PetscCall(FSSolverReduceWithViscosity(s, 0, NULL, nu, source));
   PetscFunctionReturn(0);
 }
 
@@ -296,7 +298,7 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 {
   const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   const PetscScalar *u;
-  PetscReal          loc[FS_MAX_TERMS + 2], v2 = 0, nu;
+  PetscReal          v2 = 0, nu;
   PetscInt           source, limit;
 
   PetscFunctionBegin;
@@ -312,12 +314,8 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
     v2 = PetscMax(v2, w2);
   }
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  loc[0] = v2; /* one reduction for the speed and the viscosities */
-  FSViscositySources(s, &loc[1]);
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, loc, (PetscMPIInt)(2 + s->terms.nterms), MPIU_REAL, MPI_MAX,
-                             PetscObjectComm((PetscObject)s)));
-  FSViscosityLargest(s, &loc[1], &nu, &source);
-  s->state.umax = PetscSqrtReal(loc[0]);
+  PetscCall(FSSolverReduceWithViscosity(s, 1, &v2, &nu, &source)); /* one reduction for the speed and the viscosities */
+  s->state.umax = PetscSqrtReal(v2);
   FSSolverStableDtOf(s, s->state.umax, nu, source, dt, &limit);
   s->state.dt_stable = *dt;
   s->state.dt_limit  = limit;
