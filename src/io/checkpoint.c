@@ -62,17 +62,8 @@ static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], con
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nparticles", PETSC_INT, &N));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nranks", PETSC_INT, &nranks));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nfields", PETSC_INT, &nf));
-  if (hdr->setup) { /* an attribute is written collectively, with the same value on every rank: rank 0's */
-    size_t len = 0;
-    char  *text;
-    if (!rank) PetscCall(PetscStrlen(hdr->setup, &len));
-    PetscCallMPI(MPI_Bcast(&len, sizeof(len), MPI_BYTE, 0, comm));
-    PetscCall(PetscMalloc1(len + 1, &text));
-    if (!rank) PetscCall(PetscArraycpy(text, hdr->setup, len + 1));
-    PetscCallMPI(MPI_Bcast(text, (PetscMPIInt)(len + 1), MPI_CHAR, 0, comm));
-    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "setup", PETSC_STRING, text));
-    PetscCall(PetscFree(text));
-  }
+  if (hdr->setup) /* an attribute is written collectively: the header is the same on every rank */
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "setup", PETSC_STRING, hdr->setup));
   if (hdr->nglobal > 0) {
     PetscCall(VecCreateMPIWithArray(comm, 1, rank == 0 ? hdr->nglobal : 0, hdr->nglobal,
                                     (const PetscScalar *)hdr->global, &v));

@@ -29,7 +29,8 @@ PETSC_EXTERN PetscErrorCode FSSnapshotWriterDestroy(FSSnapshotWriter *);
 /* ---------------- checkpoints ---------------- */
 /* Global (replicated) data of a checkpoint: time, step, dt, and nglobal extra doubles
    (the state's global DOFs, e.g. structure DOFs and energy integrals), and the text that records the
-   run's set-up (written when not NULL; read back with FSCheckpointReadSetUp()). */
+   run's set-up (written when not NULL; read back with FSCheckpointReadSetUp()). All of it the same on
+   every rank but global, which is rank 0's. */
 typedef struct {
   PetscReal   time, dt;
   PetscInt    step;
