@@ -10,16 +10,23 @@
 /* Num - a number as C prints it with %g ("1", "0.5", "1e+300", "nan"; PETSc's own %g adds a dot to "1."). */
 static void Num(PetscReal v, char buf[], size_t len) { snprintf(buf, len, "%g", (double)v); }
 
+/* OpenEnds - which bounds of the range are open */
+static void OpenEnds(FSRange range, PetscBool *openlo, PetscBool *openhi)
+{
+  *openlo = (PetscBool)(range == FS_RANGE_OPEN_LOWER || range == FS_RANGE_OPEN);
+  *openhi = (PetscBool)(range == FS_RANGE_OPEN_UPPER || range == FS_RANGE_OPEN);
+}
+
 /* RangeText - the range in words ("a positive number", "a number in [0, 1)", "at least 1", "2 or 3"). */
 static PetscErrorCode RangeText(PetscReal lo, PetscReal hi, FSRange range, PetscBool isint, char text[], size_t len)
 {
-  const PetscBool haslo  = lo > PETSC_NINFINITY ? PETSC_TRUE : PETSC_FALSE,
-                  hashi  = hi < PETSC_INFINITY ? PETSC_TRUE : PETSC_FALSE;
-  const PetscBool openlo = range == FS_RANGE_OPEN_LOWER || range == FS_RANGE_OPEN ? PETSC_TRUE : PETSC_FALSE;
-  const PetscBool openhi = range == FS_RANGE_OPEN_UPPER || range == FS_RANGE_OPEN ? PETSC_TRUE : PETSC_FALSE;
-  char            l[32], h[32];
+  const PetscBool haslo = lo > PETSC_NINFINITY ? PETSC_TRUE : PETSC_FALSE,
+                  hashi = hi < PETSC_INFINITY ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool openlo, openhi;
+  char      l[32], h[32];
 
   PetscFunctionBegin;
+  OpenEnds(range, &openlo, &openhi);
   Num(lo, l, sizeof(l));
   Num(hi, h, sizeof(h));
   if (isint) {
@@ -43,9 +50,9 @@ static PetscErrorCode RangeText(PetscReal lo, PetscReal hi, FSRange range, Petsc
 /* InRange - v is finite and within the range. */
 static PetscBool InRange(PetscReal v, PetscReal lo, PetscReal hi, FSRange range)
 {
-  const PetscBool openlo = range == FS_RANGE_OPEN_LOWER || range == FS_RANGE_OPEN ? PETSC_TRUE : PETSC_FALSE;
-  const PetscBool openhi = range == FS_RANGE_OPEN_UPPER || range == FS_RANGE_OPEN ? PETSC_TRUE : PETSC_FALSE;
+  PetscBool openlo, openhi;
 
+  OpenEnds(range, &openlo, &openhi);
   if (PetscIsInfOrNanReal(v)) return PETSC_FALSE;
   if (lo > PETSC_NINFINITY && (openlo ? !(v > lo) : !(v >= lo))) return PETSC_FALSE;
   if (hi < PETSC_INFINITY && (openhi ? !(v < hi) : !(v <= hi))) return PETSC_FALSE;
