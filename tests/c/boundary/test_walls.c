@@ -6,6 +6,7 @@
    boundary and the wall terms on particles dealt out over the ranks as a run does, against the serial
    evaluation of the same particles (TestParallel, below).
 */
+#include <string.h>
 #include "boundarytest.h"
 #include "boundary/impls/polygon/walls.h"
 #include "terms/fsterms.h"
@@ -542,52 +543,86 @@ static PetscErrorCode TestParallel(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode ExpectError(PetscErrorCode ierr, const char what[])
+/* the message of the last error raised (without its traceback), kept by the error handler EXPECT_ERROR pushes */
+typedef struct {
+  char text[1024];
+} ErrorText;
+
+static PetscErrorCode CaptureError(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n,
+                                   PetscErrorType p, const char *mess, void *ctx)
+{
+  ErrorText *e = (ErrorText *)ctx;
+
+  (void)comm;
+  (void)line;
+  (void)func;
+  (void)file;
+  if (p == PETSC_ERROR_INITIAL && mess) {
+    strncpy(e->text, mess, sizeof(e->text) - 1);
+    e->text[sizeof(e->text) - 1] = 0;
+  }
+  return n;
+}
+
+/* the error ierr of `what` must have happened, its message holding every string of must[] (NULL-terminated) */
+static PetscErrorCode ExpectError(PetscErrorCode ierr, const ErrorText *e, const char what[], const char *must[])
 {
   PetscFunctionBegin;
   CHECK(ierr != 0, "expected an error: %s", what);
+  for (PetscInt k = 0; must[k]; k++)
+    CHECK(strstr(e->text, must[k]), "the error of %s must say \"%s\": \"%s\"", what, must[k], e->text);
   PetscFunctionReturn(0);
 }
+
+/* calls `call`, which must fail with a message holding each of the strings that follow */
+#define EXPECT_ERROR(call, ...)                          \
+  do {                                                   \
+    const char    *must_[] = {__VA_ARGS__, NULL};        \
+    ErrorText      e_      = {""};                       \
+    PetscErrorCode ierr_;                                \
+    PetscCall(PetscPushErrorHandler(CaptureError, &e_)); \
+    ierr_ = (call);                                      \
+    PetscCall(PetscPopErrorHandler());                   \
+    PetscCall(ExpectError(ierr_, &e_, #call, must_));    \
+  } while (0)
 
 static PetscErrorCode TestErrors(const char dir[])
 {
   FSWalls         w;
   const PetscReal bowtie[8] = {0, 0, 1, 1, 1, 0, 0, 1}, cw[8] = {0, 0, 0, 1, 1, 1, 1, 0}, line2[4] = {0, 0, 1, 0};
-  char            path[PETSC_MAX_PATH_LEN];
+  char            path[PETSC_MAX_PATH_LEN], where[PETSC_MAX_PATH_LEN + 64];
   FILE           *fp;
-  PetscErrorCode  ierr;
 
   PetscFunctionBegin;
-  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   PetscCall(FSWallsCreate(&w));
-  ierr = FSWallsAddPolygon(&w, PETSC_COMM_SELF, "tank", 4, bowtie, "test");
-  PetscCall(ExpectError(ierr, "self-intersecting polygon"));
-  ierr = FSWallsAddPolygon(&w, PETSC_COMM_SELF, "tank", 2, line2, "test");
-  PetscCall(ExpectError(ierr, "two vertices"));
+  /* a self-intersecting polygon: the wall, where it comes from and the edges that cross */
+  EXPECT_ERROR(FSWallsAddPolygon(&w, PETSC_COMM_SELF, "tank", 4, bowtie, "test"),
+               "Wall \"tank\" (test) intersects itself", "edge 0 (0.,0.)-(1.,1.) meets edge 2 (1.,0.)-(0.,1.)");
+  EXPECT_ERROR(FSWallsAddPolygon(&w, PETSC_COMM_SELF, "tank", 2, line2, "test"),
+               "Wall \"tank\" (test) has 2 distinct vertices", "at least 3");
   PetscCall(FSWallsDestroy(&w));
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsAddPolygon(&w, PETSC_COMM_SELF, "tank", 4, cw, "test"));
-  ierr = FSWallsCheck(&w, PETSC_COMM_SELF);
-  PetscCall(ExpectError(ierr, "clockwise container (inconsistent normals)"));
+  EXPECT_ERROR(FSWallsCheck(&w, PETSC_COMM_SELF), "Inconsistent normals",
+               "the container wall \"tank\" (the first polygon) runs clockwise");
   PetscCall(FSWallsDestroy(&w));
-  /* files: an open polygon, and a line that cannot be parsed */
+  /* files: an open polygon, and a line that cannot be parsed; the messages name the file and the line */
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/open.walls", dir));
   fp = fopen(path, "w");
   fprintf(fp, "# open\nwall tank\n0 0\n1 0\n1 1\n");
   fclose(fp);
+  PetscCall(PetscSNPrintf(where, sizeof(where), "%s: wall \"tank\" (line 2) has no \"end\"", path));
   PetscCall(FSWallsCreate(&w));
-  ierr = FSWallsLoad(&w, PETSC_COMM_SELF, path);
-  PetscCall(ExpectError(ierr, "open polygon in a file"));
+  EXPECT_ERROR(FSWallsLoad(&w, PETSC_COMM_SELF, path), where, "the polygon is open");
   PetscCall(FSWallsDestroy(&w));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/bad.walls", dir));
   fp = fopen(path, "w");
   fprintf(fp, "wall tank\n0 0\n1 zero\n1 1\nend\n");
   fclose(fp);
+  PetscCall(PetscSNPrintf(where, sizeof(where), "%s:3: cannot parse \"1 zero", path));
   PetscCall(FSWallsCreate(&w));
-  ierr = FSWallsLoad(&w, PETSC_COMM_SELF, path);
-  PetscCall(ExpectError(ierr, "unparsable line"));
+  EXPECT_ERROR(FSWallsLoad(&w, PETSC_COMM_SELF, path), where, "expected two numbers x y");
   PetscCall(FSWallsDestroy(&w));
-  PetscCall(PetscPopErrorHandler());
   /* a good file: tank and a clockwise obstacle */
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/good.walls", dir));
   fp = fopen(path, "w");
