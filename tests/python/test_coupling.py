@@ -19,20 +19,21 @@ def crossings(t, w):
 
 def test_liquid_at_rest_does_not_drive_the_beam(tmp_path):
     """Liquid at rest in the undeflected tank: its weight is part of the static equilibrium, so the
-    beam stays still (tip within 2 % of the static deflection the weight would cause)."""
+    beam stays still: the tip within 0.5 % of the static deflection the weight would cause (measured
+    0.39 %), the loads within 15 % of the weight (measured 13 %: the liquid settling from its lattice)."""
     out = tmp_path / "rest"
     run_flexslosh(COUPLED + ["-ts_max_time", 0.15, "-fs_output_dir", out], cwd=tmp_path, timeout=300)
     s = read_series(out)
     weight = s["mass"][0] * 0.1 * 9.81  # 2-D mass per unit width x the tank's width (0.1 m)
-    assert np.abs(s["tip_displacement"]).max() < 0.02 * weight / K
-    assert np.abs(s["load_force_y"]).max() < 0.2 * weight  # dynamic part of the loads only
+    assert np.abs(s["tip_displacement"]).max() < 0.005 * weight / K
+    assert np.abs(s["load_force_y"]).max() < 0.15 * weight  # dynamic part of the loads only
 
 
 def test_liquid_adds_its_mass_to_the_vertical_oscillation(tmp_path):
     """Free decay from a 1 cm preload: the tank moves vertically, far below the liquid's acoustic
     modes and without exciting sloshing, so the liquid moves with it as a rigid mass: the period is
     2 pi sqrt((m + M_liquid)/K) (12 % longer than the dry one). Without the coupling (-fs_coupling 0)
-    the period is the dry one."""
+    the period is the dry one. Measured: wet +0.038 %, dry +0.011 % (the damping's 1/sqrt(1 - xi^2))."""
     periods = {}
     for coupling in (1, 0):
         out = tmp_path / f"c{coupling}"
@@ -45,8 +46,8 @@ def test_liquid_adds_its_mass_to_the_vertical_oscillation(tmp_path):
         mliq = s["mass"][0] * 0.1
     wet = 2 * np.pi * np.sqrt((M_STRUCT + mliq) / K)
     dry = 2 * np.pi * np.sqrt(M_STRUCT / K)
-    assert periods[1] == pytest.approx(wet, rel=0.01), (periods, wet, dry)
-    assert periods[0] == pytest.approx(dry, rel=0.005), (periods, wet, dry)
+    assert periods[1] == pytest.approx(wet, rel=1e-3), (periods, wet, dry)
+    assert periods[0] == pytest.approx(dry, rel=3e-4), (periods, wet, dry)
 
 
 @pytest.mark.parametrize("model", ["msd", "modal"])
