@@ -3,6 +3,8 @@
    missing on one node ends every rank with the same error instead of leaving the others waiting.
 */
 #include "sys/fssys.h"
+#include <errno.h>
+#include <sys/stat.h>
 
 /*
    FSFileOpenOnEveryRank - fopen() on every rank of comm, then one decision for all.
@@ -16,16 +18,24 @@
 
    Output Parameters:
 +  fp        - the open file, or NULL on every rank when any rank could not open it
--  elsewhere - PETSC_TRUE when this rank opened it but another rank could not (for the message)
+.  elsewhere - PETSC_TRUE when this rank opened it but another rank could not (for the message)
+-  why       - why this rank could not open it (strerror(), "a directory"), "" if it could
 */
 PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm comm, const char path[], const char mode[], FILE **fp,
-                                     PetscBool *elsewhere)
+                                     PetscBool *elsewhere, const char **why)
 {
-  FILE     *f    = fopen(path, mode);
-  const int mine = f != NULL;
-  int       all;
+  FILE       *f = fopen(path, mode);
+  struct stat sb;
+  int         mine, all;
 
   PetscFunctionBegin;
+  *why = f ? "" : strerror(errno);
+  if (f && fstat(fileno(f), &sb) == 0 && S_ISDIR(sb.st_mode)) {
+    fclose(f);
+    f    = NULL;
+    *why = "a directory";
+  }
+  mine = f != NULL;
   PetscCallMPI(MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, comm));
   if (!all && f) fclose(f);
   *fp        = all ? f : NULL;

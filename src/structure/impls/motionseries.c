@@ -63,10 +63,11 @@ PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char o
   PetscCall(PetscMemzero(s, sizeof(*s)));
   PetscCall(PetscStrncpy(s->file, file, sizeof(s->file)));
   {
-    PetscBool elsewhere;
-    PetscCall(FSFileOpenOnEveryRank(comm, file, "r", &fp, &elsewhere));
-    PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "%s: cannot open the time-series file %s%s", option, file,
-               elsewhere ? " on some of the other ranks" : "");
+    PetscBool   elsewhere;
+    const char *why;
+    PetscCall(FSFileOpenOnEveryRank(comm, file, "r", &fp, &elsewhere, &why));
+    PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "%s: cannot open the time-series file %s%s%s", option, file,
+               elsewhere ? " on some of the other ranks" : ": ", elsewhere ? "" : why);
   }
   PetscCall(PetscMalloc2(cap, &s->t, cap, &s->y));
   while (fgets(line, sizeof(line), fp)) {
