@@ -5,6 +5,7 @@
 #include "sys/fssys.h"
 #include <errno.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 /*
    FSFileOpenOnEveryRank - fopen() on every rank of comm, then one decision for all.
@@ -41,4 +42,15 @@ PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm comm, const char path[], const cha
   *fp        = all ? f : NULL;
   *elsewhere = (PetscBool)(!all && mine);
   PetscFunctionReturn(0);
+}
+
+/*
+   FSMemoryTotal - the machine's physical memory in bytes (0 if unknown): the bound of the size checks
+   that stop a set-up whose arrays could never fit (a tank given in millimetres as metres) before it
+   allocates them, instead of swapping until the out-of-memory killer ends it.
+*/
+double FSMemoryTotal(void)
+{
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? (double)pages * (double)page : 0;
 }

@@ -488,7 +488,8 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
 /* FSWallsDiscretize - splits every edge into segments of length at most dx (about dx). */
 PetscErrorCode FSWallsDiscretize(FSWalls *w, PetscReal dx)
 {
-  PetscInt nseg = 0;
+  PetscInt nseg  = 0;
+  double   count = 0, mem = FSMemoryTotal();
 
   PetscFunctionBegin;
   w->dx = dx;
@@ -497,8 +498,19 @@ PetscErrorCode FSWallsDiscretize(FSWalls *w, PetscReal dx)
       const PetscInt  v1 = v + 1 < w->pstart[p + 1] ? v + 1 : w->pstart[p];
       const PetscReal L  = PetscSqrtReal(PetscSqr(w->vert[2 * v1] - w->vert[2 * v]) +
                                          PetscSqr(w->vert[2 * v1 + 1] - w->vert[2 * v + 1]));
-      nseg += (PetscInt)PetscCeilReal(L / dx - 1e-9);
+      count += PetscCeilReal(L / dx - 1e-9);
     }
+  /* every rank holds every segment: a count past the integers or the memory (walls in millimetres read as
+     metres, a huge coordinate) stops here, before the arrays are allocated */
+  PetscCheck(count < PETSC_MAX_INT / FS_SEG_STRIDE &&
+                 (!mem || count * (FS_SEG_STRIDE * sizeof(PetscReal) + sizeof(PetscInt)) < mem),
+             PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "The walls (%s, bounding box [%g, %g] x [%g, %g]) at dx %g make %.3g segments, more than %s: check the "
+             "coordinates (in metres) and -fs_dx",
+             w->npoly ? w->where[0] : "none", (double)w->lo[0], (double)w->hi[0], (double)w->lo[1], (double)w->hi[1],
+             (double)dx, count,
+             count < PETSC_MAX_INT / FS_SEG_STRIDE ? "this machine's memory holds" : "an index can count");
+  nseg = (PetscInt)count;
   PetscCall(PetscFree(w->seg));
   PetscCall(PetscFree(w->segwall));
   PetscCall(PetscMalloc1(nseg * FS_SEG_STRIDE, &w->seg));
