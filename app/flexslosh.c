@@ -4,6 +4,108 @@ static const char help[] = "flexslosh: liquid sloshing in tanks on flexible stru
                            "  Options given but never used are reported at the end (-fs_options_left 0: not).\n\n";
 
 #include <flexslosh.h>
+#include <errno.h>
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/*
+   -options_file FILE makes PETSc read FILE while it initializes, and an -options_file inside FILE
+   too, with no limit: a file that includes itself, directly or through others, recurses until the
+   stack overflows (a segmentation fault inside PetscInitialize, PETSc 3.18). Before PetscInitialize,
+   OptionsFileCycle() follows the files as PETSc reads them ('#' starts a comment; a line holds an
+   option and its value, so "-options_file FILE" is one line) and writes the chain of a cycle,
+   or of nesting deeper than FS_OPTIONS_FILE_DEPTH, to msg. A file that cannot be opened or is not a
+   regular file is left to PETSc, which reports it.
+*/
+#define FS_OPTIONS_FILE_DEPTH 16
+
+static int OptionsWordsCycle(const char *text, char real[][PATH_MAX], const char *given[], int depth, char msg[],
+                             size_t len);
+
+static int OptionsFileCycle(const char *path, char real[][PATH_MAX], const char *given[], int depth, char msg[],
+                            size_t len)
+{
+  FILE *fp;
+  char *text;
+  long  size;
+  int   cycle = -1;
+
+  if (!realpath(path, real[depth])) return 0;
+  given[depth] = path;
+  for (int d = 0; d < depth && cycle < 0; d++)
+    if (!strcmp(real[d], real[depth])) cycle = d;
+  if (cycle >= 0 || depth + 1 >= FS_OPTIONS_FILE_DEPTH) {
+    const int first = cycle >= 0 ? cycle : 0;
+    size_t    n;
+    if (cycle >= 0) n = (size_t)snprintf(msg, len, "options file \"%s\" includes itself: ", path);
+    else n = (size_t)snprintf(msg, len, "options files nested deeper than %d: ", FS_OPTIONS_FILE_DEPTH);
+    for (int d = first; d <= depth && n < len; d++)
+      n += (size_t)snprintf(msg + n, len - n, "%s-options_file %s", d > first ? " -> " : "", given[d]);
+    return 1;
+  }
+  fp = fopen(path, "rb");
+  if (!fp) return 0;
+  if (fseek(fp, 0, SEEK_END) || (size = ftell(fp)) < 0 || fseek(fp, 0, SEEK_SET) ||
+      !(text = malloc((size_t)size + 1))) {
+    fclose(fp); /* a directory, or no memory: PETSc reports it */
+    return 0;
+  }
+  size       = (long)fread(text, 1, (size_t)size, fp);
+  text[size] = 0;
+  fclose(fp);
+  for (char *c = text; c < text + size; c++) /* comments out, NUL bytes as blanks */
+    if (*c == '#')
+      while (c < text + size && *c != '\n') *c++ = ' ';
+    else if (!*c) *c = ' ';
+  cycle = 0;
+  for (char *line = text, *end; line && !cycle; line = end ? end + 1 : NULL) { /* each line its own words */
+    if ((end = strchr(line, '\n'))) *end = 0;
+    cycle = OptionsWordsCycle(line, real, given, depth + 1, msg, len);
+  }
+  free(text);
+  return cycle;
+}
+
+/* the files named after -options_file in the words of text (a line of a file, the command line), followed */
+static int OptionsWordsCycle(const char *text, char real[][PATH_MAX], const char *given[], int depth, char msg[],
+                             size_t len)
+{
+  const char *p    = text;
+  int         next = 0, found = 0;
+
+  while (!found && *p) {
+    const char *w;
+    char        word[PATH_MAX];
+    while (*p && strchr(" \t\r\n\f\v", *p)) p++;
+    w = p;
+    while (*p && !strchr(" \t\r\n\f\v", *p)) p++;
+    if (p == w || (size_t)(p - w) >= sizeof(word)) continue;
+    memcpy(word, w, (size_t)(p - w));
+    word[p - w] = 0;
+    if (next) found = OptionsFileCycle(word, real, given, depth, msg, len);
+    next = !strcmp(word, "-options_file");
+  }
+  return found;
+}
+
+/* OptionsFilesCheck - 0, or 1 with the message printed (by the first rank of an MPI launch only) */
+static int OptionsFilesCheck(int argc, char **argv)
+{
+  static char real[FS_OPTIONS_FILE_DEPTH][PATH_MAX];
+  const char *given[FS_OPTIONS_FILE_DEPTH];
+  const char *env = getenv("PETSC_OPTIONS"), *rank = getenv("OMPI_COMM_WORLD_RANK");
+  char        msg[4096];
+  int         found = 0;
+
+  if (!rank) rank = getenv("PMI_RANK");
+  for (int a = 1; a + 1 < argc && !found; a++)
+    if (!strcmp(argv[a], "-options_file")) found = OptionsFileCycle(argv[a + 1], real, given, 0, msg, sizeof(msg));
+  if (!found && env) found = OptionsWordsCycle(env, real, given, 0, msg, sizeof(msg));
+  if (found && (!rank || !strcmp(rank, "0"))) fprintf(stderr, "[0] flexslosh: error: %s\n", msg);
+  return found;
+}
 
 int main(int argc, char **argv)
 {
@@ -11,6 +113,7 @@ int main(int argc, char **argv)
   PetscBool help_only; /* -help lists the options (the solver's, its terms', its cases' and its TS's) and stops */
 
   PetscFunctionBeginUser;
+  if (OptionsFilesCheck(argc, argv)) return PETSC_ERR_FILE_UNEXPECTED;
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   PetscCall(FSCheckPlugins(PETSC_COMM_WORLD));
   PetscCall(FSSolverCreate(PETSC_COMM_WORLD, &solver));

@@ -3,7 +3,8 @@
    document, one top-level object, in memory (members in call order; a repeated key replaces the
    earlier value); the other ranks do nothing. FSJSONDestroy prints it (json-c's pretty format, two
    spaces per level) to "<path>.tmp", opened by FSJSONCreate so that an unwritable directory fails
-   early, and renames that into place. Non-finite reals become null, as JSON has no NaN or Infinity.
+   early, and renames that into place. Non-finite reals become null, as JSON has no NaN or Infinity;
+   bytes of keys and strings that are not UTF-8 become U+FFFD, as a JSON text is UTF-8.
 */
 #include <stdio.h>
 #include <string.h>
@@ -24,11 +25,66 @@ struct _n_FSJSON {
   struct json_object *open[FS_JSON_MAX_DEPTH];  /* rank 0 only: open[0] is the document, open[depth-1] the innermost */
 };
 
+/* the length of the valid UTF-8 sequence at s (1 to 4 bytes), 0 if it is not one (RFC 3629: no overlong
+   forms, no surrogates, nothing past U+10FFFF) */
+static size_t UTF8Length(const unsigned char *s)
+{
+  const unsigned char c = s[0];
+  size_t              n;
+  unsigned char       lo = 0x80, hi = 0xBF;
+  if (c < 0x80) return 1;
+  if (c >= 0xC2 && c <= 0xDF) n = 2;
+  else if (c >= 0xE0 && c <= 0xEF) n = 3;
+  else if (c >= 0xF0 && c <= 0xF4) n = 4;
+  else return 0;
+  if (c == 0xE0) lo = 0xA0;
+  if (c == 0xED) hi = 0x9F;
+  if (c == 0xF0) lo = 0x90;
+  if (c == 0xF4) hi = 0x8F;
+  if (s[1] < lo || s[1] > hi) return 0;
+  for (size_t k = 2; k < n; k++)
+    if (s[k] < 0x80 || s[k] > 0xBF) return 0;
+  return n;
+}
+
+/* s with every byte that is not part of valid UTF-8 replaced by U+FFFD, in *out (to free), or *out = NULL
+   when s is valid as it is: a JSON text is UTF-8, and an option's name or value (an options file with
+   stray bytes) need not be */
+static PetscErrorCode FSJSONValidText(const char s[], char **out)
+{
+  const unsigned char *u   = (const unsigned char *)s;
+  size_t               bad = 0, at = 0;
+
+  PetscFunctionBegin;
+  *out = NULL;
+  if (!s) PetscFunctionReturn(0);
+  for (size_t k = 0, m; u[k]; k += m ? m : 1)
+    if (!(m = UTF8Length(u + k))) bad++;
+  if (!bad) PetscFunctionReturn(0);
+  PetscCall(PetscMalloc1(strlen(s) + 2 * bad + 1, out));
+  for (size_t k = 0, m; u[k]; k += m ? m : 1) {
+    if ((m = UTF8Length(u + k))) memcpy(*out + at, s + k, m);
+    else memcpy(*out + at, "\xEF\xBF\xBD", 3);
+    at += m ? m : 3;
+  }
+  (*out)[at] = 0;
+  PetscFunctionReturn(0);
+}
+
 /* adds value as member key of the innermost open object; takes value over even on error. value NULL
    is json-c's failure to allocate it, unless isnull says the member is null on purpose. */
 static PetscErrorCode FSJSONAdd(FSJSON js, const char key[], struct json_object *value, PetscBool isnull)
 {
+  char *valid;
+
   PetscFunctionBegin;
+  PetscCall(FSJSONValidText(key, &valid));
+  if (valid) {
+    PetscErrorCode ierr = FSJSONAdd(js, valid, value, isnull);
+    PetscCall(PetscFree(valid));
+    PetscCall(ierr);
+    PetscFunctionReturn(0);
+  }
   PetscCheck(value || isnull, PETSC_COMM_SELF, PETSC_ERR_MEM, "JSON \"%s\": out of memory for \"%s\"", js->path,
              key ? key : "");
   if (!key || !key[0]) json_object_put(value);
@@ -158,7 +214,12 @@ PetscErrorCode FSJSONWriteString(FSJSON js, const char key[], const char value[]
   PetscFunctionBegin;
   PetscCheck(js, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSJSON");
   if (js->rank != 0) PetscFunctionReturn(0);
-  PetscCall(FSJSONAdd(js, key, value ? json_object_new_string(value) : NULL, (PetscBool)!value));
+  {
+    char *valid;
+    PetscCall(FSJSONValidText(value, &valid));
+    PetscCall(FSJSONAdd(js, key, value ? json_object_new_string(valid ? valid : value) : NULL, (PetscBool)!value));
+    PetscCall(PetscFree(valid));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -46,7 +46,13 @@ static PetscErrorCode FSProbesReadFile(MPI_Comm comm, const char path[], char **
   if (rank) PetscCall(PetscMalloc1(len + 1, &buf));
   PetscCallMPI(MPI_Bcast(buf, (PetscMPIInt)len, MPI_CHAR, 0, comm));
   buf[len] = 0;
-  *text    = buf;
+  if (strlen(buf) < (size_t)len) { /* the parser would stop there, leaving the rest unread */
+    PetscInt line = 1;
+    for (const char *c = buf; *c; c++) line += (*c == '\n');
+    SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": a NUL byte: a probe file (-fs_probes) is text",
+            path, line);
+  }
+  *text = buf;
   PetscFunctionReturn(0);
 }
 
@@ -98,12 +104,16 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
     it->gauge = (PetscBool)!strcmp(tok[0], "gauge");
     PetscCheck(ntok >= 2, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": \"%s\" needs a name", path, lineno,
                tok[0]);
-    PetscCheck(strlen(tok[1]) < FS_PROBE_NAME_LEN && !strpbrk(tok[1], ",\"") && !isdigit((unsigned char)tok[1][0]) &&
-                   tok[1][0] != '-' && tok[1][0] != '.',
-               comm, PETSC_ERR_FILE_UNEXPECTED,
-               "%s:%" PetscInt_FMT ": bad name \"%s\": a name starts with a letter, has no comma or quote and fewer "
-               "than %d characters",
-               path, lineno, tok[1], FS_PROBE_NAME_LEN);
+    {
+      PetscBool ok = (PetscBool)(strlen(tok[1]) < FS_PROBE_NAME_LEN && !strpbrk(tok[1], ",\"") &&
+                                 ((tok[1][0] >= 'a' && tok[1][0] <= 'z') || (tok[1][0] >= 'A' && tok[1][0] <= 'Z')));
+      for (const char *c = tok[1]; ok && *c; c++) ok = (PetscBool)(*c > 0x20 && *c < 0x7f); /* it names CSV columns */
+      PetscCheck(ok, comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT
+                 ": bad name \"%.80s\": a name starts with a letter, has printable ASCII characters, no "
+                 "comma or quote, and fewer than %d characters",
+                 path, lineno, tok[1], FS_PROBE_NAME_LEN);
+    }
     for (PetscInt k = 0; k < ps->n; k++)
       PetscCheck(strcmp(ps->item[k].name, tok[1]), comm, PETSC_ERR_FILE_UNEXPECTED,
                  "%s:%" PetscInt_FMT ": duplicate name \"%s\": every probe and gauge needs its own", path, lineno,
@@ -132,6 +142,14 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
                  "%s:%" PetscInt_FMT ": gauge \"%s\": expected \"gauge NAME x0 y0%s x1 y1%s\" (%" PetscInt_FMT
                  " numbers: the line's start, then its end)",
                  path, lineno, it->name, dim == 3 ? " z0" : "", dim == 3 ? " z1" : "", 2 * dim);
+      for (PetscInt d = 0; d < dim; d++) /* a gauge samples every dx/4 along its length: no further than the domain */
+        PetscCheck(it->x0[d] >= s->pw.lo[d] - tol && it->x0[d] <= s->pw.hi[d] + tol && it->x1[d] >= s->pw.lo[d] - tol &&
+                       it->x1[d] <= s->pw.hi[d] + tol,
+                   comm, PETSC_ERR_FILE_UNEXPECTED,
+                   "%s:%" PetscInt_FMT ": gauge \"%s\" reaches outside the domain: coordinate %" PetscInt_FMT
+                   " of its ends, %g and %g, is not in [%g, %g]",
+                   path, lineno, it->name, d, (double)it->x0[d], (double)it->x1[d], (double)s->pw.lo[d],
+                   (double)s->pw.hi[d]);
       for (PetscInt d = 0; d < dim; d++) L2 += PetscSqr(it->x1[d] - it->x0[d]);
       PetscCheck(PetscSqrtReal(L2) > tol, comm, PETSC_ERR_FILE_UNEXPECTED,
                  "%s:%" PetscInt_FMT ": gauge \"%s\" has zero length: its two ends are the same point", path, lineno,

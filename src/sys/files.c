@@ -3,6 +3,9 @@
    missing on one node ends every rank with the same error instead of leaving the others waiting.
 */
 #include "sys/fssys.h"
+#include <errno.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 /*
    FSFileOpenOnEveryRank - fopen() on every rank of comm, then one decision for all.
@@ -16,19 +19,38 @@
 
    Output Parameters:
 +  fp        - the open file, or NULL on every rank when any rank could not open it
--  elsewhere - PETSC_TRUE when this rank opened it but another rank could not (for the message)
+.  elsewhere - PETSC_TRUE when this rank opened it but another rank could not (for the message)
+-  why       - why this rank could not open it (strerror(), "a directory"), "" if it could
 */
 PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm comm, const char path[], const char mode[], FILE **fp,
-                                     PetscBool *elsewhere)
+                                     PetscBool *elsewhere, const char **why)
 {
-  FILE     *f    = fopen(path, mode);
-  const int mine = f != NULL;
-  int       all;
+  FILE       *f = fopen(path, mode);
+  struct stat sb;
+  int         mine, all;
 
   PetscFunctionBegin;
+  *why = f ? "" : strerror(errno);
+  if (f && fstat(fileno(f), &sb) == 0 && S_ISDIR(sb.st_mode)) {
+    fclose(f);
+    f    = NULL;
+    *why = "a directory";
+  }
+  mine = f != NULL;
   PetscCallMPI(MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, comm));
   if (!all && f) fclose(f);
   *fp        = all ? f : NULL;
   *elsewhere = (PetscBool)(!all && mine);
   PetscFunctionReturn(0);
+}
+
+/*
+   FSMemoryTotal - the machine's physical memory in bytes (0 if unknown): the bound of the size checks
+   that stop a set-up whose arrays could never fit (a tank given in millimetres as metres) before it
+   allocates them, instead of swapping until the out-of-memory killer ends it.
+*/
+double FSMemoryTotal(void)
+{
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? (double)pages * (double)page : 0;
 }

@@ -22,7 +22,11 @@ PETSC_INTERN PetscErrorCode FSRegistryView(FSRegistry *, PetscViewer, const char
 PETSC_INTERN PetscErrorCode FSRegistryNames(FSRegistry *, char[], size_t);
 
 /* a file every rank reads, opened on all or on none (src/sys/files.c) */
-PETSC_INTERN PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm, const char[], const char[], FILE **, PetscBool *);
+PETSC_INTERN PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm, const char[], const char[], FILE **, PetscBool *,
+                                                  const char **);
+
+/* the machine's physical memory in bytes, 0 if unknown (src/sys/files.c) */
+PETSC_INTERN double FSMemoryTotal(void);
 
 /* fault injection for the tests (src/sys/fault.c): FLEXSLOSH_FAULT=alloc|leak:RANK:STEP */
 PETSC_INTERN PetscErrorCode FSDebugFault(MPI_Comm, const char[], PetscInt, PetscBool *);

@@ -3,6 +3,7 @@
 #include <flexslosh.h>
 #include "boundary/fsboundary.h"
 #include "liquid.h"
+#include "sys/fssys.h"
 
 /*
    FSCaseFillLiquid - gives the solver its walls (checked with FSWallsCheck) and a domain box around them (4h margin),
@@ -52,6 +53,36 @@ PetscErrorCode FSCaseSetDomainAround(FSSolver s, PetscInt dim, const PetscReal l
   PetscFunctionReturn(0);
 }
 
+/*
+   The lattice's points in [x0, x1] x [y0, ysurf], counted in doubles before anything is allocated: a
+   region whose points overflow an index or whose particles could never fit in this machine's memory (at
+   1 kB a particle, below what a run takes: 1.7 kB measured) is an error naming the region, the walls
+   and -fs_dx (a tank in millimetres read as metres, a huge coordinate, a tiny -fs_dx), not a run that
+   swaps until the out-of-memory killer ends it.
+*/
+static PetscErrorCode LatticeSizeCheck(FSSolver s, const FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0,
+                                       PetscReal ysurf, const char what[])
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  PetscReal   dx;
+  PetscMPIInt size;
+  double      rx, ry, points, mem = FSMemoryTotal();
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  rx     = PetscMax((x1 - x0) / dx + 0.5, 1);
+  ry     = PetscMax((ysurf - y0) / dx + 0.5, 1);
+  points = rx * ry;
+  PetscCheck(
+      points < PETSC_MAX_INT && (!mem || points / size * 1024 < mem), comm, PETSC_ERR_ARG_OUTOFRANGE,
+      "%s: the liquid region %g x %g (walls: %s) at -fs_dx %g needs up to %.3g particles, more than %s: check the "
+      "coordinates (in metres) and -fs_dx",
+      what, (double)(x1 - x0), (double)(ysurf - y0), w->npoly ? w->where[0] : "none", (double)dx, points,
+      points < PETSC_MAX_INT ? "the memory of this machine holds" : "an index can count");
+  PetscFunctionReturn(0);
+}
+
 /* the domain around the walls; the segments, for the particles' distances to the walls */
 static PetscErrorCode PolygonDomain(FSSolver s, FSWalls *w)
 {
@@ -90,10 +121,11 @@ static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0,
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, &dx, NULL, &rho0, &c0, NULL));
   gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1]);
-  nx   = (PetscInt)((x1 - x0) / dx + 0.5);
-  ny   = (PetscInt)((ysurf - y0) / dx + 0.5);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(LatticeSizeCheck(s, w, x0, x1, y0, ysurf, what));
+  nx = (PetscInt)((x1 - x0) / dx + 0.5);
+  ny = (PetscInt)((ysurf - y0) / dx + 0.5);
   PetscCheck(nx >= 1 && ny >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "%s: -fs_dx %g leaves no particle in the liquid region %g x %g", what, (double)dx, (double)(x1 - x0),
              (double)(ysurf - y0));
@@ -156,6 +188,7 @@ PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0
                                             PetscReal ysurf, const char what[], FSCaseVelocityFn velocity, void *ctx)
 {
   PetscFunctionBegin;
+  PetscCall(LatticeSizeCheck(s, w, x0, x1, y0, ysurf, what));
   PetscCall(PolygonDomain(s, w));
   PetscCall(PolygonLattice(s, w, x0, x1, y0, ysurf, what, velocity, ctx));
   PetscCall(PolygonGive(s, w));
@@ -237,6 +270,8 @@ PetscErrorCode FSCaseFillLiquidBoxes(FSSolver s, FSWalls *w, PetscInt nbox, cons
                  PETSC_ERR_ARG_OUTOFRANGE, "%s: boxes %" PetscInt_FMT " and %" PetscInt_FMT " overlap", what, j, k);
     }
   }
+  for (PetscInt k = 0; k < nbox; k++)
+    PetscCall(LatticeSizeCheck(s, w, box[4 * k], box[4 * k + 1], box[4 * k + 2], box[4 * k + 3], what));
   PetscCall(PolygonDomain(s, w));
   for (PetscInt k = 0; k < nbox; k++)
     PetscCall(PolygonLattice(s, w, box[4 * k], box[4 * k + 1], box[4 * k + 2], box[4 * k + 3], what, NULL, NULL));

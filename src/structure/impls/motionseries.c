@@ -55,7 +55,9 @@ PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char o
                                   FSMotionSeries *s)
 {
   FILE      *fp;
-  char       line[4096];
+  char      *line    = NULL;
+  size_t     linecap = 0;
+  ssize_t    len;
   PetscInt   cap = 256, lineno = 0;
   PetscReal *w;
 
@@ -63,39 +65,38 @@ PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char o
   PetscCall(PetscMemzero(s, sizeof(*s)));
   PetscCall(PetscStrncpy(s->file, file, sizeof(s->file)));
   {
-    PetscBool elsewhere;
-    PetscCall(FSFileOpenOnEveryRank(comm, file, "r", &fp, &elsewhere));
-    PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "%s: cannot open the time-series file %s%s", option, file,
-               elsewhere ? " on some of the other ranks" : "");
+    PetscBool   elsewhere;
+    const char *why;
+    PetscCall(FSFileOpenOnEveryRank(comm, file, "r", &fp, &elsewhere, &why));
+    PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "%s: cannot open the time-series file %s%s%s", option, file,
+               elsewhere ? " on some of the other ranks" : ": ", elsewhere ? "" : why);
   }
   PetscCall(PetscMalloc2(cap, &s->t, cap, &s->y));
-  while (fgets(line, sizeof(line), fp)) {
-    char     *p = line, *hash = strchr(line, '#');
+  while ((len = getline(&line, &linecap, fp)) > 0) {
+    char     *p = line, *hash;
     PetscReal v[3];
     PetscInt  nv  = 0;
     PetscBool bad = PETSC_FALSE;
+    char      err[256];
 
     lineno++;
-    if (!strchr(line, '\n') && !feof(fp)) {
-      fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "%s: file %s, line %" PetscInt_FMT ": longer than %d characters", option,
-              file, lineno, (int)sizeof(line) - 1);
+    err[0] = 0;
+    if (strlen(line) < (size_t)len) PetscCall(PetscStrncpy(err, "a NUL byte: the file is text", sizeof(err)));
+    if ((hash = strchr(line, '#'))) *hash = 0;
+    if (!err[0]) {
+      while (nv < 3 && NextNumber(&p, &v[nv], &bad)) nv++;
+      if (!nv && !bad) continue; /* blank or comment */
+      if (bad || nv != 2)
+        PetscCall(PetscStrncpy(err, "expected two finite numbers, the time and the value", sizeof(err)));
+      else if (s->n && v[0] <= s->t[s->n - 1])
+        PetscCall(PetscSNPrintf(err, sizeof(err),
+                                "the time %g does not follow the previous time %g (times must strictly increase)",
+                                (double)v[0], (double)s->t[s->n - 1]));
     }
-    if (hash) *hash = 0;
-    while (nv < 3 && NextNumber(&p, &v[nv], &bad)) nv++;
-    if (!nv && !bad) continue; /* blank or comment */
-    if (bad || nv != 2) {
+    if (err[0]) {
       fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
-              "%s: file %s, line %" PetscInt_FMT ": expected two finite numbers, the time and the value", option, file,
-              lineno);
-    }
-    if (s->n && v[0] <= s->t[s->n - 1]) {
-      fclose(fp);
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
-              "%s: file %s, line %" PetscInt_FMT ": the time %g does not follow the previous time %g (times must "
-              "strictly increase)",
-              option, file, lineno, (double)v[0], (double)s->t[s->n - 1]);
+      free(line);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "%s: file %s, line %" PetscInt_FMT ": %s", option, file, lineno, err);
     }
     if (s->n == cap) { /* grow */
       PetscReal *t, *y;
@@ -110,6 +111,7 @@ PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char o
     s->t[s->n]   = v[0];
     s->y[s->n++] = scale * v[1];
   }
+  free(line);
   fclose(fp);
   PetscCheck(s->n >= 2, comm, PETSC_ERR_FILE_UNEXPECTED,
              "%s: file %s has %" PetscInt_FMT " points (time, value): at least two are needed", option, file, s->n);
@@ -117,6 +119,17 @@ PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char o
   PetscCall(PetscMalloc1(s->n, &w));
   SplineSecondDerivatives(s->n, s->t, s->y, s->M, w);
   PetscCall(PetscFree(w));
+  /* values too large, or times too close, for the spline's slopes and second derivatives (the velocity and
+     acceleration the liquid feels) to be numbers */
+  for (PetscInt i = 0; i + 1 < s->n; i++) {
+    const PetscReal slope = (s->y[i + 1] - s->y[i]) / (s->t[i + 1] - s->t[i]);
+    PetscCheck(!PetscIsInfOrNanReal(slope) && !PetscIsInfOrNanReal(s->M[i]) && !PetscIsInfOrNanReal(s->M[i + 1]), comm,
+               PETSC_ERR_FILE_UNEXPECTED,
+               "%s: file %s: the points (%g, %g) and (%g, %g) give a velocity or acceleration that is not a finite "
+               "number: values too large or times too close",
+               option, file, (double)s->t[i], (double)(s->y[i] / scale), (double)s->t[i + 1],
+               (double)(s->y[i + 1] / scale));
+  }
   PetscFunctionReturn(0);
 }
 

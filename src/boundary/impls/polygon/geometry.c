@@ -23,10 +23,31 @@ PetscErrorCode FSWallsDestroy(FSWalls *w)
   PetscCall(PetscFree(w->vwall));
   PetscCall(PetscFree(w->vert));
   PetscCall(PetscFree(w->area));
+  PetscCall(PetscFree(w->where));
   PetscCall(PetscFree(w->name));
   PetscCall(PetscFree(w->seg));
   PetscCall(PetscFree(w->segwall));
   PetscFunctionReturn(0);
+}
+
+/*
+   FSWallNameProblem - NULL if name can name a wall, else what is wrong with it. A wall's name becomes
+   column names of timeseries.csv (wall_<name>_force_x, ...), an item of the comma-separated list in
+   walls.xdmf and walls.h5, and of -fs_walls_noslip: 1 to 63 printable ASCII characters, no comma, quote,
+   '<', '>' or '&', no blank at either end (STL solid names may hold blanks inside).
+*/
+const char *FSWallNameProblem(const char name[])
+{
+  const size_t n = strlen(name);
+  if (!n) return "a name is empty";
+  if (n > 63) return "a name has at most 63 characters";
+  if (name[0] == ' ' || name[n - 1] == ' ') return "a name neither starts nor ends with a blank";
+  for (size_t k = 0; k < n; k++) {
+    const unsigned char c = (unsigned char)name[k];
+    if (c < 0x20 || c > 0x7e) return "a name has printable ASCII characters only";
+    if (strchr(",\"'<>&", c)) return "a name has no comma, quote, '<', '>' or '&' (it names CSV columns and XML items)";
+  }
+  return NULL;
 }
 
 static PetscReal Cross(const PetscReal a[], const PetscReal b[], const PetscReal c[])
@@ -113,6 +134,11 @@ PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], P
     PetscInt  *pstart, *pwall;
     PetscInt  *vwall;
     PetscReal *vert, *ar;
+    char(*wh)[FS_WALLS_WHERE_LEN];
+    PetscCall(PetscMalloc1(w->npoly + 1, &wh));
+    if (w->npoly) PetscCall(PetscArraycpy(wh, w->where, w->npoly));
+    PetscCall(PetscFree(w->where));
+    w->where = wh;
     PetscCall(PetscMalloc1(w->npoly + 2, &pstart));
     PetscCall(PetscMalloc1(w->nvert + n, &vwall));
     PetscCall(PetscMalloc1(w->npoly + 1, &pwall));
@@ -142,8 +168,9 @@ PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], P
   for (PetscInt k = 0; k < n; k++) {
     w->vert[2 * (s + k)]     = xy[2 * k];
     w->vert[2 * (s + k) + 1] = xy[2 * k + 1];
-    PetscCheck(PetscIsNormalReal(xy[2 * k]) || xy[2 * k] == 0, comm, PETSC_ERR_ARG_WRONG,
-               "Wall \"%s\" (%s): vertex %" PetscInt_FMT " is not a finite number", name, where, k);
+    PetscCheck(!PetscIsInfOrNanReal(xy[2 * k]) && !PetscIsInfOrNanReal(xy[2 * k + 1]), comm, PETSC_ERR_ARG_WRONG,
+               "Wall \"%s\" (%s): vertex %" PetscInt_FMT " (%g, %g) is not a pair of finite numbers", name, where, k,
+               (double)xy[2 * k], (double)xy[2 * k + 1]);
   }
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal *a = &xy[2 * k], *b = &xy[2 * ((k + 1) % n)];
@@ -169,6 +196,7 @@ PetscErrorCode FSWallsAddPolygon(FSWalls *w, MPI_Comm comm, const char name[], P
   for (PetscInt k = 0; k < n; k++) w->vwall[s + k] = wall;
   w->pwall[w->npoly] = wall;
   w->area[w->npoly]  = area;
+  PetscCall(PetscStrncpy(w->where[w->npoly], where, sizeof(w->where[0])));
   w->nvert += n;
   w->pstart[++w->npoly] = w->nvert;
   PetscFunctionReturn(0);
@@ -203,20 +231,22 @@ PetscErrorCode FSWallsCheck(FSWalls *w, MPI_Comm comm)
 {
   PetscFunctionBegin;
   PetscCheck(w->npoly > 0, comm, PETSC_ERR_ARG_WRONG, "No walls given");
-  PetscCheck(w->area[0] > 0, comm, PETSC_ERR_ARG_WRONG,
-             "Inconsistent normals: the container wall \"%s\" (the first polygon) runs clockwise; list its vertices "
-             "counter-clockwise so that the liquid is on the left of each edge",
-             w->name[w->pwall[0]]);
+  PetscCheck(
+      w->area[0] > 0, comm, PETSC_ERR_ARG_WRONG,
+      "Inconsistent normals: the container wall \"%s\" (%s, the first polygon) runs clockwise; list its vertices "
+      "counter-clockwise so that the liquid is on the left of each edge",
+      w->name[w->pwall[0]], w->where[0]);
   for (PetscInt p = 1; p < w->npoly; p++) {
     PetscCheck(w->area[p] < 0, comm, PETSC_ERR_ARG_WRONG,
                "Inconsistent normals: obstacle polygon %" PetscInt_FMT
-               " of wall \"%s\" runs counter-clockwise; obstacles inside the container must run clockwise (liquid "
+               " of wall \"%s\" (%s) runs counter-clockwise; obstacles inside the container must run clockwise (liquid "
                "outside them)",
-               p, w->name[w->pwall[p]]);
+               p, w->name[w->pwall[p]], w->where[p]);
     for (PetscInt v = w->pstart[p]; v < w->pstart[p + 1]; v++)
       PetscCheck(InPolygon(w, 0, &w->vert[2 * v]), comm, PETSC_ERR_ARG_WRONG,
-                 "Vertex (%g, %g) of obstacle polygon %" PetscInt_FMT " (wall \"%s\") lies outside the container",
-                 (double)w->vert[2 * v], (double)w->vert[2 * v + 1], p, w->name[w->pwall[p]]);
+                 "Vertex (%g, %g) of obstacle polygon %" PetscInt_FMT
+                 " (wall \"%s\", %s) lies outside the container (%s)",
+                 (double)w->vert[2 * v], (double)w->vert[2 * v + 1], p, w->name[w->pwall[p]], w->where[p], w->where[0]);
   }
   for (PetscInt p = 0; p < w->npoly; p++)
     for (PetscInt q = p + 1; q < w->npoly; q++)
@@ -226,10 +256,10 @@ PetscErrorCode FSWallsCheck(FSWalls *w, MPI_Comm comm)
           const PetscInt j1 = j + 1 < w->pstart[q + 1] ? j + 1 : w->pstart[q];
           PetscCheck(!SegmentsIntersect(&w->vert[2 * i], &w->vert[2 * i1], &w->vert[2 * j], &w->vert[2 * j1]), comm,
                      PETSC_ERR_ARG_WRONG,
-                     "Polygons %" PetscInt_FMT " (wall \"%s\") and %" PetscInt_FMT
-                     " (wall \"%s\") meet: walls must not touch or cross (make a baffle that touches the tank part of "
-                     "the tank's outline)",
-                     p, w->name[w->pwall[p]], q, w->name[w->pwall[q]]);
+                     "Polygons %" PetscInt_FMT " (wall \"%s\", %s) and %" PetscInt_FMT
+                     " (wall \"%s\", %s) meet: walls must not touch or cross (make a baffle that touches the tank part "
+                     "of the tank's outline)",
+                     p, w->name[w->pwall[p]], w->where[p], q, w->name[w->pwall[q]], w->where[q]);
         }
       }
   w->lo[0] = w->lo[1] = PETSC_MAX_REAL;
@@ -328,56 +358,101 @@ PetscErrorCode FSWallsBaffledTank(FSWalls *w, MPI_Comm comm, PetscInt ncomp, Pet
 */
 PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
 {
-  FILE      *fp = NULL;
-  char       line[1024], name[64] = "", where[PETSC_MAX_PATH_LEN + 64];
+  FILE      *fp   = NULL;
+  char      *text = NULL, *next, name[64] = "", where[FS_WALLS_WHERE_LEN];
+  size_t     size = 0, cap_text = 0;
   PetscReal *xy   = NULL;
   char(*edge)[64] = NULL; /* the wall of each edge, "" for the polygon's */
-  PetscInt    n = 0, cap = 0, lineno = 0, start = 0;
+  PetscInt    n = 0, cap = 0, lineno = 0, start = 0, npoly0 = w->npoly;
   PetscBool   open = PETSC_FALSE;
-  PetscMPIInt rank;
+  const char *why;
 
   PetscFunctionBegin;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  /* every rank parses the (small) file, so that every rank raises the same error */
+  /* every rank reads and parses the (small) file, so that every rank raises the same error */
   {
     PetscBool elsewhere;
-    PetscCall(FSFileOpenOnEveryRank(comm, path, "r", &fp, &elsewhere));
-    PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "Cannot open the wall file \"%s\"%s", path,
-               elsewhere ? " on some of the other ranks" : "");
+    PetscCall(FSFileOpenOnEveryRank(comm, path, "r", &fp, &elsewhere, &why));
+    PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "Cannot open the wall file \"%s\"%s%s", path,
+               elsewhere ? " on some of the other ranks" : ": ", elsewhere ? "" : why);
   }
-  while (fgets(line, sizeof(line), fp)) {
-    char *c = strchr(line, '#'), *p = line, word[64];
+  for (size_t got;;) { /* the whole file, which may hold NUL bytes */
+    if (size + 1 >= cap_text) {
+      char *t;
+      cap_text = PetscMax(4096, 2 * cap_text);
+      PetscCall(PetscMalloc1(cap_text, &t));
+      if (size) PetscCall(PetscArraycpy(t, text, size));
+      PetscCall(PetscFree(text));
+      text = t;
+    }
+    got = fread(text + size, 1, cap_text - size - 1, fp);
+    size += got;
+    if (!got) break;
+  }
+  fclose(fp);
+  text[size] = 0;
+  for (char *line = text; line; line = next) {
+    char       *c, *tok[4], *save = NULL, shown[96];
+    const char *bad;
+    int         ntok = 0;
+    next             = memchr(line, '\n', (size_t)(text + size - line));
+    if (next) *next++ = 0;
     lineno++;
-    if (c) *c = 0;
-    while (isspace((unsigned char)*p)) p++;
-    if (!*p) continue;
-    if (sscanf(p, "%63s", word) == 1 && !strcmp(word, "wall")) {
+    PetscCheck((size_t)((next ? next - 1 : text + size) - line) == strlen(line), comm, PETSC_ERR_FILE_UNEXPECTED,
+               "%s:%" PetscInt_FMT ": a NUL byte: a wall file is text (docs/walls.md)", path, lineno);
+    if ((c = strchr(line, '#'))) *c = 0;
+    PetscCall(PetscStrncpy(shown, line, sizeof(shown))); /* for the messages: strtok_r cuts the line */
+    for (char *t = strtok_r(line, " \t\r\f\v", &save); t; t = strtok_r(NULL, " \t\r\f\v", &save)) {
+      PetscCheck(ntok < 3, comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT ": cannot parse \"%s\": too many words; expected two numbers x y (and the name of "
+                 "the edge's wall), \"wall <name>\" or \"end\"",
+                 path, lineno, shown);
+      tok[ntok++] = t;
+    }
+    if (!ntok) continue;
+    if (!strcmp(tok[0], "wall")) {
       PetscCheck(!open, comm, PETSC_ERR_FILE_UNEXPECTED,
                  "%s:%" PetscInt_FMT ": \"wall\" before the \"end\" of wall \"%s\" (started on line %" PetscInt_FMT ")",
                  path, lineno, name, start);
-      PetscCheck(sscanf(p, "%*s %63s", name) == 1, comm, PETSC_ERR_FILE_UNEXPECTED,
-                 "%s:%" PetscInt_FMT ": \"wall\" needs a name", path, lineno);
+      PetscCheck(ntok == 2, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": expected \"wall <name>\"%s", path,
+                 lineno, ntok == 1 ? ": \"wall\" needs a name" : ", found more words");
+      bad = FSWallNameProblem(tok[1]);
+      PetscCheck(!bad, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": bad wall name \"%.80s\": %s", path,
+                 lineno, tok[1], bad);
+      PetscCall(PetscStrncpy(name, tok[1], sizeof(name)));
       open  = PETSC_TRUE;
       n     = 0;
       start = lineno;
-    } else if (!strcmp(word, "end")) {
+    } else if (!strcmp(tok[0], "end")) {
       PetscCheck(open, comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": \"end\" without \"wall\"", path, lineno);
+      PetscCheck(ntok == 1, comm, PETSC_ERR_FILE_UNEXPECTED,
+                 "%s:%" PetscInt_FMT ": expected \"end\" alone, found \"%s\"", path, lineno, tok[1]);
       PetscCall(PetscSNPrintf(where, sizeof(where), "%s:%" PetscInt_FMT "-%" PetscInt_FMT, path, start, lineno));
       PetscCall(FSWallsAddPolygon(w, comm, name, n, xy, where));
       for (PetscInt k = 0, p = w->npoly - 1; k < w->pstart[p + 1] - w->pstart[p]; k++)
         if (edge[k][0]) PetscCall(FSWallsSetEdgeWall(w, comm, p, k, edge[k]));
       open = PETSC_FALSE;
     } else {
-      double x, y;
-      char   ename[64] = "", extra[8];
-      int    nread;
+      double v[2];
       PetscCheck(open, comm, PETSC_ERR_FILE_UNEXPECTED,
-                 "%s:%" PetscInt_FMT ": a vertex outside \"wall <name>\" ... \"end\": %s", path, lineno, p);
-      nread = sscanf(p, "%lf %lf %63s %7s", &x, &y, ename, extra);
-      PetscCheck(nread == 2 || nread == 3, comm, PETSC_ERR_FILE_UNEXPECTED,
-                 "%s:%" PetscInt_FMT ": cannot parse \"%s\": expected two numbers x y (and the name of the edge's "
-                 "wall), \"wall <name>\" or \"end\"",
-                 path, lineno, p);
+                 "%s:%" PetscInt_FMT ": \"%.80s\" outside \"wall <name>\" ... \"end\": expected \"wall <name>\"", path,
+                 lineno, tok[0]);
+      for (int d = 0; d < 2; d++) {
+        char *e = NULL;
+        v[d]    = d < ntok ? strtod(tok[d], &e) : 0;
+        PetscCheck(d < ntok && e != tok[d] && !*e, comm, PETSC_ERR_FILE_UNEXPECTED,
+                   "%s:%" PetscInt_FMT
+                   ": cannot parse \"%s\": %s%.80s%s; expected two numbers x y (and the name of the "
+                   "edge's wall), \"wall <name>\" or \"end\"",
+                   path, lineno, shown, d < ntok ? "\"" : "", d < ntok ? tok[d] : "no y coordinate",
+                   d < ntok ? "\" is not a number" : "");
+        PetscCheck(!PetscIsInfOrNanReal((PetscReal)v[d]), comm, PETSC_ERR_FILE_UNEXPECTED,
+                   "%s:%" PetscInt_FMT ": %c = \"%s\" is not a finite number", path, lineno, d ? 'y' : 'x', tok[d]);
+      }
+      if (ntok == 3) {
+        bad = FSWallNameProblem(tok[2]);
+        PetscCheck(!bad, comm, PETSC_ERR_FILE_UNEXPECTED,
+                   "%s:%" PetscInt_FMT ": bad wall name \"%.80s\" of the edge: %s", path, lineno, tok[2], bad);
+      }
       if (n == cap) {
         PetscReal *nxy;
         char(*nedge)[64];
@@ -393,15 +468,18 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
         xy   = nxy;
         edge = nedge;
       }
-      xy[2 * n]     = x;
-      xy[2 * n + 1] = y;
-      PetscCall(PetscStrncpy(edge[n], nread == 3 ? ename : "", sizeof(edge[n])));
+      xy[2 * n]     = v[0];
+      xy[2 * n + 1] = v[1];
+      PetscCall(PetscStrncpy(edge[n], ntok == 3 ? tok[2] : "", sizeof(edge[n])));
       n++;
     }
   }
-  fclose(fp);
+  PetscCall(PetscFree(text));
   PetscCheck(!open, comm, PETSC_ERR_FILE_UNEXPECTED,
              "%s: wall \"%s\" (line %" PetscInt_FMT ") has no \"end\": the polygon is open", path, name, start);
+  PetscCheck(w->npoly > npoly0, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "%s: no wall in the file: expected \"wall <name>\", a vertex \"x y\" a line, \"end\" (docs/walls.md)",
+             path);
   PetscCall(PetscFree(xy));
   PetscCall(PetscFree(edge));
   PetscFunctionReturn(0);
@@ -410,7 +488,8 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
 /* FSWallsDiscretize - splits every edge into segments of length at most dx (about dx). */
 PetscErrorCode FSWallsDiscretize(FSWalls *w, PetscReal dx)
 {
-  PetscInt nseg = 0;
+  PetscInt nseg  = 0;
+  double   count = 0, mem = FSMemoryTotal();
 
   PetscFunctionBegin;
   w->dx = dx;
@@ -419,8 +498,19 @@ PetscErrorCode FSWallsDiscretize(FSWalls *w, PetscReal dx)
       const PetscInt  v1 = v + 1 < w->pstart[p + 1] ? v + 1 : w->pstart[p];
       const PetscReal L  = PetscSqrtReal(PetscSqr(w->vert[2 * v1] - w->vert[2 * v]) +
                                          PetscSqr(w->vert[2 * v1 + 1] - w->vert[2 * v + 1]));
-      nseg += (PetscInt)PetscCeilReal(L / dx - 1e-9);
+      count += PetscCeilReal(L / dx - 1e-9);
     }
+  /* every rank holds every segment: a count past the integers or the memory (walls in millimetres read as
+     metres, a huge coordinate) stops here, before the arrays are allocated */
+  PetscCheck(count < PETSC_MAX_INT / FS_SEG_STRIDE &&
+                 (!mem || count * (FS_SEG_STRIDE * sizeof(PetscReal) + sizeof(PetscInt)) < mem),
+             PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "The walls (%s, bounding box [%g, %g] x [%g, %g]) at dx %g make %.3g segments, more than %s: check the "
+             "coordinates (in metres) and -fs_dx",
+             w->npoly ? w->where[0] : "none", (double)w->lo[0], (double)w->hi[0], (double)w->lo[1], (double)w->hi[1],
+             (double)dx, count,
+             count < PETSC_MAX_INT / FS_SEG_STRIDE ? "this machine's memory holds" : "an index can count");
+  nseg = (PetscInt)count;
   PetscCall(PetscFree(w->seg));
   PetscCall(PetscFree(w->segwall));
   PetscCall(PetscMalloc1(nseg * FS_SEG_STRIDE, &w->seg));

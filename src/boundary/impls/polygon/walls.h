@@ -10,6 +10,8 @@
 #pragma once
 #include <flexslosh.h>
 
+#define FS_WALLS_WHERE_LEN (PETSC_MAX_PATH_LEN + 64)
+
 typedef struct {
   PetscInt   npoly, nvert, vcap;
   PetscInt  *pstart; /* npoly+1 offsets into the vertices */
@@ -17,7 +19,8 @@ typedef struct {
   PetscInt  *vwall;  /* wall index of each edge, by its first vertex: the polygon's unless FSWallsSetEdgeWall */
   PetscReal *vert;   /* vertices, 2 per vertex */
   PetscReal *area;   /* signed area of each polygon (> 0 counter-clockwise) */
-  PetscInt   nwalls;
+  char (*where)[FS_WALLS_WHERE_LEN]; /* where each polygon comes from (a file and its lines, a built-in tank) */
+  PetscInt nwalls;
   char (*name)[64];
   /* segments, after FSWallsDiscretize */
   PetscInt   nseg;
@@ -46,6 +49,7 @@ static inline PetscReal FSSegmentDistance2(const PetscReal seg[], const PetscRea
   return px * px + py * py;
 }
 
+PETSC_INTERN const char    *FSWallNameProblem(const char name[]);
 PETSC_INTERN PetscErrorCode FSWallsCreate(FSWalls *);
 PETSC_INTERN PetscErrorCode FSWallsDestroy(FSWalls *);
 PETSC_INTERN PetscErrorCode FSWallsAddPolygon(FSWalls *, MPI_Comm, const char name[], PetscInt n, const PetscReal xy[],

@@ -123,7 +123,7 @@ static PetscErrorCode ParseASCII(const char path[], const char name[], const cha
   Scanner     sc = {text, text + size, 1, 1};
   const char *w;
   size_t      len;
-  char        solid[64], found[64];
+  char        solid[256], found[64];
   PetscInt    facet = 0;
 
   PetscFunctionBegin;
@@ -151,6 +151,15 @@ static PetscErrorCode ParseASCII(const char path[], const char name[], const cha
       PetscFunctionReturn(0);
     }
     RestOfLine(&sc, solid, sizeof(solid));
+    {
+      const char *bad = FSWallNameProblem(solid[0] ? solid : name);
+      if (bad) {
+        *err = PETSC_ERR_FILE_UNEXPECTED;
+        snprintf(msg, msglen, "%s:%" PetscInt_FMT ": bad wall name \"%.80s\" (%s): %s", path, sc.line,
+                 solid[0] ? solid : name, solid[0] ? "the solid's name" : "an unnamed solid is named by the file", bad);
+        PetscFunctionReturn(0);
+      }
+    }
     PetscCall(STLDataAddSolid(s, solid[0] ? solid : name));
     for (;;) {
       PetscReal xyz[9];
@@ -263,6 +272,14 @@ static PetscErrorCode ReadSTL(const char path[], const char name[], STLData *s, 
     solid = (PetscBool)(size - k >= 5 && !strncasecmp((const char *)buf + k, "solid", 5));
   }
   if (size >= 84 && (uint64_t)size == 84 + 50 * (uint64_t)count) {
+    const char *bad = FSWallNameProblem(name);
+    if (bad) {
+      *err = PETSC_ERR_FILE_UNEXPECTED;
+      snprintf(msg, msglen, "%s: bad wall name \"%.80s\" (a binary STL file is named by the file): %s", path, name,
+               bad);
+      PetscCall(PetscFree(buf));
+      PetscFunctionReturn(0);
+    }
     PetscCall(STLDataAddSolid(s, name));
     for (uint32_t t = 0; t < count; t++) {
       const unsigned char *f = buf + 84 + 50 * (size_t)t + 12; /* the normal skipped */
