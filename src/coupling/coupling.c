@@ -62,6 +62,33 @@ PetscErrorCode FSCouplingCreate(MPI_Comm comm, FSCoupling *coupling)
   PetscFunctionReturn(0);
 }
 
+/* the coupling's options (FSCouplingSetUp, FSCouplingHelp): whether to couple, the loads, the width, the reference
+ * point */
+static PetscErrorCode CouplingOptions(FSCoupling c, PetscOptionItems *PetscOptionsObject, PetscBool *want,
+                                      PetscReal ref[2], PetscInt *nref, PetscBool *set)
+{
+  const char *loadtypes[] = {"reaction", "walls"};
+  PetscInt    lt          = c->loads_from_walls ? 1 : 0;
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsBool("-fs_coupling",
+                             "Couple the liquid and the structure (loads to the structure, tank motion to the liquid)",
+                             "FSCouplingSetUp", *want, want, NULL));
+  PetscCall(PetscOptionsEList(
+      "-fs_coupling_loads",
+      "The liquid's loads the structure receives: reaction (minus the force and moment of all terms but gravity on the "
+      "particles: Newton's third law) or walls (the integral of the wall pressure and shear)",
+      "FSCouplingSetUp", loadtypes, 2, loadtypes[c->loads_from_walls ? 1 : 0], &lt, NULL));
+  c->loads_from_walls = lt == 1 ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_width",
+                          "Width of the tank across the 2-D plane: the liquid's loads per unit width times this",
+                          "FSCouplingSetUp", &c->tank_width, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_tank_reference",
+                               "The tank's point on the beam, in the tank's frame (default: the middle of the floor)",
+                               "FSCouplingSetUp", ref, nref, set, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscFunctionReturn(0);
+}
+
 /*
    FSCouplingSetUp - decides whether the liquid and the structure are coupled, reads the coupling
    options and computes the loads of the liquid at rest (weight and its moment about the reference
@@ -76,11 +103,10 @@ PetscErrorCode FSCouplingCreate(MPI_Comm comm, FSCoupling *coupling)
 PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, PetscInt dim, const PetscReal gravity[], FSBoundary b,
                                PetscInt n, const PetscReal x[], const PetscReal m[])
 {
-  MPI_Comm    comm = c->comm;
-  PetscBool   want = PETSC_TRUE, set;
-  PetscReal   ref[2], loc[4] = {0, 0, 0, 0}, glob[4], lo[3], hi[3];
-  PetscInt    nref = 2, lt = 0;
-  const char *loadtypes[] = {"reaction", "walls"};
+  MPI_Comm  comm = c->comm;
+  PetscBool want = PETSC_TRUE, set;
+  PetscReal ref[2], loc[4] = {0, 0, 0, 0}, glob[4], lo[3], hi[3];
+  PetscInt  nref = 2;
 
   PetscFunctionBegin;
   c->coupled = PETSC_FALSE;
@@ -95,24 +121,17 @@ PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, PetscInt dim, c
   ref[0] = 0.5 * (lo[0] + hi[0]);
   ref[1] = lo[1];
   PetscOptionsBegin(comm, NULL, "Coupling of the liquid and the structure", "FS");
-  PetscCall(PetscOptionsBool("-fs_coupling",
-                             "Couple the liquid and the structure (loads to the structure, tank motion to the liquid)",
-                             "FSCouplingSetUp", want, &want, NULL));
-  PetscCall(PetscOptionsEList(
-      "-fs_coupling_loads",
-      "The liquid's loads the structure receives: reaction (minus the force and moment of all terms but gravity on the "
-      "particles: Newton's third law) or walls (the integral of the wall pressure and shear)",
-      "FSCouplingSetUp", loadtypes, 2, loadtypes[c->loads_from_walls ? 1 : 0], &lt, NULL));
-  c->loads_from_walls = lt == 1 ? PETSC_TRUE : PETSC_FALSE;
-  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_width",
-                          "Width of the tank across the 2-D plane: the liquid's loads per unit width times this",
-                          "FSCouplingSetUp", &c->tank_width, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
-  PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_tank_reference",
-                               "The tank's point on the beam, in the tank's frame (default: the middle of the floor)",
-                               "FSCouplingSetUp", ref, &nref, &set, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(CouplingOptions(c, PetscOptionsObject, &want, ref, &nref, &set));
   PetscOptionsEnd();
   PetscCheck(!set || nref == 2, comm, PETSC_ERR_ARG_SIZ, "-fs_tank_reference takes two values x,y; got %" PetscInt_FMT,
              nref);
+  for (PetscInt d = 0; set && d < 2; d++) { /* on the beam next to the tank: within the walls' box grown by its size */
+    const PetscReal size = hi[d] - lo[d];
+    PetscCheck(
+        ref[d] >= lo[d] - size && ref[d] <= hi[d] + size, comm, PETSC_ERR_ARG_OUTOFRANGE,
+        "-fs_tank_reference %g,%g: its %c must lie in [%g, %g] (the walls' extent grown by its size on each side)",
+        (double)ref[0], (double)ref[1], "xy"[d], (double)(lo[d] - size), (double)(hi[d] + size));
+  }
   PetscCheck(c->tank_width > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_width %g must be positive",
              (double)c->tank_width);
   if (!want) PetscFunctionReturn(0);
@@ -138,6 +157,28 @@ PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, PetscInt dim, c
     c->static_loads.moment[0] = glob[2] * c->gravity[2] - glob[3] * c->gravity[1];
     c->static_loads.moment[1] = glob[3] * c->gravity[0] - glob[1] * c->gravity[2];
   }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCouplingHelp - with -help, lists the coupling's options (a run reads them at set-up, only when a
+   structure carries a tank of liquid), on a scratch coupling.
+
+   Collective
+*/
+PetscErrorCode FSCouplingHelp(MPI_Comm comm)
+{
+  FSCoupling c      = NULL;
+  PetscBool  want   = PETSC_TRUE, set;
+  PetscReal  ref[2] = {0, 0};
+  PetscInt   nref   = 2;
+
+  PetscFunctionBegin;
+  PetscCall(FSCouplingCreate(comm, &c));
+  PetscOptionsBegin(comm, NULL, "Coupling of the liquid and the structure (with a structure and a tank)", "FS");
+  PetscCall(CouplingOptions(c, PetscOptionsObject, &want, ref, &nref, &set));
+  PetscOptionsEnd();
+  PetscCall(FSCouplingDestroy(&c));
   PetscFunctionReturn(0);
 }
 

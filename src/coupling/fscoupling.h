@@ -15,6 +15,7 @@ typedef struct _p_FSCoupling *FSCoupling;
 PETSC_INTERN PetscErrorCode FSCouplingCreate(MPI_Comm, FSCoupling *);
 PETSC_INTERN PetscErrorCode FSCouplingSetUp(FSCoupling, PetscBool possible, PetscInt dim, const PetscReal gravity[],
                                             FSBoundary, PetscInt n, const PetscReal x[], const PetscReal m[]);
+PETSC_INTERN PetscErrorCode FSCouplingHelp(MPI_Comm);
 PETSC_INTERN PetscErrorCode FSCouplingGetActive(FSCoupling, PetscBool *);
 PETSC_INTERN PetscErrorCode FSCouplingGetLiquidMass(FSCoupling, PetscReal *);
 PETSC_INTERN PetscErrorCode FSCouplingGetWidth(FSCoupling, PetscReal *);

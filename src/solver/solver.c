@@ -468,6 +468,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       PetscCall(FSTermHelpAll(s, &s->terms, PetscOptionsObject));
       PetscCall(FSStructureHelpAll(s, s->structure, PetscOptionsObject));
       PetscCall(FSBoundaryHelpAll(comm));
+      PetscCall(FSCouplingHelp(comm));
     }
   }
   PetscOptionsEnd();

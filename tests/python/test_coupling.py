@@ -71,6 +71,7 @@ def test_coupled_ranks_agree(tmp_path, model):
 @pytest.mark.parametrize("args,expect", [
     (["-fs_tank_width", -0.1], ["-fs_tank_width", "-0.1", "positive"]),
     (["-fs_tank_reference", 0.35], ["-fs_tank_reference", "two values"]),
+    (["-fs_tank_reference", "0.35,1e300"], ["-fs_tank_reference", "its y must lie in"]),
 ])
 def test_bad_coupling_options(tmp_path, args, expect):
     from conftest import petsc_error_message

@@ -44,6 +44,7 @@ BASE = [
     ("-fs_tank_compartment", TANK + ["-fs_tank_shape", "baffled", "-fs_tank_compartments", "2", "-fs_tank_compartment_length", "0.05"]),
     ("-fs_motion_z_", TANK3 + ["-fs_structure", "prescribed"]),
     ("-fs_motion_", TANK + ["-fs_structure", "prescribed"]),
+    ("-fs_tank_reference", TANK + ["-fs_structure", "msd"]),
     ("", TANK),
 ]
 
@@ -123,6 +124,7 @@ NAMES = {
     "-fs_boundary": (["nosuch"], None),
     "-fs_walls_visibility": (["nosuch"], None),
     "-fs_neighbour_rebuild": (["nosuch"], None),
+    "-fs_coupling_loads": (["-fs_structure", "msd", "-fs_coupling_loads", "nosuch"], "nosuch"),
     "-fs_walls_noslip": (["nosuch"], None),
     "-fs_tank_file": (["-fs_tank_shape", "file", "-fs_tank_file", "/nonexistent.walls"], "/nonexistent.walls"),
     "-fs_tank_stl": (TANK3[4:] + ["-fs_dim", "3", "-fs_tank_shape", "stl", "-fs_tank_stl", "/nonexistent.stl"], "/nonexistent.stl"),
