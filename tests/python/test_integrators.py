@@ -4,7 +4,7 @@ import pytest
 
 from conftest import TG, read_series, read_summary, run_flexslosh
 
-T_END = 0.04  # about 28 steps of the stable time step (1.46e-3) at dx = 0.02
+T_END = 0.04  # 35 steps at dx = 0.02: two of the acoustic step 1.45e-3, then the delta term's bound 1.13e-3
 INTEGRATORS = {
     "rk4": [],
     "ssp": ["-ts_type", "ssp"],
@@ -28,7 +28,7 @@ def test_integrator_runs(runs, name):
     s = read_series(runs[name])
     summ = read_summary(runs[name])
     assert s["time"][-1] == pytest.approx(T_END, rel=1e-12)
-    assert 25 <= summ["steps"] <= 35
+    assert 33 <= summ["steps"] <= 37  # measured 35 with each integrator
     # each step evaluates the right-hand side once per stage (the snapshots may add one each)
     assert STAGES[name] * summ["steps"] <= summ["rhs_evaluations"] <= STAGES[name] * summ["steps"] + 2
     assert np.all(np.diff(s["time"]) > 0)
@@ -39,8 +39,8 @@ def test_integrator_runs(runs, name):
 def test_integrators_agree(runs, name):
     ref = read_series(runs["rk4"])["kinetic_energy"][-1]
     ke = read_series(runs[name])["kinetic_energy"][-1]
-    # the integrators differ by their truncation error only (observed: 4e-7 relative)
-    assert ke == pytest.approx(ref, rel=1e-5)
+    # the integrators differ by their truncation error only (measured: ssp -2.7e-7, rk5dp 2.0e-9 relative)
+    assert ke == pytest.approx(ref, rel=5e-7)
 
 
 @pytest.mark.parametrize("name", ["rk4", "rk5dp"])
@@ -61,6 +61,8 @@ def test_conservation_100_steps(tmp_path):
     bound = 1e-12 * mass[0] * U
     for comp in ("momentum_x", "momentum_y"):
         assert np.abs(s[comp]).max() < bound, f"{comp} reaches {np.abs(s[comp]).max():.3g}"
-    # the energy decays at a plausible viscous rate (exact: 16 pi^2 nu = 1.58 per unit time)
+    # the energy decays at the viscous rate, 16 pi^2 nu = 1.58 per unit time, plus what the default terms
+    # add at L/dx = 50 over these 100 steps (t = 0.12): measured 1.80 (+14 %; the delta-LES viscosity is
+    # about 8 % of nu here, and cases/taylor_green.opts' terms give 1.67)
     rate = -np.polyfit(s["time"], np.log(s["kinetic_energy"]), 1)[0]
-    assert 1.4 < rate < 2.2
+    assert 1.75 < rate < 1.85, rate

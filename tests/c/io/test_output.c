@@ -1,7 +1,8 @@
 /*
    Unit test of src/io: snapshots (2-D and 3-D) with their XDMF and CSV index, the snapshot
    index on restart, checkpoints (write, read back exactly, even split on another communicator
-   size, error cases), the time-series CSV with restart, and the JSON writer.
+   size, error cases), the time-series CSV with restart, and the JSON writer. Every error case checks
+   the code and, on every rank, the message (the file, field or option it must name).
 
    Usage: mpirun -n <1..3> test_output [output_dir]   (default: a fresh directory under /tmp)
    Prints "test_output: OK" and returns 0 on success.
@@ -61,19 +62,61 @@ static PetscErrorCode ReadText(const char path[], char **text)
 /* -verbose_errors prints the message of each expected error */
 static PetscBool verbose_errors_ = PETSC_FALSE;
 
-/* Calls an expression that must fail with the given PETSc error code (error printing suppressed) */
-#define EXPECT_ERROR(ctx, code, call)                                                                    \
-  do {                                                                                                   \
-    PetscErrorCode ierr_;                                                                                \
-    PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));                                     \
-    ierr_ = (call);                                                                                      \
-    PetscCall(PetscPopErrorHandler());                                                                   \
-    if (verbose_errors_ && ierr_) {                                                                      \
-      char *msg_ = NULL;                                                                                 \
-      PetscCall(PetscErrorMessage(ierr_, NULL, &msg_));                                                  \
-      PetscCall(PetscPrintf((ctx)->comm, "expected error %d: %s\n", (int)ierr_, msg_ ? msg_ : ""));      \
-    }                                                                                                    \
-    TCHECK((ctx)->comm, ierr_ == (code), "%s returned %d, expected %d", #call, (int)ierr_, (int)(code)); \
+/* the message of the last error raised (without its traceback), kept by the error handler EXPECT_ERROR pushes */
+typedef struct {
+  char text[2048];
+} ErrorText;
+
+static PetscErrorCode CaptureError(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n,
+                                   PetscErrorType p, const char *mess, void *ctx)
+{
+  ErrorText *e = (ErrorText *)ctx;
+
+  (void)comm;
+  (void)line;
+  (void)func;
+  (void)file;
+  if (p == PETSC_ERROR_INITIAL && mess) {
+    strncpy(e->text, mess, sizeof(e->text) - 1);
+    e->text[sizeof(e->text) - 1] = 0;
+  }
+  return n;
+}
+
+/* on every rank: the error of `what` has the code expected and its message holds every string of must[]
+   (NULL-terminated); a rank that finds otherwise says why, and the test fails on every rank */
+static PetscErrorCode CheckError(TestCtx *ctx, PetscErrorCode ierr, PetscErrorCode code, const ErrorText *e,
+                                 const char what[], const char *must[])
+{
+  PetscInt    bad     = 0, gbad;
+  const char *missing = NULL;
+
+  PetscFunctionBegin;
+  if (verbose_errors_ && ierr) PetscCall(PetscPrintf(ctx->comm, "expected error %d: %s\n", (int)ierr, e->text));
+  for (PetscInt k = 0; must[k] && !missing; k++)
+    if (!strstr(e->text, must[k])) missing = must[k];
+  if (ierr != code || missing) {
+    bad = 1;
+    PetscCall(PetscPrintf(PETSC_COMM_SELF, "[%d] %s returned %d (expected %d) with the message \"%s\"%s%s%s\n",
+                          (int)ctx->rank, what, (int)ierr, (int)code, e->text, missing ? ", which must say \"" : "",
+                          missing ? missing : "", missing ? "\"" : ""));
+  }
+  PetscCallMPI(MPI_Allreduce(&bad, &gbad, 1, MPIU_INT, MPI_MAX, ctx->comm));
+  TCHECK(ctx->comm, gbad == 0, "%s: not the error expected on some rank (see above)", what);
+  PetscFunctionReturn(0);
+}
+
+/* Calls an expression that must fail with the given PETSc error code and a message holding each of the strings
+   that follow (error printing suppressed) */
+#define EXPECT_ERROR(ctx, code, call, ...)                          \
+  do {                                                              \
+    const char    *must_[] = {__VA_ARGS__, NULL};                   \
+    ErrorText      e_      = {""};                                  \
+    PetscErrorCode ierr_;                                           \
+    PetscCall(PetscPushErrorHandler(CaptureError, &e_));            \
+    ierr_ = (call);                                                 \
+    PetscCall(PetscPopErrorHandler());                              \
+    PetscCall(CheckError((ctx), ierr_, (code), &e_, #call, must_)); \
   } while (0)
 
 /* Loads dataset /particles/<name> of an HDF5 file with this rank's layout and compares exactly */
@@ -143,7 +186,7 @@ static PetscErrorCode CountCSVRows(const char path[], PetscInt *rows)
 
 static PetscErrorCode TestDirectory(TestCtx *ctx)
 {
-  char path[PETSC_MAX_PATH_LEN];
+  char path[PETSC_MAX_PATH_LEN], msg[PETSC_MAX_PATH_LEN + 128];
 
   PetscFunctionBegin;
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/a/b//c/", ctx->dir));
@@ -158,7 +201,9 @@ static PetscErrorCode TestDirectory(TestCtx *ctx)
   }
   PetscCallMPI(MPI_Barrier(ctx->comm));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/plainfile/sub", ctx->dir));
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSMakeDirectory(ctx->comm, path, "-fs_output_dir"));
+  PetscCall(
+      PetscSNPrintf(msg, sizeof(msg), "Cannot create or write output directory \"%s\" (option -fs_output_dir)", path));
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSMakeDirectory(ctx->comm, path, "-fs_output_dir"), msg, "Not a directory");
   PetscFunctionReturn(0);
 }
 
@@ -190,13 +235,19 @@ static PetscErrorCode TestSnapshots(TestCtx *ctx)
     FSOutputField f2[3] = {{"position", 2, pos}, {"velocity", 2, vel}, {"rho", 1, rho}};
 
     for (PetscInt s = 0; s < 3; s++) PetscCall(FSSnapshotWriterWrite(w, times[s], 10 * s, 2, nlocal, 3, f2));
-    /* invalid calls: missing position, bad bs, bad name */
-    EXPECT_ERROR(ctx, PETSC_ERR_ARG_WRONG, FSSnapshotWriterWrite(w, 1.0, 99, 2, nlocal, 2, f2 + 1));
+    char msg[PETSC_MAX_PATH_LEN + 128];
+
+    /* invalid calls: missing position, bad bs, bad name; the messages name the file (the next snapshot) */
+    PetscCall(PetscSNPrintf(msg, sizeof(msg), "\"%s/snapshot_000003.h5\"", dir2));
+    EXPECT_ERROR(ctx, PETSC_ERR_ARG_WRONG, FSSnapshotWriterWrite(w, 1.0, 99, 2, nlocal, 2, f2 + 1), msg,
+                 "a field \"position\" with bs = dim = 2 is required");
     f2[1].bs = 3;
-    EXPECT_ERROR(ctx, PETSC_ERR_ARG_OUTOFRANGE, FSSnapshotWriterWrite(w, 1.0, 99, 2, nlocal, 3, f2));
+    EXPECT_ERROR(ctx, PETSC_ERR_ARG_OUTOFRANGE, FSSnapshotWriterWrite(w, 1.0, 99, 2, nlocal, 3, f2), msg,
+                 "field \"velocity\" has bs 3, expected 1 (scalar) or 2 (vector)");
     f2[1].bs   = 2;
     f2[1].name = "bad name";
-    EXPECT_ERROR(ctx, PETSC_ERR_ARG_WRONG, FSSnapshotWriterWrite(w, 1.0, 99, 2, nlocal, 3, f2));
+    EXPECT_ERROR(ctx, PETSC_ERR_ARG_WRONG, FSSnapshotWriterWrite(w, 1.0, 99, 2, nlocal, 3, f2), msg,
+                 "field name \"bad name\" may contain only letters, digits, '_', '-' and '.'");
   }
   PetscCall(FSSnapshotWriterGetCount(w, &count));
   TCHECK(ctx->comm, count == 3, "2-D count %" PetscInt_FMT ", expected 3", count);
@@ -267,6 +318,7 @@ static PetscErrorCode TestSnapshots(TestCtx *ctx)
 static PetscErrorCode TestCheckpoint(TestCtx *ctx)
 {
   char               dir[PETSC_MAX_PATH_LEN], path[PETSC_MAX_PATH_LEN], missing[PETSC_MAX_PATH_LEN];
+  char               msg[PETSC_MAX_PATH_LEN + 128], sizes[128];
   FSCheckpointHeader hdr, rh;
   PetscInt           nlocal = 4 + 3 * ctx->rank, start, N, rN, rn, bad = 0, gbad;
   PetscMPIInt        nranks;
@@ -344,24 +396,35 @@ static PetscErrorCode TestCheckpoint(TestCtx *ctx)
     }
   }
 
-  /* errors */
+  /* errors: each names the file, and the field and sizes where they are wrong */
   PetscCall(PetscSNPrintf(missing, sizeof(missing), "%s/no_such_checkpoint.h5", dir));
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSCheckpointReadHeader(ctx->comm, missing, &rh, NULL, NULL));
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSCheckpointGetLocalSize(ctx->comm, missing, &rn));
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSCheckpointReadField(ctx->comm, missing, "rho", 1, nlocal, buf));
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "pressure", 1, nlocal, buf));
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "velocity", 3, nlocal, buf));
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "rho", 1, nlocal - 1, buf));
+  PetscCall(PetscSNPrintf(msg, sizeof(msg), "Checkpoint \"%s\" does not exist or cannot be read", missing));
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSCheckpointReadHeader(ctx->comm, missing, &rh, NULL, NULL), msg);
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSCheckpointGetLocalSize(ctx->comm, missing, &rn), msg);
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSCheckpointReadField(ctx->comm, missing, "rho", 1, nlocal, buf), msg);
+  PetscCall(PetscSNPrintf(msg, sizeof(msg), "Checkpoint \"%s\"", path));
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "pressure", 1, nlocal, buf), msg,
+               "has no field \"pressure\" (dataset /particles/pressure)");
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "velocity", 3, nlocal, buf), msg,
+               "field \"velocity\" has 2 components per particle, expected 3");
+  PetscCall(PetscSNPrintf(sizes, sizeof(sizes),
+                          "field \"rho\" holds %" PetscInt_FMT
+                          " particles, but the local sizes add up to %" PetscInt_FMT,
+                          N, N - ctx->size));
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "rho", 1, nlocal - 1, buf), msg,
+               sizes);
   /* a snapshot is not a checkpoint */
   PetscCall(PetscSNPrintf(missing, sizeof(missing), "%s/snap3d/snapshot_000000.h5", ctx->dir));
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadHeader(ctx->comm, missing, &rh, NULL, NULL));
+  PetscCall(
+      PetscSNPrintf(msg, sizeof(msg), "Checkpoint \"%s\" has no /header group: not a flexslosh checkpoint", missing));
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadHeader(ctx->comm, missing, &rh, NULL, NULL), msg);
   PetscCall(PetscFree4(pos, vel, rho, buf));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode TestTimeSeries(TestCtx *ctx)
 {
-  char              path[PETSC_MAX_PATH_LEN];
+  char              path[PETSC_MAX_PATH_LEN], msg[PETSC_MAX_PATH_LEN + 128];
   const char *const names[2] = {"energy", "mass"};
   const char *const other[2] = {"energy", "volume"};
   FSTimeSeries      ts;
@@ -405,8 +468,10 @@ static PetscErrorCode TestTimeSeries(TestCtx *ctx)
     TCHECK(PETSC_COMM_SELF, !strcmp(text, expect), "series.csv after restart:\n%s", text);
     PetscCall(PetscFree(text));
   }
-  /* changed columns cannot be appended on restart */
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSTimeSeriesCreate(ctx->comm, path, 2, other, 2, &ts));
+  /* changed columns cannot be appended on restart: the file and the header it would need */
+  PetscCall(PetscSNPrintf(msg, sizeof(msg), "Time series \"%s\": its header is not \"step,energy,volume\"", path));
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSTimeSeriesCreate(ctx->comm, path, 2, other, 2, &ts), msg,
+               "cannot append to it on restart");
   PetscFunctionReturn(0);
 }
 
