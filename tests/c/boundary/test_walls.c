@@ -8,6 +8,7 @@
 */
 #include <string.h>
 #include "boundarytest.h"
+#include "../errorcapture.h"
 #include "boundary/impls/polygon/walls.h"
 #include "terms/fsterms.h"
 
@@ -543,27 +544,6 @@ static PetscErrorCode TestParallel(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-/* the message of the last error raised (without its traceback), kept by the error handler EXPECT_ERROR pushes */
-typedef struct {
-  char text[1024];
-} ErrorText;
-
-static PetscErrorCode CaptureError(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n,
-                                   PetscErrorType p, const char *mess, void *ctx)
-{
-  ErrorText *e = (ErrorText *)ctx;
-
-  (void)comm;
-  (void)line;
-  (void)func;
-  (void)file;
-  if (p == PETSC_ERROR_INITIAL && mess) {
-    strncpy(e->text, mess, sizeof(e->text) - 1);
-    e->text[sizeof(e->text) - 1] = 0;
-  }
-  return n;
-}
-
 /* the error ierr of `what` must have happened, its message holding every string of must[] (NULL-terminated) */
 static PetscErrorCode ExpectError(PetscErrorCode ierr, const ErrorText *e, const char what[], const char *must[])
 {
@@ -575,15 +555,15 @@ static PetscErrorCode ExpectError(PetscErrorCode ierr, const ErrorText *e, const
 }
 
 /* calls `call`, which must fail with a message holding each of the strings that follow */
-#define EXPECT_ERROR(call, ...)                          \
-  do {                                                   \
-    const char    *must_[] = {__VA_ARGS__, NULL};        \
-    ErrorText      e_      = {""};                       \
-    PetscErrorCode ierr_;                                \
-    PetscCall(PetscPushErrorHandler(CaptureError, &e_)); \
-    ierr_ = (call);                                      \
-    PetscCall(PetscPopErrorHandler());                   \
-    PetscCall(ExpectError(ierr_, &e_, #call, must_));    \
+#define EXPECT_ERROR(call, ...)                                \
+  do {                                                         \
+    const char    *must_[] = {__VA_ARGS__, NULL};              \
+    ErrorText      e_      = {""};                             \
+    PetscErrorCode ierr_;                                      \
+    PetscCall(PetscPushErrorHandler(FSTestCaptureError, &e_)); \
+    ierr_ = (call);                                            \
+    PetscCall(PetscPopErrorHandler());                         \
+    PetscCall(ExpectError(ierr_, &e_, #call, must_));          \
   } while (0)
 
 static PetscErrorCode TestErrors(const char dir[])
@@ -604,7 +584,7 @@ static PetscErrorCode TestErrors(const char dir[])
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsAddPolygon(&w, PETSC_COMM_SELF, "tank", 4, cw, "test"));
   EXPECT_ERROR(FSWallsCheck(&w, PETSC_COMM_SELF), "Inconsistent normals",
-               "the container wall \"tank\" (the first polygon) runs clockwise");
+               "the container wall \"tank\" (test, the first polygon) runs clockwise");
   PetscCall(FSWallsDestroy(&w));
   /* files: an open polygon, and a line that cannot be parsed; the messages name the file and the line */
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/open.walls", dir));

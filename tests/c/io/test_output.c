@@ -15,6 +15,7 @@
 #include <petscvec.h>
 #include <petscviewerhdf5.h>
 #include "io/fsoutput.h"
+#include "../errorcapture.h"
 
 /* Fails the test (on every rank of comm) when cond is false */
 #define TCHECK(comm, cond, ...) PetscCheck(cond, comm, PETSC_ERR_PLIB, "test_output: " __VA_ARGS__)
@@ -62,27 +63,6 @@ static PetscErrorCode ReadText(const char path[], char **text)
 /* -verbose_errors prints the message of each expected error */
 static PetscBool verbose_errors_ = PETSC_FALSE;
 
-/* the message of the last error raised (without its traceback), kept by the error handler EXPECT_ERROR pushes */
-typedef struct {
-  char text[2048];
-} ErrorText;
-
-static PetscErrorCode CaptureError(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n,
-                                   PetscErrorType p, const char *mess, void *ctx)
-{
-  ErrorText *e = (ErrorText *)ctx;
-
-  (void)comm;
-  (void)line;
-  (void)func;
-  (void)file;
-  if (p == PETSC_ERROR_INITIAL && mess) {
-    strncpy(e->text, mess, sizeof(e->text) - 1);
-    e->text[sizeof(e->text) - 1] = 0;
-  }
-  return n;
-}
-
 /* on every rank: the error of `what` has the code expected and its message holds every string of must[]
    (NULL-terminated); a rank that finds otherwise says why, and the test fails on every rank */
 static PetscErrorCode CheckError(TestCtx *ctx, PetscErrorCode ierr, PetscErrorCode code, const ErrorText *e,
@@ -113,7 +93,7 @@ static PetscErrorCode CheckError(TestCtx *ctx, PetscErrorCode ierr, PetscErrorCo
     const char    *must_[] = {__VA_ARGS__, NULL};                   \
     ErrorText      e_      = {""};                                  \
     PetscErrorCode ierr_;                                           \
-    PetscCall(PetscPushErrorHandler(CaptureError, &e_));            \
+    PetscCall(PetscPushErrorHandler(FSTestCaptureError, &e_));      \
     ierr_ = (call);                                                 \
     PetscCall(PetscPopErrorHandler());                              \
     PetscCall(CheckError((ctx), ierr_, (code), &e_, #call, must_)); \
