@@ -84,6 +84,40 @@ def _load_binding(path: Path):
     return module
 
 
+_OPTIONS_FILE_DEPTH = 16
+
+
+def options_file_cycle(words: list[str], _chain: tuple[tuple[str, str], ...] = ()) -> str | None:
+    """The chain of options files that include themselves (or nest deeper than 16) among the files named
+    after ``-options_file`` in words, followed as PETSc reads them ('#' starts a comment, each line its own
+    words), as a message; None when there is none. PETSc 3.18 follows such a chain until the stack overflows
+    (a segmentation fault), so the files are checked before PETSc reads them; a file that cannot be read
+    is left to PETSc, which names it."""
+    for i, word in enumerate(words[:-1]):
+        if word != "-options_file":
+            continue
+        given = words[i + 1]
+        try:
+            real = os.path.realpath(given, strict=True)
+        except OSError:
+            continue
+        chain = _chain + ((given, real),)
+        first = next((k for k, (_, r) in enumerate(_chain) if r == real), None)
+        if first is not None or len(chain) >= _OPTIONS_FILE_DEPTH:
+            what = (f'options file "{given}" includes itself' if first is not None
+                    else f"options files nested deeper than {_OPTIONS_FILE_DEPTH}")
+            return what + ": " + " -> ".join(f"-options_file {g}" for g, _ in chain[first or 0:])
+        try:
+            text = Path(real).read_bytes().replace(b"\0", b" ").decode("utf-8", "replace")
+        except OSError:
+            continue
+        for line in text.splitlines():
+            found = options_file_cycle(line.split("#", 1)[0].split(), chain)
+            if found:
+                return found
+    return None
+
+
 class _Core:
     """petsc4py's PETSc module and the binding: its ``ffi`` (types, memory) and ``lib`` (the C functions
     of include/flexslosh.h and PETSc the package calls, and the helpers of python/ffi_build.py)."""
@@ -97,6 +131,9 @@ class _Core:
         import petsc4py
 
         if "petsc4py.PETSc" not in sys.modules:
+            cycle = options_file_cycle(list(argv or []) + os.environ.get("PETSC_OPTIONS", "").split())
+            if cycle:
+                raise ValueError(cycle)
             petsc4py.init(list(argv) if argv is not None else [sys.argv[0] if sys.argv and sys.argv[0] else "flexslosh"])
         from petsc4py import PETSc
 
@@ -253,6 +290,10 @@ class Solver:
         self.comm, self._ccomm = core.comm(comm)
         if options_file is not None and not Path(options_file).is_file():
             raise FileNotFoundError(f"options file {options_file} not found")
+        if options_file is not None:
+            cycle = options_file_cycle(["-options_file", os.fspath(options_file)])
+            if cycle:
+                raise ValueError(cycle)
         before = core.PETSc.Options().getAll()
         try:
             if options_file is not None:

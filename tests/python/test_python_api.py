@@ -145,6 +145,20 @@ def test_options_dict_file_and_restore(tmp_path):
         assert s.energy()["work_alpha"] == 0 and s.field("turbulent_viscosity").max() == 0
 
 
+
+def test_options_file_including_itself_is_refused(tmp_path):
+    """PETSc follows -options_file inside an options file without a limit (a stack overflow on a cycle): the
+    chain is checked before PETSc reads it, directly and through another file."""
+    a, b = tmp_path / "a.opts", tmp_path / "b.opts"
+    a.write_text(f"-fs_case taylor_green\n-options_file {b}  # the other one\n")
+    b.write_text(f"# back to the first\n-options_file {a}\n")
+    with pytest.raises(ValueError, match=rf'options file "{a}" includes itself: -options_file {a} -> '
+                                         rf"-options_file {b} -> -options_file {a}"):
+        Solver(options_file=a)
+    b.write_text("-fs_dx 0.1\n# -options_file a.opts (a comment)\n")
+    with Solver(options_file=a) as s:  # no cycle: the chain is read by PETSc
+        assert s.set_up().local_size == 100
+
 def test_bad_options_raise_petsc_messages():
     with pytest.raises(FlexsloshError, match='Unknown case "nosuch" given to -fs_case'):
         Solver({"fs_case": "nosuch"})
