@@ -295,7 +295,8 @@ def _hydrostatic(ctx: Context, name: str, dim: int) -> Section:
     sec = Section(name, title,
                   "A liquid at rest, H = 0.03 m deep, for t sqrt(g/H) = 20: the particles' pressure against rho0 g (H - y) "
                   "at the end (rms error over the particles deeper than 2h, relative to rho0 g H), the vertical load of the "
-                  "liquid on the walls against its weight, and the largest speed against sqrt(g H).",
+                  "liquid on the walls against its weight, and the rms speed sqrt(2 E_k/M) against sqrt(g H) (the fastest "
+                  "particle's speed is given in the caption).",
                   "Exact: p(y) = rho0 g (H - y), wall load = weight (docs/validation.md): formulas, no data file.")
     dx = ctx.dxs(name)[0]
     tmax = 0.15 if ctx.quick else 1.1
@@ -311,10 +312,13 @@ def _hydrostatic(ctx: Context, name: str, dim: int) -> Section:
     weight = float(r.column("mass")[-1]) * G  # the liquid's weight (per unit width in 2-D, as the load)
     tail = r.column("time") > 0.5 * tmax
     load = abs(abs(float(np.mean(fy[tail]))) / weight - 1)  # the load on the tank points down
+    # the rms speed sqrt(2 E_k / M) (the quiet the specification asks for), and the largest particle's speed
+    vrms = np.sqrt(2 * r.column("kinetic_energy") / r.column("mass")) / math.sqrt(G * H)
     vmax = float(np.max(r.column("max_velocity")[tail])) / math.sqrt(G * H)
     sec.checks += [Check("rms(p - rho0 g (H - y)) / (rho0 g H), particles deeper than 2h", err, 0.01, fmt="{:.2%}"),
-                   Check("abs(wall load / weight - 1), mean over the second half", load, 0.015, fmt="{:.2%}"),
-                   Check("max speed / sqrt(g H), second half", vmax, 0.01, fmt="{:.2e}")]
+                   Check("abs(wall load / weight - 1), mean over the second half", load, 0.01, fmt="{:.2%}"),
+                   Check("rms speed / sqrt(g H), largest over the second half", float(np.max(vrms[tail])), 0.01,
+                         fmt="{:.2e}")]
     fig, ax = _figure(6, 4)
     ax.plot(p / (rho0 * G * H), y / H, ".", ms=2, alpha=0.4, label=f"flexslosh H/dx = {H / dx:.0f}, t = {snap.time:.2f} s")
     yy = np.linspace(0, 1, 50)
@@ -323,7 +327,8 @@ def _hydrostatic(ctx: Context, name: str, dim: int) -> Section:
     ax.set_ylabel("y / H")
     ax.legend()
     sec.figure = _save(fig, ctx, name)
-    sec.caption = f"{title}: the particles' pressure against depth at the end of the run, and the exact profile"
+    sec.caption = (f"{title}: the particles' pressure against depth at the end of the run, and the exact profile "
+                   f"(the fastest particle in the second half: {vmax:.2e} sqrt(g H))")
     return sec
 
 
