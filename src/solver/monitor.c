@@ -130,6 +130,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.steps_taken    = 0;
   s->mon.nrebuilds      = 0;
   s->mon.pair_visits    = 0;
+  PetscCall(FSParallelStatsBegin(s));
   /* snapshots at multiples of the interval, also after a restart */
   s->mon.next_output        = s->opt.output_interval > 0
                                   ? (PetscFloorReal(t / s->opt.output_interval + 1e-9) + 1) * s->opt.output_interval
