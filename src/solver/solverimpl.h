@@ -50,6 +50,7 @@ typedef struct {
   PetscInt  checkpoint_interval;
   PetscBool progress, write_output;
   PetscReal progress_interval;
+  PetscInt  series_interval; /* -fs_series_interval: steps between the time series' rows */
   PetscBool terms_view;
   PetscBool geometry_view; /* -fs_geometry_view: write the set-up's picture and walls, then stop */
   PetscInt  sort_interval;
