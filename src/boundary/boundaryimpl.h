@@ -52,6 +52,8 @@ struct _p_FSBoundary {
   PetscInt     nnoslipname;
   PetscReal    loadpoint[3]; /* -fs_walls_load_point */
   PetscReal *load, *loadsum; /* per wall 6: this rank's share of the last right-hand side, and the sum over the ranks */
+  PetscInt   wp_reductions, wp_values; /* the wall pressure's sums over the ranks in the last right-hand side: calls,
+                                          values (summary.json; the scaling model's cost of a stage) */
   PetscReal  bounce_distance, restitution; /* -fs_walls_bounce_distance (in dx), -fs_walls_bounce_restitution */
   PetscBool  visall;                       /* -fs_walls_visibility all: no pair cut, no facing filter, no occlusion */
   PetscInt64 nbounce;

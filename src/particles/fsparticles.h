@@ -59,6 +59,12 @@ typedef struct {
   PetscInt    *send_index;
   PetscMPIInt *send_rank;
   PetscReal   *send_shift;
+  /* communication counts (the run's parallel statistics): per refresh, the messages to other ranks and the
+     records they carry, set by each build; totals since the halo was created, added where messages are posted */
+  PetscInt       nsendranks, nsendremote;
+  PetscLogDouble refresh_msgs, refresh_bytes; /* the refreshes' messages and bytes sent */
+  PetscLogDouble build_msgs, build_bytes;     /* the builds' (the ranks' handshake and the ghosts' addresses) */
+  PetscInt       nbuilds;
 } FSHalo;
 
 PETSC_INTERN PetscErrorCode FSHaloBuild(FSHalo *, MPI_Comm, const FSDecomp *, PetscInt nowned, const PetscReal rec[],

@@ -144,6 +144,19 @@ PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscI
   }
   for (PetscMPIInt r = 0; r < size; r++)
     if (counts[r + 1] > counts[r]) nto++;
+  /* what each refresh sends to other ranks (the copies a rank keeps of its own are no messages) */
+  hl->nsendranks  = 0;
+  hl->nsendremote = 0;
+  for (PetscMPIInt r = 0; r < size; r++)
+    if (r != dd->rank && counts[r + 1] > counts[r]) {
+      hl->nsendranks++;
+      hl->nsendremote += counts[r + 1] - counts[r];
+    }
+  /* the build's messages: the handshake (two ints to each destination) and the ghosts' addresses and shifts */
+  hl->build_msgs += 2 * hl->nsendranks;
+  hl->build_bytes += (PetscLogDouble)hl->nsendranks * 2 * sizeof(PetscInt) +
+                     (PetscLogDouble)hl->nsendremote * nrec * sizeof(PetscReal);
+  hl->nbuilds++;
   PetscCall(PetscMalloc2(nto, &toranks, 2 * nto, &todata));
   nto = 0;
   for (PetscMPIInt r = 0; r < size; r++)
@@ -219,6 +232,8 @@ PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscI
 PetscErrorCode FSHaloRefresh(FSHalo *hl, PetscInt dim, PetscInt nowned, PetscReal rec[])
 {
   PetscFunctionBegin;
+  hl->refresh_msgs += hl->nsendranks;
+  hl->refresh_bytes += (PetscLogDouble)hl->nsendremote * hl->recstride * sizeof(PetscReal);
   PetscCall(PetscSFBcastBegin(hl->sf, hl->rectype, rec, rec, MPI_REPLACE));
   PetscCall(PetscSFBcastEnd(hl->sf, hl->rectype, rec, rec, MPI_REPLACE));
   for (PetscInt g = 0; g < hl->nghost; g++) {
@@ -232,6 +247,8 @@ PetscErrorCode FSHaloRefresh(FSHalo *hl, PetscInt dim, PetscInt nowned, PetscRea
 PetscErrorCode FSHaloRefreshAux(FSHalo *hl, PetscReal aux[])
 {
   PetscFunctionBegin;
+  hl->refresh_msgs += hl->nsendranks;
+  hl->refresh_bytes += (PetscLogDouble)hl->nsendremote * hl->auxstride * sizeof(PetscReal);
   PetscCall(PetscSFBcastBegin(hl->sf, hl->auxtype, aux, aux, MPI_REPLACE));
   PetscCall(PetscSFBcastEnd(hl->sf, hl->auxtype, aux, aux, MPI_REPLACE));
   PetscFunctionReturn(0);
@@ -241,6 +258,8 @@ PetscErrorCode FSHaloRefreshAux(FSHalo *hl, PetscReal aux[])
 PetscErrorCode FSHaloRefreshScalar(FSHalo *hl, PetscReal a[])
 {
   PetscFunctionBegin;
+  hl->refresh_msgs += hl->nsendranks;
+  hl->refresh_bytes += (PetscLogDouble)hl->nsendremote * sizeof(PetscReal);
   PetscCall(PetscSFBcastBegin(hl->sf, MPIU_REAL, a, a, MPI_REPLACE));
   PetscCall(PetscSFBcastEnd(hl->sf, MPIU_REAL, a, a, MPI_REPLACE));
   PetscFunctionReturn(0);

@@ -205,6 +205,7 @@ PetscErrorCode FSSolverEnergyAddJump(FSSolver s, const PetscReal de[2])
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCallMPI(MPI_Reduce(de, sum, 2, MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
+  if (s->pw.decomp.size > 1) s->mon.par.uncounted++; /* PETSc's counters miss MPI_Reduce */
   if (!rank) {
     PetscReal    w; /* the liquid's energies are per unit width */
     PetscScalar *u;

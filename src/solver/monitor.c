@@ -130,6 +130,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.steps_taken    = 0;
   s->mon.nrebuilds      = 0;
   s->mon.pair_visits    = 0;
+  PetscCall(FSParallelStatsBegin(s));
   /* snapshots at multiples of the interval, also after a restart */
   s->mon.next_output        = s->opt.output_interval > 0
                                   ? (PetscFloorReal(t / s->opt.output_interval + 1e-9) + 1) * s->opt.output_interval
@@ -188,18 +189,23 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   PetscFunctionReturn(0);
 }
 
-/* FSSolverMonitor - called after every step: time series, snapshots, checkpoints, progress. */
+/* FSSolverMonitor - called after every step: time series (every -fs_series_interval steps and at the last step),
+   snapshots, checkpoints, progress. */
 PetscErrorCode FSSolverMonitor(FSSolver s)
 {
   PetscReal      t, tmax, dt;
-  PetscInt       step;
+  PetscInt       step, maxsteps;
   PetscLogDouble now;
 
   PetscFunctionBegin;
   if (!s->mon.monitoring) PetscCall(FSSolverMonitorBegin(s));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
-  PetscCall(FSSolverAppendSeries(s));
+  PetscCall(TSGetMaxTime(s->ts, &tmax));
+  PetscCall(TSGetMaxSteps(s->ts, &maxsteps));
+  if ((step - s->mon.step0) % s->opt.series_interval == 0 || step >= maxsteps ||
+      t >= tmax - 1e-12 * PetscMax(1.0, PetscAbsReal(tmax))) /* the last step's row: as FSSolverSolve's end */
+    PetscCall(FSSolverAppendSeries(s));
   PetscCall(FSSolverProbesMonitor(s));
   if (s->opt.write_output && s->opt.output_interval > 0 && t >= s->mon.next_output - 1e-9 * s->opt.output_interval) {
     PetscCall(FSSolverWriteSnapshot(s));

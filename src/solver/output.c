@@ -436,6 +436,7 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSJSONEndObject(js));
   if (s->boundary) PetscCall(FSBoundarySummary(s->boundary, js));
   PetscCall(FSSolverStructureSummary(s, js));
+  PetscCall(FSParallelStatsSummary(s, js));
   PetscCall(FSJSONBeginObject(js, "terms"));
   for (PetscInt k = 0; k < s->terms.nterms; k++) PetscCall(FSJSONWriteBool(js, s->terms.term[k]->name, PETSC_TRUE));
   PetscCall(FSJSONEndObject(js));

@@ -415,6 +415,7 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
     PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
     PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0,
                             PetscObjectComm((PetscObject)s)));
+    if (s->pw.decomp.size > 1) s->mon.par.uncounted++; /* PETSc's counters miss MPI_Reduce */
     PetscErrorCode ierr = 0; /* the structure's energy (rank 0): its failure is raised on every rank below */
     if (!rank) {
       FSStructure st   = s->structure;

@@ -47,6 +47,7 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.sort_interval         = 1;
   s->opt.rebuild               = FS_REBUILD_AUTO;
   s->mon.probes.interval       = 1;
+  s->opt.series_interval       = 1;
   s->mon.probes.step           = -1;
   s->opt.final_time            = 1.0;
   s->opt.structure_cfl         = 0.02;
@@ -347,6 +348,10 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                                NULL));
   PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_probe_interval", "Steps between the samples of the probes and gauges",
                          "FSSolverGetProbes", &s->mon.probes.interval, NULL, 1, PETSC_MAX_INT));
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_series_interval",
+                         "Steps between the rows of timeseries.csv and energy.csv (the last step's is always written): "
+                         "each row takes about a dozen reductions over the ranks",
+                         "FSSolverMonitor", &s->opt.series_interval, NULL, 1, PETSC_MAX_INT));
   PetscCall(PetscOptionsBool("-fs_geometry_view",
                              "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 "
                              "snapshot), then stop without time stepping",
@@ -420,6 +425,7 @@ output/<case>) .  -fs_output_interval <t>         - simulated time between parti
 .  -fs_restart_allow_changes <a,b> - items of the set-up the restart may change (docs/running.md)
 .  -fs_probes <file>               - pressure probes and wave gauges, sampled into probes.csv (docs/running.md)
 .  -fs_probe_interval <1>          - steps between the samples of the probes and gauges
+.  -fs_series_interval <1>         - steps between the rows of timeseries.csv and energy.csv (and the last step's)
 .  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) and
 stop after set-up
 .  -fs_options_left <true>         - at the end, warn about the options given but never used

@@ -50,6 +50,7 @@ typedef struct {
   PetscInt  checkpoint_interval;
   PetscBool progress, write_output;
   PetscReal progress_interval;
+  PetscInt  series_interval; /* -fs_series_interval: steps between the time series' rows */
   PetscBool terms_view;
   PetscBool geometry_view; /* -fs_geometry_view: write the set-up's picture and walls, then stop */
   PetscInt  sort_interval;
@@ -162,6 +163,24 @@ typedef struct {
   PetscReal    time;
 } FSProbeSet;
 
+/* The run's parallel statistics (src/solver/parallelstats.c, summary.json's "parallel"): what this rank owned,
+   its ghosts, and what it sent and how many collectives it took part in over the steps since the monitors began.
+   The messages, bytes and collectives are PETSc's counters (every MPI call that petsclog.h counts, in flexslosh
+   and in PETSc) read before and after each step, with what they miss added by hand (MPI_Reduce, the halo's
+   handshake); the halo and the migration also count their own messages where they post them. */
+typedef struct {
+  PetscLogDouble msgs, bytes, colls;  /* sent messages, their bytes, collectives: over the steps */
+  PetscLogDouble mark[3];             /* the counters at the start of the step in progress */
+  PetscLogDouble uncounted;           /* collectives PETSc's counters miss (MPI_Reduce, MPI_Ibarrier) */
+  PetscLogDouble mig_msgs, mig_bytes; /* the migrations' particles sent: messages (one per destination) and bytes */
+  PetscLogDouble halo_msgs0, halo_bytes0, build_msgs0, build_bytes0; /* the halo's counts when the monitors began */
+  PetscInt64     owned_sum, ghost_sum;     /* sums over the steps of this rank's owned particles and ghosts */
+  PetscReal  max_owned_sum, max_pairs_sum; /* sums over the steps of the largest owned count and pair list of a rank */
+  PetscInt64 pairs_sum;                    /* sum over the steps of this rank's pair list (one right-hand side's) */
+  PetscReal  step_max[2];                  /* this step's largest owned count and pair list over the ranks */
+  PetscInt   ghosts_first, owned_first, nbuilds0;
+} FSParallelStats;
+
 /* The monitors and output writers, and the run's statistics. */
 typedef struct {
   FSSnapshotWriter snapshots;
@@ -180,6 +199,7 @@ typedef struct {
   PetscInt         fieldcap;
   FSProbeSet       probes; /* -fs_probes */
   char            *setup;  /* the record of what defines the run, for the checkpoints (setuprecord.c) */
+  FSParallelStats  par;    /* summary.json's "parallel" */
 } FSMonitorData;
 
 typedef struct _FSSolverOps *FSSolverOps;
@@ -238,6 +258,10 @@ PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
+PETSC_INTERN PetscErrorCode FSParallelStatsBegin(FSSolver);
+PETSC_INTERN void           FSParallelStatsStepBegin(FSSolver);
+PETSC_INTERN void           FSParallelStatsStepEnd(FSSolver);
+PETSC_INTERN PetscErrorCode FSParallelStatsSummary(FSSolver, FSJSON);
 PETSC_INTERN PetscErrorCode FSSolverSetUpRecord(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCheckSetUp(FSSolver, const char[]);
 PETSC_INTERN PetscErrorCode FSSolverProbesSetUp(FSSolver);

@@ -298,7 +298,7 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 {
   const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   const PetscScalar *u;
-  PetscReal          v2 = 0, nu;
+  PetscReal          v2 = 0, nu, loc[3];
   PetscInt           source, limit;
 
   PetscFunctionBegin;
@@ -314,8 +314,15 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
     v2 = PetscMax(v2, w2);
   }
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  PetscCall(FSSolverReduceWithViscosity(s, 1, &v2, &nu, &source)); /* one reduction for the speed and the viscosities */
-  s->state.umax = PetscSqrtReal(v2);
+  /* one reduction for the speed, the viscosities and, for the parallel statistics, the largest owned count and
+     pair list (the last right-hand side's) of a rank */
+  loc[0] = v2;
+  loc[1] = (PetscReal)s->pw.nowned;
+  loc[2] = (PetscReal)s->pw.nbrs.npairs;
+  PetscCall(FSSolverReduceWithViscosity(s, 3, loc, &nu, &source));
+  s->state.umax          = PetscSqrtReal(loc[0]);
+  s->mon.par.step_max[0] = loc[1];
+  s->mon.par.step_max[1] = loc[2];
   FSSolverStableDtOf(s, s->state.umax, nu, source, dt, &limit);
   s->state.dt_stable = *dt;
   s->state.dt_limit  = limit;
@@ -417,6 +424,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscFunctionBegin;
   s->state.evaluated = PETSC_FALSE; /* the step changes the state */
   PetscCall(FSSolverSetUp(s));
+  FSParallelStatsStepBegin(s);
   PetscCall(PetscLogEventBegin(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverComputeStableDt(s, &dt));
   PetscCall(TSGetTime(s->ts, &t));
@@ -461,6 +469,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   if (bounced && s->pw.nglobal_particles > 0) PetscCall(FSSolverEnergyAddJump(s, ejump));
   PetscCall(PetscLogEventEnd(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverMonitor(s));
+  FSParallelStatsStepEnd(s);
   PetscFunctionReturn(0);
 }
 

@@ -170,6 +170,28 @@ PetscErrorCode FSSolverMigrate(FSSolver s, PetscBool *changed)
              glob[1]);
   *changed = PETSC_FALSE;
   if (glob[0]) {
+    if (nleave) { /* the parallel statistics: one message per destination, the leaving particles' fields */
+      PetscInt   *dests, nd = 0, bs, bytes = 0;
+      PetscMPIInt size;
+      PetscCallMPI(MPI_Comm_size(comm, &size));
+      PetscCall(PetscCalloc1(size, &dests));
+      PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+      PetscCall(DMSwarmGetField(s->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rankf));
+      for (PetscInt p = 0; p < n; p++)
+        if (rankf[p] != rank && !dests[rankf[p]]++) nd++;
+      PetscCall(DMSwarmRestoreField(s->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rankf));
+      for (size_t f = 0; f < sizeof(FSFieldNames) / sizeof(FSFieldNames[0]); f++) {
+        PetscDataType type;
+        void         *data;
+        PetscCall(DMSwarmGetField(s->swarm, FSFieldNames[f], &bs, &type, &data));
+        bytes += bs * (PetscInt)(type == PETSC_INT ? sizeof(PetscInt) : sizeof(PetscReal));
+        PetscCall(DMSwarmRestoreField(s->swarm, FSFieldNames[f], &bs, &type, &data));
+      }
+      bytes += (PetscInt)(sizeof(PetscInt64) + sizeof(PetscInt)); /* DMSwarm's own pid and rank fields */
+      s->mon.par.mig_msgs += nd;
+      s->mon.par.mig_bytes += (PetscLogDouble)nleave * bytes;
+      PetscCall(PetscFree(dests));
+    }
     PetscCall(DMSwarmGetSize(s->swarm, &n));
     before = n;
     PetscCall(DMSwarmMigrate(s->swarm, PETSC_TRUE));

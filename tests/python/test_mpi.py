@@ -85,3 +85,23 @@ def test_three_ranks_do_not_hang(tmp_path):
         run_flexslosh(["-fs_case", "taylor_green", "-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", out], nranks=3,
                       cwd=tmp_path, timeout=60)
         assert read_summary(out)["ranks"] == 3
+
+
+def test_parallel_statistics(tg):
+    """summary.json's "parallel" (src/solver/parallelstats.c) is consistent: the owned particles add up to the
+    total, 2 ranks have ghosts from each other and send to each other, the halo's own counts of what it sent are
+    within PETSc's counts of all messages, and 1 rank sends nothing to another and takes part in no collective."""
+    one, two = read_summary(tg(1))["parallel"], read_summary(tg(2))["parallel"]
+    assert one["collectives_per_step"] == [0] and one["send_ranks"] == [0] and one["halo_messages_per_step"] == [0]
+    assert one["ghosts"][0] > 0  # the periodic images
+    assert two["grid"] == [1, 2] and two["steps"] == 50
+    assert sum(two["owned"]) == sum(two["owned_first"]) == 2500
+    assert all(g > 0 for g in two["ghosts"]) and two["send_ranks"] == [1, 1]
+    assert all(p > 0 for p in two["pairs_with_ghosts"])
+    assert 1 <= two["imbalance_owned_end"] <= 1.1 and 1 <= two["imbalance_owned"] <= 1.1
+    for r in range(2):
+        own = two["halo_messages_per_step"][r] + two["halo_build_messages_per_step"][r] + two["migration_messages_per_step"][r]
+        assert 0 < own <= two["messages_per_step"][r]
+        assert 0 < two["halo_bytes_per_step"][r] <= 1.02 * two["bytes_per_step"][r]
+        # at least the time step's, the checks' and the rebuild decision's reductions in each step
+        assert two["collectives_per_step"][r] >= 3

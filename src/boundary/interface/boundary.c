@@ -288,6 +288,8 @@ PetscErrorCode FSBoundaryPrepare(FSBoundary b, const FSBoundaryParticles *P, Pet
 {
   PetscFunctionBegin;
   PetscCall(PetscArrayzero(b->load, FS_WALL_LOAD_STRIDE * b->nwalls));
+  b->wp_reductions = 0;
+  b->wp_values     = 0;
   PetscCall((*b->ops->prepare)(b, P, gamma, noslip));
   PetscFunctionReturn(0);
 }
@@ -317,6 +319,8 @@ PetscErrorCode FSBoundaryWallPressure(FSBoundary b, PetscInt nel, const PetscRea
   PetscReal *num = wp + nel, *den = num + nel;
 
   PetscFunctionBegin;
+  b->wp_reductions++;
+  b->wp_values += 2 * nel;
   PetscCallMPI(
       MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * nel), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
   for (PetscInt k = 0; k < nel; k++) {
@@ -527,6 +531,9 @@ PetscErrorCode FSBoundarySummary(FSBoundary b, FSJSON js)
   /* particles bounced off walls: a measure of how hard the walls are pressed */
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &nb, 1, MPIU_INT64, MPI_SUM, PetscObjectComm((PetscObject)b)));
   PetscCall(FSJSONWriteInt(js, "wall_bounces", nb));
+  /* the wall pressure's sums over all ranks in a right-hand side: reductions and the values they carry */
+  PetscCall(FSJSONWriteInt(js, "wall_pressure_reductions", b->wp_reductions));
+  PetscCall(FSJSONWriteInt(js, "wall_pressure_reduced_values", b->wp_values));
   PetscFunctionReturn(0);
 }
 
