@@ -425,6 +425,7 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSJSONWriteReal(js, "peak_memory_bytes", memsum));
   PetscCall(
       FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->pw.nglobal_particles, 1)));
+  PetscCall(FSSolverWriteMemory(s, js, memsum));
   PetscCall(FSJSONWriteInt(js, "migrations", s->mon.nmigrations));
   PetscCall(FSJSONWriteInt(js, "neighbour_rebuilds", s->mon.nrebuilds));
   PetscCall(FSJSONBeginObject(js, "dt_limit_steps")); /* how many steps each time-step limit set */

@@ -238,6 +238,7 @@ PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverWriteMemory(FSSolver, FSJSON, PetscReal peak);
 PETSC_INTERN PetscErrorCode FSSolverSetUpRecord(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCheckSetUp(FSSolver, const char[]);
 PETSC_INTERN PetscErrorCode FSSolverProbesSetUp(FSSolver);
