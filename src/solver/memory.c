@@ -11,7 +11,7 @@ typedef enum {
   FS_MEM_PARTICLE_FIELDS,  /* the swarm's fields: position, velocity, density, mass, id, build position, DMSwarm's own */
   FS_MEM_PARTICLE_WORK,    /* records of owned and ghost particles, first-pass quantities, volumes, pressures, gamma */
   FS_MEM_TS_VECTORS,       /* the state U, Uprev, Fout and the integrator's own vectors */
-  FS_MEM_NEIGHBOUR_PAIRS,  /* the neighbour list: index and kernel factor per pair, row starts */
+  FS_MEM_NEIGHBOUR_PAIRS,  /* the neighbour list: an index per pair, row starts */
   FS_MEM_CANDIDATES,       /* the candidate (Verlet) list and its row starts */
   FS_MEM_CELLS,            /* the cell list */
   FS_MEM_HALO,             /* the halo's shifts and send lists, the PetscSF's graph and buffers (estimated) */
@@ -99,7 +99,7 @@ PetscErrorCode FSSolverWriteMemory(FSSolver s, FSJSON js, PetscReal peak)
                             (PetscInt64)pw->gammacap * (pw->gammav ? 4 : 2) * sizeof(PetscReal) +
                             (PetscInt64)s->mon.fieldcap * sizeof(PetscReal);
   PetscCall(FSSolverTSBytes(s, &b[FS_MEM_TS_VECTORS]));
-  b[FS_MEM_NEIGHBOUR_PAIRS] = (PetscInt64)nb->pcap * (sizeof(PetscInt) + sizeof(PetscReal)) +
+  b[FS_MEM_NEIGHBOUR_PAIRS] = (PetscInt64)nb->pcap * sizeof(PetscInt) +
                               (PetscInt64)nb->scap * sizeof(PetscInt);
   b[FS_MEM_CANDIDATES] = (PetscInt64)nb->ccandcap * sizeof(PetscInt) + (PetscInt64)nb->scap * sizeof(PetscInt);
   b[FS_MEM_CELLS]      = (PetscInt64)nb->ccap * sizeof(PetscInt) + (PetscInt64)nb->ncap * 2 * sizeof(PetscInt);
