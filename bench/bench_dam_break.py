@@ -15,7 +15,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from benchutil import run_logged
+from benchutil import print_memory, run_logged
 
 ROOT = Path(__file__).resolve().parents[1]
 EVENTS = ["FSStep", "FSRHS", "FSNeighbours", "FSHalo", "FSWalls", "FSWallPass", "FSFirstPass", "FSPairPass",
@@ -57,6 +57,7 @@ def main():
         print(f"  particle-steps per second     {s['particles'] * s['steps'] / wall:12.4g}")
         print(f"  pair visits per second        {s['pair_visits'] / wall:12.4g}   ({s['pair_visits'] / wall / nr:.4g} per core)")
         print(f"  peak memory per particle      {s['peak_memory_bytes_per_particle']:10.0f} bytes")
+        print_memory(s)
         print(f"  surge front at the end        {front:10.4f} m")
         tot = t.get("FSStep", 0.0)
         if tot:

@@ -19,7 +19,7 @@ import tempfile
 from pathlib import Path
 
 from bench_dam_break import EVENTS, SHARES
-from benchutil import run_logged
+from benchutil import print_memory, run_logged
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -48,6 +48,7 @@ def main():
         print(f"  particle-steps per second     {s['particles'] * s['steps'] / wall:12.4g}")
         print(f"  pair visits per second        {s['pair_visits'] / wall:12.4g}   ({s['pair_visits'] / wall / nr:.4g} per core)")
         print(f"  peak memory per particle      {s['peak_memory_bytes_per_particle']:10.0f} bytes")
+        print_memory(s)
         tot = t.get("FSStep", 0.0)
         if tot:
             for label, ev in SHARES:

@@ -24,12 +24,13 @@ static void FusedRates(FSSolver s, const PetscReal *delta, const PetscReal *a, P
     for (PetscInt q = s->pw.nbrs.start[i]; q < s->pw.nbrs.start[i + 1]; q++) {
       const PetscInt   j  = s->pw.nbrs.nbr[q];
       const PetscReal *rj = &rec[j * S], *gj = &aux[j * A];
-      PetscReal        dx[3], gw[3], r2 = 0, du_dx = 0, du_g = 0, corr = 0, proj = 0;
+      PetscReal        dx[3], gw[3], r2 = 0, F, du_dx = 0, du_g = 0, corr = 0, proj = 0;
       for (PetscInt d = 0; d < dim; d++) {
         dx[d] = rj[d] - xi[d];
-        gw[d] = -s->pw.nbrs.F[q] * dx[d];
         r2 += dx[d] * dx[d];
       }
+      F = FSKernelF(&s->pw.kernel, PetscSqrtReal(r2));
+      for (PetscInt d = 0; d < dim; d++) gw[d] = -F * dx[d];
       for (PetscInt d = 0; d < dim; d++) {
         du_g += (rj[dim + d] - ui[d]) * gw[d];
         du_dx += (rj[dim + d] - ui[d]) * dx[d];

@@ -21,3 +21,22 @@ def run_logged(exe, nranks, args, outdir, events):
         if m:
             times[ev] = float(m.group(1))
     return summary, times
+
+
+MEMORY_LABELS = [("particle_fields", "particle fields (swarm)"), ("particle_work", "particle records, aux, gamma"),
+                 ("ts_vectors", "TS vectors"), ("neighbour_pairs", "neighbour pairs"), ("candidates", "candidates"),
+                 ("cells", "cell list"), ("halo", "halo buffers"), ("walls_lists", "walls: particles' lists"),
+                 ("walls_elements", "walls: elements"), ("accounted", "accounted (allocated)"),
+                 ("peak_resident", "peak resident, all ranks"), ("not_accounted", "not accounted (the process, ...)")]
+
+
+def print_memory(summary):
+    """The memory breakdown of summary.json ("memory", src/solver/memory.c): bytes per particle of each
+    data structure's allocation (capacity, summed over the ranks) beside the peak resident memory."""
+    mem, n = summary.get("memory"), max(summary["particles"], 1)
+    if not mem:
+        return
+    print("  memory per particle by structure (allocated; untouched capacity is not resident):")
+    for key, label in MEMORY_LABELS:
+        if key in mem:
+            print(f"    {label:34s} {mem[key] / n:8.0f} bytes  ({mem[key] / 2**20:8.1f} MiB)")

@@ -35,6 +35,9 @@ struct _FSBoundaryOps {
   /* the geometry as the case gave it (vertices, polygons or triangles, their walls) into the hash, with
      FSBoundaryHashAdd_Private(); not collective */
   PetscErrorCode (*hash)(FSBoundary, uint64_t *);
+  /* the bytes this rank's walls hold: the particles' candidate elements and wall lists (lists), the
+     elements and their search grid (elements); not collective */
+  PetscErrorCode (*memory)(FSBoundary, PetscInt64 *lists, PetscInt64 *elements);
   PetscErrorCode (*destroy)(FSBoundary);
 };
 

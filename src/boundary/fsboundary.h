@@ -75,6 +75,7 @@ PETSC_INTERN PetscErrorCode FSBoundaryGetLoadPoint(FSBoundary, PetscReal point[3
 PETSC_INTERN PetscErrorCode FSBoundaryDraw(FSBoundary, FSImage *, const FSImageMap *);
 PETSC_INTERN PetscErrorCode FSBoundaryWriteGeometry(FSBoundary, const char dir[], PetscBool verbose);
 PETSC_INTERN PetscErrorCode FSBoundarySummary(FSBoundary, FSJSON);
+PETSC_INTERN PetscErrorCode FSBoundaryGetMemory(FSBoundary, PetscInt64 *lists, PetscInt64 *elements);
 PETSC_INTERN PetscErrorCode FSBoundaryGetGeometryHash(FSBoundary, char hash[], size_t len);
 PETSC_INTERN PetscErrorCode FSBoundaryView(FSBoundary, PetscViewer);
 PETSC_INTERN PetscErrorCode FSBoundaryDestroy(FSBoundary *);

@@ -88,10 +88,11 @@ typedef struct {
   PetscInt *cand;
   PetscInt  ccandcap, ncand;
   PetscInt  maxcand; /* the most candidates of one particle */
-  /* neighbour list, built at every right-hand side */
+  /* neighbour list, built at every right-hand side: the index of each pair's neighbour (4 bytes a pair);
+     the kernel gradient factor F(r) is not stored (8 bytes a pair more): the passes compute it again
+     from r^2, which they compute anyway, and get the same value */
   PetscInt  *start; /* nowned+1 */
   PetscInt  *nbr;   /* neighbour index per pair */
-  PetscReal *F;     /* kernel gradient factor per pair */
   PetscInt   scap, pcap;
   PetscInt64 npairs;
 } FSNeighbours;

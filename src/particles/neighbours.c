@@ -2,7 +2,7 @@
    Neighbour search: a cell-linked list built by counting sort once per time step (cells as wide as
    the kernel support plus a skin), from it the candidate (Verlet) list of every owned particle,
    and at every right-hand side the exact neighbour list picked from the candidates, in CSR form
-   with the kernel gradient factor of each pair, computed once and shared by every pass and term.
+   (the neighbours' indices only: each pass computes the kernel gradient factor from r^2 itself).
 */
 #include "particles/fsparticles.h"
 
@@ -80,18 +80,15 @@ PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n
 static PetscErrorCode FSNeighboursGrow(FSNeighbours *nb, PetscInt64 need)
 {
   PetscInt        *nbr;
-  PetscReal       *F;
   const PetscInt64 cap = need; /* the callers add their margins */
 
   PetscFunctionBegin;
   PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
              "More than %d neighbour pairs on one rank: use more ranks", PETSC_MAX_INT);
-  PetscCall(PetscMalloc2(cap, &nbr, cap, &F));
+  PetscCall(PetscMalloc1(cap, &nbr));
   PetscCall(PetscArraycpy(nbr, nb->nbr, nb->pcap));
-  PetscCall(PetscArraycpy(F, nb->F, nb->pcap));
-  PetscCall(PetscFree2(nb->nbr, nb->F));
+  PetscCall(PetscFree(nb->nbr));
   nb->nbr  = nbr;
-  nb->F    = F;
   nb->pcap = (PetscInt)cap;
   PetscFunctionReturn(0);
 }
@@ -180,7 +177,7 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
 }
 
 /*
-   FSNeighboursReserveList - makes room in the neighbour list (nbr, F) for the pairs of this right-hand
+   FSNeighboursReserveList - makes room in the neighbour list (nbr) for the pairs of this right-hand
    side: all = PETSC_TRUE, for every candidate pair (the most the list can hold); otherwise for an
    estimate, the pairs of the last list (or, the first time, the candidates' share within the support,
    (support / candidate radius)^dim) and a tenth more, plus one particle's candidates (the builders
@@ -205,8 +202,8 @@ PetscErrorCode FSNeighboursReserveList(FSNeighbours *nb, PetscReal share, PetscB
 
 /*
    FSNeighboursBuildList - the neighbours j != i within the kernel support of each owned particle i
-   at the current positions, picked from the candidates, with F(r_ij) such that grad_i W = F (x_i - x_j).
-   Needs FSNeighboursBuildCandidates at the start of the step.
+   at the current positions, picked from the candidates (the passes compute F(r_ij), grad_i W = F (x_i - x_j),
+   from r^2 as they visit the pairs). Needs FSNeighboursBuildCandidates at the start of the step.
 */
 PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *kern, PetscInt nowned, const PetscReal rec[],
                                      PetscInt stride)
@@ -219,19 +216,17 @@ PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *kern, Pet
   PetscCall(FSNeighboursReserveList(nb, FSNeighboursShare(nb, kern), PETSC_FALSE));
   for (PetscInt i = 0; i < nowned; i++) {
     const PetscReal *xi = &rec[i * stride];
-    const PetscInt   b0 = np;
     nb->start[i]        = np;
     if (np + (nb->cstart[i + 1] - nb->cstart[i]) > nb->pcap)
       PetscCall(FSNeighboursGrow(nb, PetscMax((PetscInt64)np + (nb->cstart[i + 1] - nb->cstart[i]) + nb->maxcand,
                                               (PetscInt64)(1.25 * nb->pcap))));
-    /* without branches, as in FSNeighboursBuildCandidates; F holds r^2 until the loop after */
+    /* without branches, as in FSNeighboursBuildCandidates */
     if (dim == 2) {
       for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
         const PetscInt   j  = nb->cand[q];
         const PetscReal *xj = &rec[j * stride];
         const PetscReal  a = xi[0] - xj[0], b = xi[1] - xj[1], r2 = a * a + b * b;
         nb->nbr[np] = j;
-        nb->F[np]   = r2;
         np += r2 < R2;
       }
     } else {
@@ -240,11 +235,9 @@ PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *kern, Pet
         const PetscReal *xj = &rec[j * stride];
         const PetscReal  a = xi[0] - xj[0], b = xi[1] - xj[1], c = xi[2] - xj[2], r2 = a * a + b * b + c * c;
         nb->nbr[np] = j;
-        nb->F[np]   = r2;
         np += r2 < R2;
       }
     }
-    for (PetscInt k = b0; k < np; k++) nb->F[k] = FSKernelF(kern, PetscSqrtReal(nb->F[k]));
   }
   nb->start[nowned] = np;
   nb->npairs        = np;
@@ -258,6 +251,6 @@ PetscErrorCode FSNeighboursDestroy(FSNeighbours *nb)
   PetscCall(PetscFree2(nb->cellof, nb->order));
   PetscCall(PetscFree2(nb->start, nb->cstart));
   PetscCall(PetscFree(nb->cand));
-  PetscCall(PetscFree2(nb->nbr, nb->F));
+  PetscCall(PetscFree(nb->nbr));
   PetscFunctionReturn(0);
 }

@@ -29,17 +29,24 @@ PetscErrorCode FSSolverEvaluateAtState(FSSolver s, PetscReal t)
 {
   const PetscScalar *u;
   PetscScalar       *f;
+  Vec                F;
 
   PetscFunctionBegin;
   if (s->state.evaluated && s->state.rhs_time == t) PetscFunctionReturn(0);
-  /* created with the state (collective): dropped on every rank where the state is made anew */
-  if (!s->state.Fout) PetscCall(VecDuplicate(s->state.U, &s->state.Fout));
+  /* the rates are not kept: into a stage vector of the integrator that the next step overwrites, else into
+     a vector made for this evaluation (before the first step: the stages do not exist yet) */
+  PetscCall(FSSolverGetFreeStage(s, &F));
+  if (!F) {
+    PetscCall(VecDuplicate(s->state.U, &s->state.Fout));
+    F = s->state.Fout;
+  }
   s->state.rhs_time = t;
   PetscCall(VecGetArrayRead(s->state.U, &u));
-  PetscCall(VecGetArray(s->state.Fout, &f));
+  PetscCall(VecGetArray(F, &f));
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
-  PetscCall(VecRestoreArray(s->state.Fout, &f));
+  PetscCall(VecRestoreArray(F, &f));
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
+  PetscCall(VecDestroy(&s->state.Fout));
   s->state.evaluated = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
@@ -425,6 +432,7 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSJSONWriteReal(js, "peak_memory_bytes", memsum));
   PetscCall(
       FSJSONWriteReal(js, "peak_memory_bytes_per_particle", memsum / (PetscReal)PetscMax(s->pw.nglobal_particles, 1)));
+  PetscCall(FSSolverWriteMemory(s, js, memsum));
   PetscCall(FSJSONWriteInt(js, "migrations", s->mon.nmigrations));
   PetscCall(FSJSONWriteInt(js, "neighbour_rebuilds", s->mon.nrebuilds));
   PetscCall(FSJSONBeginObject(js, "dt_limit_steps")); /* how many steps each time-step limit set */

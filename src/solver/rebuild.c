@@ -101,6 +101,7 @@ PetscErrorCode FSSolverRebuildNeeded(FSSolver s, PetscBool *rebuild, PetscBool *
   PetscReal          loc[3] = {0, 0, 0}, u, nu, dtmax, next, t, tprev, skin = s->opt.halo_skin * s->opt.h;
   PetscReal         *x, *v, *xb;
   const PetscScalar *u0;
+  Vec                U0;
   PetscInt           step, n, source, limit;
 
   PetscFunctionBegin;
@@ -115,7 +116,8 @@ PetscErrorCode FSSolverRebuildNeeded(FSSolver s, PetscBool *rebuild, PetscBool *
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
-  PetscCall(VecGetArrayRead(s->state.Uprev, &u0));
+  PetscCall(FSSolverGetStepStart(s, &U0));
+  PetscCall(VecGetArrayRead(U0, &u0));
   for (PetscInt p = 0; p < n; p++) {
     PetscReal d2 = 0, w2 = 0, s2 = 0;
     for (PetscInt d = 0; d < dim; d++) {
@@ -127,7 +129,7 @@ PetscErrorCode FSSolverRebuildNeeded(FSSolver s, PetscBool *rebuild, PetscBool *
     loc[1] = PetscMax(loc[1], w2);
     loc[2] = PetscMax(loc[2], s2);
   }
-  PetscCall(VecRestoreArrayRead(s->state.Uprev, &u0));
+  PetscCall(VecRestoreArrayRead(U0, &u0));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));

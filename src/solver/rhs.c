@@ -2,8 +2,9 @@
    The right-hand side of the particle ODE system, evaluated by TS at every stage:
      halo refresh -> cell list and neighbour lists -> first pass (correction matrix L_i, renormalized
      density gradient, strain rate ||D||_i) -> ghost refresh of those -> the terms' pair pass.
-   Kernel gradients are computed once per pair (in the neighbour list) and shared by all passes
-   and all terms; the first pass runs only when a selected term needs it.
+   Kernel gradients are computed once per pair and pass (from r^2, which the pass computes anyway: the
+   neighbour list holds only the neighbours' indices) and shared by all terms; the first pass runs only
+   when a selected term needs it.
 */
 #include "solver/solverimpl.h"
 
@@ -13,7 +14,8 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
 {
   const PetscInt   dim = s->opt.dim, S = s->pw.stride, b = s->pw.nbrs.start[i], n = s->pw.nbrs.start[i + 1] - b;
   const PetscInt  *nbr = s->pw.nbrs.nbr + b;
-  const PetscReal *F = s->pw.nbrs.F + b, *xi = &s->pw.rec[i * S];
+  const PetscReal *xi  = &s->pw.rec[i * S];
+  const FSKernel  *kern = &s->pw.kernel;
   if (dim == 2) {
     for (PetscInt k = 0; k < n; k++) {
       const PetscReal *xj = &s->pw.rec[nbr[k] * S];
@@ -21,8 +23,12 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
       dx[2 * k]     = a;
       dx[2 * k + 1] = c;
       r2[k]         = a * a + c * c;
-      gw[2 * k]     = -F[k] * a;
-      gw[2 * k + 1] = -F[k] * c;
+    }
+    /* F(r) in a loop of its own, which the compiler vectorizes (the same value as the first pass's) */
+    for (PetscInt k = 0; k < n; k++) {
+      const PetscReal F = FSKernelF(kern, PetscSqrtReal(r2[k]));
+      gw[2 * k]         = -F * dx[2 * k];
+      gw[2 * k + 1]     = -F * dx[2 * k + 1];
     }
   } else {
     for (PetscInt k = 0; k < n; k++) {
@@ -32,9 +38,12 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
       dx[3 * k + 1] = c;
       dx[3 * k + 2] = e;
       r2[k]         = a * a + c * c + e * e;
-      gw[3 * k]     = -F[k] * a;
-      gw[3 * k + 1] = -F[k] * c;
-      gw[3 * k + 2] = -F[k] * e;
+    }
+    for (PetscInt k = 0; k < n; k++) {
+      const PetscReal F = FSKernelF(kern, PetscSqrtReal(r2[k]));
+      gw[3 * k]         = -F * dx[3 * k];
+      gw[3 * k + 1]     = -F * dx[3 * k + 1];
+      gw[3 * k + 2]     = -F * dx[3 * k + 2];
     }
   }
   /* the inverses in a loop of their own, which the compiler vectorizes */
@@ -85,7 +94,7 @@ static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscRe
    Results go to aux[i*(dim+1)]: the density gradient, then ||D||.
    build: the pass also builds the right-hand side's neighbour list (what FSNeighboursBuildList does): it
    visits the candidates, keeps those within the support and uses them on the spot, which saves a
-   separate traversal of the candidates and their positions. The list, its F(r) and the sums are the
+   separate traversal of the candidates and their positions. The list, F(r) and the sums are the
    same as with the list built first. The body is written for a compile-time dimension (FS_ALWAYS_INLINE)
    so that the small dim x dim loops unroll and the sums stay in registers.
 */
@@ -95,6 +104,7 @@ FS_ALWAYS_INLINE PetscBool FSSolverFirstPassDim(FSSolver s, const PetscInt dim, 
   const PetscInt   S = s->pw.stride, A = s->pw.auxstride, n = s->pw.nowned;
   const PetscReal *rec = s->pw.rec, *vol = s->pw.vol, R2 = s->pw.kernel.support2;
   PetscReal       *dx = s->pw.scratch; /* x_j - x_i of the neighbours of i */
+  PetscReal       *r2s = dx + dim * s->pw.scratchcap, *Fs = r2s + s->pw.scratchcap; /* their r^2, then F(r) */
   PetscInt         np = 0;
 
   for (PetscInt i = 0; i < n; i++) {
@@ -105,8 +115,7 @@ FS_ALWAYS_INLINE PetscBool FSSolverFirstPassDim(FSSolver s, const PetscInt dim, 
     if (build) {
       /* the candidates within the support, without branches (whether a candidate is inside is as
          good as random, and mispredicted branches cost more than the stores): every candidate is
-         written at the end of the list and the end moves on only for those inside. F holds r^2
-         until the next loop. */
+         written at the end of the list and the end moves on only for those inside. */
       if (np + (nb->cstart[i + 1] - nb->cstart[i]) > nb->pcap) return PETSC_FALSE; /* no room: again, with all */
       b0 = nb->start[i] = np;
       for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
@@ -118,24 +127,30 @@ FS_ALWAYS_INLINE PetscBool FSSolverFirstPassDim(FSSolver s, const PetscInt dim, 
           dx[(np - b0) * dim + a] = d;
           r2 += d * d;
         }
-        nb->nbr[np] = j;
-        nb->F[np]   = r2;
+        nb->nbr[np]   = j;
+        r2s[np - b0] = r2;
         np += r2 < R2;
       }
       m = np - b0;
-      /* F(r) of the pairs kept (a loop the compiler vectorizes: square roots and divisions in pairs) */
-      for (PetscInt k = b0; k < np; k++) nb->F[k] = FSKernelF(&s->pw.kernel, PetscSqrtReal(nb->F[k]));
     } else {
       b0 = nb->start[i];
       m  = nb->start[i + 1] - b0;
       for (PetscInt k = 0; k < m; k++) {
         const PetscReal *rj = &rec[nb->nbr[b0 + k] * S];
-        for (PetscInt a = 0; a < dim; a++) dx[k * dim + a] = rj[a] - ri[a];
+        PetscReal        r2 = 0;
+        for (PetscInt a = 0; a < dim; a++) {
+          const PetscReal d = rj[a] - ri[a];
+          dx[k * dim + a]   = d;
+          r2 += d * d;
+        }
+        r2s[k] = r2;
       }
     }
+    /* F(r) of the pairs (a loop the compiler vectorizes: square roots and divisions in pairs) */
+    for (PetscInt k = 0; k < m; k++) Fs[k] = FSKernelF(&s->pw.kernel, PetscSqrtReal(r2s[k]));
     for (PetscInt k = 0; k < m; k++) {
       const PetscInt   j  = nb->nbr[b0 + k];
-      const PetscReal *rj = &rec[j * S], *d = &dx[k * dim], F = nb->F[b0 + k];
+      const PetscReal *rj = &rec[j * S], *d = &dx[k * dim], F = Fs[k];
       const PetscReal  Vj = vol[j], drho = (rj[2 * dim] - ri[2 * dim]) * Vj;
       PetscReal        g[3];
       for (PetscInt a = 0; a < dim; a++) g[a] = -F * d[a];

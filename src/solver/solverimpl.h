@@ -108,9 +108,11 @@ typedef enum {
    structure's DOFs, the dissipated energies, the energy budget's), and what the stepping keeps. */
 typedef struct {
   Vec U;
-  Vec Uprev; /* state at the start of the step (for the displacement check) */
-  Vec Fout;  /* the rates of the outputs' evaluations at the state (FSSolverEvaluateAtState), U's layout:
-                destroyed with U */
+  Vec Uprev;             /* state at the start of the step (for the displacement check), only with an integrator other
+                            than RK: RK's first stage is that state (FSSolverGetStepStart) */
+  Vec Fout;              /* a destination of the outputs' evaluations at the state (FSSolverEvaluateAtState) when the
+                            integrator has no stage vector free for it (FSSolverGetFreeStage): made and destroyed there */
+  PetscBool     rkstart; /* the RK integrator's first stage holds the state at the start of the last step */
   FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
   PetscInt      ngblocks;
   PetscInt  gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
@@ -249,6 +251,8 @@ PETSC_INTERN PetscErrorCode FSSolverMonitorBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverGetStepStart(FSSolver, Vec *);
+PETSC_INTERN PetscErrorCode FSSolverGetFreeStage(FSSolver, Vec *);
 PETSC_INTERN PetscErrorCode FSSolverMarkBuild(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverSwapBuildPositions(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRecordsAtBuild(FSSolver);
@@ -262,6 +266,7 @@ PETSC_INTERN PetscErrorCode FSParallelStatsBegin(FSSolver);
 PETSC_INTERN void           FSParallelStatsStepBegin(FSSolver);
 PETSC_INTERN void           FSParallelStatsStepEnd(FSSolver);
 PETSC_INTERN PetscErrorCode FSParallelStatsSummary(FSSolver, FSJSON);
+PETSC_INTERN PetscErrorCode FSSolverWriteMemory(FSSolver, FSJSON, PetscReal peak);
 PETSC_INTERN PetscErrorCode FSSolverSetUpRecord(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCheckSetUp(FSSolver, const char[]);
 PETSC_INTERN PetscErrorCode FSSolverProbesSetUp(FSSolver);

@@ -3,6 +3,58 @@
    (TS step -> checks -> [when needed: migration -> ordering by cell -> halo -> lists] -> repack -> monitors).
 */
 #include "solver/solverimpl.h"
+#include <petsc/private/tsimpl.h> /* whether the TS is set up (its stage vectors allocated) */
+
+/* the stage vectors of an RK integrator that is set up (ns = 0 otherwise) */
+static PetscErrorCode FSSolverRKStages(FSSolver s, PetscInt *ns, Vec **Y)
+{
+  PetscBool isrk = PETSC_FALSE;
+
+  PetscFunctionBegin;
+  *ns = 0;
+  *Y  = NULL;
+  if (s->ts) PetscCall(PetscObjectTypeCompare((PetscObject)s->ts, TSRK, &isrk));
+  if (isrk && s->ts->setupcalled) PetscCall(TSGetStages(s->ts, ns, Y));
+  if (!*Y) *ns = 0;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetStepStart - the state at the start of the last step, for the checks after it: the RK
+   integrator's first stage (a copy of the state at the start of the step, which TSRK makes anyway,
+   so that the solver keeps no copy of its own), the solver's copy Uprev with another integrator, or U
+   itself before a step (after the set-up or a rebuild of the state).
+*/
+PetscErrorCode FSSolverGetStepStart(FSSolver s, Vec *U0)
+{
+  PetscInt ns;
+  Vec     *Y;
+
+  PetscFunctionBegin;
+  *U0 = s->state.U;
+  if (s->state.rkstart) {
+    PetscCall(FSSolverRKStages(s, &ns, &Y));
+    PetscCheck(ns > 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "The RK integrator's stages are gone");
+    *U0 = Y[0];
+  } else if (s->state.Uprev) *U0 = s->state.Uprev;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetFreeStage - a vector of U's layout the outputs' evaluation may write its rates into (they
+   are not kept): the RK integrator's last stage, which the next step writes before it reads it, when
+   there is one besides the first (FSSolverGetStepStart's); else NULL.
+*/
+PetscErrorCode FSSolverGetFreeStage(FSSolver s, Vec *F)
+{
+  PetscInt ns;
+  Vec     *Y;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverRKStages(s, &ns, &Y));
+  *F = ns >= 2 ? Y[ns - 1] : NULL;
+  PetscFunctionReturn(0);
+}
 
 /* FSSolverSetUpTS - creates the TS (RK4 by default; -ts_type and friends change it). Called from
    FSSolverSetFromOptions, so that -help shows the TS options with flexslosh's defaults. */
@@ -162,9 +214,8 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
     }
     PetscCall(VecDestroy(&s->state.U));
     PetscCall(VecDestroy(&s->state.Uprev));
-    PetscCall(VecDestroy(&s->state.Fout)); /* the outputs' rates take the new layout */
-    s->state.U = U;
-    PetscCall(VecDuplicate(U, &s->state.Uprev));
+    s->state.U       = U;
+    s->state.rkstart = PETSC_FALSE; /* TSReset below: the stages go */
     if (s->ts) {
       DM tsdm;
       PetscCall(TSReset(s->ts));
@@ -175,7 +226,6 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
     }
   }
   PetscCall(FSSolverPackState(s));
-  PetscCall(VecCopy(s->state.U, s->state.Uprev));
   if (s->pw.resume) PetscCall(FSSolverRecordsAtBuild(s)); /* a restart: the lists of the checkpoint's last build */
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
   PetscCall(FSHaloBuild(&s->pw.halo, comm, &s->pw.decomp, s->pw.nowned, s->pw.rec, s->pw.stride,
@@ -341,6 +391,7 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   MPI_Comm           comm = PetscObjectComm((PetscObject)s);
   const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   const PetscScalar *u, *u0;
+  Vec                U0;
   PetscInt          *id, bad = -1, kind = 0, step;
   PetscReal          worst = 0, move = 0, t, glob[3], *xb;
   PetscMPIInt        rank;
@@ -348,7 +399,8 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(VecGetArrayRead(s->state.U, &u));
-  PetscCall(VecGetArrayRead(s->state.Uprev, &u0));
+  PetscCall(FSSolverGetStepStart(s, &U0));
+  PetscCall(VecGetArrayRead(U0, &u0));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
   for (PetscInt p = 0; p < s->pw.nowned; p++) {
     PetscReal d2 = 0, var;
@@ -386,7 +438,7 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
                           (double)u[bad * US + 2 * dim], (double)s->opt.rho0));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
   }
-  PetscCall(VecRestoreArrayRead(s->state.Uprev, &u0));
+  PetscCall(VecRestoreArrayRead(U0, &u0));
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
   PetscCheck(glob[0] != 1, comm, PETSC_ERR_FP,
              "The run blew up: NaN or Inf at step %" PetscInt_FMT
@@ -445,8 +497,17 @@ PetscErrorCode FSSolverStep(FSSolver s)
   }
   s->state.dt_limit_steps[s->state.dt_limit]++;
   PetscCall(TSSetTimeStep(s->ts, dt));
-  PetscCall(VecCopy(s->state.U, s->state.Uprev));
-  PetscCall(TSStep(s->ts));
+  {
+    PetscBool isrk;
+    PetscCall(PetscObjectTypeCompare((PetscObject)s->ts, TSRK, &isrk));
+    if (!isrk) { /* RK's first stage is the state at the start of the step (FSSolverGetStepStart) */
+      if (!s->state.Uprev) PetscCall(VecDuplicate(s->state.U, &s->state.Uprev));
+      PetscCall(VecCopy(s->state.U, s->state.Uprev));
+    }
+    s->state.rkstart = PETSC_FALSE;
+    PetscCall(TSStep(s->ts));
+    s->state.rkstart = isrk;
+  }
   PetscCall(TSGetConvergedReason(s->ts, &reason));
   PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCheck(reason >= 0, PetscObjectComm((PetscObject)s), PETSC_ERR_CONV_FAILED,

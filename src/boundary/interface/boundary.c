@@ -537,6 +537,16 @@ PetscErrorCode FSBoundarySummary(FSBoundary b, FSJSON js)
   PetscFunctionReturn(0);
 }
 
+/* FSBoundaryGetMemory - the bytes this rank's walls hold (allocated, not used): the particles' candidate
+   elements and wall lists, and the elements with their search grid and per-element arrays. Not collective. */
+PetscErrorCode FSBoundaryGetMemory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elements)
+{
+  PetscFunctionBegin;
+  *lists = *elements = 0;
+  if (b->ops->memory) PetscCall((*b->ops->memory)(b, lists, elements));
+  PetscFunctionReturn(0);
+}
+
 /* FSBoundaryView - the method, the walls and their conditions. */
 PetscErrorCode FSBoundaryView(FSBoundary b, PetscViewer viewer)
 {

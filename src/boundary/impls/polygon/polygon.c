@@ -403,6 +403,21 @@ static PetscErrorCode View(FSBoundary b, PetscViewer viewer)
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode Memory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elements)
+{
+  FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
+  const PetscInt64    nseg = wd->walls.nseg;
+
+  PetscFunctionBegin;
+  /* cstart and wstart (scap each), the candidate segments (ccap), the wall lists' k and W (wcap) */
+  *lists = (PetscInt64)wd->scap * 2 * sizeof(PetscInt) + (PetscInt64)wd->ccap * sizeof(PetscInt) +
+           (PetscInt64)wd->wcap * (sizeof(PetscInt) + sizeof(PetscReal));
+  /* the segments, their walls, wetfull and wp (3 nseg + 1), the grid */
+  *elements = nseg * (FS_SEG_STRIDE * sizeof(PetscReal) + sizeof(PetscInt) + 4 * sizeof(PetscReal)) +
+              (PetscInt64)(wd->gnc[0] * wd->gnc[1] + 1 + nseg) * sizeof(PetscInt);
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Destroy(FSBoundary b)
 {
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
@@ -450,6 +465,7 @@ PetscErrorCode FSBoundaryCreate_Polygon(FSBoundary b)
   b->ops->view          = View;
   b->ops->hash          = Hash;
   b->ops->destroy       = Destroy;
+  b->ops->memory        = Memory;
   PetscCall(
       PetscObjectComposeFunction((PetscObject)b, "FSBoundaryPolygonSetWalls_C", FSBoundaryPolygonSetWalls_Polygon));
   PetscFunctionReturn(0);

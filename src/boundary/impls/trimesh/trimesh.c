@@ -512,6 +512,22 @@ static PetscErrorCode View(FSBoundary b, PetscViewer viewer)
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode Memory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elements)
+{
+  FSBoundary_Trimesh *tm  = (FSBoundary_Trimesh *)b->data;
+  const PetscInt64    nel = tm->mesh.nel;
+
+  PetscFunctionBegin;
+  /* cstart and wstart (scap each), the candidate elements (ccap), the wall lists' k and W (wcap) */
+  *lists = (PetscInt64)tm->scap * 2 * sizeof(PetscInt) + (PetscInt64)tm->ccap * sizeof(PetscInt) +
+           (PetscInt64)tm->wcap * (sizeof(PetscInt) + sizeof(PetscReal));
+  /* the elements (FS_TRI_STRIDE reals, wall and triangle), wetfull and wp (3 nel + 1), the grid, the marks
+     of the input triangles (tmark, tlist) */
+  *elements = nel * (FS_TRI_STRIDE * sizeof(PetscReal) + 2 * sizeof(PetscInt) + 4 * sizeof(PetscReal)) +
+              (PetscInt64)(tm->gnc[0] * tm->gnc[1] * tm->gnc[2] + 1 + nel + 2 * tm->mesh.ntri) * sizeof(PetscInt);
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Destroy(FSBoundary b)
 {
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
@@ -562,6 +578,7 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   b->ops->view           = View;
   b->ops->hash           = Hash;
   b->ops->destroy        = Destroy;
+  b->ops->memory         = Memory;
   PetscCall(PetscObjectComposeFunction((PetscObject)b, "FSBoundaryTrimeshSetMesh_C", FSBoundaryTrimeshSetMesh_Trimesh));
   PetscFunctionReturn(0);
 }
