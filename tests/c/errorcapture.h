@@ -24,3 +24,11 @@ static inline PetscErrorCode FSTestCaptureError(MPI_Comm comm, int line, const c
   }
   return n;
 }
+
+/* runs call with the handler above pushed: its error code in ierr, its message in e (an ErrorText) */
+#define FS_TEST_CAPTURE(call, e, ierr)                          \
+  do {                                                          \
+    PetscCall(PetscPushErrorHandler(FSTestCaptureError, &(e))); \
+    (ierr) = (call);                                            \
+    PetscCall(PetscPopErrorHandler());                          \
+  } while (0)

@@ -555,15 +555,13 @@ static PetscErrorCode ExpectError(PetscErrorCode ierr, const ErrorText *e, const
 }
 
 /* calls `call`, which must fail with a message holding each of the strings that follow */
-#define EXPECT_ERROR(call, ...)                                \
-  do {                                                         \
-    const char    *must_[] = {__VA_ARGS__, NULL};              \
-    ErrorText      e_      = {""};                             \
-    PetscErrorCode ierr_;                                      \
-    PetscCall(PetscPushErrorHandler(FSTestCaptureError, &e_)); \
-    ierr_ = (call);                                            \
-    PetscCall(PetscPopErrorHandler());                         \
-    PetscCall(ExpectError(ierr_, &e_, #call, must_));          \
+#define EXPECT_ERROR(call, ...)                       \
+  do {                                                \
+    const char    *must_[] = {__VA_ARGS__, NULL};     \
+    ErrorText      e_      = {""};                    \
+    PetscErrorCode ierr_;                             \
+    FS_TEST_CAPTURE(call, e_, ierr_);                 \
+    PetscCall(ExpectError(ierr_, &e_, #call, must_)); \
   } while (0)
 
 static PetscErrorCode TestErrors(const char dir[])

@@ -93,9 +93,7 @@ static PetscErrorCode CheckError(TestCtx *ctx, PetscErrorCode ierr, PetscErrorCo
     const char    *must_[] = {__VA_ARGS__, NULL};                   \
     ErrorText      e_      = {""};                                  \
     PetscErrorCode ierr_;                                           \
-    PetscCall(PetscPushErrorHandler(FSTestCaptureError, &e_));      \
-    ierr_ = (call);                                                 \
-    PetscCall(PetscPopErrorHandler());                              \
+    FS_TEST_CAPTURE(call, e_, ierr_);                               \
     PetscCall(CheckError((ctx), ierr_, (code), &e_, #call, must_)); \
   } while (0)
 
