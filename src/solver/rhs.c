@@ -13,8 +13,8 @@ static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscRe
                                            PetscReal *ri2)
 {
   const PetscInt   dim = s->opt.dim, S = s->pw.stride, b = s->pw.nbrs.start[i], n = s->pw.nbrs.start[i + 1] - b;
-  const PetscInt  *nbr = s->pw.nbrs.nbr + b;
-  const PetscReal *xi  = &s->pw.rec[i * S];
+  const PetscInt  *nbr  = s->pw.nbrs.nbr + b;
+  const PetscReal *xi   = &s->pw.rec[i * S];
   const FSKernel  *kern = &s->pw.kernel;
   if (dim == 2) {
     for (PetscInt k = 0; k < n; k++) {
@@ -103,7 +103,7 @@ FS_ALWAYS_INLINE PetscBool FSSolverFirstPassDim(FSSolver s, const PetscInt dim, 
   FSNeighbours    *nb = &s->pw.nbrs;
   const PetscInt   S = s->pw.stride, A = s->pw.auxstride, n = s->pw.nowned;
   const PetscReal *rec = s->pw.rec, *vol = s->pw.vol, R2 = s->pw.kernel.support2;
-  PetscReal       *dx = s->pw.scratch; /* x_j - x_i of the neighbours of i */
+  PetscReal       *dx  = s->pw.scratch; /* x_j - x_i of the neighbours of i */
   PetscReal       *r2s = dx + dim * s->pw.scratchcap, *Fs = r2s + s->pw.scratchcap; /* their r^2, then F(r) */
   PetscInt         np = 0;
 
@@ -127,7 +127,7 @@ FS_ALWAYS_INLINE PetscBool FSSolverFirstPassDim(FSSolver s, const PetscInt dim, 
           dx[(np - b0) * dim + a] = d;
           r2 += d * d;
         }
-        nb->nbr[np]   = j;
+        nb->nbr[np]  = j;
         r2s[np - b0] = r2;
         np += r2 < R2;
       }

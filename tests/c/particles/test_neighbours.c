@@ -339,7 +339,8 @@ static PetscErrorCode CompareLists(const DistSetUp *su, const FSKernel *k, const
           PetscCall(PetscPrintf(PETSC_COMM_SELF,
                                 "[%d] pair (%" PetscInt_FMT ", %" PetscInt_FMT
                                 "): distance %.17g, by brute force %.17g; kernel factor %.17g, expected %.17g\n",
-                                (int)rank, gi, gj, (double)r, (double)rb, (double)FSKernelF(k, r), (double)FSKernelF(k, rb)));
+                                (int)rank, gi, gj, (double)r, (double)rb, (double)FSKernelF(k, r),
+                                (double)FSKernelF(k, rb)));
         c->wrong++;
       }
     }

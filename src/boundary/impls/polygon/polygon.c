@@ -405,7 +405,7 @@ static PetscErrorCode View(FSBoundary b, PetscViewer viewer)
 
 static PetscErrorCode Memory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elements)
 {
-  FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
+  FSBoundary_Polygon *wd   = (FSBoundary_Polygon *)b->data;
   const PetscInt64    nseg = wd->walls.nseg;
 
   PetscFunctionBegin;
