@@ -30,14 +30,9 @@ static PetscErrorCode FSProbesReadFile(MPI_Comm comm, const char path[], char **
       len = -2;
       fclose(fp);
     } else {
-      if (fseek(fp, 0, SEEK_END) == 0) len = ftell(fp);
-      if (len < 0 || fseek(fp, 0, SEEK_SET) != 0) len = -1;
-      if (len >= 0) {
-        PetscCall(PetscMalloc1(len + 1, &buf));
-        if ((long)fread(buf, 1, (size_t)len, fp) != len) len = -1;
-      }
-      fclose(fp);
-      if (len < 0) PetscCall(PetscFree(buf)); /* a short read: no text to keep */
+      size_t size;
+      PetscCall(FSFileReadAll(fp, &buf, &size));
+      len = (long)size;
     }
   }
   PetscCallMPI(MPI_Bcast(&len, 1, MPI_LONG, 0, comm));

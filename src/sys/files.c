@@ -45,6 +45,41 @@ PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm comm, const char path[], const cha
 }
 
 /*
+   FSFileReadAll - the whole of an open file (read to its end, so that a file whose size cannot be known
+   beforehand reads too), NUL-terminated; the file may hold NUL bytes (size tells where it ends). Closes fp.
+
+   Not collective
+
+   Output Parameters:
++  text - the bytes and a NUL after them (PetscFree() it)
+-  size - their number
+*/
+PetscErrorCode FSFileReadAll(FILE *fp, char **text, size_t *size)
+{
+  char  *buf = NULL;
+  size_t n = 0, cap = 0, got;
+
+  PetscFunctionBegin;
+  do {
+    if (n + 1 >= cap) {
+      char *t;
+      cap = PetscMax(4096, 2 * cap);
+      PetscCall(PetscMalloc1(cap, &t));
+      if (n) PetscCall(PetscArraycpy(t, buf, n));
+      PetscCall(PetscFree(buf));
+      buf = t;
+    }
+    got = fread(buf + n, 1, cap - n - 1, fp);
+    n += got;
+  } while (got);
+  fclose(fp);
+  buf[n] = 0;
+  *text  = buf;
+  *size  = n;
+  PetscFunctionReturn(0);
+}
+
+/*
    FSMemoryTotal - the machine's physical memory in bytes (0 if unknown): the bound of the size checks
    that stop a set-up whose arrays could never fit (a tank given in millimetres as metres) before it
    allocates them, instead of swapping until the out-of-memory killer ends it.

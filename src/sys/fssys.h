@@ -26,7 +26,8 @@ PETSC_INTERN PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm, const char[], const 
                                                   const char **);
 
 /* the machine's physical memory in bytes, 0 if unknown (src/sys/files.c) */
-PETSC_INTERN double FSMemoryTotal(void);
+PETSC_INTERN PetscErrorCode FSFileReadAll(FILE *, char **, size_t *);
+PETSC_INTERN double         FSMemoryTotal(void);
 
 /* fault injection for the tests (src/sys/fault.c): FLEXSLOSH_FAULT=alloc|leak:RANK:STEP */
 PETSC_INTERN PetscErrorCode FSDebugFault(MPI_Comm, const char[], PetscInt, PetscBool *);

@@ -360,7 +360,7 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
 {
   FILE      *fp   = NULL;
   char      *text = NULL, *next, name[64] = "", where[FS_WALLS_WHERE_LEN];
-  size_t     size = 0, cap_text = 0;
+  size_t     size = 0;
   PetscReal *xy   = NULL;
   char(*edge)[64] = NULL; /* the wall of each edge, "" for the polygon's */
   PetscInt    n = 0, cap = 0, lineno = 0, start = 0, npoly0 = w->npoly;
@@ -375,21 +375,7 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
     PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "Cannot open the wall file \"%s\"%s%s", path,
                elsewhere ? " on some of the other ranks" : ": ", elsewhere ? "" : why);
   }
-  for (size_t got;;) { /* the whole file, which may hold NUL bytes */
-    if (size + 1 >= cap_text) {
-      char *t;
-      cap_text = PetscMax(4096, 2 * cap_text);
-      PetscCall(PetscMalloc1(cap_text, &t));
-      if (size) PetscCall(PetscArraycpy(t, text, size));
-      PetscCall(PetscFree(text));
-      text = t;
-    }
-    got = fread(text + size, 1, cap_text - size - 1, fp);
-    size += got;
-    if (!got) break;
-  }
-  fclose(fp);
-  text[size] = 0;
+  PetscCall(FSFileReadAll(fp, &text, &size)); /* the whole file, which may hold NUL bytes */
   for (char *line = text; line; line = next) {
     char       *c, *tok[4], *save = NULL, shown[96];
     const char *bad;
