@@ -194,18 +194,16 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
 PetscErrorCode FSSolverMonitor(FSSolver s)
 {
   PetscReal      t, tmax, dt;
-  PetscInt       step, maxsteps;
+  PetscInt       step;
+  PetscBool      end;
   PetscLogDouble now;
 
   PetscFunctionBegin;
   if (!s->mon.monitoring) PetscCall(FSSolverMonitorBegin(s));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
-  PetscCall(TSGetMaxTime(s->ts, &tmax));
-  PetscCall(TSGetMaxSteps(s->ts, &maxsteps));
-  if ((step - s->mon.step0) % s->opt.series_interval == 0 || step >= maxsteps ||
-      t >= tmax - 1e-12 * PetscMax(1.0, PetscAbsReal(tmax))) /* the last step's row: as FSSolverSolve's end */
-    PetscCall(FSSolverAppendSeries(s));
+  PetscCall(FSSolverAtEnd(s, &end)); /* the last step's row is written whatever the interval */
+  if ((step - s->mon.step0) % s->opt.series_interval == 0 || end) PetscCall(FSSolverAppendSeries(s));
   PetscCall(FSSolverProbesMonitor(s));
   if (s->opt.write_output && s->opt.output_interval > 0 && t >= s->mon.next_output - 1e-9 * s->opt.output_interval) {
     PetscCall(FSSolverWriteSnapshot(s));

@@ -263,6 +263,7 @@ PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverAtEnd(FSSolver, PetscBool *);
 PETSC_INTERN PetscErrorCode FSParallelStatsBegin(FSSolver);
 PETSC_INTERN void           FSParallelStatsStepBegin(FSSolver);
 PETSC_INTERN void           FSParallelStatsStepEnd(FSSolver);

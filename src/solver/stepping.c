@@ -534,6 +534,21 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscFunctionReturn(0);
 }
 
+/* FSSolverAtEnd - whether the run has reached -ts_max_time (to round-off) or -ts_max_steps. Not collective */
+PetscErrorCode FSSolverAtEnd(FSSolver s, PetscBool *end)
+{
+  PetscReal t, tmax;
+  PetscInt  step, maxsteps;
+
+  PetscFunctionBegin;
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetMaxTime(s->ts, &tmax));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  PetscCall(TSGetMaxSteps(s->ts, &maxsteps));
+  *end = (PetscBool)(t >= tmax - 1e-12 * PetscMax(1.0, PetscAbsReal(tmax)) || step >= maxsteps);
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverSolve - runs to the final time (-ts_max_time) or step count (-ts_max_steps), writing the
    output the options ask for.
@@ -546,9 +561,6 @@ PetscErrorCode FSSolverStep(FSSolver s)
 */
 PetscErrorCode FSSolverSolve(FSSolver s)
 {
-  PetscReal t, tmax;
-  PetscInt  step, maxsteps;
-
   PetscFunctionBegin;
   PetscCall(FSSolverSetUp(s));
   PetscCall(FSSolverMonitorBegin(s));
@@ -556,11 +568,9 @@ PetscErrorCode FSSolverSolve(FSSolver s)
     PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s),
                           "-fs_geometry_view: stopping after set-up; run again without it to compute\n"));
   while (!s->opt.geometry_view) { /* -fs_geometry_view: no time stepping */
-    PetscCall(TSGetTime(s->ts, &t));
-    PetscCall(TSGetMaxTime(s->ts, &tmax));
-    PetscCall(TSGetStepNumber(s->ts, &step));
-    PetscCall(TSGetMaxSteps(s->ts, &maxsteps));
-    if (t >= tmax - 1e-12 * PetscMax(1.0, PetscAbsReal(tmax)) || step >= maxsteps) break;
+    PetscBool end = PETSC_FALSE;
+    PetscCall(FSSolverAtEnd(s, &end));
+    if (end) break;
     PetscCall(FSSolverStep(s));
   }
   PetscCall(FSSolverMonitorEnd(s));
