@@ -66,3 +66,16 @@ def test_conservation_100_steps(tmp_path):
     # about 8 % of nu here, and cases/taylor_green.opts' terms give 1.67)
     rate = -np.polyfit(s["time"], np.log(s["kinetic_energy"]), 1)[0]
     assert 1.75 < rate < 1.85, rate
+
+
+def test_series_interval_writes_every_nth_row_and_the_last(tmp_path):
+    """-fs_series_interval 4: the rows of steps 0, 4, 8 and the last (10) only, each the same as the every-step
+    run's row of that step (the interval changes what is written, not the run)."""
+    every, sparse = tmp_path / "every", tmp_path / "sparse"
+    run_flexslosh(TG + ["-ts_max_steps", "10", "-fs_output_dir", every], cwd=tmp_path)
+    run_flexslosh(TG + ["-ts_max_steps", "10", "-fs_series_interval", "4", "-fs_output_dir", sparse], cwd=tmp_path)
+    a, b = read_series(every), read_series(sparse)
+    assert list(b["step"]) == [0, 4, 8, 10]
+    rows = np.searchsorted(a["step"], b["step"])
+    for c in ("time", "kinetic_energy", "mass", "momentum_x"):
+        assert np.array_equal(a[c][rows], b[c]), c
