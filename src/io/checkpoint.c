@@ -9,6 +9,8 @@
                           setup (string, version 2: the run's set-up, one "name=value" a line)
      /header/global       dataset (nglobal,): the replicated global values (absent if nglobal = 0)
      /layout/nlocal       dataset (nranks,): particles owned by each writing rank
+     /layout/domain       dataset (nlayout,): the writers' split of the domain (FSCheckpointHeader's layout;
+                          absent when nlayout = 0), for a restart on as many ranks
 
    The file is written as "<path>.tmp" and renamed into place by rank 0 once complete. Reading
    on the same number of ranks restores the original distribution (FSCheckpointGetLocalSize());
@@ -80,6 +82,15 @@ static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], con
   PetscCall(VecView(v, viewer));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(VecDestroy(&v));
+  if (hdr->nlayout > 0) {
+    PetscCall(VecCreateMPIWithArray(comm, 1, rank == 0 ? hdr->nlayout : 0, hdr->nlayout,
+                                    (const PetscScalar *)hdr->layout, &v));
+    PetscCall(PetscObjectSetName((PetscObject)v, "domain"));
+    PetscCall(PetscViewerHDF5PushGroup(viewer, "/layout"));
+    PetscCall(VecView(v, viewer));
+    PetscCall(PetscViewerHDF5PopGroup(viewer));
+    PetscCall(VecDestroy(&v));
+  }
   PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
 }
@@ -93,8 +104,8 @@ static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], con
    Input Parameters:
 +  comm    - communicator of the particles
 .  path    - the checkpoint file (written as "<path>.tmp", then renamed)
-.  hdr     - time, dt, step, the nglobal (<= 64) global values and the set-up record (or NULL), identical on
-            all ranks (rank 0's are written)
+.  hdr     - time, dt, step, the nglobal (<= 64) global values, the set-up record (or NULL) and the nlayout
+            layout values (or none), identical on all ranks (rank 0's are written)
 .  nlocal  - number of particles on this rank
 .  nfields - number of fields
 -  fields  - the fields (any bs >= 1); names as for snapshots
@@ -476,6 +487,58 @@ PetscErrorCode FSCheckpointReadSetUp(MPI_Comm comm, const char path[], char **se
   PetscCall(FSCheckpointOpen(comm, path, &viewer));
   PetscCall(FSCheckpointReadAttr(viewer, comm, path, "version", PETSC_INT, &version));
   if (version >= 2) PetscCall(FSCheckpointReadAttr(viewer, comm, path, "setup", PETSC_STRING, setup));
+  PetscCall(PetscViewerDestroy(&viewer));
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSCheckpointReadLayout - Reads the writers' split of the domain (/layout/domain) of a checkpoint.
+
+   Collective
+
+   Input Parameters:
++  comm - communicator
+.  path - the checkpoint file
+-  cap  - room in layout
+
+   Output Parameters:
++  layout - the values, the same on every rank
+-  n      - their number; 0 when the checkpoint has none (written before the layout was kept, or without it)
+
+   Notes:
+   More than cap values is an error naming the file.
+@*/
+PetscErrorCode FSCheckpointReadLayout(MPI_Comm comm, const char path[], PetscInt cap, PetscReal layout[], PetscInt *n)
+{
+  PetscViewer viewer;
+  PetscBool   has;
+  PetscMPIInt rank;
+  Vec         v;
+
+  PetscFunctionBegin;
+  *n = 0;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(FSCheckpointOpen(comm, path, &viewer));
+  PetscCall(PetscViewerHDF5HasDataset(viewer, "/layout/domain", &has));
+  if (has) {
+    PetscCall(PetscViewerHDF5PushGroup(viewer, "/layout"));
+    PetscCall(PetscViewerHDF5ReadSizes(viewer, "domain", NULL, n));
+    PetscCheck(*n >= 0 && *n <= cap, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "Checkpoint \"%s\": /layout/domain has %" PetscInt_FMT " values, at most %" PetscInt_FMT " expected",
+               path, *n, cap);
+    PetscCall(VecCreateMPI(comm, rank == 0 ? *n : 0, *n, &v));
+    PetscCall(PetscObjectSetName((PetscObject)v, "domain"));
+    PetscCall(VecLoad(v, viewer));
+    PetscCall(PetscViewerHDF5PopGroup(viewer));
+    if (rank == 0) {
+      const PetscScalar *a;
+      PetscCall(VecGetArrayRead(v, &a));
+      for (PetscInt i = 0; i < *n; i++) layout[i] = PetscRealPart(a[i]);
+      PetscCall(VecRestoreArrayRead(v, &a));
+    }
+    PetscCall(VecDestroy(&v));
+    PetscCallMPI(MPI_Bcast(layout, (PetscMPIInt)*n, MPIU_REAL, 0, comm));
+  }
   PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
 }

@@ -29,14 +29,17 @@ PETSC_EXTERN PetscErrorCode FSSnapshotWriterDestroy(FSSnapshotWriter *);
 /* ---------------- checkpoints ---------------- */
 /* Global (replicated) data of a checkpoint: time, step, dt, and nglobal extra doubles
    (the state's global DOFs, e.g. structure DOFs and energy integrals), and the text that records the
-   run's set-up (written when not NULL; read back with FSCheckpointReadSetUp()). All of it the same on
-   every rank but global, which is rank 0's. */
+   run's set-up (written when not NULL; read back with FSCheckpointReadSetUp()), and nlayout values that
+   describe how the writing ranks split the domain (written when nlayout > 0; read back with
+   FSCheckpointReadLayout()). All of it the same on every rank but global, which is rank 0's. */
 typedef struct {
-  PetscReal   time, dt;
-  PetscInt    step;
-  PetscInt    nglobal;
-  PetscReal   global[64];
-  const char *setup;
+  PetscReal        time, dt;
+  PetscInt         step;
+  PetscInt         nglobal;
+  PetscReal        global[64];
+  const char      *setup;
+  PetscInt         nlayout;
+  const PetscReal *layout;
 } FSCheckpointHeader;
 
 PETSC_EXTERN PetscErrorCode FSCheckpointWrite(MPI_Comm, const char path[], const FSCheckpointHeader *, PetscInt nlocal,
@@ -48,6 +51,8 @@ PETSC_EXTERN PetscErrorCode FSCheckpointReadField(MPI_Comm, const char path[], c
 PETSC_EXTERN PetscErrorCode FSCheckpointGetLocalSize(MPI_Comm, const char path[], PetscInt *nlocal);
 PETSC_EXTERN PetscErrorCode FSCheckpointHasField(MPI_Comm, const char path[], const char name[], PetscBool *has);
 PETSC_EXTERN PetscErrorCode FSCheckpointReadSetUp(MPI_Comm, const char path[], char **setup);
+PETSC_EXTERN PetscErrorCode FSCheckpointReadLayout(MPI_Comm, const char path[], PetscInt cap, PetscReal layout[],
+                                                   PetscInt *n);
 
 /* ---------------- time series (CSV) ---------------- */
 typedef struct _n_FSTimeSeries *FSTimeSeries;

@@ -128,6 +128,48 @@ PetscErrorCode FSDecompBalance(FSDecomp *dd, MPI_Comm comm, PetscInt n, const Pe
   PetscFunctionReturn(0);
 }
 
+/*
+   FSDecompGetLayout - the process grid and its cuts as n = FSDecompLayoutSize() values: np[0..2], then the
+   np[d]+1 cuts of each direction (what a checkpoint keeps, so that a restart on as many ranks splits the
+   domain as the run that wrote it).
+
+   Not collective
+*/
+PetscInt FSDecompLayoutSize(const FSDecomp *dd) { return 3 + dd->np[0] + dd->np[1] + dd->np[2] + 3; }
+
+PetscErrorCode FSDecompGetLayout(const FSDecomp *dd, PetscReal v[])
+{
+  PetscInt k = 3;
+
+  PetscFunctionBegin;
+  for (PetscInt d = 0; d < 3; d++) {
+    v[d] = (PetscReal)dd->np[d];
+    for (PetscMPIInt i = 0; i <= dd->np[d]; i++) v[k++] = dd->cut[d][i];
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSDecompSetLayout - takes the cuts of n layout values (FSDecompGetLayout) when their process grid is this one;
+   *taken says whether it was (a layout of another grid, another rank count, is left alone).
+
+   Not collective
+*/
+PetscErrorCode FSDecompSetLayout(FSDecomp *dd, PetscInt n, const PetscReal v[], PetscBool *taken)
+{
+  PetscInt k = 3;
+
+  PetscFunctionBegin;
+  *taken = PETSC_FALSE;
+  if (n != FSDecompLayoutSize(dd)) PetscFunctionReturn(0);
+  for (PetscInt d = 0; d < 3; d++)
+    if (v[d] != (PetscReal)dd->np[d]) PetscFunctionReturn(0);
+  for (PetscInt d = 0; d < 3; d++)
+    for (PetscMPIInt i = 0; i <= dd->np[d]; i++) dd->cut[d][i] = v[k++];
+  *taken = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FSDecompDestroy(FSDecomp *dd)
 {
   PetscFunctionBegin;

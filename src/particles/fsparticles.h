@@ -43,6 +43,9 @@ PETSC_INTERN PetscErrorCode FSDecompSetUp(FSDecomp *, MPI_Comm, PetscInt dim, co
                                           const PetscReal hi[], const PetscBool periodic[], PetscReal minwidth);
 PETSC_INTERN PetscErrorCode FSDecompBalance(FSDecomp *, MPI_Comm, PetscInt n, const PetscReal x[], PetscReal minwidth);
 PETSC_INTERN PetscErrorCode FSDecompDestroy(FSDecomp *);
+PETSC_INTERN PetscInt       FSDecompLayoutSize(const FSDecomp *);
+PETSC_INTERN PetscErrorCode FSDecompGetLayout(const FSDecomp *, PetscReal v[]);
+PETSC_INTERN PetscErrorCode FSDecompSetLayout(FSDecomp *, PetscInt n, const PetscReal v[], PetscBool *taken);
 PETSC_INTERN PetscMPIInt    FSDecompRankOf(const FSDecomp *, const PetscReal x[]);
 PETSC_INTERN PetscMPIInt    FSDecompRankAt(const FSDecomp *, const PetscMPIInt c[]);
 

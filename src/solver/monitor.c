@@ -129,6 +129,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.particle_steps = 0;
   s->mon.steps_taken    = 0;
   s->mon.nrebuilds      = 0;
+  s->mon.nrebalances    = 0;
   s->mon.pair_visits    = 0;
   PetscCall(FSParallelStatsBegin(s));
   /* snapshots at multiples of the interval, also after a restart */

@@ -300,6 +300,14 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   fields[4] = (FSOutputField){FS_FIELD_ID, 1, id};
   fields[5] = (FSOutputField){FS_FIELD_BUILD, dim, xb};
   hdr.setup = s->mon.setup;
+  /* the split of the domain (the cuts move with -fs_rebalance_threshold) and the step it was last balanced at */
+  PetscReal layout[FS_LAYOUT_MAX];
+  hdr.nlayout = 1 + FSDecompLayoutSize(&s->pw.decomp);
+  PetscCheck(hdr.nlayout <= FS_LAYOUT_MAX, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%" PetscInt_FMT " layout values",
+             hdr.nlayout);
+  layout[0] = (PetscReal)s->pw.balance_step;
+  PetscCall(FSDecompGetLayout(&s->pw.decomp, layout + 1));
+  hdr.layout = layout;
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt_FMT ".h5", s->opt.outdir, hdr.step));
   PetscCall(FSCheckpointWrite(PetscObjectComm((PetscObject)s), path, &hdr, n, 6, fields));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
@@ -372,6 +380,15 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   s->pw.nglobal_particles = nglob;
   s->state.restart_hdr    = hdr;
+  s->pw.balance_step      = hdr.step;
+  if (nranks == s->pw.decomp.size) { /* as many ranks: the writers' cuts, so that the run goes on as theirs */
+    PetscReal layout[FS_LAYOUT_MAX];
+    PetscInt  nl;
+    PetscBool taken = PETSC_FALSE;
+    PetscCall(FSCheckpointReadLayout(comm, s->opt.restart, FS_LAYOUT_MAX, layout, &nl));
+    if (nl > 1) PetscCall(FSDecompSetLayout(&s->pw.decomp, nl - 1, layout + 1, &taken));
+    if (taken) s->pw.balance_step = (PetscInt)layout[0];
+  }
   for (PetscInt g = 0; g < s->state.nglobaldofs; g++) s->state.global0[g] = hdr.global[g];
   { /* the viscosity bound of the first step, from its source, and what limited the last step */
     const PetscInt source = (PetscInt)hdr.global[s->state.nglobaldofs + 1];
@@ -435,6 +452,7 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSSolverWriteMemory(s, js, memsum));
   PetscCall(FSJSONWriteInt(js, "migrations", s->mon.nmigrations));
   PetscCall(FSJSONWriteInt(js, "neighbour_rebuilds", s->mon.nrebuilds));
+  PetscCall(FSJSONWriteInt(js, "rebalances", s->mon.nrebalances));
   PetscCall(FSJSONBeginObject(js, "dt_limit_steps")); /* how many steps each time-step limit set */
   for (PetscInt l = 0; l < FS_DT_TERM + s->terms.nterms; l++) {
     const char *name;

@@ -164,3 +164,39 @@ PetscErrorCode FSSolverKeepLists(FSSolver s)
   PetscCall(TSRestartStep(s->ts));
   PetscFunctionReturn(0);
 }
+
+/*
+   FSSolverRebalance - at a rebuild of the lists, before the migration: when the rank owning the most particles
+   holds more than -fs_rebalance_threshold times the mean and -fs_rebalance_interval steps have passed since the
+   cuts last moved, balances the cuts again on the particles' present positions (FSDecompBalance); the migration
+   that follows sends each particle to its new owner. The cuts set at the start are balanced on the liquid as it
+   was then; a sloshing or collapsing liquid leaves them behind (the largest rank's share drifts, measured in
+   docs/performance.md). The imbalance is the time step's reduction's (no collective unless the cuts move).
+   *moved says whether they did (on every rank).
+
+   Collective
+*/
+PetscErrorCode FSSolverRebalance(FSSolver s, PetscInt step, PetscBool *moved)
+{
+  const PetscReal mean = (PetscReal)s->pw.nglobal_particles / s->pw.decomp.size;
+  PetscReal       imbalance, *x;
+  PetscInt        n;
+
+  PetscFunctionBegin;
+  *moved = PETSC_FALSE;
+  if (s->pw.decomp.size == 1 || s->opt.rebalance_threshold <= 0 || mean <= 0) PetscFunctionReturn(0);
+  imbalance = s->mon.par.step_max[0] / mean;
+  if (imbalance <= s->opt.rebalance_threshold || step - s->pw.balance_step < s->opt.rebalance_interval)
+    PetscFunctionReturn(0);
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(FSDecompBalance(&s->pw.decomp, PetscObjectComm((PetscObject)s), n, x,
+                            s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(PetscInfo(s, "step %" PetscInt_FMT ": imbalance %g above %g, cuts balanced again\n", step,
+                      (double)imbalance, (double)s->opt.rebalance_threshold));
+  s->pw.balance_step = step;
+  s->mon.nrebalances++;
+  *moved = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}

@@ -45,6 +45,8 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.progress_interval     = 5.0;
   s->opt.write_output          = PETSC_TRUE;
   s->opt.sort_interval         = 1;
+  s->opt.rebalance_threshold   = 1.2;
+  s->opt.rebalance_interval    = 100;
   s->opt.rebuild               = FS_REBUILD_AUTO;
   s->mon.probes.interval       = 1;
   s->opt.series_interval       = 1;
@@ -307,6 +309,16 @@ static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *Pets
                           &s->opt.max_density_variation, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_sort_interval", "Steps between reorderings of the particles by cell",
                          "FSSolverSortByCell", &s->opt.sort_interval, NULL, 1, PETSC_MAX_INT));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_rebalance_threshold",
+                          "Move the ranks' cuts, at a rebuild of the lists, when a rank owns more than this times the "
+                          "mean number of particles (0: never; the cuts set at the start stay)",
+                          "FSSolverRebalance", &s->opt.rebalance_threshold, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_rebalance_interval", "Steps at least between two moves of the cuts",
+                         "FSSolverRebalance", &s->opt.rebalance_interval, NULL, 1, PETSC_MAX_INT));
+  PetscCheck(s->opt.rebalance_threshold == 0 || s->opt.rebalance_threshold >= 1, PetscObjectComm((PetscObject)s),
+             PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_rebalance_threshold %g: a rank owns at least the mean; give 0 (never move the cuts) or a value >= 1",
+             (double)s->opt.rebalance_threshold);
   PetscCall(
       PetscOptionsEList("-fs_neighbour_rebuild",
                         "When the halo and the neighbour lists are rebuilt: auto (when a particle could have moved "

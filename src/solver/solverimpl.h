@@ -32,6 +32,10 @@ typedef struct {
   PetscInt offset, n;
 } FSGlobalBlock;
 
+/* The most values a checkpoint's layout holds: the step of the last balance and the process grid's cuts
+   (FSDecompLayoutSize: 6 + the ranks per direction, summed) */
+#define FS_LAYOUT_MAX 4096
+
 /* The run's options (-fs_*), read by FSSolverSetFromOptions() and the cases' defaults. */
 typedef struct {
   char      casename[64];
@@ -54,7 +58,9 @@ typedef struct {
   PetscBool terms_view;
   PetscBool geometry_view; /* -fs_geometry_view: write the set-up's picture and walls, then stop */
   PetscInt  sort_interval;
-  PetscInt  rebuild; /* -fs_neighbour_rebuild: FS_REBUILD_AUTO or FS_REBUILD_ALWAYS */
+  PetscReal rebalance_threshold; /* -fs_rebalance_threshold: move the cuts when a rank owns this times the mean */
+  PetscInt  rebalance_interval;  /* -fs_rebalance_interval: steps at least between two moves of the cuts */
+  PetscInt  rebuild;             /* -fs_neighbour_rebuild: FS_REBUILD_AUTO or FS_REBUILD_ALWAYS */
   char      structname[64];
   PetscBool structure_view;
   PetscReal structure_cfl; /* dt = structure_cfl * shortest period, when there are no particles */
@@ -87,9 +93,10 @@ typedef struct {
       *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
   PetscReal *gammav, *invgammav; /* with no-slip walls: gamma plus the share behind them, and its inverse */
   PetscInt   gammacap;
-  PetscReal  moved;     /* the largest displacement of a particle since the last build of the lists (all ranks) */
-  PetscInt   sort_step; /* the step of the last ordering by cell */
-  PetscBool  resume;    /* the next build takes the positions of the swarm's build field (a restart) */
+  PetscReal  moved;        /* the largest displacement of a particle since the last build of the lists (all ranks) */
+  PetscInt   sort_step;    /* the step of the last ordering by cell */
+  PetscInt   balance_step; /* the step at which the cuts were last balanced on the particles */
+  PetscBool  resume;       /* the next build takes the positions of the swarm's build field (a restart) */
 } FSParticleWork;
 
 /* What limits a time step (the time series' dt_limit column; FSSolverDtLimitName) */
@@ -134,6 +141,7 @@ typedef struct {
                             or the integrator's next evaluation) */
   PetscReal ext_power;   /* P_ext of the last right-hand side, this rank's share */
   PetscReal relax_power; /* power of the start-up relaxation of the last right-hand side, this rank's share */
+  PetscReal
 } FSSolverState;
 
 /* Probes and wave gauges (-fs_probes, src/solver/probes.c): the items of the file, their current
@@ -195,6 +203,7 @@ typedef struct {
   PetscInt64       pair_visits, particle_steps;
   PetscInt         nmigrations, nrhs;
   PetscInt         steps_taken; /* steps taken since set-up (this process) */
+  PetscInt         nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
   PetscInt         nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
   PetscBool        monitoring;
   PetscReal        t0, last_snapshot_time;
@@ -259,6 +268,7 @@ PETSC_INTERN PetscErrorCode FSSolverSwapBuildPositions(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRecordsAtBuild(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRebuildNeeded(FSSolver, PetscBool *rebuild, PetscBool *sort);
 PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverRebalance(FSSolver, PetscInt step, PetscBool *moved);
 PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);

@@ -519,8 +519,10 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscCall(FSSolverBoundaryBounce(s, ejump, &bounced)); /* with the bounces' energy changes, for the energy budget */
   PetscCall(FSSolverRebuildNeeded(s, &rebuild, &sort));
   if (rebuild) {
+    PetscBool rebalanced;
+    PetscCall(FSSolverRebalance(s, step, &rebalanced));
     PetscCall(FSSolverMigrate(s, &changed));
-    if (sort) {
+    if (sort || rebalanced) { /* the particles a rebalance brings are in no order */
       PetscCall(FSSolverSortByCell(s));
       s->pw.sort_step = step;
     }

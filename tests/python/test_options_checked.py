@@ -81,6 +81,7 @@ ACCEPT = {
     "-fs_shifting_umin": {"0": "no smallest reference speed", "1e300": "capped by -fs_shifting_max"},
     "-fs_shifting_max": {"1e300": "no cap on the shifting velocity"},
     "-fs_halo_skin": {"1e300": "every rank sees every particle: slow, not wrong"},
+    "-fs_rebalance_threshold": {"0": "the cuts of the start stay", "1e300": "never exceeded: the cuts of the start stay"},
     "-fs_walls_bounce_distance": {"0": "no bounce"},
     "-fs_walls_bounce_restitution": {"0": "a bounce stops the normal velocity"},
     "-fs_tank_baffle_gap": {"0": "baffles standing on the floor"},
