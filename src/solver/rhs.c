@@ -436,8 +436,9 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
       FSStructure st   = s->structure;
       PetscReal   E[3] = {0, 0, 0};
       for (PetscInt k = 0; k < npower; k++) f[n * US + s->state.gdiss + k] = power[k];
-      for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) fe[e] = 0; /* the constants and the bounces' jumps */
-      if (st && st->ndof && st->ops.energy) ierr = (*st->ops.energy)(st, s->sy, E);
+      for (PetscInt e = 0; e < FS_ENERGY_NDOF; e++) fe[e] = 0;                /* the constants and the bounces' jumps */
+      if (coupled) PetscCall(PetscArraycpy(E, s->state.structure_energy, 3)); /* FSSolverCouplingRates' */
+      else if (st && st->ndof && st->ops.energy) ierr = (*st->ops.energy)(st, s->sy, E);
       fe[FS_ENERGY_WORK_EXT]     = power[npower];
       fe[FS_ENERGY_WORK_RELAX]   = power[npower + 1];
       fe[FS_ENERGY_WORK_DAMPING] = -E[2];
@@ -445,7 +446,7 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
         PetscCall(FSCouplingMotionPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_MOTION]));
       else if (coupled) PetscCall(FSCouplingPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_COUPLING]));
     }
-    if (s->structure && s->structure->ndof && s->structure->ops.energy)
+    if (!coupled && s->structure && s->structure->ndof && s->structure->ops.energy)
       PetscCall(FSSolverStructureResultRank0(s, ierr, "energy", 0, NULL));
   }
   PetscFunctionReturn(0);

@@ -142,6 +142,7 @@ typedef struct {
   PetscReal ext_power;   /* P_ext of the last right-hand side, this rank's share */
   PetscReal relax_power; /* power of the start-up relaxation of the last right-hand side, this rank's share */
   PetscReal
+      structure_energy[3]; /* coupled: the structure's energies at the stage's state (rank 0; FSSolverCouplingRates) */
 } FSSolverState;
 
 /* Probes and wave gauges (-fs_probes, src/solver/probes.c): the items of the file, their current
@@ -330,7 +331,7 @@ PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
 /* the reals of an FSTankMotion, and the most a structure routine's result broadcast carries */
 #define FS_MOTION_NREAL ((PetscInt)(sizeof(FSTankMotion) / sizeof(PetscReal)))
-#define FS_RANK0_MAX    16
+#define FS_RANK0_MAX    (16 + FS_MAX_GLOBAL) /* the tank's motion and the structure's state */
 PETSC_INTERN PetscErrorCode FSSolverStructureResultRank0(FSSolver, PetscErrorCode, const char[], PetscInt, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);

@@ -355,31 +355,36 @@ PetscErrorCode FSSolverStructureSummary(FSSolver s, FSJSON js)
    FSSolverCouplingPredict - at the start of a right-hand side when coupled: the structure's state of
    this stage on every rank, and the tank's motion it gives with the liquid at rest (its dynamic loads
    left out), which sets the tank frame's body acceleration and angle of this stage
-   (FSCouplingSetPredictedMotion).
+   (FSCouplingSetPredictedMotion). Rank 0 computes the motion and broadcasts it with the state and its
+   status: one collective.
 
    Collective
 */
 PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
 {
-  FSStructure  st   = s->structure;
-  MPI_Comm     comm = PetscObjectComm((PetscObject)s);
-  PetscMPIInt  rank;
-  FSLoads      none;
-  FSTankMotion predicted;
+  FSStructure    st = s->structure;
+  const PetscInt nm = FS_MOTION_NREAL, nd = st->ndof;
+  PetscMPIInt    rank;
+  FSLoads        none;
+  FSTankMotion   predicted;
+  PetscReal      buf[FS_RANK0_MAX];
+  PetscErrorCode ierr = 0;
 
   PetscFunctionBegin;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(FSSolverStructureBroadcastState(s, u));
+  PetscCheck(nm + nd <= FS_RANK0_MAX, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%" PetscInt_FMT " structure DOFs", nd);
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(PetscMemzero(&none, sizeof(none)));
-  {
-    PetscErrorCode ierr = 0;
-    if (!rank) {
-      ierr = (*st->ops.rhs)(st, s->state.rhs_time, s->sy, &none, s->sydot);
-      if (!ierr) ierr = (*st->ops.motion)(st, s->state.rhs_time, s->sy, s->sydot, &predicted);
-    }
-    PetscCall(
-        FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&predicted));
+  PetscCall(PetscMemzero(&predicted, sizeof(predicted)));
+  if (!rank) {
+    PetscCall(PetscArraycpy(s->sy, u + s->pw.nowned * s->state.ustride + s->state.gstruct, nd));
+    ierr = (*st->ops.rhs)(st, s->state.rhs_time, s->sy, &none, s->sydot);
+    if (!ierr) ierr = (*st->ops.motion)(st, s->state.rhs_time, s->sy, s->sydot, &predicted);
+    PetscCall(PetscArraycpy(buf, (PetscReal *)&predicted, nm));
+    PetscCall(PetscArraycpy(buf + nm, s->sy, nd));
   }
+  PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", nm + nd, buf));
+  PetscCall(PetscArraycpy((PetscReal *)&predicted, buf, nm));
+  PetscCall(PetscArraycpy(s->sy, buf + nm, nd));
   PetscCall(FSCouplingSetPredictedMotion(s->coupling, &predicted));
   PetscFunctionReturn(0);
 }
@@ -387,8 +392,10 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
 /*
    FSSolverCouplingRates - the structure's part of a right-hand side when coupled (after
    FSSolverCouplingPredict and the terms): the liquid's loads of this stage to the structure
-   (FSCouplingComputeLoads), its rate into f (rank 0), and the tank's motion at this stage to the
-   coupling on every rank.
+   (FSCouplingComputeLoads), its rate into f (rank 0), the tank's motion at this stage to the
+   coupling on every rank, and the structure's energies for the energy budget (rank 0,
+   s->state.structure_energy; FSSolverPowerRates books them). The status of rank 0's three calls rides
+   on the motion's broadcast: one collective.
 
    Collective
 */
@@ -397,7 +404,7 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
   FSStructure    st = s->structure;
   PetscMPIInt    rank;
   FSTankMotion   motion;
-  PetscErrorCode ierr; /* rank 0's: checked with the motion's broadcast, one collective for both */
+  PetscErrorCode ierr; /* rank 0's */
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
@@ -405,7 +412,10 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
   /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
   PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f, &ierr));
   if (!rank && !ierr) ierr = (*st->ops.motion)(st, s->state.rhs_time, s->sy, s->sydot, &motion);
-  PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)&motion));
+  PetscCall(PetscArrayzero(s->state.structure_energy, 3));
+  if (!rank && !ierr && st->ndof && st->ops.energy) ierr = (*st->ops.energy)(st, s->sy, s->state.structure_energy);
+  PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side, motion or energy", FS_MOTION_NREAL,
+                                         (PetscReal *)&motion));
   PetscCall(FSCouplingSetMotion(s->coupling, &motion));
   PetscFunctionReturn(0);
 }
