@@ -55,8 +55,16 @@ struct _p_FSBoundary {
   PetscInt     nnoslipname;
   PetscReal    loadpoint[3]; /* -fs_walls_load_point */
   PetscReal *load, *loadsum; /* per wall 6: this rank's share of the last right-hand side, and the sum over the ranks */
-  PetscInt   wp_reductions, wp_values; /* the wall pressure's sums over the ranks in the last right-hand side: calls,
-                                          values (summary.json; the scaling model's cost of a stage) */
+  /* the wall pressure's sums over the ranks (FSBoundarySetPartition): without a partition one MPI_Allreduce of
+     every element's sums; with one a PetscSF from the ranks whose particles can reach an element to the rank that
+     owns it (its centroid's) and back */
+  PetscSF      wpsf;
+  PetscMPIInt *owner;        /* per element, with a partition: the owning rank */
+  PetscReal   *wproot;       /* 2 nel, with a partition: the owners' sums */
+  PetscInt     wp_leaves;    /* elements this rank's particles can reach (2 values each through the SF) */
+  PetscInt     wp_exchanged; /* values this rank sent to others in the last right-hand side through the SF */
+  PetscInt     wp_reductions, wp_values; /* the wall pressure's sums over the ranks in the last right-hand side: calls,
+                                            values (summary.json; the scaling model's cost of a stage) */
   PetscReal  bounce_distance, restitution; /* -fs_walls_bounce_distance (in dx), -fs_walls_bounce_restitution */
   PetscBool  visall;                       /* -fs_walls_visibility all: no pair cut, no facing filter, no occlusion */
   PetscInt64 nbounce;
@@ -82,9 +90,10 @@ PETSC_INTERN PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary, const c
 /* adds n bytes to a 64-bit FNV-1a hash (interface/boundary.c) */
 PETSC_INTERN void FSBoundaryHashAdd_Private(uint64_t *hash, const void *data, size_t n);
 
-/* the wall pressure from the implementations' per-element sums (interface/boundary.c) */
+/* the wall pressure from the implementations' per-element sums, and the pressure loads (interface/boundary.c) */
 PETSC_INTERN PetscErrorCode FSBoundaryWallPressure(FSBoundary, PetscInt nel, const PetscReal wetfull[], PetscReal pamb,
                                                    PetscReal wp[]);
+PETSC_INTERN PetscErrorCode FSBoundaryPressureLoads(FSBoundary, const PetscReal wp[]);
 /* one particle's bounce off an element (interface/boundary.c) */
 PETSC_INTERN void FSBoundaryBounceParticle(FSBoundary, const PetscReal n[], PetscReal d, PetscReal un, PetscReal x[],
                                            PetscReal v[], PetscReal m, FSParticleEnergyFn, void *, PetscReal de[2]);

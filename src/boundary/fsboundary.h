@@ -68,6 +68,11 @@ PETSC_INTERN PetscErrorCode FSBoundaryGetBounce(FSBoundary, PetscBool *);
 PETSC_INTERN PetscErrorCode FSBoundaryBounce(FSBoundary, PetscInt n, PetscReal x[], PetscReal v[], const PetscReal m[],
                                              FSParticleEnergyFn, void *, PetscReal de[2]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetLoads(FSBoundary, PetscInt *nwalls, const PetscReal **loads);
+/* the rank that owns the point x (the particles' domain decomposition) */
+typedef PetscMPIInt (*FSBoundaryRankOfFn)(void *ctx, const PetscReal x[]);
+PETSC_INTERN PetscErrorCode FSBoundarySetPartition(FSBoundary, FSBoundaryRankOfFn, void *ctx, const PetscReal lo[],
+                                                   const PetscReal hi[], const PetscBool periodic[]);
+PETSC_INTERN PetscErrorCode FSBoundaryOwnsElement(FSBoundary, PetscInt k, PetscBool *owns);
 PETSC_INTERN PetscErrorCode FSBoundaryGetWallNames(FSBoundary, PetscInt *nwalls, const char *const **names);
 PETSC_INTERN PetscErrorCode FSBoundaryShepardAt(FSBoundary, const PetscReal x[], PetscReal *gamma);
 PETSC_INTERN PetscErrorCode FSBoundaryGetBoundingBox(FSBoundary, PetscReal lo[], PetscReal hi[]);

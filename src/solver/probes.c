@@ -263,7 +263,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
         PetscCall(PetscSNPrintf(col[1 + d], sizeof(col[0]), "%s_velocity_%s[m/s]", it->name, ax[d]));
     }
   }
-  PetscCall(PetscMalloc3(nv + 1, &ps->values, ps->nsamples + 1, &ps->sgamma, ps->n * (2 + dim) + ps->nsamples + 1,
+  PetscCall(PetscMalloc3(nv + 1, &ps->values, ps->nsamples + 1, &ps->sgamma, ps->n * (3 + dim) + ps->nsamples + 1,
                          &ps->sums));
   /* the walls' Shepard factor at the gauges' samples; a sample on a wall's line is moved into the liquid by
      1e-6 dx (on the wall itself the wall's own half of the support does not count) */
@@ -306,7 +306,7 @@ static inline void FSProbesBody(const FSFrameField *body, PetscInt dim, const Pe
 static PetscErrorCode FSProbesSample(FSSolver s)
 {
   FSProbeSet         *ps  = &s->mon.probes;
-  const PetscInt      dim = s->opt.dim, S = s->pw.stride, PS = 2 + dim, n = s->pw.nowned;
+  const PetscInt      dim = s->opt.dim, S = s->pw.stride, PS = 3 + dim, n = s->pw.nowned;
   const PetscReal     R = s->pw.kernel.support, R2 = s->pw.kernel.support2;
   const FSFrameField *body;
   PetscReal          *sum = ps->sums, *ssum = ps->sums + ps->n * PS;
@@ -355,13 +355,24 @@ static PetscErrorCode FSProbesSample(FSSolver s)
       }
     }
   }
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, ps->sums, (PetscMPIInt)(ps->n * PS + ps->nsamples), MPIU_REAL, MPI_SUM,
-                             PetscObjectComm((PetscObject)s)));
-  if (s->boundary) {
+  if (s->boundary) { /* a probe on a wall: the wall pressure times the area of the elements this rank owns (their
+                       wall pressure is known on their owner), summed over the ranks with the rest */
     const PetscInt  *wstart, *wk;
     const PetscReal *wW;
     PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
+    for (PetscInt k = 0; k < ps->n && B && B->pressure; k++) {
+      const FSProbe *it = &ps->item[k];
+      if (it->gauge) continue;
+      for (PetscInt q = it->estart; q < it->eend; q++) {
+        const PetscInt e = ps->elem[q];
+        PetscBool      owns;
+        PetscCall(FSBoundaryOwnsElement(s->boundary, e, &owns));
+        if (owns) sum[k * PS + 2 + dim] += B->pressure[e] * B->element[e * B->stride + B->measure];
+      }
+    }
   }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, ps->sums, (PetscMPIInt)(ps->n * PS + ps->nsamples), MPIU_REAL, MPI_SUM,
+                             PetscObjectComm((PetscObject)s)));
   for (PetscInt k = 0; k < ps->n; k++) {
     const FSProbe *it = &ps->item[k];
     PetscReal     *v  = &ps->values[ps->offset[k]];
@@ -375,14 +386,9 @@ static PetscErrorCode FSProbesSample(FSSolver s)
         for (PetscInt a = 0; a < dim; a++) v[1 + a] = 0;
       }
       if (it->eend > it->estart && B && B->pressure) { /* on a wall: the wall pressure, area-weighted */
-        PetscReal pa = 0, a = 0;
-        for (PetscInt q = it->estart; q < it->eend; q++) {
-          const PetscInt  e  = ps->elem[q];
-          const PetscReal me = B->element[e * B->stride + B->measure];
-          pa += B->pressure[e] * me;
-          a += me;
-        }
-        v[0] = pa / a;
+        PetscReal a = 0;
+        for (PetscInt q = it->estart; q < it->eend; q++) a += B->element[ps->elem[q] * B->stride + B->measure];
+        v[0] = sk[2 + dim] / a;
       }
     } else { /* the first sample, from the start, where S/gamma falls below 1/2 */
       const PetscReal *Sq = &ssum[it->sample], *gq = &ps->sgamma[it->sample];

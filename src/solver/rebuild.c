@@ -195,8 +195,33 @@ PetscErrorCode FSSolverRebalance(FSSolver s, PetscInt step, PetscBool *moved)
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(PetscInfo(s, "step %" PetscInt_FMT ": imbalance %g above %g, cuts balanced again\n", step,
                       (double)imbalance, (double)s->opt.rebalance_threshold));
+  PetscCall(FSSolverPartitionWalls(s));
   s->pw.balance_step = step;
   s->mon.nrebalances++;
   *moved = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+static PetscMPIInt FSSolverRankOf(void *ctx, const PetscReal x[]) { return FSDecompRankOf((const FSDecomp *)ctx, x); }
+
+/*
+   FSSolverPartitionWalls - tells the walls this rank's part of the domain and who owns which point
+   (FSBoundarySetPartition), so that the wall pressure's sums go between neighbouring ranks only. At the set-up
+   and whenever the cuts move.
+
+   Collective
+*/
+PetscErrorCode FSSolverPartitionWalls(FSSolver s)
+{
+  const FSDecomp *dd = &s->pw.decomp;
+  PetscReal       lo[3], hi[3];
+
+  PetscFunctionBegin;
+  if (!s->boundary) PetscFunctionReturn(0);
+  for (PetscInt d = 0; d < 3; d++) {
+    lo[d] = dd->cut[d][dd->coord[d]];
+    hi[d] = dd->cut[d][dd->coord[d] + 1];
+  }
+  PetscCall(FSBoundarySetPartition(s->boundary, FSSolverRankOf, (void *)dd, lo, hi, s->pw.periodic));
   PetscFunctionReturn(0);
 }

@@ -687,6 +687,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscCall(TSSetStepNumber(s->ts, s->state.restart_hdr.step));
     PetscCall(TSSetTimeStep(s->ts, s->state.restart_hdr.dt));
   }
+  PetscCall(FSSolverPartitionWalls(s)); /* the cuts are final (a restart's are the checkpoint's) */
   /* a restart builds the lists where the checkpoint's run last built them, so that it goes on as that run */
   if (s->opt.restart[0]) PetscCall(FSSolverSwapBuildPositions(s));
   PetscCall(FSSolverMigrate(s, &changed));

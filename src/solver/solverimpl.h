@@ -270,6 +270,7 @@ PETSC_INTERN PetscErrorCode FSSolverRecordsAtBuild(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRebuildNeeded(FSSolver, PetscBool *rebuild, PetscBool *sort);
 PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRebalance(FSSolver, PetscInt step, PetscBool *moved);
+PETSC_INTERN PetscErrorCode FSSolverPartitionWalls(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);

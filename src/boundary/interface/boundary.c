@@ -290,6 +290,7 @@ PetscErrorCode FSBoundaryPrepare(FSBoundary b, const FSBoundaryParticles *P, Pet
   PetscCall(PetscArrayzero(b->load, FS_WALL_LOAD_STRIDE * b->nwalls));
   b->wp_reductions = 0;
   b->wp_values     = 0;
+  b->wp_exchanged  = 0;
   PetscCall((*b->ops->prepare)(b, P, gamma, noslip));
   PetscFunctionReturn(0);
 }
@@ -309,7 +310,10 @@ PetscErrorCode FSBoundaryHasNoSlip(FSBoundary b, PetscBool *has)
    pressure p_b where no liquid is near). Below p_b, p_k counts with the square of the element's wetted
    share c_k = min(1, den_k / wetfull_k) (wetfull: the container's Shepard factor at the element), so
    that the hydrostatic correction does not extrapolate suction onto a dry wall above a free surface
-   (docs/decisions.md), while a covered wall keeps its tension. Into wp[0 .. nel).
+   (docs/decisions.md), while a covered wall keeps its tension. Into wp[0 .. nel): with a partition
+   (FSBoundarySetPartition) valid at the elements this rank's particles can reach and at those it owns, the
+   sums going from the ranks that reach an element to its owner and back (neighbour messages); without
+   one at every element, through one MPI_Allreduce of all the sums.
 
    Collective
 */
@@ -319,10 +323,19 @@ PetscErrorCode FSBoundaryWallPressure(FSBoundary b, PetscInt nel, const PetscRea
   PetscReal *num = wp + nel, *den = num + nel;
 
   PetscFunctionBegin;
-  b->wp_reductions++;
-  b->wp_values += 2 * nel;
-  PetscCallMPI(
-      MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * nel), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
+  if (b->wpsf) {
+    PetscCall(PetscArrayzero(b->wproot, 2 * nel));
+    PetscCall(PetscSFReduceBegin(b->wpsf, MPIU_REAL, num, b->wproot, MPI_SUM));
+    PetscCall(PetscSFReduceEnd(b->wpsf, MPIU_REAL, num, b->wproot, MPI_SUM));
+    PetscCall(PetscSFBcastBegin(b->wpsf, MPIU_REAL, b->wproot, num, MPI_REPLACE));
+    PetscCall(PetscSFBcastEnd(b->wpsf, MPIU_REAL, b->wproot, num, MPI_REPLACE));
+    b->wp_exchanged += 2 * b->wp_leaves;
+  } else {
+    b->wp_reductions++;
+    b->wp_values += 2 * nel;
+    PetscCallMPI(
+        MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * nel), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
+  }
   for (PetscInt k = 0; k < nel; k++) {
     PetscReal pk = den[k] > 0 ? num[k] / den[k] : pamb;
     if (pk < pamb) {
@@ -331,6 +344,114 @@ PetscErrorCode FSBoundaryWallPressure(FSBoundary b, PetscInt nel, const PetscRea
     }
     wp[k] = pk;
   }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryPressureLoads - for the implementations' prepare, after FSBoundaryWallPressure: this rank's share of
+   the pressure loads on the walls, sum_k p_k A_k n_k and its moment about the load point, over the elements it
+   owns (with a partition; rank 0 all of them without one), into b->load (FSBoundaryGetLoads sums the ranks').
+
+   Not collective
+*/
+PetscErrorCode FSBoundaryPressureLoads(FSBoundary b, const PetscReal wp[])
+{
+  const FSWallView *V = &b->view;
+  const PetscInt    D = b->dim;
+  PetscMPIInt       rank;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)b), &rank));
+  if (!b->owner && rank) PetscFunctionReturn(0);
+  for (PetscInt k = 0; k < V->nelements; k++) {
+    const PetscReal *el = &V->element[k * V->stride], *c = el + V->centroid, *nn = el + V->normal;
+    const PetscReal  a    = wp[k] * el[V->measure];
+    PetscReal        f[3] = {0, 0, 0}, r[3] = {0, 0, 0}, *L = &b->load[FS_WALL_LOAD_STRIDE * V->elementwall[k]];
+    if (b->owner && b->owner[k] != rank) continue;
+    for (PetscInt d = 0; d < D; d++) {
+      f[d] = a * nn[d];
+      r[d] = c[d] - b->loadpoint[d];
+    }
+    L[0] += f[0];
+    L[1] += f[1];
+    L[2] += f[2];
+    L[3] += r[1] * f[2] - r[2] * f[1];
+    L[4] += r[2] * f[0] - r[0] * f[2];
+    L[5] += r[0] * f[1] - r[1] * f[0];
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundarySetPartition - tells the walls how the particles are split over the ranks, so that the wall pressure's
+   sums go only between the ranks that share an element (FSBoundaryWallPressure): rankof gives the rank owning a
+   point (an element is owned by its centroid's rank), [lo, hi] is this rank's part of the domain (periodic
+   directions: the whole). After FSBoundarySetUp; again whenever the split changes. With one rank nothing changes.
+
+   Collective
+*/
+PetscErrorCode FSBoundarySetPartition(FSBoundary b, FSBoundaryRankOfFn rankof, void *ctx, const PetscReal lo[],
+                                      const PetscReal hi[], const PetscBool periodic[])
+{
+  const FSWallView *V   = &b->view;
+  const PetscInt    nel = V->nelements, D = b->dim;
+  PetscMPIInt       size;
+  PetscInt          nl = 0, *ilocal;
+  PetscSFNode      *iremote;
+  PetscReal         reach = 0;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)b), &size));
+  if (size == 1 || !nel) PetscFunctionReturn(0);
+  PetscCall(PetscSFDestroy(&b->wpsf));
+  if (!b->owner) PetscCall(PetscMalloc2(nel, &b->owner, 2 * nel, &b->wproot));
+  /* an element is within reach of this rank's particles when its centroid is within the candidate radius plus
+     the element's own size (its farthest vertex) of this rank's part */
+  for (PetscInt k = 0; k < nel; k++) {
+    const PetscReal *el = &V->element[k * V->stride], *c = el + V->centroid;
+    for (PetscInt v = 0; v < D; v++) {
+      PetscReal d2 = 0;
+      for (PetscInt d = 0; d < D; d++) d2 += PetscSqr(el[V->vertex + v * D + d] - c[d]);
+      reach = PetscMax(reach, PetscSqrtReal(d2));
+    }
+  }
+  reach += b->radius;
+  PetscCall(PetscMalloc1(2 * nel, &ilocal));
+  PetscCall(PetscMalloc1(2 * nel, &iremote));
+  for (PetscInt k = 0; k < nel; k++) {
+    const PetscReal *c    = &V->element[k * V->stride + V->centroid];
+    PetscBool        near = PETSC_TRUE;
+    b->owner[k]           = rankof(ctx, c);
+    for (PetscInt d = 0; d < D; d++)
+      if (!periodic[d] && (c[d] < lo[d] - reach || c[d] > hi[d] + reach)) near = PETSC_FALSE;
+    if (!near) continue;
+    ilocal[nl]              = k; /* num[k] and den[k] (nel further) to the owner's */
+    iremote[nl].rank        = b->owner[k];
+    iremote[nl].index       = k;
+    ilocal[nel + nl]        = nel + k;
+    iremote[nel + nl].rank  = b->owner[k];
+    iremote[nel + nl].index = nel + k;
+    nl++;
+  }
+  for (PetscInt q = 0; q < nl; q++) { /* close the gap between the num and den halves */
+    ilocal[nl + q]  = ilocal[nel + q];
+    iremote[nl + q] = iremote[nel + q];
+  }
+  b->wp_leaves = nl;
+  PetscCall(PetscSFCreate(PetscObjectComm((PetscObject)b), &b->wpsf));
+  PetscCall(PetscSFSetGraph(b->wpsf, 2 * nel, 2 * nl, ilocal, PETSC_OWN_POINTER, iremote, PETSC_OWN_POINTER));
+  PetscCall(PetscSFSetUp(b->wpsf));
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryOwnsElement - whether this rank owns element k: with a partition its owner, else rank 0. Not collective */
+PetscErrorCode FSBoundaryOwnsElement(FSBoundary b, PetscInt k, PetscBool *owns)
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)b), &rank));
+  *owns = (PetscBool)(b->owner ? b->owner[k] == rank : rank == 0);
   PetscFunctionReturn(0);
 }
 
@@ -534,6 +655,8 @@ PetscErrorCode FSBoundarySummary(FSBoundary b, FSJSON js)
   /* the wall pressure's sums over all ranks in a right-hand side: reductions and the values they carry */
   PetscCall(FSJSONWriteInt(js, "wall_pressure_reductions", b->wp_reductions));
   PetscCall(FSJSONWriteInt(js, "wall_pressure_reduced_values", b->wp_values));
+  /* with a partition, the values this rank sent to the elements' owners and back in a right-hand side instead */
+  PetscCall(FSJSONWriteInt(js, "wall_pressure_exchanged_values", b->wp_exchanged));
   PetscFunctionReturn(0);
 }
 
@@ -585,6 +708,8 @@ PetscErrorCode FSBoundaryDestroy(FSBoundary *boundary)
   PetscCall(PetscFree(b->noslip));
   for (PetscInt k = 0; k < b->nnoslipname; k++) PetscCall(PetscFree(b->noslipname[k]));
   PetscCall(PetscFree2(b->load, b->loadsum));
+  PetscCall(PetscSFDestroy(&b->wpsf));
+  PetscCall(PetscFree2(b->owner, b->wproot));
   PetscCall(PetscHeaderDestroy(boundary));
   PetscFunctionReturn(0);
 }

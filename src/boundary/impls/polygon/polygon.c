@@ -285,21 +285,8 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
     }
     PetscCall(FSBoundaryWallPressure(b, w->nseg, wd->wetfull, P->background_pressure, wd->wp));
   }
-  /* the pressure loads on the walls, the integral of p_k n_k over the segments (rank 0's share: every
-     rank knows every wall pressure) */
-  {
-    PetscMPIInt rank;
-    PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)b), &rank));
-    if (!rank)
-      for (PetscInt k = 0; k < w->nseg; k++) {
-        const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE], f = wd->wp[k] * sg[FS_SEG_LENGTH];
-        PetscReal       *L = &b->load[FS_WALL_LOAD_STRIDE * w->segwall[k]];
-        L[0] += f * sg[FS_SEG_NORMAL];
-        L[1] += f * sg[FS_SEG_NORMAL + 1];
-        L[5] += f * ((sg[FS_SEG_MID] - b->loadpoint[0]) * sg[FS_SEG_NORMAL + 1] -
-                     (sg[FS_SEG_MID + 1] - b->loadpoint[1]) * sg[FS_SEG_NORMAL]);
-      }
-  }
+  /* the pressure loads on the walls, the integral of p_k n_k over the segments (this rank's share) */
+  PetscCall(FSBoundaryPressureLoads(b, wd->wp));
   b->view.pressure = wd->wp;
   PetscFunctionReturn(0);
 }

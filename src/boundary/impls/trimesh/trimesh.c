@@ -398,25 +398,8 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
     }
     PetscCall(FSBoundaryWallPressure(b, nel, tm->wetfull, P->background_pressure, tm->wp));
   }
-  /* the pressure loads: force sum_k p_k A_k n_k and its moment about the load point (rank 0's share) */
-  {
-    PetscMPIInt rank;
-    PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)b), &rank));
-    if (!rank)
-      for (PetscInt k = 0; k < nel; k++) {
-        const PetscReal *el = &m->el[k * FS_TRI_STRIDE], *c = el + FS_TRI_CENTROID, *nn = el + FS_TRI_NORMAL;
-        const PetscReal  f[3] = {tm->wp[k] * el[FS_TRI_AREA] * nn[0], tm->wp[k] * el[FS_TRI_AREA] * nn[1],
-                                 tm->wp[k] * el[FS_TRI_AREA] * nn[2]};
-        const PetscReal  r[3] = {c[0] - b->loadpoint[0], c[1] - b->loadpoint[1], c[2] - b->loadpoint[2]};
-        PetscReal       *L    = &b->load[FS_WALL_LOAD_STRIDE * m->elwall[k]];
-        L[0] += f[0];
-        L[1] += f[1];
-        L[2] += f[2];
-        L[3] += r[1] * f[2] - r[2] * f[1];
-        L[4] += r[2] * f[0] - r[0] * f[2];
-        L[5] += r[0] * f[1] - r[1] * f[0];
-      }
-  }
+  /* the pressure loads: force sum_k p_k A_k n_k and its moment about the load point (this rank's share) */
+  PetscCall(FSBoundaryPressureLoads(b, tm->wp));
   b->view.pressure = tm->wp;
   PetscFunctionReturn(0);
 }
