@@ -31,6 +31,22 @@
 #define FS_CHECKPOINT_FORMAT  "flexslosh-checkpoint"
 #define FS_CHECKPOINT_VERSION 2 /* 2: the set-up record */
 
+/* The dataset <group>/<name> of n values: nlocal of them from each rank, in rank order (collective) */
+static PetscErrorCode FSCheckpointWriteArray(PetscViewer viewer, MPI_Comm comm, const char group[], const char name[],
+                                             PetscInt nlocal, PetscInt n, const PetscReal values[])
+{
+  Vec v;
+
+  PetscFunctionBegin;
+  PetscCall(VecCreateMPIWithArray(comm, 1, nlocal, n, (const PetscScalar *)values, &v));
+  PetscCall(PetscObjectSetName((PetscObject)v, name));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, group));
+  PetscCall(VecView(v, viewer));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(VecDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
 /* The HDF5 file of a checkpoint, written to tmp (collective) */
 static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], const FSCheckpointHeader *hdr, double t,
                                             double dt, PetscInt N, PetscInt nlocal, PetscInt nfields,
@@ -39,7 +55,6 @@ static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], con
   PetscViewer viewer;
   PetscMPIInt rank, size;
   PetscInt    nranks, nf = nfields, version = FS_CHECKPOINT_VERSION;
-  Vec         v;
   PetscReal   mine = (PetscReal)nlocal;
 
   PetscFunctionBegin;
@@ -66,31 +81,14 @@ static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], con
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "nfields", PETSC_INT, &nf));
   if (hdr->setup) /* an attribute is written collectively: the header is the same on every rank */
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/header", "setup", PETSC_STRING, hdr->setup));
-  if (hdr->nglobal > 0) {
-    PetscCall(VecCreateMPIWithArray(comm, 1, rank == 0 ? hdr->nglobal : 0, hdr->nglobal,
-                                    (const PetscScalar *)hdr->global, &v));
-    PetscCall(PetscObjectSetName((PetscObject)v, "global"));
-    PetscCall(PetscViewerHDF5PushGroup(viewer, "/header"));
-    PetscCall(VecView(v, viewer));
-    PetscCall(PetscViewerHDF5PopGroup(viewer));
-    PetscCall(VecDestroy(&v));
-  }
-  /* layout: one entry per rank */
-  PetscCall(VecCreateMPIWithArray(comm, 1, 1, size, (const PetscScalar *)&mine, &v));
-  PetscCall(PetscObjectSetName((PetscObject)v, "nlocal"));
-  PetscCall(PetscViewerHDF5PushGroup(viewer, "/layout"));
-  PetscCall(VecView(v, viewer));
-  PetscCall(PetscViewerHDF5PopGroup(viewer));
-  PetscCall(VecDestroy(&v));
-  if (hdr->nlayout > 0) {
-    PetscCall(VecCreateMPIWithArray(comm, 1, rank == 0 ? hdr->nlayout : 0, hdr->nlayout,
-                                    (const PetscScalar *)hdr->layout, &v));
-    PetscCall(PetscObjectSetName((PetscObject)v, "domain"));
-    PetscCall(PetscViewerHDF5PushGroup(viewer, "/layout"));
-    PetscCall(VecView(v, viewer));
-    PetscCall(PetscViewerHDF5PopGroup(viewer));
-    PetscCall(VecDestroy(&v));
-  }
+  if (hdr->nglobal > 0)
+    PetscCall(FSCheckpointWriteArray(viewer, comm, "/header", "global", rank == 0 ? hdr->nglobal : 0, hdr->nglobal,
+                                     hdr->global));
+  /* layout: one entry per rank, and the split of the domain */
+  PetscCall(FSCheckpointWriteArray(viewer, comm, "/layout", "nlocal", 1, size, &mine));
+  if (hdr->nlayout > 0)
+    PetscCall(FSCheckpointWriteArray(viewer, comm, "/layout", "domain", rank == 0 ? hdr->nlayout : 0, hdr->nlayout,
+                                     hdr->layout));
   PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
 }
@@ -205,6 +203,35 @@ static PetscErrorCode FSCheckpointReadAttr(PetscViewer viewer, MPI_Comm comm, co
   PetscFunctionReturn(0);
 }
 
+/* The dataset <group>/<name>, at most cap values, into values on every rank (read on rank 0); *n its size */
+static PetscErrorCode FSCheckpointReadArray(PetscViewer viewer, MPI_Comm comm, const char path[], const char group[],
+                                            const char name[], PetscInt cap, PetscReal values[], PetscInt *n)
+{
+  PetscMPIInt rank;
+  Vec         v;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, group));
+  PetscCall(PetscViewerHDF5ReadSizes(viewer, name, NULL, n));
+  PetscCheck(*n >= 0 && *n <= cap, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\": %s/%s has %" PetscInt_FMT " values, at most %" PetscInt_FMT " expected", path, group,
+             name, *n, cap);
+  PetscCall(VecCreateMPI(comm, rank == 0 ? *n : 0, *n, &v));
+  PetscCall(PetscObjectSetName((PetscObject)v, name));
+  PetscCall(VecLoad(v, viewer));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  if (rank == 0) {
+    const PetscScalar *a;
+    PetscCall(VecGetArrayRead(v, &a));
+    for (PetscInt i = 0; i < *n; i++) values[i] = PetscRealPart(a[i]);
+    PetscCall(VecRestoreArrayRead(v, &a));
+  }
+  PetscCall(VecDestroy(&v));
+  PetscCallMPI(MPI_Bcast(values, (PetscMPIInt)*n, MPIU_REAL, 0, comm));
+  PetscFunctionReturn(0);
+}
+
 /* Header of an open checkpoint; any output may be NULL */
 static PetscErrorCode FSCheckpointReadHeader_Viewer(PetscViewer viewer, MPI_Comm comm, const char path[],
                                                     FSCheckpointHeader *hdr, PetscInt *N, PetscInt *nranks)
@@ -233,33 +260,16 @@ static PetscErrorCode FSCheckpointReadHeader_Viewer(PetscViewer viewer, MPI_Comm
   PetscCheck(np >= 0 && nr >= 1, comm, PETSC_ERR_FILE_UNEXPECTED,
              "Checkpoint \"%s\": invalid nparticles %" PetscInt_FMT " or nranks %" PetscInt_FMT, path, np, nr);
   if (hdr && h.nglobal > 0) {
-    PetscMPIInt rank;
-    PetscBool   has;
-    PetscInt    n;
-    Vec         g;
+    PetscBool has;
+    PetscInt  n;
 
-    PetscCallMPI(MPI_Comm_rank(comm, &rank));
     PetscCall(PetscViewerHDF5HasDataset(viewer, "/header/global", &has));
     PetscCheck(has, comm, PETSC_ERR_FILE_UNEXPECTED,
                "Checkpoint \"%s\": dataset /header/global is missing (nglobal = %" PetscInt_FMT ")", path, h.nglobal);
-    PetscCall(PetscViewerHDF5PushGroup(viewer, "/header"));
-    PetscCall(PetscViewerHDF5ReadSizes(viewer, "global", NULL, &n));
+    PetscCall(FSCheckpointReadArray(viewer, comm, path, "/header", "global", h.nglobal, h.global, &n));
     PetscCheck(n == h.nglobal, comm, PETSC_ERR_FILE_UNEXPECTED,
                "Checkpoint \"%s\": /header/global has %" PetscInt_FMT " values, nglobal says %" PetscInt_FMT, path, n,
                h.nglobal);
-    PetscCall(VecCreateMPI(comm, rank == 0 ? h.nglobal : 0, h.nglobal, &g));
-    PetscCall(PetscObjectSetName((PetscObject)g, "global"));
-    PetscCall(VecLoad(g, viewer));
-    PetscCall(PetscViewerHDF5PopGroup(viewer));
-    if (rank == 0) {
-      const PetscScalar *a;
-
-      PetscCall(VecGetArrayRead(g, &a));
-      for (PetscInt i = 0; i < h.nglobal; i++) h.global[i] = PetscRealPart(a[i]);
-      PetscCall(VecRestoreArrayRead(g, &a));
-    }
-    PetscCall(VecDestroy(&g));
-    PetscCallMPI(MPI_Bcast(h.global, (PetscMPIInt)h.nglobal, MPIU_REAL, 0, comm));
   }
   if (hdr) *hdr = h;
   if (N) *N = np;
@@ -512,33 +522,12 @@ PetscErrorCode FSCheckpointReadLayout(MPI_Comm comm, const char path[], PetscInt
 {
   PetscViewer viewer;
   PetscBool   has;
-  PetscMPIInt rank;
-  Vec         v;
 
   PetscFunctionBegin;
   *n = 0;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(FSCheckpointOpen(comm, path, &viewer));
   PetscCall(PetscViewerHDF5HasDataset(viewer, "/layout/domain", &has));
-  if (has) {
-    PetscCall(PetscViewerHDF5PushGroup(viewer, "/layout"));
-    PetscCall(PetscViewerHDF5ReadSizes(viewer, "domain", NULL, n));
-    PetscCheck(*n >= 0 && *n <= cap, comm, PETSC_ERR_FILE_UNEXPECTED,
-               "Checkpoint \"%s\": /layout/domain has %" PetscInt_FMT " values, at most %" PetscInt_FMT " expected",
-               path, *n, cap);
-    PetscCall(VecCreateMPI(comm, rank == 0 ? *n : 0, *n, &v));
-    PetscCall(PetscObjectSetName((PetscObject)v, "domain"));
-    PetscCall(VecLoad(v, viewer));
-    PetscCall(PetscViewerHDF5PopGroup(viewer));
-    if (rank == 0) {
-      const PetscScalar *a;
-      PetscCall(VecGetArrayRead(v, &a));
-      for (PetscInt i = 0; i < *n; i++) layout[i] = PetscRealPart(a[i]);
-      PetscCall(VecRestoreArrayRead(v, &a));
-    }
-    PetscCall(VecDestroy(&v));
-    PetscCallMPI(MPI_Bcast(layout, (PetscMPIInt)*n, MPIU_REAL, 0, comm));
-  }
+  if (has) PetscCall(FSCheckpointReadArray(viewer, comm, path, "/layout", "domain", cap, layout, n));
   PetscCall(PetscViewerDestroy(&viewer));
   PetscFunctionReturn(0);
 }
