@@ -585,8 +585,8 @@ def case_roll_tank(ctx: Context) -> Section:
     ref = impact_figures(te, pe, SPHERIC10_IMPACTS)
     windows = [(f["arrival"] - 0.3, f["arrival"] + 0.3) for f in ref]
     fig, ax = _figure(10, 4.5)
-    ax.plot(te, pe / 1000, "-", color="0.55", lw=0.6, label="experiment (5 ms min/max of the 20 kHz record)")
-    ax.plot([f["arrival"] for f in ref], [f["peak"] / 1000 for f in ref], "kv", ms=6, label="experiment: impact peaks")
+    ax.plot(te, pe / 1000, "k-", lw=0.7, zorder=5, label="experiment (5 ms min/max of the 20 kHz record)")
+    ax.plot([f["arrival"] for f in ref], [f["peak"] / 1000 for f in ref], "kv", ms=7, zorder=6, label="experiment: impact peaks")
     figures: dict[float, list[dict[str, float]]] = {}
     pre: dict[float, float] = {}
     pre_exp = float(np.mean(pe[(te >= PRE_IMPACT[0]) & (te <= PRE_IMPACT[1])]))
@@ -594,7 +594,7 @@ def case_roll_tank(ctx: Context) -> Section:
         r = ctx.run("roll_tank", _label(dx), ["-options_file", _case("roll_tank"), "-fs_dx", dx, "-ts_max_time", tmax,
                                               "-fs_output_interval", 0], sec.runs)
         t, p = r.column("time", "probes"), r.column("sensor1_pressure[Pa]", "probes")
-        ax.plot(t, p / 1000, "-", lw=0.8, label=f"flexslosh, dx = {dx * 1000:g} mm ({r.particles} particles)")
+        ax.plot(t, p / 1000, "-", lw=0.7, alpha=0.7, label=f"flexslosh, dx = {dx * 1000:g} mm ({r.particles} particles)")
         e = r.energy
         sec.checks.append(Check(f"dx = {dx * 1000:g} mm: max abs(residual_liquid) / max abs(work_motion)",
                                 float(np.max(np.abs(e["residual_liquid"]))) / float(np.max(np.abs(e["work_motion"]))), 0.01, fmt="{:.2e}"))
@@ -604,7 +604,7 @@ def case_roll_tank(ctx: Context) -> Section:
         pre[dx] = float(np.mean(p[(t >= PRE_IMPACT[0]) & (t <= PRE_IMPACT[1])]))
     ang = np.loadtxt(REPO / "cases" / "data" / "spheric10_roll.txt")
     ax2 = ax.twinx()
-    ax2.plot(ang[:, 0], ang[:, 1], "k:", lw=0.8, label="measured roll angle (deg, right axis)")
+    ax2.plot(ang[:, 0], ang[:, 1], ":", color="0.4", lw=0.8, label="measured roll angle (deg, right axis)")
     ax2.set_ylabel("roll angle (deg)")
     ax2.set_ylim(-12, 12)
     ax.set_xlim(0, tmax)
