@@ -53,7 +53,7 @@ RESOLUTIONS: dict[str, list[float]] = {
     "dam_break": [0.05, 0.025, 0.0125],
     "dam_break_3d": [0.01],
     "dam_break_pressure": [0.03, 0.015],
-    "roll_tank": [0.0062],
+    "roll_tank": [0.0124, 0.0062],
     "beam": [0.0],
     "energy": [0.05],
     "seed": [0.005],
@@ -542,35 +542,127 @@ def case_dam_break_pressure(ctx: Context) -> Section:
     return sec
 
 
+#: SPHERIC test 10 (lateral impact, water): windows (s) of the measured record holding one impact each
+SPHERIC10_IMPACTS = ((2.2, 2.6), (3.9, 4.3), (5.5, 5.9), (7.1, 7.5))
+
+
+def impact_figures(t: np.ndarray, p: np.ndarray, windows: Sequence[tuple[float, float]], threshold: float = 1000.0,
+                   plateau: tuple[float, float] = (0.1, 0.35)) -> list[dict[str, float]]:
+    """The impacts of a wall pressure record: per window, the first time p exceeds threshold (the impact's
+    arrival), the largest p in the window (the peak) and the mean p over [arrival + plateau[0], arrival +
+    plateau[1]] (the water piled on the wall after the impact); nan where p stays below threshold."""
+    out = []
+    for a, b in windows:
+        w = (t >= a) & (t <= b)
+        hit = np.nonzero(w & (p > threshold))[0]
+        if not len(hit):
+            out.append({"arrival": math.nan, "peak": float(np.max(p[w])) if np.any(w) else math.nan, "plateau": math.nan})
+            continue
+        ta = float(t[hit[0]])
+        m = (t >= ta + plateau[0]) & (t <= ta + plateau[1])
+        out.append({"arrival": ta, "peak": float(np.max(p[w])), "plateau": float(np.mean(p[m])) if np.any(m) else math.nan})
+    return out
+
+
 def case_roll_tank(ctx: Context) -> Section:
-    """SPHERIC test 10 (cases/roll_tank.opts): run, no comparison possible (the measured data are not here)."""
+    """SPHERIC test 10 (cases/roll_tank.opts): the sensor's pressure against the experiment's, driven by the measured roll."""
+    exp = _data("spheric10_lateral_water_pressure.csv")
     sec = Section("roll_tank", "Forced sloshing: SPHERIC benchmark test 10 (rolled tank)",
-                  "Nothing is compared: the sensor's pressure at the still-water height on the left wall and the roll angle "
-                  "are shown; the run's energy budget residual (energy.csv's residual_liquid against the work the roll does) "
-                  "is the only check.",
-                  "Souto-Iglesias, Botia-Vera, Martin & Perez-Arribas (2011), A set of canonical problems in sloshing. Part 0: "
-                  "experimental setup and data processing, Ocean Engineering 38, 1823-1830. **The measured roll and pressure "
-                  "records (SPHERIC website, test 10) are not in this repository**, so flexslosh is not compared with them "
-                  "here (cases/roll_tank.opts says how to drive the run with the measured roll).")
-    dx = ctx.dxs("roll_tank")[0]
+                  "The tank rolled by the experiment's measured roll (cases/roll_tank.opts, `-fs_motion_roll_file`); the "
+                  "pressure of the sensor on the left wall at the still-water height against the measured one, for the four "
+                  "impacts of the record: the impact's arrival (the first time p > 1 kPa within 0.3 s of the experiment's), its "
+                  "peak (the largest p there) and the mean p over 0.10-0.35 s after the arrival (the water piled on the wall "
+                  "after the impact); the energy budget's residual against the work the roll does.",
+                  "Experiment: Souto-Iglesias, Botia-Vera, Martin & Perez-Arribas (2011), A set of canonical problems in "
+                  "sloshing. Part 0: experimental setup and data processing, Ocean Engineering 38, 1823-1830; Botia-Vera, "
+                  "Souto-Iglesias, Bulian & Lobovsky (2010), 5th SPHERIC workshop (SPHERIC test 10, lateral impact, water, "
+                  "one record). Pressure: the minimum and maximum of each 5 ms of the 20 kHz record "
+                  "([data](data/spheric10_lateral_water_pressure.csv)); roll: windows of the record rebuilt every 5 ms "
+                  "(cases/data/spheric10_roll.txt). Both from the DualSPHysics package's examples (LGPL-2.1; "
+                  "[data/README.md](data/README.md)).")
     tmax = 1.0 if ctx.quick else 8.0
-    r = ctx.run("roll_tank", _label(dx), ["-options_file", _case("roll_tank"), "-fs_dx", dx, "-ts_max_time", tmax, "-fs_output_interval", 0], sec.runs)
-    fig, ax = _figure(8, 4)
-    pcol = [c for c in r.probes if c.endswith("_pressure[Pa]")][0]
-    ax.plot(r.column("time", "probes"), r.column(pcol, "probes") / 1000, "-", lw=0.8, label=f"flexslosh {pcol} (kPa), dx = {dx * 1000:g} mm")
+    te, pe = exp["t"], exp["p"]
+    ref = impact_figures(te, pe, SPHERIC10_IMPACTS)
+    windows = [(f["arrival"] - 0.3, f["arrival"] + 0.3) for f in ref]
+    fig, ax = _figure(10, 4.5)
+    ax.plot(te, pe / 1000, "k-", lw=0.7, zorder=5, label="experiment (5 ms min/max of the 20 kHz record)")
+    ax.plot([f["arrival"] for f in ref], [f["peak"] / 1000 for f in ref], "kv", ms=7, zorder=6, label="experiment: impact peaks")
+    figures: dict[float, list[dict[str, float]]] = {}
+    pre: dict[float, float] = {}
+    pre_exp = float(np.mean(pe[(te >= PRE_IMPACT[0]) & (te <= PRE_IMPACT[1])]))
+    for dx in ctx.dxs("roll_tank"):
+        r = ctx.run("roll_tank", _label(dx), ["-options_file", _case("roll_tank"), "-fs_dx", dx, "-ts_max_time", tmax,
+                                              "-fs_output_interval", 0], sec.runs)
+        t, p = r.column("time", "probes"), r.column("sensor1_pressure[Pa]", "probes")
+        ax.plot(t, p / 1000, "-", lw=0.7, alpha=0.7, label=f"flexslosh, dx = {dx * 1000:g} mm ({r.particles} particles)")
+        e = r.energy
+        sec.checks.append(Check(f"dx = {dx * 1000:g} mm: max abs(residual_liquid) / max abs(work_motion)",
+                                float(np.max(np.abs(e["residual_liquid"]))) / float(np.max(np.abs(e["work_motion"]))), 0.01, fmt="{:.2e}"))
+        if t[-1] < SPHERIC10_IMPACTS[-1][1]:
+            continue
+        figures[dx] = impact_figures(t, p, windows)
+        pre[dx] = float(np.mean(p[(t >= PRE_IMPACT[0]) & (t <= PRE_IMPACT[1])]))
+    ang = np.loadtxt(REPO / "cases" / "data" / "spheric10_roll.txt")
     ax2 = ax.twinx()
-    ax2.plot(r.column("time"), np.degrees(r.column("motion_angle")) if np.max(np.abs(r.column("motion_angle"))) < 1 else r.column("motion_angle"),
-             "k:", lw=1, label="roll angle (deg)")
-    ax.set_xlabel("t (s)")
-    ax.set_ylabel("p (kPa)")
+    ax2.plot(ang[:, 0], ang[:, 1], ":", color="0.4", lw=0.8, label="measured roll angle (deg, right axis)")
     ax2.set_ylabel("roll angle (deg)")
-    ax.legend(loc="upper left", fontsize=8)
+    ax2.set_ylim(-12, 12)
+    ax.set_xlim(0, tmax)
+    ax.set_ylim(-0.5, 5.0)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel("p (kPa), sensor on the left wall")
+    ax.legend(loc="upper left", fontsize=7)
+    ax2.legend(loc="upper right", fontsize=7)
     sec.figure = _save(fig, ctx, "roll_tank")
-    sec.caption = "SPHERIC test 10: flexslosh's sensor pressure and the prescribed roll (no experiment in the repository)"
-    e = r.energy
-    scale = float(np.max(np.abs(e["work_motion"]))) if "work_motion" in e else 1.0
-    sec.checks.append(Check("max abs(residual_liquid) / max abs(work_motion)", float(np.max(np.abs(e["residual_liquid"]))) / scale, 0.01, fmt="{:.2e}"))
+    sec.caption = ("SPHERIC test 10, lateral impact: the sensor's pressure, experiment and flexslosh driven by the measured roll "
+                   "(axis cut at 5 kPa)")
+    if figures:
+        # the checks at the finest resolution run to the end; the table shows every resolution
+        dx = min(figures)
+        res, sim = f"dx = {dx * 1000:g} mm", figures[dx]
+        sec.checks.append(Check(f"{res}: mean p over {PRE_IMPACT[0]:g}-{PRE_IMPACT[1]:g} s (before the first impact) / "
+                                "experiment's - 1 (abs)", abs(pre[dx] / pre_exp - 1), ROLL_TOL["pre"], fmt="{:.1%}"))
+        for k, (f, g) in enumerate(zip(ref, sim)):
+            sec.checks.append(Check(f"{res}: impact {k + 1} arrival, abs(t - t_exp) (s)", abs(g["arrival"] - f["arrival"]),
+                                    ROLL_TOL["arrival"], fmt="{:.3f}"))
+            sec.checks.append(Check(f"{res}: impact {k + 1} mean p 0.10-0.35 s after arrival / experiment's - 1 (abs)",
+                                    abs(g["plateau"] / f["plateau"] - 1), ROLL_TOL["plateau"], fmt="{:.0%}"))
+        sec.checks.append(Check(f"{res}: impact 1 peak / experiment's - 1 (abs)", abs(sim[0]["peak"] / ref[0]["peak"] - 1),
+                                ROLL_TOL["peak"], fmt="{:.0%}"))
+        rows = ["| | experiment | " + " | ".join(f"flexslosh dx = {d * 1000:g} mm" for d in sorted(figures, reverse=True)) + " |",
+                "|---|---|" + "---|" * len(figures),
+                f"| mean p, {PRE_IMPACT[0]:g}-{PRE_IMPACT[1]:g} s | {pre_exp:.0f} Pa | "
+                + " | ".join(f"{pre[d]:.0f} Pa" for d in sorted(figures, reverse=True)) + " |"]
+        for k, f in enumerate(ref):
+            for key, unit, scale, fmt in (("arrival", "s", 1.0, "{:.3f}"), ("peak", "kPa", 1e-3, "{:.2f}"), ("plateau", "Pa", 1.0, "{:.0f}")):
+                cells = [fmt.format(figures[d][k][key] * scale) + f" {unit}" for d in sorted(figures, reverse=True)]
+                rows.append(f"| impact {k + 1}: {key} | {fmt.format(f[key] * scale)} {unit} | " + " | ".join(cells) + " |")
+        sec.notes.append("\n".join(rows))
+        if len(figures) > 1:
+            fine, coarse = figures[min(figures)], figures[max(figures)]
+            darr = max(abs(g["arrival"] - h["arrival"]) for g, h in zip(fine, coarse))
+            dplat = max(abs(g["plateau"] / h["plateau"] - 1) for g, h in zip(fine, coarse))
+            dpeak = max(max(g["peak"], h["peak"]) / min(g["peak"], h["peak"]) for g, h in zip(fine, coarse))
+            dpre = abs(pre[min(figures)] / pre[max(figures)] - 1)
+            sec.notes.append(f"Change between the two resolutions (largest over the impacts): arrival {darr:.3f} s, mean p after "
+                             f"the impact {dplat:.0%}, mean p before the first impact {dpre:.0%}, peak a factor {dpeak:.1f}.")
+    sec.notes.append(ROLL_NOTE)
     return sec
+
+
+#: The quasi-static rise before the first impact (s): the window of the mean pressure compared.
+PRE_IMPACT = (0.6, 1.2)
+#: The tolerances of the SPHERIC test 10 comparison (why: ROLL_NOTE).
+ROLL_TOL = {"pre": 0.1, "arrival": 0.05, "plateau": 0.2, "peak": 0.5}
+ROLL_NOTE = ("Tolerances: the arrival within 0.05 s (3 % of the 1.635 s period); the mean pressure before the first "
+             "impact within 10 % and after each impact within 20 % (the water standing on the wall); the first peak within "
+             "50 % (the benchmark's repeated runs scatter widely about one record's peak). Where the change between the two "
+             "resolutions (above) is as large as a tolerance, the resolution does not settle that check: a PASS may be luck "
+             "and a FAIL may shrink with a finer run. The impact peaks are not resolved: a weakly compressible run with "
+             "c0 = 20 m/s and these particle sizes spreads the 1-5 ms peak over its own time and length scales, and the "
+             "two resolutions' peaks differ several times over; the peak check is kept to show it. The experiment is one "
+             "record, so its own scatter is not in these figures. The sensor reads -50 to -250 Pa while it is dry (the "
+             "record's offset); flexslosh's probe reads 0 there.")
 
 
 def _msd_exact(t: np.ndarray, x0: float, f: float, zeta: float) -> np.ndarray:

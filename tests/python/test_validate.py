@@ -1,5 +1,5 @@
-"""The validation report's machinery (python/flexslosh/validate.py) keeps working: the quick mode of two
-cheap cases (the beam, Taylor-Green) runs into a temporary folder and writes its sections, figures and
+"""The validation report's machinery (python/flexslosh/validate.py) keeps working: the quick mode of three
+cheap cases (the beam, Taylor-Green, the rolled tank) runs into a temporary folder and writes its sections, figures and
 report. Only the structure is checked here, not the physics (the physics tests check that), and the
 quick mode's coarse numbers are allowed to FAIL their tolerances."""
 import json
@@ -14,7 +14,7 @@ validate = pytest.importorskip("flexslosh.validate")
 
 def test_quick_report(tmp_path):
     out, work = tmp_path / "report", tmp_path / "runs"
-    rc = validate.main(["--quick", "--cases", "beam,taylor_green", "--out", str(out), "--work", str(work),
+    rc = validate.main(["--quick", "--cases", "beam,taylor_green,roll_tank", "--out", str(out), "--work", str(work),
                         "--build", str(build_dir())])
     assert rc == 0
     report = (out / "README.md").read_text()
@@ -22,7 +22,7 @@ def test_quick_report(tmp_path):
     heads = re.findall(r"^## (.+)$", report, re.M)
     assert heads == [validate.TITLES[c] for c in validate.CASES]
     assert "Not run in this report" in report and "make validate CASES=seed" in report
-    for name in ("beam", "taylor_green"):
+    for name in ("beam", "taylor_green", "roll_tank"):
         summary = json.loads((out / "sections" / f"{name}.json").read_text())
         section = summary["markdown"]
         assert section in report
@@ -46,3 +46,42 @@ def test_bad_arguments(capsys):
     assert validate.main(["--cases", "no_such_case"]) == 2
     assert "unknown case" in capsys.readouterr().err
     assert validate.main(["--resolution", "taylor_green"]) == 2
+
+
+def test_spheric10_data(tmp_path):
+    """SPHERIC test 10's data: the roll file the case reads is what flexslosh.rollmotion rebuilds from the
+    copied rows of the record and passes through them; the pressure record's four impacts are found."""
+    import numpy as np
+
+    from flexslosh import rollmotion
+    from flexslosh.output import read_csv
+
+    out = tmp_path / "roll.txt"
+    rollmotion.write_roll_file(out=out)
+    assert out.read_text() == rollmotion.ROLL_FILE.read_text(), "cases/data/spheric10_roll.txt is stale: python3 -m flexslosh.rollmotion"
+    rows = np.loadtxt(rollmotion.SAMPLES)
+    assert len(rows) == 71 and np.all(np.diff(rows[:, 0]) > 0)
+    assert np.max(np.abs(rollmotion.reconstruct(rows[:, 0], rows[:, 1], rows[:, 0]) - rows[:, 1])) < 1e-3
+    roll = np.loadtxt(rollmotion.ROLL_FILE)
+    assert roll[0, 0] == 0 and roll[0, 1] == 0 and roll[-1, 0] >= 8.0 and 3.8 < np.max(np.abs(roll[:, 1])) < 4.2
+    exp = read_csv(REPO_ROOT / "docs" / "validation" / "data" / "spheric10_lateral_water_pressure.csv")
+    assert len(exp["t"]) == 3341 and np.all(np.diff(exp["t"]) >= 0)
+    figs = validate.impact_figures(exp["t"], exp["p"], validate.SPHERIC10_IMPACTS)
+    assert [round(f["arrival"], 3) for f in figs] == [2.375, 4.05, 5.672, 7.303]
+    assert [round(f["peak"]) for f in figs] == [3683, 3890, 2663, 7148]
+
+
+def test_impact_figures():
+    """impact_figures on a made-up record: a step to 2 kPa at t = 1 with a 5 kPa spike, nothing in the second window."""
+    import math
+
+    import numpy as np
+
+    t = np.linspace(0, 3, 3001)
+    p = np.where(t >= 1.0, 2000.0, 0.0)
+    p[t == 1.0] = 5000.0
+    f = validate.impact_figures(t, p, [(0.5, 1.5), (1.6, 1.9)], threshold=1000.0)
+    assert f[0]["arrival"] == 1.0 and f[0]["peak"] == 5000.0 and f[0]["plateau"] == 2000.0
+    p[t >= 1.55] = 0.0
+    f = validate.impact_figures(t, p, [(1.6, 1.9)])
+    assert math.isnan(f[0]["arrival"]) and math.isnan(f[0]["plateau"]) and f[0]["peak"] == 0.0
