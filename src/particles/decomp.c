@@ -128,15 +128,17 @@ PetscErrorCode FSDecompBalance(FSDecomp *dd, MPI_Comm comm, PetscInt n, const Pe
   PetscFunctionReturn(0);
 }
 
+/* FSDecompLayoutSize - the number of values FSDecompGetLayout writes: np[0..2] and the np[d]+1 cuts of each
+   direction. Not collective */
+PetscInt FSDecompLayoutSize(const FSDecomp *dd) { return 3 + dd->np[0] + dd->np[1] + dd->np[2] + 3; }
+
 /*
-   FSDecompGetLayout - the process grid and its cuts as n = FSDecompLayoutSize() values: np[0..2], then the
+   FSDecompGetLayout - the process grid and its cuts as FSDecompLayoutSize() values: np[0..2], then the
    np[d]+1 cuts of each direction (what a checkpoint keeps, so that a restart on as many ranks splits the
    domain as the run that wrote it).
 
    Not collective
 */
-PetscInt FSDecompLayoutSize(const FSDecomp *dd) { return 3 + dd->np[0] + dd->np[1] + dd->np[2] + 3; }
-
 PetscErrorCode FSDecompGetLayout(const FSDecomp *dd, PetscReal v[])
 {
   PetscInt k = 3;

@@ -33,11 +33,13 @@ PetscErrorCode FSSolverEvaluateAtState(FSSolver s, PetscReal t)
 
   PetscFunctionBegin;
   if (s->state.evaluated && s->state.rhs_time == t) PetscFunctionReturn(0);
-  /* the rates are not kept: into a stage vector of the integrator that the next step overwrites, else into
-     a vector made for this evaluation (before the first step: the stages do not exist yet) */
+  /* the rates are not kept: into a stage vector of the integrator that the next step overwrites; else (an
+     integrator without a free stage, or before the first step: the stages do not exist yet) into Fout, made once
+     and kept with the state's layout, and dropped as soon as a free stage exists */
   PetscCall(FSSolverGetFreeStage(s, &F));
-  if (!F) {
-    PetscCall(VecDuplicate(s->state.U, &s->state.Fout));
+  if (F) PetscCall(VecDestroy(&s->state.Fout));
+  else {
+    if (!s->state.Fout) PetscCall(VecDuplicate(s->state.U, &s->state.Fout));
     F = s->state.Fout;
   }
   s->state.rhs_time = t;
@@ -46,7 +48,6 @@ PetscErrorCode FSSolverEvaluateAtState(FSSolver s, PetscReal t)
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
   PetscCall(VecRestoreArray(F, &f));
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  PetscCall(VecDestroy(&s->state.Fout));
   s->state.evaluated = PETSC_TRUE;
   PetscFunctionReturn(0);
 }

@@ -117,9 +117,8 @@ typedef struct {
   Vec U;
   Vec Uprev;             /* state at the start of the step (for the displacement check), only with an integrator other
                             than RK: RK's first stage is that state (FSSolverGetStepStart) */
-  Vec Fout;              /* a destination of the outputs' evaluations at the state (FSSolverEvaluateAtState) when
-                            the integrator has no stage vector free for it (FSSolverGetFreeStage): made and destroyed
-                            there */
+  Vec Fout;              /* the outputs' rates at the state (FSSolverEvaluateAtState) when the integrator has no
+                            stage free for them (FSSolverGetFreeStage): made there, destroyed with U */
   PetscBool     rkstart; /* the RK integrator's first stage holds the state at the start of the last step */
   FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
   PetscInt      ngblocks;

@@ -214,6 +214,7 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
     }
     PetscCall(VecDestroy(&s->state.U));
     PetscCall(VecDestroy(&s->state.Uprev));
+    PetscCall(VecDestroy(&s->state.Fout)); /* the outputs' rates take the new layout */
     s->state.U       = U;
     s->state.rkstart = PETSC_FALSE; /* TSReset below: the stages go */
     if (s->ts) {
