@@ -120,7 +120,7 @@ PetscErrorCode FSSolverSetDefaultFinalTime(FSSolver s, PetscReal t)
 /*
    FSSolverSetDefaultCFL - lets a case set the default of -fs_cfl, the acoustic CFL number, before the
    options are read (called from the case's setfromoptions). A default above 0.4 holds with the RK4
-   integrator only: with any other -ts_type the run uses 0.4 unless -fs_cfl is given.
+   integrator only (rk4lean, or rk with -ts_rk_type 4): with any other the run uses 0.4 unless -fs_cfl is given.
 
    Not collective
 
@@ -498,11 +498,12 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       s->opt.cfl > 0.4) { /* a case's larger default holds for RK4 only (stable on the imaginary axis up to 2.8) */
     TSType    type;
     TSRKType  rk = NULL;
-    PetscBool isrk;
+    PetscBool isrk, islean;
     PetscCall(TSGetType(s->ts, &type));
     PetscCall(PetscStrcmp(type, TSRK, &isrk));
+    PetscCall(PetscStrcmp(type, FSTSRK4LEAN, &islean));
     if (isrk) PetscCall(TSRKGetType(s->ts, &rk));
-    if (!(isrk && rk && !strcmp(rk, TSRK4))) s->opt.cfl = 0.4;
+    if (!islean && !(isrk && rk && !strcmp(rk, TSRK4))) s->opt.cfl = 0.4;
   }
   PetscFunctionReturn(0);
 }

@@ -115,11 +115,11 @@ typedef enum {
    structure's DOFs, the dissipated energies, the energy budget's), and what the stepping keeps. */
 typedef struct {
   Vec U;
-  Vec Uprev;             /* state at the start of the step (for the displacement check), only with an integrator other
-                            than RK: RK's first stage is that state (FSSolverGetStepStart) */
+  Vec Uprev;             /* state at the start of the step (for the displacement check), only with an integrator that
+                            keeps no copy of it (rk4lean and TSRK do: FSSolverGetStepStart) */
   Vec Fout;              /* the outputs' rates at the state (FSSolverEvaluateAtState) when the integrator has no
-                            stage free for them (FSSolverGetFreeStage): made there, destroyed with U */
-  PetscBool     rkstart; /* the RK integrator's first stage holds the state at the start of the last step */
+                            vector free for them (FSSolverGetFreeStage): made there, destroyed with U */
+  PetscBool     rkstart; /* the integrator's own vector holds the state at the start of the last step */
   FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
   PetscInt      ngblocks;
   PetscInt  gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
@@ -263,6 +263,9 @@ PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetStepStart(FSSolver, Vec *);
 PETSC_INTERN PetscErrorCode FSSolverGetFreeStage(FSSolver, Vec *);
+#define FSTSRK4LEAN "rk4lean" /* classical RK4 in four vectors (tsrk4lean.c): the default integrator */
+PETSC_INTERN PetscErrorCode FSTSRegisterRK4Lean(void);
+PETSC_INTERN PetscErrorCode FSTSRK4LeanGetWork(TS, Vec *, Vec *);
 PETSC_INTERN PetscErrorCode FSSolverMarkBuild(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverSwapBuildPositions(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRecordsAtBuild(FSSolver);

@@ -5,7 +5,7 @@
 #include "solver/solverimpl.h"
 #include <petsc/private/tsimpl.h> /* whether the TS is set up (its stage vectors allocated) */
 
-/* the stage vectors of an RK integrator that is set up (ns = 0 otherwise) */
+/* the stage vectors of a TSRK integrator that is set up (ns = 0 otherwise) */
 static PetscErrorCode FSSolverRKStages(FSSolver s, PetscInt *ns, Vec **Y)
 {
   PetscBool isrk = PETSC_FALSE;
@@ -20,30 +20,34 @@ static PetscErrorCode FSSolverRKStages(FSSolver s, PetscInt *ns, Vec **Y)
 }
 
 /*
-   FSSolverGetStepStart - the state at the start of the last step, for the checks after it: the RK
-   integrator's first stage (a copy of the state at the start of the step, which TSRK makes anyway,
-   so that the solver keeps no copy of its own), the solver's copy Uprev with another integrator, or U
-   itself before a step (after the set-up or a rebuild of the state).
+   FSSolverGetStepStart - the state at the start of the last step, for the checks after it: the
+   integrator's own copy when it keeps one (rk4lean's stage vector, TSRK's first stage: so that the
+   solver keeps no copy of its own), the solver's copy Uprev with another integrator, or U itself
+   before a step (after the set-up or a rebuild of the state).
 */
 PetscErrorCode FSSolverGetStepStart(FSSolver s, Vec *U0)
 {
   PetscInt ns;
-  Vec     *Y;
+  Vec     *Y, lean;
 
   PetscFunctionBegin;
   *U0 = s->state.U;
   if (s->state.rkstart) {
-    PetscCall(FSSolverRKStages(s, &ns, &Y));
-    PetscCheck(ns > 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "The RK integrator's stages are gone");
-    *U0 = Y[0];
+    PetscCall(FSTSRK4LeanGetWork(s->ts, &lean, NULL));
+    if (lean) *U0 = lean;
+    else {
+      PetscCall(FSSolverRKStages(s, &ns, &Y));
+      PetscCheck(ns > 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "The RK integrator's stages are gone");
+      *U0 = Y[0];
+    }
   } else if (s->state.Uprev) *U0 = s->state.Uprev;
   PetscFunctionReturn(0);
 }
 
 /*
    FSSolverGetFreeStage - a vector of U's layout the outputs' evaluation may write its rates into (they
-   are not kept): the RK integrator's last stage, which the next step writes before it reads it, when
-   there is one besides the first (FSSolverGetStepStart's); else NULL.
+   are not kept): rk4lean's rate vector, or TSRK's last stage when there is one besides the first
+   (FSSolverGetStepStart's); the next step writes either before it reads it. Else NULL.
 */
 PetscErrorCode FSSolverGetFreeStage(FSSolver s, Vec *F)
 {
@@ -51,23 +55,27 @@ PetscErrorCode FSSolverGetFreeStage(FSSolver s, Vec *F)
   Vec     *Y;
 
   PetscFunctionBegin;
+  *F = NULL;
+  if (s->ts) PetscCall(FSTSRK4LeanGetWork(s->ts, NULL, F));
+  if (*F) PetscFunctionReturn(0);
   PetscCall(FSSolverRKStages(s, &ns, &Y));
   *F = ns >= 2 ? Y[ns - 1] : NULL;
   PetscFunctionReturn(0);
 }
 
-/* FSSolverSetUpTS - creates the TS (RK4 by default; -ts_type and friends change it). Called from
-   FSSolverSetFromOptions, so that -help shows the TS options with flexslosh's defaults. */
+/* FSSolverSetUpTS - creates the TS (classical RK4 in four vectors, FSTSRK4LEAN, by default; -ts_type and
+   friends change it). Called from FSSolverSetFromOptions, so that -help shows the TS options with
+   flexslosh's defaults. */
 PetscErrorCode FSSolverSetUpTS(FSSolver s)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
+  PetscCall(FSTSRegisterRK4Lean());
   PetscCall(TSDestroy(&s->ts));
   PetscCall(TSCreate(comm, &s->ts));
   PetscCall(TSSetProblemType(s->ts, TS_NONLINEAR));
-  PetscCall(TSSetType(s->ts, TSRK));
-  PetscCall(TSRKSetType(s->ts, TSRK4));
+  PetscCall(TSSetType(s->ts, FSTSRK4LEAN));
   PetscCall(TSSetRHSFunction(s->ts, NULL, FSSolverRHS, s));
   PetscCall(TSSetMaxTime(s->ts, s->opt.final_time));
   PetscCall(TSSetExactFinalTime(s->ts, TS_EXACTFINALTIME_MATCHSTEP));
@@ -499,15 +507,15 @@ PetscErrorCode FSSolverStep(FSSolver s)
   s->state.dt_limit_steps[s->state.dt_limit]++;
   PetscCall(TSSetTimeStep(s->ts, dt));
   {
-    PetscBool isrk;
-    PetscCall(PetscObjectTypeCompare((PetscObject)s->ts, TSRK, &isrk));
-    if (!isrk) { /* RK's first stage is the state at the start of the step (FSSolverGetStepStart) */
+    PetscBool keeps; /* rk4lean and TSRK keep the state at the start of the step (FSSolverGetStepStart) */
+    PetscCall(PetscObjectTypeCompareAny((PetscObject)s->ts, &keeps, FSTSRK4LEAN, TSRK, ""));
+    if (!keeps) {
       if (!s->state.Uprev) PetscCall(VecDuplicate(s->state.U, &s->state.Uprev));
       PetscCall(VecCopy(s->state.U, s->state.Uprev));
     }
     s->state.rkstart = PETSC_FALSE;
     PetscCall(TSStep(s->ts));
-    s->state.rkstart = isrk;
+    s->state.rkstart = keeps;
   }
   PetscCall(TSGetConvergedReason(s->ts, &reason));
   PetscCall(TSGetStepNumber(s->ts, &step));

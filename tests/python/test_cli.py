@@ -76,7 +76,7 @@ def test_help_lists_ts_options(help_output):
 
 
 def test_help_shows_actual_ts_defaults(help_output):
-    assert re.search(r"^\s*-ts_type <now rk\b", help_output, re.M)
+    assert re.search(r"^\s*-ts_type <now rk4lean\b", help_output, re.M)
 
 
 def listing(output, header):

@@ -1,0 +1,162 @@
+/*
+   The TS type "rk4lean": the classical fourth-order Runge-Kutta method kept in four vectors of the
+   state's size (the state, one stage, one rate and the running sum of the update) where TSRK keeps
+   nine (the state, four stages and four rates). A step of h from (t, U):
+     k1 = F(t, U),             S = U + h/6 k1,  Y = U + h/2 k1
+     k2 = F(t + h/2, Y),       S += h/3 k2,     Y = U + h/2 k2
+     k3 = F(t + h/2, Y),       S += h/3 k3,     Y = U + h k3
+     k4 = F(t + h, Y),         Y = U,           U = S + h/6 k4
+   The same method as -ts_type rk -ts_rk_type 4, summed in another order (the results agree to
+   round-off). After a step, Y holds the state at its start (the solver's checks read it) and the
+   rate vector is free until the next step (the solver's output evaluations write into it). No error
+   estimate: the step is the one set with TSSetTimeStep(), as the solver's stable step is.
+*/
+#include "solver/solverimpl.h"
+#include <petsc/private/tsimpl.h>
+
+typedef struct {
+  Vec       Y;       /* the stage's state; after a step, the state at its start */
+  Vec       K;       /* the rate at the stage */
+  Vec       S;       /* U + h sum_j b_j k_j, summed so far */
+  PetscBool started; /* Y holds the state at the start of the last step */
+} TS_RK4Lean;
+
+static PetscErrorCode TSStep_RK4Lean(TS ts)
+{
+  TS_RK4Lean     *rk = (TS_RK4Lean *)ts->data;
+  const PetscReal t = ts->ptime, h = ts->time_step;
+  const PetscReal c[4] = {0, 0.5, 0.5, 1};                     /* the stages' times, in h */
+  const PetscReal a[3] = {0.5 * h, 0.5 * h, h};                /* the next stage: Y = U + a_i k_i */
+  const PetscReal b[4] = {h / 6.0, h / 3.0, h / 3.0, h / 6.0}; /* the update: U + sum_i b_i k_i */
+  Vec             U    = ts->vec_sol;
+
+  PetscFunctionBegin;
+  rk->started = PETSC_FALSE;
+  for (PetscInt i = 0; i < 4; i++) {
+    Vec X = i ? rk->Y : U;
+    PetscCall(TSPreStage(ts, t + c[i] * h));
+    PetscCall(TSComputeRHSFunction(ts, t + c[i] * h, X, rk->K));
+    PetscCall(TSPostStage(ts, t + c[i] * h, i, &X));
+    if (i == 0) PetscCall(VecWAXPY(rk->S, b[0], rk->K, U));
+    else if (i < 3) PetscCall(VecAXPY(rk->S, b[i], rk->K));
+    if (i < 3) PetscCall(VecWAXPY(rk->Y, a[i], rk->K, U));
+  }
+  PetscCall(VecCopy(U, rk->Y));
+  PetscCall(VecWAXPY(U, b[3], rk->K, rk->S));
+  rk->started = PETSC_TRUE;
+  ts->ptime += h;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSSetUp_RK4Lean(TS ts)
+{
+  TS_RK4Lean *rk = (TS_RK4Lean *)ts->data;
+
+  PetscFunctionBegin;
+  PetscCall(VecDuplicate(ts->vec_sol, &rk->Y));
+  PetscCall(VecDuplicate(ts->vec_sol, &rk->K));
+  PetscCall(VecDuplicate(ts->vec_sol, &rk->S));
+  rk->started = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSReset_RK4Lean(TS ts)
+{
+  TS_RK4Lean *rk = (TS_RK4Lean *)ts->data;
+
+  PetscFunctionBegin;
+  PetscCall(VecDestroy(&rk->Y));
+  PetscCall(VecDestroy(&rk->K));
+  PetscCall(VecDestroy(&rk->S));
+  rk->started = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSDestroy_RK4Lean(TS ts)
+{
+  PetscFunctionBegin;
+  PetscCall(TSReset_RK4Lean(ts));
+  PetscCall(PetscFree(ts->data));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSView_RK4Lean(TS ts, PetscViewer viewer)
+{
+  PetscBool ascii;
+
+  PetscFunctionBegin;
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
+  if (ascii)
+    PetscCall(
+        PetscViewerASCIIPrintf(viewer, "  classical RK4 (4 stages, order 4) in 4 vectors: state, stage, rate, sum\n"));
+  PetscFunctionReturn(0);
+}
+
+/* the stage vector (the only one a step keeps between its stages) */
+static PetscErrorCode TSGetStages_RK4Lean(TS ts, PetscInt *ns, Vec **Y)
+{
+  TS_RK4Lean *rk = (TS_RK4Lean *)ts->data;
+
+  PetscFunctionBegin;
+  if (ns) *ns = rk->Y ? 1 : 0;
+  if (Y) *Y = rk->Y ? &rk->Y : NULL;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSCreate_RK4Lean(TS ts)
+{
+  TS_RK4Lean *rk;
+
+  PetscFunctionBegin;
+  PetscCall(PetscNew(&rk));
+  ts->data               = (void *)rk;
+  ts->ops->setup         = TSSetUp_RK4Lean;
+  ts->ops->step          = TSStep_RK4Lean;
+  ts->ops->reset         = TSReset_RK4Lean;
+  ts->ops->destroy       = TSDestroy_RK4Lean;
+  ts->ops->view          = TSView_RK4Lean;
+  ts->ops->getstages     = TSGetStages_RK4Lean;
+  ts->default_adapt_type = TSADAPTNONE;
+  ts->usessnes           = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSTSRegisterRK4Lean - adds the TS type FSTSRK4LEAN ("rk4lean") to PETSc's table of TS types (-ts_type
+   rk4lean), once.
+
+   Not collective
+*/
+PetscErrorCode FSTSRegisterRK4Lean(void)
+{
+  static PetscBool registered = PETSC_FALSE;
+
+  PetscFunctionBegin;
+  if (registered) PetscFunctionReturn(0);
+  PetscCall(TSRegister(FSTSRK4LEAN, TSCreate_RK4Lean));
+  registered = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSTSRK4LeanGetWork - for a TS of type rk4lean: the state at the start of its last step (NULL before a
+   step, or after a reset) and a vector of the state's layout that is free until the next step (NULL
+   before the set-up); both NULL for another type.
+
+   Not collective
+*/
+PetscErrorCode FSTSRK4LeanGetWork(TS ts, Vec *start, Vec *free)
+{
+  PetscBool is;
+
+  PetscFunctionBegin;
+  if (start) *start = NULL;
+  if (free) *free = NULL;
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, FSTSRK4LEAN, &is));
+  if (is && ts->setupcalled) {
+    TS_RK4Lean *rk = (TS_RK4Lean *)ts->data;
+    if (start && rk->started) *start = rk->Y;
+    if (free) *free = rk->K;
+  }
+  PetscFunctionReturn(0);
+}
