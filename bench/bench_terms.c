@@ -3,7 +3,7 @@
 
    Sets up the Taylor-Green case (options as for flexslosh, e.g. -fs_dx 0.005), evaluates the right-hand
    side with the registry's terms (continuity, delta, pressure, viscosity, les_viscosity), then computes
-   the same rates with one hand-fused loop over the same neighbour lists, checks that both agree to
+   the same rates with one hand-fused loop over the same candidate lists, checks that both agree to
    round-off, and prints the time of the pair pass per evaluation for both and their ratio.
 
      build/bench_terms -fs_dx 0.005 [-reps 20]
@@ -21,14 +21,15 @@ static void FusedRates(FSSolver s, const PetscReal *delta, const PetscReal *a, P
     const PetscReal *ri = &rec[i * S], *xi = ri, *ui = ri + dim, rhoi = ri[2 * dim], *gi = &aux[i * A];
     const PetscReal  di = delta[i], ai = a[i];
     PetscReal        cont = 0, diff = 0, acc_p[3] = {0, 0, 0}, acc_v[3] = {0, 0, 0}, acc_t[3] = {0, 0, 0};
-    for (PetscInt q = s->pw.nbrs.start[i]; q < s->pw.nbrs.start[i + 1]; q++) {
-      const PetscInt   j  = s->pw.nbrs.nbr[q];
+    for (PetscInt q = s->pw.nbrs.cstart[i]; q < s->pw.nbrs.cstart[i + 1]; q++) { /* the candidates within the support */
+      const PetscInt   j  = s->pw.nbrs.cand[q];
       const PetscReal *rj = &rec[j * S], *gj = &aux[j * A];
       PetscReal        dx[3], gw[3], r2 = 0, F, du_dx = 0, du_g = 0, corr = 0, proj = 0;
       for (PetscInt d = 0; d < dim; d++) {
         dx[d] = rj[d] - xi[d];
         r2 += dx[d] * dx[d];
       }
+      if (r2 >= s->pw.kernel.support2) continue;
       F = FSKernelF(&s->pw.kernel, PetscSqrtReal(r2));
       for (PetscInt d = 0; d < dim; d++) gw[d] = -F * dx[d];
       for (PetscInt d = 0; d < dim; d++) {

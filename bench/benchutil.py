@@ -24,7 +24,7 @@ def run_logged(exe, nranks, args, outdir, events):
 
 
 MEMORY_LABELS = [("particle_fields", "particle fields (swarm)"), ("particle_work", "particle records, aux, gamma"),
-                 ("ts_vectors", "TS vectors"), ("neighbour_pairs", "neighbour pairs"), ("candidates", "candidates"),
+                 ("ts_vectors", "TS vectors"), ("candidates", "candidates"),
                  ("cells", "cell list"), ("halo", "halo buffers"), ("walls_lists", "walls: particles' lists"),
                  ("walls_elements", "walls: elements"), ("accounted", "accounted (allocated)"),
                  ("peak_resident", "peak resident, all ranks"), ("not_accounted", "not accounted (the process, ...)")]

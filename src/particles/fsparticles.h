@@ -4,6 +4,7 @@
    know nothing of the solver: they take arrays of particle records.
 */
 #pragma once
+#include <flexslosh.h> /* FS_ALWAYS_INLINE */
 #include <petscsf.h>
 
 /* Wendland C2 kernel with support 2h, dimension 2 or 3. */
@@ -77,7 +78,9 @@ PETSC_INTERN PetscErrorCode FSHaloRefreshAux(FSHalo *, PetscReal aux[]);
 PETSC_INTERN PetscErrorCode FSHaloRefreshScalar(FSHalo *, PetscReal a[]);
 PETSC_INTERN PetscErrorCode FSHaloDestroy(FSHalo *);
 
-/* Cell-linked list (counting sort) and the full neighbour list of owned particles (CSR). */
+/* Cell-linked list (counting sort) and the candidate (Verlet) list of the owned particles (CSR). No list
+   of the pairs within the support is kept: each pass over the pairs picks them from the candidates
+   (FSNeighboursPick) as it visits them, which costs a distance per candidate and saves the list's memory. */
 typedef struct {
   PetscInt  dim;
   PetscReal lo[3], cellsize;
@@ -86,32 +89,48 @@ typedef struct {
   PetscInt *cellof;    /* cell of each particle */
   PetscInt *order;     /* particles sorted by cell */
   PetscInt  ncap, ccap;
-  /* candidate (Verlet) list, built once per step */
-  PetscInt *cstart; /* nowned+1 */
-  PetscInt *cand;
-  PetscInt  ccandcap, ncand;
-  PetscInt  maxcand; /* the most candidates of one particle */
-  /* neighbour list, built at every right-hand side: the index of each pair's neighbour (4 bytes a pair);
-     the kernel gradient factor F(r) is not stored (8 bytes a pair more): the passes compute it again
-     from r^2, which they compute anyway, and get the same value */
-  PetscInt  *start; /* nowned+1 */
-  PetscInt  *nbr;   /* neighbour index per pair */
-  PetscInt   scap, pcap;
-  PetscInt64 npairs;
+  /* candidate (Verlet) list, built when the lists are rebuilt */
+  PetscInt  *cstart; /* nowned+1 */
+  PetscInt  *cand;
+  PetscInt   scap, ccandcap, ncand;
+  PetscInt   maxcand; /* the most candidates of one particle */
+  PetscInt64 npairs;  /* the pairs within the support at the last right-hand side (set by its pass) */
 } FSNeighbours;
 
 PETSC_INTERN PetscErrorCode FSNeighboursBuildCells(FSNeighbours *, PetscInt dim, PetscInt n, const PetscReal rec[],
                                                    PetscInt stride, PetscReal cellsize);
 PETSC_INTERN PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *, PetscInt nowned, const PetscReal rec[],
                                                         PetscInt stride, PetscReal radius);
-PETSC_INTERN PetscErrorCode FSNeighboursReserveList(FSNeighbours *, PetscReal share, PetscBool all);
-/* the share of the candidates within the kernel support, (support / candidate radius)^dim, for uniformly
-   spread particles: the first estimate of the neighbour list's size */
-static inline PetscReal FSNeighboursShare(const FSNeighbours *nb, const FSKernel *k)
+
+/*
+   FSNeighboursPick - the neighbours j != i of owned particle i within r^2 < R2 at the current positions
+   (records rec with stride, position first), picked from its candidates: their indices into j[], x_j - x_i
+   into dx[] (dim a pair) and r^2 into r2[]; returns their number (at most nb->maxcand, which bounds the
+   arrays). Without branches: whether a candidate is inside is as good as random, and mispredicted branches
+   cost more than the stores, so every candidate is written at the end of the arrays, which moves on only
+   for those inside. Inlined, so that a caller with a constant dim gets the loop for its dimension.
+*/
+FS_ALWAYS_INLINE PetscInt FSNeighboursPick(const FSNeighbours *nb, const PetscInt dim, PetscInt i,
+                                           const PetscReal rec[], PetscInt stride, PetscReal R2, PetscInt j[],
+                                           PetscReal dx[], PetscReal r2[])
 {
-  const PetscReal r = k->support / nb->cellsize;
-  return nb->dim == 2 ? r * r : r * r * r;
+  const PetscReal *xi = &rec[i * stride];
+  const PetscInt  *c = nb->cand + nb->cstart[i], nc = nb->cstart[i + 1] - nb->cstart[i];
+  PetscInt         m = 0;
+
+  for (PetscInt q = 0; q < nc; q++) {
+    const PetscInt   k  = c[q];
+    const PetscReal *xk = &rec[k * stride];
+    PetscReal        d2 = 0;
+    for (PetscInt a = 0; a < dim; a++) {
+      const PetscReal d = xk[a] - xi[a];
+      dx[m * dim + a]   = d;
+      d2 += d * d;
+    }
+    j[m]  = k;
+    r2[m] = d2;
+    m += d2 < R2;
+  }
+  return m;
 }
-PETSC_INTERN PetscErrorCode FSNeighboursBuildList(FSNeighbours *, const FSKernel *, PetscInt nowned,
-                                                  const PetscReal rec[], PetscInt stride);
 PETSC_INTERN PetscErrorCode FSNeighboursDestroy(FSNeighbours *);

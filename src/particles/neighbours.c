@@ -1,8 +1,8 @@
 /*
-   Neighbour search: a cell-linked list built by counting sort once per time step (cells as wide as
-   the kernel support plus a skin), from it the candidate (Verlet) list of every owned particle,
-   and at every right-hand side the exact neighbour list picked from the candidates, in CSR form
-   (the neighbours' indices only: each pass computes the kernel gradient factor from r^2 itself).
+   Neighbour search: a cell-linked list built by counting sort when the lists are rebuilt (cells as wide
+   as the kernel support plus a skin) and from it the candidate (Verlet) list of every owned particle;
+   the passes over the pairs pick the pairs within the support from the candidates as they visit them
+   (FSNeighboursPick, fsparticles.h).
 */
 #include "particles/fsparticles.h"
 
@@ -77,22 +77,6 @@ PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode FSNeighboursGrow(FSNeighbours *nb, PetscInt64 need)
-{
-  PetscInt        *nbr;
-  const PetscInt64 cap = need; /* the callers add their margins */
-
-  PetscFunctionBegin;
-  PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
-             "More than %d neighbour pairs on one rank: use more ranks", PETSC_MAX_INT);
-  PetscCall(PetscMalloc1(cap, &nbr));
-  PetscCall(PetscArraycpy(nbr, nb->nbr, nb->pcap));
-  PetscCall(PetscFree(nb->nbr));
-  nb->nbr  = nbr;
-  nb->pcap = (PetscInt)cap;
-  PetscFunctionReturn(0);
-}
-
 static PetscErrorCode FSNeighboursGrowCandidates(FSNeighbours *nb, PetscInt64 need)
 {
   PetscInt  *cand;
@@ -128,9 +112,9 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
   PetscCheck(radius <= nb->cellsize * (1 + 1e-12), PETSC_COMM_SELF, PETSC_ERR_PLIB,
              "Candidate radius %g exceeds the cell size %g", (double)radius, (double)nb->cellsize);
   if (nowned + 1 > nb->scap) {
-    PetscCall(PetscFree2(nb->start, nb->cstart));
+    PetscCall(PetscFree(nb->cstart));
     nb->scap = PetscMax(nowned + 1, (PetscInt)(1.25 * nb->scap));
-    PetscCall(PetscMalloc2(nb->scap, &nb->start, nb->scap, &nb->cstart));
+    PetscCall(PetscMalloc1(nb->scap, &nb->cstart));
   }
   if (!nb->ccandcap) PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nowned * (dim == 2 ? 96 : 400) + room));
   for (PetscInt i = 0; i < nowned; i++) {
@@ -176,81 +160,12 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
   PetscFunctionReturn(0);
 }
 
-/*
-   FSNeighboursReserveList - makes room in the neighbour list (nbr) for the pairs of this right-hand
-   side: all = PETSC_TRUE, for every candidate pair (the most the list can hold); otherwise for an
-   estimate, the pairs of the last list (or, the first time, the candidates' share within the support,
-   (support / candidate radius)^dim) and a tenth more, plus one particle's candidates (the builders
-   write each candidate before they know whether it is kept). The builders check the room particle by
-   particle: FSNeighboursBuildList grows the list, the first pass of the right-hand side (src/solver/rhs.c),
-   which picks the neighbours from the candidates itself while it visits them, starts again with all.
-   A list sized for every candidate held twice the pairs in 3-D (about 520 candidates, 270 neighbours).
-*/
-PetscErrorCode FSNeighboursReserveList(FSNeighbours *nb, PetscReal share, PetscBool all)
-{
-  PetscInt64 need = nb->ncand;
-
-  PetscFunctionBegin;
-  if (!all) {
-    const PetscInt64 pairs = nb->npairs > 0 ? nb->npairs : (PetscInt64)(share * nb->ncand);
-    if (pairs + nb->maxcand + 1 <= nb->pcap) PetscFunctionReturn(0); /* room enough as it is */
-    need = PetscMin(need, (PetscInt64)(1.1 * pairs) + nb->maxcand + 1);
-  }
-  if (need > nb->pcap) PetscCall(FSNeighboursGrow(nb, need));
-  PetscFunctionReturn(0);
-}
-
-/*
-   FSNeighboursBuildList - the neighbours j != i within the kernel support of each owned particle i
-   at the current positions, picked from the candidates (the passes compute F(r_ij), grad_i W = F (x_i - x_j),
-   from r^2 as they visit the pairs). Needs FSNeighboursBuildCandidates at the start of the step.
-*/
-PetscErrorCode FSNeighboursBuildList(FSNeighbours *nb, const FSKernel *kern, PetscInt nowned, const PetscReal rec[],
-                                     PetscInt stride)
-{
-  const PetscInt  dim = nb->dim;
-  const PetscReal R2  = kern->support2;
-  PetscInt        np  = 0;
-
-  PetscFunctionBegin;
-  PetscCall(FSNeighboursReserveList(nb, FSNeighboursShare(nb, kern), PETSC_FALSE));
-  for (PetscInt i = 0; i < nowned; i++) {
-    const PetscReal *xi = &rec[i * stride];
-    nb->start[i]        = np;
-    if (np + (nb->cstart[i + 1] - nb->cstart[i]) > nb->pcap)
-      PetscCall(FSNeighboursGrow(nb, PetscMax((PetscInt64)np + (nb->cstart[i + 1] - nb->cstart[i]) + nb->maxcand,
-                                              (PetscInt64)(1.25 * nb->pcap))));
-    /* without branches, as in FSNeighboursBuildCandidates */
-    if (dim == 2) {
-      for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
-        const PetscInt   j  = nb->cand[q];
-        const PetscReal *xj = &rec[j * stride];
-        const PetscReal  a = xi[0] - xj[0], b = xi[1] - xj[1], r2 = a * a + b * b;
-        nb->nbr[np] = j;
-        np += r2 < R2;
-      }
-    } else {
-      for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
-        const PetscInt   j  = nb->cand[q];
-        const PetscReal *xj = &rec[j * stride];
-        const PetscReal  a = xi[0] - xj[0], b = xi[1] - xj[1], c = xi[2] - xj[2], r2 = a * a + b * b + c * c;
-        nb->nbr[np] = j;
-        np += r2 < R2;
-      }
-    }
-  }
-  nb->start[nowned] = np;
-  nb->npairs        = np;
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode FSNeighboursDestroy(FSNeighbours *nb)
 {
   PetscFunctionBegin;
   PetscCall(PetscFree(nb->cellstart));
   PetscCall(PetscFree2(nb->cellof, nb->order));
-  PetscCall(PetscFree2(nb->start, nb->cstart));
+  PetscCall(PetscFree(nb->cstart));
   PetscCall(PetscFree(nb->cand));
-  PetscCall(PetscFree(nb->nbr));
   PetscFunctionReturn(0);
 }

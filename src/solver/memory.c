@@ -11,7 +11,6 @@ typedef enum {
   FS_MEM_PARTICLE_FIELDS, /* the swarm's fields: position, velocity, density, mass, id, build position, DMSwarm's own */
   FS_MEM_PARTICLE_WORK,   /* records of owned and ghost particles, first-pass quantities, volumes, pressures, gamma */
   FS_MEM_TS_VECTORS,      /* the state U, Uprev, Fout and the integrator's own vectors */
-  FS_MEM_NEIGHBOUR_PAIRS, /* the neighbour list: an index per pair, row starts */
   FS_MEM_CANDIDATES,      /* the candidate (Verlet) list and its row starts */
   FS_MEM_CELLS,           /* the cell list */
   FS_MEM_HALO,            /* the halo's shifts and send lists, the PetscSF's graph and buffers (estimated) */
@@ -21,8 +20,7 @@ typedef enum {
 } FSMemoryItem;
 
 static const char *const FSMemoryItemNames[FS_MEM_N] = {
-    "particle_fields", "particle_work", "ts_vectors",  "neighbour_pairs", "candidates",
-    "cells",           "halo",          "walls_lists", "walls_elements"};
+    "particle_fields", "particle_work", "ts_vectors", "candidates", "cells", "halo", "walls_lists", "walls_elements"};
 
 /* the bytes per particle of the swarm's fields, and the swarm's capacity */
 static PetscErrorCode FSSolverSwarmBytes(FSSolver s, PetscInt64 *bytes)
@@ -98,13 +96,12 @@ PetscErrorCode FSSolverWriteMemory(FSSolver s, FSJSON js, PetscReal peak)
   PetscCall(PetscArrayzero(b, FS_MEM_N + 1));
   PetscCall(FSSolverSwarmBytes(s, &b[FS_MEM_PARTICLE_FIELDS]));
   b[FS_MEM_PARTICLE_WORK] = (PetscInt64)pw->reccap * (pw->stride + pw->auxstride + 2) * sizeof(PetscReal) +
-                            (PetscInt64)pw->scratchcap * (2 * dim + 2) * sizeof(PetscReal) +
+                            (PetscInt64)pw->scratchcap * ((2 * dim + 2) * sizeof(PetscReal) + sizeof(PetscInt)) +
                             (PetscInt64)pw->gammacap * (pw->gammav ? 4 : 2) * sizeof(PetscReal) +
                             (PetscInt64)s->mon.fieldcap * sizeof(PetscReal);
   PetscCall(FSSolverTSBytes(s, &b[FS_MEM_TS_VECTORS]));
-  b[FS_MEM_NEIGHBOUR_PAIRS] = (PetscInt64)nb->pcap * sizeof(PetscInt) + (PetscInt64)nb->scap * sizeof(PetscInt);
-  b[FS_MEM_CANDIDATES]      = (PetscInt64)nb->ccandcap * sizeof(PetscInt) + (PetscInt64)nb->scap * sizeof(PetscInt);
-  b[FS_MEM_CELLS]           = (PetscInt64)nb->ccap * sizeof(PetscInt) + (PetscInt64)nb->ncap * 2 * sizeof(PetscInt);
+  b[FS_MEM_CANDIDATES] = (PetscInt64)nb->ccandcap * sizeof(PetscInt) + (PetscInt64)nb->scap * sizeof(PetscInt);
+  b[FS_MEM_CELLS]      = (PetscInt64)nb->ccap * sizeof(PetscInt) + (PetscInt64)nb->ncap * 2 * sizeof(PetscInt);
   /* the shifts and send lists as allocated; the PetscSF's graph (a remote node and a local index per
      ghost, kept twice) and its pack buffers (a record per ghost and per copy sent) as estimated */
   b[FS_MEM_HALO] = (PetscInt64)hl->cap * dim * sizeof(PetscReal) +

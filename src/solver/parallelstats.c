@@ -113,9 +113,18 @@ PetscErrorCode FSParallelStatsSummary(FSSolver s, FSJSON js)
   steps = (PetscReal)PetscMax(s->mon.steps_taken, 1);
   PetscCall(PetscCommBuildTwoSidedGetType(comm, &bt));
   if (bt == PETSC_BUILDTWOSIDED_IBARRIER && size > 1) uncounted += hl->nbuilds - ps->nbuilds0; /* its MPI_Ibarrier */
-  if (nb->start)
-    for (PetscInt i = 0; i < s->pw.nowned; i++)
-      for (PetscInt q = nb->start[i]; q < nb->start[i + 1]; q++) across += nb->nbr[q] >= s->pw.nowned;
+  if (nb->cstart && s->pw.rec) /* the pairs within the support whose neighbour is a ghost, at the last right-hand side */
+    for (PetscInt i = 0; i < s->pw.nowned; i++) {
+      const PetscReal *xi = &s->pw.rec[i * s->pw.stride];
+      for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
+        const PetscInt   j  = nb->cand[q];
+        const PetscReal *xj = &s->pw.rec[j * s->pw.stride];
+        PetscReal        r2 = 0;
+        if (j < s->pw.nowned) continue;
+        for (PetscInt d = 0; d < s->opt.dim; d++) r2 += (xj[d] - xi[d]) * (xj[d] - xi[d]);
+        across += r2 < s->pw.kernel.support2;
+      }
+    }
   mine[k++] = s->pw.nowned;
   mine[k++] = hl->nghost;
   mine[k++] = ps->owned_first;

@@ -1,50 +1,25 @@
 /*
    The right-hand side of the particle ODE system, evaluated by TS at every stage:
-     halo refresh -> cell list and neighbour lists -> first pass (correction matrix L_i, renormalized
-     density gradient, strain rate ||D||_i) -> ghost refresh of those -> the terms' pair pass.
-   Kernel gradients are computed once per pair and pass (from r^2, which the pass computes anyway: the
-   neighbour list holds only the neighbours' indices) and shared by all terms; the first pass runs only
-   when a selected term needs it.
+     halo refresh -> first pass (correction matrix L_i, renormalized density gradient, strain rate
+     ||D||_i) -> ghost refresh of those -> the terms' pair pass.
+   Each pass picks the pairs within the support from the candidate lists as it visits them
+   (FSNeighboursPick: no list of the pairs is kept) and computes the kernel gradients from r^2, once per
+   pair and pass, for all terms; the first pass runs only when a selected term needs it.
 */
 #include "solver/solverimpl.h"
 
-/* Fills the neighbourhood scratch of particle i: x_j - x_i, r^2, grad_i W. Returns the count. */
-static inline PetscInt FSFillNeighbourhood(const FSSolver s, PetscInt i, PetscReal *dx, PetscReal *r2, PetscReal *gw,
-                                           PetscReal *ri2)
+/* Fills the neighbourhood scratch of particle i: its neighbours j (picked from the candidates), x_j - x_i,
+   r^2, grad_i W and, when ri2 is given, 1/r^2. Returns their number. */
+FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscInt dim, PetscInt i, PetscInt *j,
+                                                 PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
 {
-  const PetscInt   dim = s->opt.dim, S = s->pw.stride, b = s->pw.nbrs.start[i], n = s->pw.nbrs.start[i + 1] - b;
-  const PetscInt  *nbr  = s->pw.nbrs.nbr + b;
-  const PetscReal *xi   = &s->pw.rec[i * S];
-  const FSKernel  *kern = &s->pw.kernel;
-  if (dim == 2) {
-    for (PetscInt k = 0; k < n; k++) {
-      const PetscReal *xj = &s->pw.rec[nbr[k] * S];
-      const PetscReal  a = xj[0] - xi[0], c = xj[1] - xi[1];
-      dx[2 * k]     = a;
-      dx[2 * k + 1] = c;
-      r2[k]         = a * a + c * c;
-    }
-    /* F(r) in a loop of its own, which the compiler vectorizes (the same value as the first pass's) */
-    for (PetscInt k = 0; k < n; k++) {
-      const PetscReal F = FSKernelF(kern, PetscSqrtReal(r2[k]));
-      gw[2 * k]         = -F * dx[2 * k];
-      gw[2 * k + 1]     = -F * dx[2 * k + 1];
-    }
-  } else {
-    for (PetscInt k = 0; k < n; k++) {
-      const PetscReal *xj = &s->pw.rec[nbr[k] * S];
-      const PetscReal  a = xj[0] - xi[0], c = xj[1] - xi[1], e = xj[2] - xi[2];
-      dx[3 * k]     = a;
-      dx[3 * k + 1] = c;
-      dx[3 * k + 2] = e;
-      r2[k]         = a * a + c * c + e * e;
-    }
-    for (PetscInt k = 0; k < n; k++) {
-      const PetscReal F = FSKernelF(kern, PetscSqrtReal(r2[k]));
-      gw[3 * k]         = -F * dx[3 * k];
-      gw[3 * k + 1]     = -F * dx[3 * k + 1];
-      gw[3 * k + 2]     = -F * dx[3 * k + 2];
-    }
+  const FSKernel *kern = &s->pw.kernel;
+  const PetscInt  n    = FSNeighboursPick(&s->pw.nbrs, dim, i, s->pw.rec, s->pw.stride, kern->support2, j, dx, r2);
+
+  /* F(r) in a loop of its own, which the compiler vectorizes (the same value as the first pass's) */
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal F = FSKernelF(kern, PetscSqrtReal(r2[k]));
+    for (PetscInt a = 0; a < dim; a++) gw[dim * k + a] = -F * dx[dim * k + a];
   }
   /* the inverses in a loop of their own, which the compiler vectorizes */
   if (ri2)
@@ -92,64 +67,29 @@ static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscRe
      <grad rho>^L_i = L_i^T sum_j (rho_j - rho_i) grad_i W_ij V_j
      (grad u)_i = [sum_j (u_j - u_i) (x) grad_i W_ij V_j] L_i,  D_i = sym(grad u)_i,  ||D||_i = sqrt(2 D:D)
    Results go to aux[i*(dim+1)]: the density gradient, then ||D||.
-   build: the pass also builds the right-hand side's neighbour list (what FSNeighboursBuildList does): it
-   visits the candidates, keeps those within the support and uses them on the spot, which saves a
-   separate traversal of the candidates and their positions. The list, F(r) and the sums are the
-   same as with the list built first. The body is written for a compile-time dimension (FS_ALWAYS_INLINE)
-   so that the small dim x dim loops unroll and the sums stay in registers.
+   The pass picks each particle's neighbours from its candidates (FSNeighboursPick) and returns the number
+   of pairs it visited. The body is written for a compile-time dimension (FS_ALWAYS_INLINE) so that the
+   small dim x dim loops unroll and the sums stay in registers.
 */
-FS_ALWAYS_INLINE PetscBool FSSolverFirstPassDim(FSSolver s, const PetscInt dim, const PetscBool build)
+FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
 {
-  FSNeighbours    *nb = &s->pw.nbrs;
   const PetscInt   S = s->pw.stride, A = s->pw.auxstride, n = s->pw.nowned;
   const PetscReal *rec = s->pw.rec, *vol = s->pw.vol, R2 = s->pw.kernel.support2;
   PetscReal       *dx  = s->pw.scratch; /* x_j - x_i of the neighbours of i */
   PetscReal       *r2s = dx + dim * s->pw.scratchcap, *Fs = r2s + s->pw.scratchcap; /* their r^2, then F(r) */
-  PetscInt         np = 0;
+  PetscInt        *js = s->pw.scratchj;
+  PetscInt64       np = 0;
 
   for (PetscInt i = 0; i < n; i++) {
     const PetscReal *ri   = &rec[i * S];
     PetscReal        M[9] = {0}, Minv[9], G[3] = {0, 0, 0}, Au[9] = {0}, J[9] = {0}, nrm = 0;
     PetscReal       *out = &s->pw.aux[i * A];
-    PetscInt         b0, m;
-    if (build) {
-      /* the candidates within the support, without branches (whether a candidate is inside is as
-         good as random, and mispredicted branches cost more than the stores): every candidate is
-         written at the end of the list and the end moves on only for those inside. */
-      if (np + (nb->cstart[i + 1] - nb->cstart[i]) > nb->pcap) return PETSC_FALSE; /* no room: again, with all */
-      b0 = nb->start[i] = np;
-      for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
-        const PetscInt   j  = nb->cand[q];
-        const PetscReal *rj = &rec[j * S];
-        PetscReal        r2 = 0;
-        for (PetscInt a = 0; a < dim; a++) {
-          const PetscReal d       = rj[a] - ri[a];
-          dx[(np - b0) * dim + a] = d;
-          r2 += d * d;
-        }
-        nb->nbr[np]  = j;
-        r2s[np - b0] = r2;
-        np += r2 < R2;
-      }
-      m = np - b0;
-    } else {
-      b0 = nb->start[i];
-      m  = nb->start[i + 1] - b0;
-      for (PetscInt k = 0; k < m; k++) {
-        const PetscReal *rj = &rec[nb->nbr[b0 + k] * S];
-        PetscReal        r2 = 0;
-        for (PetscInt a = 0; a < dim; a++) {
-          const PetscReal d = rj[a] - ri[a];
-          dx[k * dim + a]   = d;
-          r2 += d * d;
-        }
-        r2s[k] = r2;
-      }
-    }
+    const PetscInt   m   = FSNeighboursPick(&s->pw.nbrs, dim, i, rec, S, R2, js, dx, r2s);
+    np += m;
     /* F(r) of the pairs (a loop the compiler vectorizes: square roots and divisions in pairs) */
     for (PetscInt k = 0; k < m; k++) Fs[k] = FSKernelF(&s->pw.kernel, PetscSqrtReal(r2s[k]));
     for (PetscInt k = 0; k < m; k++) {
-      const PetscInt   j  = nb->nbr[b0 + k];
+      const PetscInt   j  = js[k];
       const PetscReal *rj = &rec[j * S], *d = &dx[k * dim], F = Fs[k];
       const PetscReal  Vj = vol[j], drho = (rj[2 * dim] - ri[2 * dim]) * Vj;
       PetscReal        g[3];
@@ -181,28 +121,14 @@ FS_ALWAYS_INLINE PetscBool FSSolverFirstPassDim(FSSolver s, const PetscInt dim, 
       }
     out[dim] = PetscSqrtReal(2.0 * nrm);
   }
-  if (build) {
-    nb->start[n] = np;
-    nb->npairs   = np;
-  }
-  return PETSC_TRUE;
+  return np;
 }
 
-static PetscErrorCode FSSolverFirstPass(FSSolver s, PetscBool build)
+static PetscErrorCode FSSolverFirstPass(FSSolver s)
 {
-  PetscBool done = PETSC_FALSE;
-
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
-  if (build)
-    PetscCall(FSNeighboursReserveList(&s->pw.nbrs, FSNeighboursShare(&s->pw.nbrs, &s->pw.kernel), PETSC_FALSE));
-  for (PetscInt attempt = 0; attempt < 2 && !done; attempt++) {
-    if (attempt) PetscCall(FSNeighboursReserveList(&s->pw.nbrs, 0, PETSC_TRUE)); /* the estimate was short */
-    if (s->opt.dim == 2)
-      done = build ? FSSolverFirstPassDim(s, 2, PETSC_TRUE) : FSSolverFirstPassDim(s, 2, PETSC_FALSE);
-    else done = build ? FSSolverFirstPassDim(s, 3, PETSC_TRUE) : FSSolverFirstPassDim(s, 3, PETSC_FALSE);
-  }
-  PetscCheck(done, PETSC_COMM_SELF, PETSC_ERR_PLIB, "The neighbour list has no room for the candidate pairs");
+  s->pw.nbrs.npairs = s->opt.dim == 2 ? FSSolverFirstPassDim(s, 2) : FSSolverFirstPassDim(s, 3);
   PetscCall(PetscLogEventEnd(FS_FirstPass, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -293,14 +219,13 @@ static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscRe
 
 /*
    FSSolverGatherRecords - the start of a right-hand side: the owned particles' records from the packed
-   state u, the ghosts' from the halo, the neighbour list (unless the first pass builds it), the
-   neighbourhood scratch, and the volumes and pressures of the owned and ghost particles, which the
-   passes and the terms share.
+   state u, the ghosts' from the halo, the neighbourhood scratch, and the volumes and pressures of the
+   owned and ghost particles, which the passes and the terms share.
 */
 static PetscErrorCode FSSolverGatherRecords(FSSolver s, const PetscReal *u)
 {
   const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
-  PetscInt       maxn = 0;
+  const PetscInt maxn = s->pw.nbrs.maxcand; /* the scratch holds one particle's neighbours: its candidates bound them */
 
   PetscFunctionBegin;
   for (PetscInt i = 0; i < n; i++)
@@ -308,20 +233,10 @@ static PetscErrorCode FSSolverGatherRecords(FSSolver s, const PetscReal *u)
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
   PetscCall(FSHaloRefresh(&s->pw.halo, dim, n, s->pw.rec));
   PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
-
-  /* the neighbour list of this right-hand side: built by the first pass when there is one (it visits
-     the candidates anyway), else here */
-  if (!s->terms.needs) {
-    PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
-    PetscCall(FSNeighboursBuildList(&s->pw.nbrs, &s->pw.kernel, n, s->pw.rec, S));
-    PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
-  }
-  /* the scratch holds one particle's neighbours: the candidates bound their number */
-  for (PetscInt i = 0; i < n; i++) maxn = PetscMax(maxn, s->pw.nbrs.cstart[i + 1] - s->pw.nbrs.cstart[i]);
   if (maxn > s->pw.scratchcap) {
-    PetscCall(PetscFree(s->pw.scratch));
+    PetscCall(PetscFree2(s->pw.scratch, s->pw.scratchj));
     s->pw.scratchcap = PetscMax(maxn, 2 * s->pw.scratchcap);
-    PetscCall(PetscMalloc1((2 * dim + 2) * s->pw.scratchcap, &s->pw.scratch));
+    PetscCall(PetscMalloc2((2 * dim + 2) * s->pw.scratchcap, &s->pw.scratch, s->pw.scratchcap, &s->pw.scratchj));
   }
   /* per-particle volumes and pressures (owned and ghosts), shared by the passes and the terms */
   for (PetscInt k = 0; k < n + s->pw.halo.nghost; k++) {
@@ -334,13 +249,16 @@ static PetscErrorCode FSSolverGatherRecords(FSSolver s, const PetscReal *u)
 
 /*
    FSSolverPairPass - the terms' pass over the neighbours of every owned particle: the renormalized
-   terms first (their sum divided by gamma_i near walls), then the others; the rates into f.
+   terms first (their sum divided by gamma_i near walls), then the others; the rates into f. Sets the
+   count of pairs within the support (s->pw.nbrs.npairs).
 */
 static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscReal *f)
 {
   const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
   PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * s->pw.scratchcap, *gw = r2 + s->pw.scratchcap,
             *ri2 = gw + dim * s->pw.scratchcap;
+  PetscInt  *js  = s->pw.scratchj;
+  PetscInt64 np  = 0;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
@@ -348,12 +266,14 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
     FSNeighbourhood nb;
     FSRate          rate = {0, {0, 0, 0}, {0, 0, 0}};
     nb.i                 = i;
-    nb.n                 = FSFillNeighbourhood(s, i, dx, r2, gw, ri2);
-    nb.j                 = s->pw.nbrs.nbr + s->pw.nbrs.start[i];
-    nb.dx                = dx;
-    nb.r2                = r2;
-    nb.rinv2             = ri2;
-    nb.gradW             = gw;
+    nb.n                 = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, js, dx, r2, gw, ri2)
+                                    : FSFillNeighbourhoodDim(s, 3, i, js, dx, r2, gw, ri2);
+    nb.j                 = js;
+    np += nb.n;
+    nb.dx    = dx;
+    nb.r2    = r2;
+    nb.rinv2 = ri2;
+    nb.gradW = gw;
     /* renormalized terms (boundary integrals) first: their sum is divided by gamma_i */
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
@@ -381,6 +301,7 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
     }
     f[i * US + 2 * dim] = rate.drho;
   }
+  s->pw.nbrs.npairs = np;
   PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -485,7 +406,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   PetscCall(FSSolverGetParticles(s, &P));
 
   if (s->terms.needs) {
-    PetscCall(FSSolverFirstPass(s, PETSC_TRUE));
+    PetscCall(FSSolverFirstPass(s));
     PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
     PetscCall(FSHaloRefreshAux(&s->pw.halo, s->pw.aux));
     PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));

@@ -802,7 +802,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSHaloDestroy(&s->pw.halo));
   PetscCall(FSNeighboursDestroy(&s->pw.nbrs));
   PetscCall(PetscFree4(s->pw.rec, s->pw.aux, s->pw.vol, s->pw.pressure));
-  PetscCall(PetscFree(s->pw.scratch));
+  PetscCall(PetscFree2(s->pw.scratch, s->pw.scratchj));
   PetscCall(PetscFree(s->mon.field));
   PetscCall(PetscFree(s->mon.setup));
   PetscCall(PetscHeaderDestroy(solver));

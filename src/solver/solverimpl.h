@@ -87,7 +87,8 @@ typedef struct {
   PetscInt     reccap;
   FSHalo       halo;
   FSNeighbours nbrs;
-  PetscReal   *scratch; /* per-i neighbourhood scratch: dx, r2, gradW */
+  PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW, 1/r2 */
+  PetscInt    *scratchj; /* per-i neighbourhood scratch: the neighbours' indices */
   PetscInt     scratchcap;
   PetscReal   *gamma,
       *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
