@@ -113,7 +113,8 @@ PetscErrorCode FSParallelStatsSummary(FSSolver s, FSJSON js)
   steps = (PetscReal)PetscMax(s->mon.steps_taken, 1);
   PetscCall(PetscCommBuildTwoSidedGetType(comm, &bt));
   if (bt == PETSC_BUILDTWOSIDED_IBARRIER && size > 1) uncounted += hl->nbuilds - ps->nbuilds0; /* its MPI_Ibarrier */
-  if (nb->cstart && s->pw.rec) /* the pairs within the support whose neighbour is a ghost, at the last right-hand side */
+  /* the pairs within the support whose neighbour is a ghost, at the last right-hand side */
+  if (nb->cstart && s->pw.rec)
     for (PetscInt i = 0; i < s->pw.nowned; i++) {
       const PetscReal *xi = &s->pw.rec[i * s->pw.stride];
       for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
