@@ -1,7 +1,8 @@
 /*
    Unit tests of the kernel and the neighbour search:
    - the Wendland C2 kernel integrates to 1 in 2-D and 3-D, and F(r) = W'(r)/r matches W;
-   - the cell-list neighbour list equals a brute-force search (same pairs, same kernel factors)
+   - the pairs the passes pick from the cell-list candidates (FSNeighboursPick) equal a brute-force
+     search (same pairs, same kernel factors)
      for random particles, owned and extra (ghost-like) ones, in 2-D and 3-D (each rank on its own);
    - the distributed search as a run does it, on any number of ranks: random particles created on
      every rank, the decomposition balanced on them (FSDecomp), moved to their owners by a DMSwarm
