@@ -21,8 +21,10 @@ static void FusedRates(FSSolver s, const PetscReal *delta, const PetscReal *a, P
     const PetscReal *ri = &rec[i * S], *xi = ri, *ui = ri + dim, rhoi = ri[2 * dim], *gi = &aux[i * A];
     const PetscReal  di = delta[i], ai = a[i];
     PetscReal        cont = 0, diff = 0, acc_p[3] = {0, 0, 0}, acc_v[3] = {0, 0, 0}, acc_t[3] = {0, 0, 0};
-    for (PetscInt q = s->pw.nbrs.cstart[i]; q < s->pw.nbrs.cstart[i + 1]; q++) { /* the candidates within the support */
-      const PetscInt   j  = s->pw.nbrs.cand[q];
+    FSCandidateIter  it;
+    PetscInt         j;
+    FSNeighboursCandidateBegin(&s->pw.nbrs, i, &it);
+    while (FSNeighboursCandidateNext(&s->pw.nbrs, &it, &j)) { /* the candidates within the support */
       const PetscReal *rj = &rec[j * S], *gj = &aux[j * A];
       PetscReal        dx[3], gw[3], r2 = 0, F, du_dx = 0, du_g = 0, corr = 0, proj = 0;
       for (PetscInt d = 0; d < dim; d++) {

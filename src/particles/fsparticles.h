@@ -6,6 +6,7 @@
 #pragma once
 #include <flexslosh.h> /* FS_ALWAYS_INLINE */
 #include <petscsf.h>
+#include <stdint.h>
 
 /* Wendland C2 kernel with support 2h, dimension 2 or 3. */
 typedef struct {
@@ -78,8 +79,12 @@ PETSC_INTERN PetscErrorCode FSHaloRefreshAux(FSHalo *, PetscReal aux[]);
 PETSC_INTERN PetscErrorCode FSHaloRefreshScalar(FSHalo *, PetscReal a[]);
 PETSC_INTERN PetscErrorCode FSHaloDestroy(FSHalo *);
 
-/* Cell-linked list (counting sort) and the candidate (Verlet) list of the owned particles (CSR). No list
-   of the pairs within the support is kept: each pass over the pairs picks them from the candidates
+/* Cell-linked list (counting sort) and the candidate (Verlet) lists of the owned particles. A particle's
+   candidates are the particles of the rows of cells around its cell (FSNeighboursRows: 3 rows of 3 cells
+   in 2-D, 9 in 3-D, contiguous in the cell-sorted order) within the candidate radius; they are kept as one
+   bit per position of those rows, set for a candidate (about 225 bits for 64 candidates in 2-D, 3,400 for
+   520 in 3-D: an eighth of a list of 4-byte indices), and read back through the cell list. No list of the
+   pairs within the support is kept: each pass over the pairs picks them from the candidates
    (FSNeighboursPick) as it visits them, which costs a distance per candidate and saves the list's memory. */
 typedef struct {
   PetscInt  dim;
@@ -89,10 +94,12 @@ typedef struct {
   PetscInt *cellof;    /* cell of each particle */
   PetscInt *order;     /* particles sorted by cell */
   PetscInt  ncap, ccap;
-  /* candidate (Verlet) list, built when the lists are rebuilt */
-  PetscInt  *cstart; /* nowned+1 */
-  PetscInt  *cand;
-  PetscInt   scap, ccandcap, ncand;
+  /* the candidates, built when the lists are rebuilt (with the cell list, which must not change until the next
+     build): particle i's bits are the words mask[mstart[i] .. mstart[i+1]) */
+  PetscInt  *mstart; /* nowned+1 */
+  uint64_t  *mask;
+  PetscInt   scap, mcap;
+  PetscInt64 ncand;   /* the candidates (set bits) */
   PetscInt   maxcand; /* the most candidates of one particle */
   PetscInt64 npairs;  /* the pairs within the support at the last right-hand side (set by its pass) */
 } FSNeighbours;
@@ -102,32 +109,115 @@ PETSC_INTERN PetscErrorCode FSNeighboursBuildCells(FSNeighbours *, PetscInt dim,
 PETSC_INTERN PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *, PetscInt nowned, const PetscReal rec[],
                                                         PetscInt stride, PetscReal radius);
 
+#define FS_NEIGHBOUR_ROWS 9 /* the most rows of cells around a cell (3-D) */
+
+/*
+   FSNeighboursRows - the rows of cells around particle i's cell (its cell at the last build of the cell
+   list): the first position q0[r] of each in the cell-sorted order and its length len[r]; returns their
+   number. A particle's candidate bits number the positions of these rows one after the other.
+*/
+static inline PetscInt FSNeighboursRows(const FSNeighbours *nb, PetscInt i, PetscInt q0[], PetscInt len[])
+{
+  const PetscInt nx = nb->nc[0], ny = nb->nc[1], nz = nb->nc[2], c = nb->cellof[i];
+  const PetscInt cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
+  PetscInt       nr = 0;
+
+  for (PetscInt z = PetscMax(cz - 1, 0); z <= PetscMin(cz + 1, nz - 1); z++)
+    for (PetscInt y = PetscMax(cy - 1, 0); y <= PetscMin(cy + 1, ny - 1); y++) {
+      const PetscInt row = nx * (y + ny * z);
+      q0[nr]             = nb->cellstart[row + PetscMax(cx - 1, 0)];
+      len[nr]            = nb->cellstart[row + PetscMin(cx + 1, nx - 1) + 1] - q0[nr];
+      nr++;
+    }
+  return nr;
+}
+
+/* Iterating over a particle's candidates (FSNeighboursCandidateBegin / Next / Drop), in the order of the
+   positions of its rows. */
+typedef struct {
+  PetscInt  q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS];
+  PetscInt  r, rstart, rend, k, nw, p;
+  uint64_t  bits;
+  uint64_t *w;
+} FSCandidateIter;
+
+static inline void FSNeighboursCandidateBegin(const FSNeighbours *nb, PetscInt i, FSCandidateIter *it)
+{
+  (void)FSNeighboursRows(nb, i, it->q0, it->len);
+  it->r      = 0;
+  it->rstart = 0;
+  it->rend   = it->len[0];
+  it->w      = nb->mask + nb->mstart[i];
+  it->nw     = nb->mstart[i + 1] - nb->mstart[i];
+  it->k      = 0;
+  it->bits   = it->nw ? it->w[0] : 0;
+  it->p      = -1;
+}
+
+/* the next candidate's index into j; PETSC_FALSE after the last */
+static inline PetscBool FSNeighboursCandidateNext(const FSNeighbours *nb, FSCandidateIter *it, PetscInt *j)
+{
+  while (!it->bits) {
+    if (++it->k >= it->nw) return PETSC_FALSE;
+    it->bits = it->w[it->k];
+  }
+  it->p = 64 * it->k + __builtin_ctzll(it->bits);
+  it->bits &= it->bits - 1;
+  while (it->p >= it->rend) {
+    it->rstart = it->rend;
+    it->rend += it->len[++it->r];
+  }
+  *j = nb->order[it->q0[it->r] + it->p - it->rstart];
+  return PETSC_TRUE;
+}
+
+/* removes the candidate FSNeighboursCandidateNext() returned last (e.g. a pair a wall cuts) */
+static inline void FSNeighboursCandidateDrop(FSNeighbours *nb, FSCandidateIter *it)
+{
+  it->w[it->p >> 6] &= ~((uint64_t)1 << (it->p & 63));
+  nb->ncand--;
+}
+
 /*
    FSNeighboursPick - the neighbours j != i of owned particle i within r^2 < R2 at the current positions
    (records rec with stride, position first), picked from its candidates: their indices into j[], x_j - x_i
    into dx[] (dim a pair) and r^2 into r2[]; returns their number (at most nb->maxcand, which bounds the
-   arrays). Without branches: whether a candidate is inside is as good as random, and mispredicted branches
-   cost more than the stores, so every candidate is written at the end of the arrays, which moves on only
-   for those inside. Inlined, so that a caller with a constant dim gets the loop for its dimension.
+   arrays). Without branches on the distance: whether a candidate is inside is as good as random, and
+   mispredicted branches cost more than the stores, so every candidate is written at the end of the arrays,
+   which moves on only for those inside. Inlined, so that a caller with a constant dim gets the loop for its
+   dimension.
 */
 FS_ALWAYS_INLINE PetscInt FSNeighboursPick(const FSNeighbours *nb, const PetscInt dim, PetscInt i,
                                            const PetscReal rec[], PetscInt stride, PetscReal R2, PetscInt j[],
                                            PetscReal dx[], PetscReal r2[])
 {
   const PetscReal *xi = &rec[i * stride];
-  const PetscInt  *c = nb->cand + nb->cstart[i], nc = nb->cstart[i + 1] - nb->cstart[i];
-  PetscInt         m = 0;
+  const uint64_t  *w  = nb->mask + nb->mstart[i];
+  const PetscInt   nw = nb->mstart[i + 1] - nb->mstart[i];
+  PetscInt         q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS], nc = 0, m = 0, r = 0, rstart = 0, rend;
 
+  /* the candidates' indices first (integer work only), then their distances in a loop of their own */
+  (void)FSNeighboursRows(nb, i, q0, len);
+  rend = len[0];
+  for (PetscInt k = 0; k < nw; k++)
+    for (uint64_t bits = w[k]; bits; bits &= bits - 1) {
+      const PetscInt p = 64 * k + __builtin_ctzll(bits);
+      while (p >= rend) { /* the next row (a branch taken a few times a particle) */
+        rstart = rend;
+        rend += len[++r];
+      }
+      j[nc++] = nb->order[q0[r] + p - rstart];
+    }
   for (PetscInt q = 0; q < nc; q++) {
-    const PetscInt   k  = c[q];
-    const PetscReal *xk = &rec[k * stride];
+    const PetscInt   c  = j[q];
+    const PetscReal *xc = &rec[c * stride];
     PetscReal        d2 = 0;
     for (PetscInt a = 0; a < dim; a++) {
-      const PetscReal d = xk[a] - xi[a];
+      const PetscReal d = xc[a] - xi[a];
       dx[m * dim + a]   = d;
       d2 += d * d;
     }
-    j[m]  = k;
+    j[m]  = c;
     r2[m] = d2;
     m += d2 < R2;
   }

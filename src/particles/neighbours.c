@@ -1,6 +1,7 @@
 /*
    Neighbour search: a cell-linked list built by counting sort when the lists are rebuilt (cells as wide
-   as the kernel support plus a skin) and from it the candidate (Verlet) list of every owned particle;
+   as the kernel support plus a skin) and from it the candidate (Verlet) list of every owned particle (bits
+   over the positions of the rows of cells around it, fsparticles.h);
    the passes over the pairs pick the pairs within the support from the candidates as they visit them
    (FSNeighboursPick, fsparticles.h).
 */
@@ -77,86 +78,76 @@ PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode FSNeighboursGrowCandidates(FSNeighbours *nb, PetscInt64 need)
-{
-  PetscInt  *cand;
-  PetscInt64 cap = PetscMax(need, (PetscInt64)(1.25 * nb->ccandcap));
-
-  PetscFunctionBegin;
-  PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
-             "More than %d candidate pairs on one rank: use more ranks", PETSC_MAX_INT);
-  PetscCall(PetscMalloc1(cap, &cand));
-  PetscCall(PetscArraycpy(cand, nb->cand, nb->ccandcap));
-  PetscCall(PetscFree(nb->cand));
-  nb->cand     = cand;
-  nb->ccandcap = (PetscInt)cap;
-  PetscFunctionReturn(0);
-}
-
 /*
-   FSNeighboursBuildCandidates - the candidate neighbours j != i of every owned particle i: all
-   particles within radius (the kernel support plus a skin) at the start of the time step, found
-   through the cell list (FSNeighboursBuildCells first, with cells at least radius wide).
-   As long as no two particles approach each other by more than the skin during the step, every
-   pair within the kernel support at any stage is among the candidates (a Verlet list).
+   FSNeighboursBuildCandidates - the candidate neighbours j != i of every owned particle i: all particles
+   within radius (the kernel support plus a skin) at the start of the time step, found through the cell
+   list (FSNeighboursBuildCells first, with cells at least radius wide), kept as bits over the positions of
+   the rows of cells around i's cell (FSNeighboursRows). As long as no two particles approach each other by
+   more than the skin, every pair within the kernel support at any stage is among the candidates (a Verlet
+   list). The cell list must stay as it is while the candidates are used.
 */
 PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, const PetscReal rec[], PetscInt stride,
                                            PetscReal radius)
 {
-  const PetscInt  dim = nb->dim, nx = nb->nc[0], ny = nb->nc[1], nz = nb->nc[2];
-  const PetscReal R2 = radius * radius, inv = 1.0 / nb->cellsize;
-  const PetscInt  room = dim == 2 ? 256 : 1024;
-  PetscInt        nc   = 0;
+  const PetscInt  dim = nb->dim;
+  const PetscReal R2  = radius * radius;
+  PetscInt64      nw = 0, nc = 0;
 
   PetscFunctionBegin;
   PetscCheck(radius <= nb->cellsize * (1 + 1e-12), PETSC_COMM_SELF, PETSC_ERR_PLIB,
              "Candidate radius %g exceeds the cell size %g", (double)radius, (double)nb->cellsize);
   if (nowned + 1 > nb->scap) {
-    PetscCall(PetscFree(nb->cstart));
+    PetscCall(PetscFree(nb->mstart));
     nb->scap = PetscMax(nowned + 1, (PetscInt)(1.25 * nb->scap));
-    PetscCall(PetscMalloc1(nb->scap, &nb->cstart));
+    PetscCall(PetscMalloc1(nb->scap, &nb->mstart));
   }
-  if (!nb->ccandcap) PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nowned * (dim == 2 ? 96 : 400) + room));
+  /* the words of each particle: one bit per position of its rows */
   for (PetscInt i = 0; i < nowned; i++) {
-    const PetscReal *xi    = &rec[i * stride];
-    PetscInt         ci[3] = {0, 0, 0};
-    nb->cstart[i]          = nc;
-    for (PetscInt d = 0; d < dim; d++) ci[d] = (PetscInt)((xi[d] - nb->lo[d]) * inv);
-    for (PetscInt cz = (dim == 3 ? PetscMax(ci[2] - 1, 0) : 0); cz <= (dim == 3 ? PetscMin(ci[2] + 1, nz - 1) : 0);
-         cz++) {
-      for (PetscInt cy = PetscMax(ci[1] - 1, 0); cy <= PetscMin(ci[1] + 1, ny - 1); cy++) {
-        const PetscInt row = nx * (cy + ny * cz);
-        const PetscInt c0 = row + PetscMax(ci[0] - 1, 0), c1 = row + PetscMin(ci[0] + 1, nx - 1);
-        /* the cells of one row are contiguous in the sorted order */
-        const PetscInt q0 = nb->cellstart[c0], q1 = nb->cellstart[c1 + 1];
-        if (nc + (q1 - q0) > nb->ccandcap)
-          PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nc + (q1 - q0) + room * 16));
-        /* without branches (whether a particle is within the radius is as good as random): each one is
-           written at the end of the list, which moves on only for those within */
-        if (dim == 2)
-          for (PetscInt q = q0; q < q1; q++) {
-            const PetscInt   j  = nb->order[q];
-            const PetscReal *xj = &rec[j * stride];
-            const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]);
-            nb->cand[nc]        = j;
-            nc += (r2 < R2) & (j != i);
-          }
-        else
-          for (PetscInt q = q0; q < q1; q++) {
-            const PetscInt   j  = nb->order[q];
-            const PetscReal *xj = &rec[j * stride];
-            const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]) +
-                                 (xi[2] - xj[2]) * (xi[2] - xj[2]);
-            nb->cand[nc] = j;
-            nc += (r2 < R2) & (j != i);
-          }
-      }
-    }
+    PetscInt q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS], L = 0, nr = FSNeighboursRows(nb, i, q0, len);
+    for (PetscInt r = 0; r < nr; r++) L += len[r];
+    nb->mstart[i] = (PetscInt)nw;
+    nw += (L + 63) / 64;
   }
-  nb->cstart[nowned] = nc;
-  nb->ncand          = nc;
-  nb->maxcand        = 0;
-  for (PetscInt i = 0; i < nowned; i++) nb->maxcand = PetscMax(nb->maxcand, nb->cstart[i + 1] - nb->cstart[i]);
+  PetscCheck(nw < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "More than %d words of candidate bits on one rank: use more ranks", PETSC_MAX_INT);
+  nb->mstart[nowned] = (PetscInt)nw;
+  if (nw > nb->mcap) {
+    PetscCall(PetscFree(nb->mask));
+    nb->mcap = (PetscInt)PetscMin((PetscInt64)PETSC_MAX_INT, PetscMax(nw, (PetscInt64)(1.25 * nb->mcap)));
+    PetscCall(PetscMalloc1(nb->mcap, &nb->mask));
+  }
+  PetscCall(PetscArrayzero(nb->mask, nw));
+  nb->maxcand = 0;
+  for (PetscInt i = 0; i < nowned; i++) {
+    const PetscReal *xi = &rec[i * stride];
+    uint64_t        *w  = nb->mask + nb->mstart[i];
+    PetscInt q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS], nr = FSNeighboursRows(nb, i, q0, len), p = 0, ni = 0;
+    /* without branches (whether a particle is within the radius is as good as random) */
+    for (PetscInt r = 0; r < nr; r++) {
+      if (dim == 2)
+        for (PetscInt q = q0[r]; q < q0[r] + len[r]; q++, p++) {
+          const PetscInt   j  = nb->order[q];
+          const PetscReal *xj = &rec[j * stride];
+          const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]);
+          const uint64_t   in = (uint64_t)((r2 < R2) & (j != i));
+          w[p >> 6] |= in << (p & 63);
+          ni += (PetscInt)in;
+        }
+      else
+        for (PetscInt q = q0[r]; q < q0[r] + len[r]; q++, p++) {
+          const PetscInt   j  = nb->order[q];
+          const PetscReal *xj = &rec[j * stride];
+          const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]) +
+                               (xi[2] - xj[2]) * (xi[2] - xj[2]);
+          const uint64_t in = (uint64_t)((r2 < R2) & (j != i));
+          w[p >> 6] |= in << (p & 63);
+          ni += (PetscInt)in;
+        }
+    }
+    nc += ni;
+    nb->maxcand = PetscMax(nb->maxcand, ni);
+  }
+  nb->ncand = nc;
   PetscFunctionReturn(0);
 }
 
@@ -165,7 +156,7 @@ PetscErrorCode FSNeighboursDestroy(FSNeighbours *nb)
   PetscFunctionBegin;
   PetscCall(PetscFree(nb->cellstart));
   PetscCall(PetscFree2(nb->cellof, nb->order));
-  PetscCall(PetscFree(nb->cstart));
-  PetscCall(PetscFree(nb->cand));
+  PetscCall(PetscFree(nb->mstart));
+  PetscCall(PetscFree(nb->mask));
   PetscFunctionReturn(0);
 }

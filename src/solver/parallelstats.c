@@ -114,11 +114,13 @@ PetscErrorCode FSParallelStatsSummary(FSSolver s, FSJSON js)
   PetscCall(PetscCommBuildTwoSidedGetType(comm, &bt));
   if (bt == PETSC_BUILDTWOSIDED_IBARRIER && size > 1) uncounted += hl->nbuilds - ps->nbuilds0; /* its MPI_Ibarrier */
   /* the pairs within the support whose neighbour is a ghost, at the last right-hand side */
-  if (nb->cstart && s->pw.rec)
+  if (nb->mstart && s->pw.rec)
     for (PetscInt i = 0; i < s->pw.nowned; i++) {
       const PetscReal *xi = &s->pw.rec[i * s->pw.stride];
-      for (PetscInt q = nb->cstart[i]; q < nb->cstart[i + 1]; q++) {
-        const PetscInt   j  = nb->cand[q];
+      FSCandidateIter  it;
+      PetscInt         j;
+      FSNeighboursCandidateBegin(nb, i, &it);
+      while (FSNeighboursCandidateNext(nb, &it, &j)) {
         const PetscReal *xj = &s->pw.rec[j * s->pw.stride];
         PetscReal        r2 = 0;
         if (j < s->pw.nowned) continue;

@@ -302,9 +302,13 @@ static PetscErrorCode WallEvaluate(FSBoundary b, FSTerm term[3], WallWork *ww, P
 /* the ids of the fluid candidates of owned particle i, sorted */
 static PetscErrorCode CandidateIds(const WallWork *ww, PetscInt i, PetscInt *nc, PetscInt ids[])
 {
+  FSCandidateIter it;
+  PetscInt        j;
+
   PetscFunctionBegin;
-  *nc = ww->nb.cstart[i + 1] - ww->nb.cstart[i];
-  for (PetscInt q = 0; q < *nc; q++) ids[q] = (PetscInt)ww->rec[ww->nb.cand[ww->nb.cstart[i] + q] * PS + 6];
+  *nc = 0;
+  FSNeighboursCandidateBegin(&ww->nb, i, &it);
+  while (FSNeighboursCandidateNext(&ww->nb, &it, &j)) ids[(*nc)++] = (PetscInt)ww->rec[j * PS + 6];
   PetscCall(PetscSortInt(*nc, ids));
   PetscFunctionReturn(0);
 }
@@ -477,8 +481,10 @@ static PetscErrorCode TestParallel(MPI_Comm comm)
         CHECK(ida[q] == idb[q],
               "particle %" PetscInt_FMT ": fluid candidate %" PetscInt_FMT ", %" PetscInt_FMT " in the serial run", g,
               ida[q], idb[q]);
-      for (PetscInt q = par.nb.cstart[i]; q < par.nb.cstart[i + 1]; q++) {
-        const PetscInt j = par.nb.cand[q];
+      FSCandidateIter it;
+      PetscInt        j;
+      FSNeighboursCandidateBegin(&par.nb, i, &it);
+      while (FSNeighboursCandidateNext(&par.nb, &it, &j)) {
         if (j < par.n) continue;
         cnt[1]++;
         cnt[2] += FSDecompRankOf(&dd, &par.rec[j * PS]) != rank;

@@ -133,10 +133,9 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
     wd->scap = PetscMax(n + 1, (PetscInt)(1.25 * wd->scap));
     PetscCall(PetscMalloc2(wd->scap, &wd->cstart, wd->scap, &b->wstart));
   }
-  for (PetscInt i = 0, wp = 0; i < n; i++) {
-    const PetscReal *x = &rec[i * S];
-    const PetscInt os = nb->cstart[i], oe = nb->cstart[i + 1]; /* this particle's fluid candidates, before compaction */
-    PetscInt       cx = (PetscInt)((x[0] - wd->glo[0]) / R), cy = (PetscInt)((x[1] - wd->glo[1]) / R), first = nc;
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *x  = &rec[i * S];
+    PetscInt         cx = (PetscInt)((x[0] - wd->glo[0]) / R), cy = (PetscInt)((x[1] - wd->glo[1]) / R), first = nc;
     wd->cstart[i] = nc;
     for (PetscInt cb = PetscMax(cy - 1, 0); cb <= PetscMin(cy + 1, wd->gnc[1] - 1); cb++)
       for (PetscInt ca = PetscMax(cx - 1, 0); ca <= PetscMin(cx + 1, wd->gnc[0] - 1); ca++) {
@@ -156,7 +155,6 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
           }
         }
       }
-    nb->cstart[i] = wp;
     if (nc > first) {
       if (leak < 0 && !FSWallsInLiquid(w, x, 0)) {
         PetscReal best = PETSC_MAX_REAL;
@@ -170,16 +168,18 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
           }
         }
       }
-      /* keep the fluid candidates not seen through a wall (all of them with -fs_walls_visibility all) */
-      if (b->visall)
-        for (PetscInt q = os; q < oe; q++) nb->cand[wp++] = nb->cand[q];
-      else
-        for (PetscInt q = os; q < oe; q++) {
-          const PetscReal *xj  = &rec[nb->cand[q] * S];
+      /* drop the fluid candidates seen through a wall (none with -fs_walls_visibility all) */
+      if (!b->visall) {
+        FSCandidateIter it;
+        PetscInt        j;
+        FSNeighboursCandidateBegin(nb, i, &it);
+        while (FSNeighboursCandidateNext(nb, &it, &j)) {
+          const PetscReal *xj  = &rec[j * S];
           PetscBool        cut = PETSC_FALSE;
           for (PetscInt r = first; r < nc && !cut; r++) cut = Crosses(x, xj, &w->seg[wd->cand[r] * FS_SEG_STRIDE]);
-          if (!cut) nb->cand[wp++] = nb->cand[q];
+          if (cut) FSNeighboursCandidateDrop(nb, &it);
         }
+      }
       if (wd->occlusion && !b->visall) { /* drop the segments hidden behind other walls: their shadows lie in those of
                                              the nearer ones */
         PetscInt keep = first;
@@ -199,11 +199,6 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
           if (wd->cand[q] >= 0) wd->cand[keep++] = wd->cand[q];
         nc = keep;
       }
-    } else
-      for (PetscInt q = os; q < oe; q++) nb->cand[wp++] = nb->cand[q];
-    if (i == n - 1) {
-      nb->cstart[n] = wp;
-      nb->ncand     = wp;
     }
   }
   wd->cstart[n] = nc;

@@ -272,9 +272,8 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
     PetscCall(PetscMalloc2(tm->scap, &tm->cstart, tm->scap, &b->wstart));
   }
   for (PetscInt t = 0; t < m->ntri; t++) tm->tmark[t] = -1;
-  for (PetscInt i = 0, wp = 0; i < n; i++) {
-    const PetscReal *x  = &rec[i * S];
-    const PetscInt   os = nb->cstart[i], oe = nb->cstart[i + 1];
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *x = &rec[i * S];
     PetscInt         cc[3], first = nc, nt = 0;
     tm->cstart[i] = nc;
     GridCell(tm, x, cc);
@@ -291,7 +290,6 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
         }
       }
     }
-    nb->cstart[i] = wp;
     if (nc > first && leak < 0) {
       PetscInt nearest = -1;
       if (Leaked(tm, x, first, nc, &nearest)) {
@@ -300,12 +298,15 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
       }
     }
     if (nt) {
-      /* keep the fluid candidates not seen through a wall */
-      for (PetscInt q = os; q < oe; q++) {
-        const PetscReal *xj  = &rec[nb->cand[q] * S];
+      /* drop the fluid candidates seen through a wall */
+      FSCandidateIter it;
+      PetscInt        j;
+      FSNeighboursCandidateBegin(nb, i, &it);
+      while (FSNeighboursCandidateNext(nb, &it, &j)) {
+        const PetscReal *xj  = &rec[j * S];
         PetscBool        hit = PETSC_FALSE;
         for (PetscInt r = 0; r < nt && !hit; r++) hit = CrossesTriangle(m, tm->tlist[r], x, xj);
-        if (!hit) nb->cand[wp++] = nb->cand[q];
+        if (hit) FSNeighboursCandidateDrop(nb, &it);
       }
       /* drop the facing elements whose centroid is seen through another wall */
       {
@@ -322,11 +323,6 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
         }
         nc = keep;
       }
-    } else
-      for (PetscInt q = os; q < oe; q++) nb->cand[wp++] = nb->cand[q];
-    if (i == n - 1) {
-      nb->cstart[n] = wp;
-      nb->ncand     = wp;
     }
   }
   tm->cstart[n] = nc;
