@@ -213,6 +213,41 @@ static inline PetscInt Nearness(const PetscReal el[], const PetscReal x[], Petsc
    -1 - k until the particle's entries are compacted */
 static inline PetscInt CandElement(PetscInt c) { return c < 0 ? -1 - c : c; }
 
+/*
+   the kept candidates of a particle, c[first..end-1], as runs: consecutive elements k0, k0 + 1, ..., k0 + L - 1
+   (L >= 2) as the pair -1 - k0, L, a lone element as itself (in place: never longer than the list). The
+   refinement numbers neighbouring elements closely (6 elements a run in the 3-D dam break); the order is kept.
+   Returns the end of the runs.
+*/
+static PetscInt EncodeRuns(PetscInt c[], PetscInt first, PetscInt end)
+{
+  PetscInt w = first;
+  for (PetscInt q = first, L; q < end; q += L) {
+    const PetscInt k0 = c[q];
+    for (L = 1; q + L < end && c[q + L] == k0 + L;) L++;
+    if (L == 1) c[w++] = k0;
+    else {
+      c[w++] = -1 - k0;
+      c[w++] = L;
+    }
+  }
+  return w;
+}
+
+/* the run at c[*q] (EncodeRuns): elements k0..k1-1; *q moves past it */
+static inline void DecodeRun(const PetscInt c[], PetscInt *q, PetscInt *k0, PetscInt *k1)
+{
+  if (c[*q] < 0) {
+    *k0 = -1 - c[*q];
+    *k1 = *k0 + c[*q + 1];
+    *q += 2;
+  } else {
+    *k0 = c[*q];
+    *k1 = *k0 + 1;
+    *q += 1;
+  }
+}
+
 /* grows the candidate list to hold one more */
 static PetscErrorCode GrowCandidates(FSBoundary_Trimesh *tm, PetscInt nc)
 {
@@ -338,7 +373,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
                                  CrossesTriangle(m, tm->tlist[r], x, el + FS_TRI_CENTROID));
         if (!hidden) tm->cand[keep++] = k;
       }
-      nc = keep;
+      nc = EncodeRuns(tm->cand, first, keep);
     }
     if (i == n - 1) {
       nb->cstart[n] = wp;
@@ -374,21 +409,23 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
     const PetscReal *x = &P->rec[i * S];
     PetscReal        g = 1, gn = 0;
     b->wstart[i] = nw;
-    for (PetscInt q = tm->cstart[i]; q < tm->cstart[i + 1]; q++) {
-      const PetscInt   k  = tm->cand[q];
-      const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
-      PetscReal        gk, wi;
-      FSTriangleIntegrals(b->h, x, el, b->visall, &gk, &wi);
-      g += gk;
-      if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
-      if (wi > 0) {
-        if (nw == tm->wcap) {
-          tm->wcap = FSBoundaryListGrow(tm->wcap);
-          PetscCall(FSBoundaryWallListsResize_Private(b, tm->wcap));
+    for (PetscInt q = tm->cstart[i], k0, k1; q < tm->cstart[i + 1];) {
+      DecodeRun(tm->cand, &q, &k0, &k1);
+      for (PetscInt k = k0; k < k1; k++) {
+        const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
+        PetscReal        gk, wi;
+        FSTriangleIntegrals(b->h, x, el, b->visall, &gk, &wi);
+        g += gk;
+        if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
+        if (wi > 0) {
+          if (nw == tm->wcap) {
+            tm->wcap = FSBoundaryListGrow(tm->wcap);
+            PetscCall(FSBoundaryWallListsResize_Private(b, tm->wcap));
+          }
+          b->wk[nw] = k;
+          b->wW[nw] = wi / el[FS_TRI_AREA];
+          nw++;
         }
-        b->wk[nw] = k;
-        b->wW[nw] = wi / el[FS_TRI_AREA];
-        nw++;
       }
     }
     gamma[i] = g;
