@@ -46,6 +46,10 @@ struct _p_FSBoundary {
   PetscBool setupcalled;
   PetscInt  dim;
   PetscReal dx, h, radius; /* particle spacing, smoothing length, candidate radius (support + halo skin) */
+  /* the candidate elements kept for the right-hand sides: within the support 2h plus half the skin. The walls stay
+     put and the lists are rebuilt before a particle moves more than half the skin from where they were built
+     (src/solver/rebuild.c; a run that breaks this stops), so a farther element cannot enter the support before. */
+  PetscReal reach;
   /* the walls: names, conditions, loads (set up by the implementation) */
   PetscInt     nwalls;
   const char **wallname;                          /* nwalls names, owned by the implementation */
@@ -86,6 +90,20 @@ PETSC_INTERN PetscErrorCode FSBoundaryWriteWallsH5_Private(FSBoundary, const cha
 PETSC_INTERN PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary, const char dir[], const char topology[],
                                                              PetscInt nodes, PetscInt nel, const char measure[],
                                                              const char what[]);
+
+/* the per-particle lists' capacities (candidate elements, wall lists): grown by a quarter when full, at least to
+   4096 entries; after a fill of n entries trimmed to n + n/16 when more than an eighth of n is unused, so that they
+   hold about what they hold and a list that shrinks gives its memory back */
+static inline PetscInt  FSBoundaryListGrow(PetscInt cap) { return PetscMax(4096, cap + cap / 4); }
+static inline PetscBool FSBoundaryListTrim(PetscInt n, PetscInt cap, PetscInt *newcap)
+{
+  *newcap = PetscMax(4096, n + n / 16);
+  return (PetscBool)(cap > PetscMax(4096, n + n / 8));
+}
+/* *array (entries of size bytes) with room for cap entries, its content kept (interface/boundary.c) */
+PETSC_INTERN PetscErrorCode FSBoundaryResize_Private(size_t size, PetscInt cap, void *array);
+/* the wall lists wk and wW with room for cap entries, their content kept */
+PETSC_INTERN PetscErrorCode FSBoundaryWallListsResize_Private(FSBoundary, PetscInt cap);
 
 /* adds n bytes to a 64-bit FNV-1a hash (interface/boundary.c) */
 PETSC_INTERN void FSBoundaryHashAdd_Private(uint64_t *hash, const void *data, size_t n);

@@ -235,6 +235,7 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
   b->dx     = dx;
   b->h      = h;
   b->radius = radius;
+  b->reach  = 2 * h + 0.5 * (radius - 2 * h);
   PetscCall((*b->ops->setup)(b));
   PetscCall(PetscCalloc1(b->nwalls, &b->noslip));
   PetscCall(PetscCalloc2(FS_WALL_LOAD_STRIDE * b->nwalls, &b->load, FS_WALL_LOAD_STRIDE * b->nwalls, &b->loadsum));
@@ -609,6 +610,29 @@ void FSBoundaryHashAdd_Private(uint64_t *hash, const void *data, size_t n)
   const unsigned char *c = (const unsigned char *)data;
 
   for (size_t i = 0; i < n; i++) *hash = (*hash ^ c[i]) * 1099511628211ULL;
+}
+
+/*
+   FSBoundaryResize_Private - *array, of entries of size bytes, with room for cap entries, its content kept: a
+   reallocation, which the system does for a large block without copying it (no second block for a while)
+*/
+PetscErrorCode FSBoundaryResize_Private(size_t size, PetscInt cap, void *array)
+{
+  void **a = (void **)array;
+
+  PetscFunctionBegin;
+  if (*a) PetscCall(PetscRealloc(size * (size_t)cap, a));
+  else PetscCall(PetscMalloc(size * (size_t)cap, a));
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryWallListsResize_Private - the wall lists wk and wW with room for cap entries, their content kept */
+PetscErrorCode FSBoundaryWallListsResize_Private(FSBoundary b, PetscInt cap)
+{
+  PetscFunctionBegin;
+  PetscCall(FSBoundaryResize_Private(sizeof(PetscInt), cap, &b->wk));
+  PetscCall(FSBoundaryResize_Private(sizeof(PetscReal), cap, &b->wW));
+  PetscFunctionReturn(0);
 }
 
 /*@C

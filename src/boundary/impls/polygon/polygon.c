@@ -114,18 +114,24 @@ static inline PetscBool Crosses(const PetscReal a[], const PetscReal b[], const 
   return (PetscBool)(((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)));
 }
 
+/* a candidate entry's segment: during Update a segment out of reach or hidden is listed as -1 - k until the
+   particle's entries are compacted */
+static inline PetscInt CandSegment(PetscInt c) { return c < 0 ? -1 - c : c; }
+
 /*
    Update - once per step, after the candidate fluid neighbours are built: the candidate segments of
    every owned particle, the leak check (the first particle outside the liquid region, with the wall
    nearest to it), and the removal of fluid candidate pairs whose connecting segment crosses a wall.
+   The leak check and the cuts see every segment within the candidate radius; a particle keeps those
+   within reach (b->reach) that it can face before the lists are rebuilt.
 */
 static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], PetscInt S, FSNeighbours *nb,
                              FSBoundaryLeak *lk)
 {
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
   FSWalls            *w  = &wd->walls;
-  const PetscReal     R = b->radius, R2 = R * R;
-  PetscInt            nc = 0, leak = -1, leakwall = -1, leakseg = -1;
+  const PetscReal     R = b->radius, R2 = R * R, Rk2 = b->reach * b->reach, slack = b->reach - 2 * b->h;
+  PetscInt            nc = 0, leak = -1, leakwall = -1, leakseg = -1, newcap;
 
   PetscFunctionBegin;
   if (n + 1 > wd->scap) {
@@ -141,17 +147,19 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
       for (PetscInt ca = PetscMax(cx - 1, 0); ca <= PetscMin(cx + 1, wd->gnc[0] - 1); ca++) {
         const PetscInt c = ca + wd->gnc[0] * cb;
         for (PetscInt q = wd->gstart[c]; q < wd->gstart[c + 1]; q++) {
-          const PetscInt k = wd->gseg[q];
-          if (FSSegmentDistance2(&w->seg[k * FS_SEG_STRIDE], x) < R2) {
+          const PetscInt   k  = wd->gseg[q];
+          const PetscReal *sg = &w->seg[k * FS_SEG_STRIDE], d2 = FSSegmentDistance2(sg, x);
+          if (d2 < R2) {
+            const PetscReal ds = (sg[FS_SEG_P0] - x[0]) * sg[FS_SEG_NORMAL] +
+                                 (sg[FS_SEG_P0 + 1] - x[1]) * sg[FS_SEG_NORMAL + 1]; /* > 0: facing */
+            /* kept: within reach and, unless visibility all, not so far behind its line that x cannot face it
+               before the rebuild (FSSegmentIntegrals gives such a segment 0) */
+            const PetscBool keep = (PetscBool)(d2 < Rk2 && (b->visall || ds > -slack));
             if (nc == wd->ccap) {
-              PetscInt *cand;
-              wd->ccap = PetscMax(1024, 2 * wd->ccap);
-              PetscCall(PetscMalloc1(wd->ccap, &cand));
-              if (nc) PetscCall(PetscArraycpy(cand, wd->cand, nc));
-              PetscCall(PetscFree(wd->cand));
-              wd->cand = cand;
+              wd->ccap = FSBoundaryListGrow(wd->ccap);
+              PetscCall(FSBoundaryResize_Private(sizeof(PetscInt), wd->ccap, &wd->cand));
             }
-            wd->cand[nc++] = k;
+            wd->cand[nc++] = keep ? k : -1 - k;
           }
         }
       }
@@ -160,11 +168,12 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
         PetscReal best = PETSC_MAX_REAL;
         leak           = i;
         for (PetscInt q = first; q < nc; q++) {
-          PetscReal d2 = FSSegmentDistance2(&w->seg[wd->cand[q] * FS_SEG_STRIDE], x);
+          const PetscInt  k  = CandSegment(wd->cand[q]);
+          const PetscReal d2 = FSSegmentDistance2(&w->seg[k * FS_SEG_STRIDE], x);
           if (d2 < best) {
             best     = d2;
-            leakwall = w->segwall[wd->cand[q]];
-            leakseg  = wd->cand[q];
+            leakwall = w->segwall[k];
+            leakseg  = k;
           }
         }
       }
@@ -176,25 +185,26 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
         while (FSNeighboursCandidateNext(nb, &it, &j)) {
           const PetscReal *xj  = &rec[j * S];
           PetscBool        cut = PETSC_FALSE;
-          for (PetscInt r = first; r < nc && !cut; r++) cut = Crosses(x, xj, &w->seg[wd->cand[r] * FS_SEG_STRIDE]);
+          for (PetscInt r = first; r < nc && !cut; r++)
+            cut = Crosses(x, xj, &w->seg[CandSegment(wd->cand[r]) * FS_SEG_STRIDE]);
           if (cut) FSNeighboursCandidateDrop(nb, &it);
         }
       }
-      if (wd->occlusion && !b->visall) { /* drop the segments hidden behind other walls: their shadows lie in those of
-                                             the nearer ones */
-        PetscInt keep = first;
+      if (wd->occlusion && !b->visall) /* mark the segments hidden behind other walls: their shadows lie in those of
+                                           the nearer ones */
         for (PetscInt q = first; q < nc; q++) {
-          const PetscReal *sg     = &w->seg[wd->cand[q] * FS_SEG_STRIDE];
+          const PetscReal *sg     = &w->seg[CandSegment(wd->cand[q]) * FS_SEG_STRIDE];
           PetscBool        hidden = PETSC_FALSE;
-          if ((sg[FS_SEG_P0] - x[0]) * sg[FS_SEG_NORMAL] + (sg[FS_SEG_P0 + 1] - x[1]) * sg[FS_SEG_NORMAL + 1] >
-              0) /* facing: is its midpoint seen through another segment? */
+          if (wd->cand[q] >= 0 &&
+              (sg[FS_SEG_P0] - x[0]) * sg[FS_SEG_NORMAL] + (sg[FS_SEG_P0 + 1] - x[1]) * sg[FS_SEG_NORMAL + 1] >
+                  0) /* facing: is its midpoint seen through another segment? */
             for (PetscInt r = first; r < nc && !hidden; r++)
               hidden = (PetscBool)(r != q &&
-                                   Crosses(
-                                       x, sg + FS_SEG_MID,
-                                       &w->seg[(wd->cand[r] < 0 ? -1 - wd->cand[r] : wd->cand[r]) * FS_SEG_STRIDE]));
+                                   Crosses(x, sg + FS_SEG_MID, &w->seg[CandSegment(wd->cand[r]) * FS_SEG_STRIDE]));
           if (hidden) wd->cand[q] = -1 - wd->cand[q];
         }
+      { /* keep the segments within reach and not hidden */
+        PetscInt keep = first;
         for (PetscInt q = first; q < nc; q++)
           if (wd->cand[q] >= 0) wd->cand[keep++] = wd->cand[q];
         nc = keep;
@@ -202,9 +212,13 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
     }
   }
   wd->cstart[n] = nc;
-  lk->particle  = leak;
-  lk->wall      = leakwall;
-  lk->element   = leakseg;
+  if (FSBoundaryListTrim(nc, wd->ccap, &newcap)) {
+    wd->ccap = newcap;
+    PetscCall(FSBoundaryResize_Private(sizeof(PetscInt), wd->ccap, &wd->cand));
+  }
+  lk->particle = leak;
+  lk->wall     = leakwall;
+  lk->element  = leakseg;
   PetscFunctionReturn(0);
 }
 
@@ -221,14 +235,9 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
   FSWalls            *w  = &wd->walls;
   const PetscInt      S = P->stride, n = P->nowned;
   const PetscReal     h  = b->h;
-  PetscInt            nw = 0;
+  PetscInt            nw = 0, newcap;
 
   PetscFunctionBegin;
-  if (wd->cstart[n] > wd->wcap) {
-    PetscCall(PetscFree2(b->wk, b->wW));
-    wd->wcap = PetscMax(wd->cstart[n], 2 * wd->wcap);
-    PetscCall(PetscMalloc2(wd->wcap, &b->wk, wd->wcap, &b->wW));
-  }
   for (PetscInt i = 0; i < n; i++) {
     const PetscReal *x = &P->rec[i * S];
     PetscReal        g = 1, gn = 0;
@@ -241,6 +250,10 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
       g += gk;
       if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
       if (wi > 0) {
+        if (nw == wd->wcap) {
+          wd->wcap = FSBoundaryListGrow(wd->wcap);
+          PetscCall(FSBoundaryWallListsResize_Private(b, wd->wcap));
+        }
         b->wk[nw] = k;
         b->wW[nw] = wi / sg[FS_SEG_LENGTH]; /* the segment's mean kernel value: wW s_k = int_k W dS */
         nw++;
@@ -250,6 +263,10 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
     if (noslip) noslip[i] = gn;
   }
   b->wstart[n] = nw;
+  if (FSBoundaryListTrim(nw, wd->wcap, &newcap)) {
+    wd->wcap = newcap;
+    PetscCall(FSBoundaryWallListsResize_Private(b, wd->wcap));
+  }
   /* wall pressure: p_k = sum_i (p_i + rho_i g.(x_k - x_i)) W_ik V_i / sum_i W_ik V_i over the liquid near
      segment k (all ranks), so that a particle pressed against a wall meets a wall pressure set by its
      neighbours as well as by itself; g is the body acceleration of the tank's frame (P->body: gravity,
@@ -411,7 +428,8 @@ static PetscErrorCode Destroy(FSBoundary b)
   PetscCall(PetscFree(wd->gseg));
   PetscCall(PetscFree2(wd->cstart, b->wstart));
   PetscCall(PetscFree(wd->cand));
-  PetscCall(PetscFree2(b->wk, b->wW));
+  PetscCall(PetscFree(b->wk));
+  PetscCall(PetscFree(b->wW));
   PetscCall(PetscFree(wd->wp));
   PetscCall(PetscFree(wd->wetfull));
   PetscCall(PetscFree(b->data));

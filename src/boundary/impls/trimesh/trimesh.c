@@ -190,15 +190,62 @@ static inline PetscBool CrossesTriangle(const FSMesh *m, PetscInt t, const Petsc
                                   &m->vert[3 * m->tri[3 * t + 2]], p, q);
 }
 
-/* is element el within R of x? Its bounding sphere decides, unless it straddles R */
-static inline PetscBool WithinRadius(const PetscReal el[], const PetscReal x[], PetscReal R, PetscReal R2)
+/* how near element el is to x: 0 beyond R, 1 within R, 2 within Rk <= R too. The bounding sphere decides, unless
+   it straddles a radius */
+static inline PetscInt Nearness(const PetscReal el[], const PetscReal x[], PetscReal R, PetscReal Rk)
 {
   const PetscReal *c = el + FS_TRI_CENTROID, rad = el[FS_TRI_RADIUS];
   const PetscReal  dc = PetscSqrtReal((c[0] - x[0]) * (c[0] - x[0]) + (c[1] - x[1]) * (c[1] - x[1]) +
                                       (c[2] - x[2]) * (c[2] - x[2]));
-  if (dc - rad >= R) return PETSC_FALSE;
-  if (dc + rad < R) return PETSC_TRUE;
-  return (PetscBool)(FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x) < R2);
+  PetscReal        d2 = -1;
+  if (dc - rad >= R) return 0;
+  if (dc + rad >= R) {
+    d2 = FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
+    if (!(d2 < R * R)) return 0;
+  }
+  if (dc - rad >= Rk) return 1;
+  if (dc + rad < Rk) return 2;
+  if (d2 < 0) d2 = FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
+  return d2 < Rk * Rk ? 2 : 1;
+}
+
+/* a candidate entry's element: during Update an element within the candidate radius but out of reach is listed as
+   -1 - k until the particle's entries are compacted */
+static inline PetscInt CandElement(PetscInt c) { return c < 0 ? -1 - c : c; }
+
+/*
+   the kept candidates of a particle, c[first..end-1], as runs: consecutive elements k0, k0 + 1, ..., k0 + L - 1
+   (L >= 2) as the pair -1 - k0, L, a lone element as itself (in place: never longer than the list). The
+   refinement numbers neighbouring elements closely (6 elements a run in the 3-D dam break); the order is kept.
+   Returns the end of the runs.
+*/
+static PetscInt EncodeRuns(PetscInt c[], PetscInt first, PetscInt end)
+{
+  PetscInt w = first;
+  for (PetscInt q = first, L; q < end; q += L) {
+    const PetscInt k0 = c[q];
+    for (L = 1; q + L < end && c[q + L] == k0 + L;) L++;
+    if (L == 1) c[w++] = k0;
+    else {
+      c[w++] = -1 - k0;
+      c[w++] = L;
+    }
+  }
+  return w;
+}
+
+/* the run at c[*q] (EncodeRuns): elements k0..k1-1; *q moves past it */
+static inline void DecodeRun(const PetscInt c[], PetscInt *q, PetscInt *k0, PetscInt *k1)
+{
+  if (c[*q] < 0) {
+    *k0 = -1 - c[*q];
+    *k1 = *k0 + c[*q + 1];
+    *q += 2;
+  } else {
+    *k0 = c[*q];
+    *k1 = *k0 + 1;
+    *q += 1;
+  }
 }
 
 /* grows the candidate list to hold one more */
@@ -206,12 +253,8 @@ static PetscErrorCode GrowCandidates(FSBoundary_Trimesh *tm, PetscInt nc)
 {
   PetscFunctionBegin;
   if (nc == tm->ccap) {
-    PetscInt *cand;
-    tm->ccap = PetscMax(4096, (PetscInt)(1.25 * tm->ccap));
-    PetscCall(PetscMalloc1(tm->ccap, &cand));
-    if (nc) PetscCall(PetscArraycpy(cand, tm->cand, nc));
-    PetscCall(PetscFree(tm->cand));
-    tm->cand = cand;
+    tm->ccap = FSBoundaryListGrow(tm->ccap);
+    PetscCall(FSBoundaryResize_Private(sizeof(PetscInt), tm->ccap, &tm->cand));
   }
   PetscFunctionReturn(0);
 }
@@ -230,13 +273,13 @@ static PetscBool Leaked(const FSBoundary_Trimesh *tm, const PetscReal x[], Petsc
 
   /* on the liquid side of every nearby element's plane: inside (the common case, without distances) */
   for (PetscInt q = first; q < nc && side; q++) {
-    const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE], *n = el + FS_TRI_NORMAL;
+    const PetscReal *el = &m->el[CandElement(tm->cand[q]) * FS_TRI_STRIDE], *n = el + FS_TRI_NORMAL;
     side = (PetscBool)((el[0] - x[0]) * n[0] + (el[1] - x[1]) * n[1] + (el[2] - x[2]) * n[2] > 0);
   }
   if (side) return PETSC_FALSE;
   /* the nearest elements, ties (within a relative 1e-9) kept together, in one pass */
   for (PetscInt q = first; q < nc; q++) {
-    const PetscReal *el = &m->el[tm->cand[q] * FS_TRI_STRIDE], *n = el + FS_TRI_NORMAL;
+    const PetscReal *el = &m->el[CandElement(tm->cand[q]) * FS_TRI_STRIDE], *n = el + FS_TRI_NORMAL;
     const PetscReal  d2     = FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
     const PetscBool  facing = (PetscBool)((el[0] - x[0]) * n[0] + (el[1] - x[1]) * n[1] + (el[2] - x[2]) * n[2] > 0);
     if (d2 > best * (1 + 1e-9) + 1e-30) continue;      /* farther than the nearest so far */
@@ -244,7 +287,7 @@ static PetscBool Leaked(const FSBoundary_Trimesh *tm, const PetscReal x[], Petsc
     else side = (PetscBool)(side && facing);           /* a tie: an edge or a corner shared by elements */
     if (d2 < best) {
       best     = d2;
-      *nearest = tm->cand[q];
+      *nearest = CandElement(tm->cand[q]);
     }
   }
   return side ? PETSC_FALSE : (PetscBool)!FSMeshInLiquid(m, x, 0);
@@ -255,15 +298,17 @@ static PetscBool Leaked(const FSBoundary_Trimesh *tm, const PetscReal x[], Petsc
    every owned particle, the leak check, and, where the liquid region is not convex, the removal of
    fluid candidate pairs whose connecting segment crosses a wall and of the elements hidden from the
    particle behind other walls (both tested against the mesh's input triangles near the particle).
+   The leak check and the cuts see every element within the candidate radius; a particle keeps those
+   within reach (b->reach) that it can face before the lists are rebuilt.
 */
 static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], PetscInt S, FSNeighbours *nb,
                              FSBoundaryLeak *lk)
 {
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
   const FSMesh       *m  = &tm->mesh;
-  const PetscReal     R = b->radius, R2 = R * R;
+  const PetscReal     R = b->radius, Rk = b->reach, slack = b->reach - 2 * b->h;
   const PetscBool     cut = (PetscBool)(tm->occlusion && !b->visall);
-  PetscInt            nc = 0, leak = -1, leakel = -1;
+  PetscInt            nc = 0, leak = -1, leakel = -1, newcap;
 
   PetscFunctionBegin;
   if (n + 1 > tm->scap) {
@@ -280,10 +325,15 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
     FOR_GRID_NEIGHBOURS(tm, cc, q)
     {
       const PetscInt   k  = tm->gel[q];
-      const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
-      if (WithinRadius(el, x, R, R2)) {
+      const PetscReal *el = &m->el[k * FS_TRI_STRIDE], *nn = el + FS_TRI_NORMAL;
+      const PetscInt   near = Nearness(el, x, R, Rk);
+      if (near) {
+        const PetscReal d = (el[0] - x[0]) * nn[0] + (el[1] - x[1]) * nn[1] + (el[2] - x[2]) * nn[2]; /* > 0: facing */
+        /* kept: within reach and, unless visibility all, not so far behind its plane that x cannot face it before
+           the rebuild (FSTriangleIntegrals gives such an element 0) */
+        const PetscBool keep = (PetscBool)(near == 2 && (b->visall || d > -slack));
         PetscCall(GrowCandidates(tm, nc));
-        tm->cand[nc++] = k;
+        tm->cand[nc++] = keep ? k : -1 - k;
         if (cut && tm->tmark[m->eltri[k]] != i) { /* the input triangles near the particle */
           tm->tmark[m->eltri[k]] = i;
           tm->tlist[nt++]        = m->eltri[k];
@@ -308,27 +358,32 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
         for (PetscInt r = 0; r < nt && !hit; r++) hit = CrossesTriangle(m, tm->tlist[r], x, xj);
         if (hit) FSNeighboursCandidateDrop(nb, &it);
       }
-      /* drop the facing elements whose centroid is seen through another wall */
-      {
-        PetscInt keep = first;
-        for (PetscInt q = first; q < nc; q++) {
-          const PetscInt   k  = tm->cand[q];
-          const PetscReal *el = &m->el[k * FS_TRI_STRIDE], *nn = el + FS_TRI_NORMAL;
-          PetscBool        hidden = PETSC_FALSE;
-          if ((el[0] - x[0]) * nn[0] + (el[1] - x[1]) * nn[1] + (el[2] - x[2]) * nn[2] > 0)
-            for (PetscInt r = 0; r < nt && !hidden; r++)
-              hidden = (PetscBool)(tm->tlist[r] != m->eltri[k] &&
-                                   CrossesTriangle(m, tm->tlist[r], x, el + FS_TRI_CENTROID));
-          if (!hidden) tm->cand[keep++] = k;
-        }
-        nc = keep;
+    }
+    /* keep the elements within reach, less (with cuts) the facing ones whose centroid is seen through another wall */
+    {
+      PetscInt keep = first;
+      for (PetscInt q = first; q < nc; q++) {
+        const PetscInt   k  = tm->cand[q];
+        const PetscReal *el = &m->el[CandElement(k) * FS_TRI_STRIDE], *nn = el + FS_TRI_NORMAL;
+        PetscBool        hidden = PETSC_FALSE;
+        if (k < 0) continue;
+        if (nt && (el[0] - x[0]) * nn[0] + (el[1] - x[1]) * nn[1] + (el[2] - x[2]) * nn[2] > 0)
+          for (PetscInt r = 0; r < nt && !hidden; r++)
+            hidden = (PetscBool)(tm->tlist[r] != m->eltri[k] &&
+                                 CrossesTriangle(m, tm->tlist[r], x, el + FS_TRI_CENTROID));
+        if (!hidden) tm->cand[keep++] = k;
       }
+      nc = EncodeRuns(tm->cand, first, keep);
     }
   }
   tm->cstart[n] = nc;
-  lk->particle  = leak;
-  lk->wall      = leakel >= 0 ? m->elwall[leakel] : -1;
-  lk->element   = leakel >= 0 ? m->trisrc[m->eltri[leakel]] : -1;
+  if (FSBoundaryListTrim(nc, tm->ccap, &newcap)) {
+    tm->ccap = newcap;
+    PetscCall(FSBoundaryResize_Private(sizeof(PetscInt), tm->ccap, &tm->cand));
+  }
+  lk->particle = leak;
+  lk->wall     = leakel >= 0 ? m->elwall[leakel] : -1;
+  lk->element  = leakel >= 0 ? m->trisrc[m->eltri[leakel]] : -1;
   PetscFunctionReturn(0);
 }
 
@@ -343,35 +398,40 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
   const FSMesh       *m  = &tm->mesh;
   const PetscInt      S = P->stride, n = P->nowned, nel = m->nel;
-  PetscInt            nw = 0;
+  PetscInt            nw = 0, newcap;
 
   PetscFunctionBegin;
-  if (tm->cstart[n] > tm->wcap) {
-    PetscCall(PetscFree2(b->wk, b->wW));
-    tm->wcap = PetscMax(tm->cstart[n], (PetscInt)(1.25 * tm->wcap));
-    PetscCall(PetscMalloc2(tm->wcap, &b->wk, tm->wcap, &b->wW));
-  }
   for (PetscInt i = 0; i < n; i++) {
     const PetscReal *x = &P->rec[i * S];
     PetscReal        g = 1, gn = 0;
     b->wstart[i] = nw;
-    for (PetscInt q = tm->cstart[i]; q < tm->cstart[i + 1]; q++) {
-      const PetscInt   k  = tm->cand[q];
-      const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
-      PetscReal        gk, wi;
-      FSTriangleIntegrals(b->h, x, el, b->visall, &gk, &wi);
-      g += gk;
-      if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
-      if (wi > 0) {
-        b->wk[nw] = k;
-        b->wW[nw] = wi / el[FS_TRI_AREA];
-        nw++;
+    for (PetscInt q = tm->cstart[i], k0, k1; q < tm->cstart[i + 1];) {
+      DecodeRun(tm->cand, &q, &k0, &k1);
+      for (PetscInt k = k0; k < k1; k++) {
+        const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
+        PetscReal        gk, wi;
+        FSTriangleIntegrals(b->h, x, el, b->visall, &gk, &wi);
+        g += gk;
+        if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
+        if (wi > 0) {
+          if (nw == tm->wcap) {
+            tm->wcap = FSBoundaryListGrow(tm->wcap);
+            PetscCall(FSBoundaryWallListsResize_Private(b, tm->wcap));
+          }
+          b->wk[nw] = k;
+          b->wW[nw] = wi / el[FS_TRI_AREA];
+          nw++;
+        }
       }
     }
     gamma[i] = g;
     if (noslip) noslip[i] = gn;
   }
   b->wstart[n] = nw;
+  if (FSBoundaryListTrim(nw, tm->wcap, &newcap)) {
+    tm->wcap = newcap;
+    PetscCall(FSBoundaryWallListsResize_Private(b, tm->wcap));
+  }
   /* the wall pressure: the Shepard interpolation of the liquid's pressure with the hydrostatic
      correction, and its wetted share below the ambient pressure, as for polygons (polygon.c) */
   if (!tm->wp) PetscCall(PetscMalloc1(3 * nel + 1, &tm->wp));
@@ -519,7 +579,8 @@ static PetscErrorCode Destroy(FSBoundary b)
   PetscCall(PetscFree2(tm->cstart, b->wstart));
   PetscCall(PetscFree(tm->cand));
   PetscCall(PetscFree2(tm->tmark, tm->tlist));
-  PetscCall(PetscFree2(b->wk, b->wW));
+  PetscCall(PetscFree(b->wk));
+  PetscCall(PetscFree(b->wW));
   PetscCall(PetscFree(tm->wp));
   PetscCall(PetscFree(tm->wetfull));
   PetscCall(PetscFree(b->data));

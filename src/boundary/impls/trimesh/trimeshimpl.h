@@ -14,7 +14,7 @@ typedef struct {
   /* static grid of elements by centroid (cell = candidate radius + the largest centroid-vertex distance) */
   PetscReal glo[3], gcell;
   PetscInt  gnc[3], *gstart, *gel;
-  /* per step: candidate elements of each owned particle (CSR) */
+  /* per step: candidate elements of each owned particle (CSR), as runs of consecutive elements (EncodeRuns) */
   PetscInt *cstart, *cand, ccap, scap;
   PetscInt *tmark, *tlist; /* per input triangle: the last particle that listed it; the particle's input triangles */
   PetscBool occlusion;     /* the liquid region is not convex: walls can hide elements and cut pairs */
