@@ -44,6 +44,8 @@ bench: build
 	$(PYTHON) bench/bench_dam_break.py
 	$(PYTHON) bench/bench_coupled.py
 	$(PYTHON) bench/bench_dam_break_3d.py
+	$(PYTHON) bench/bench_memory.py
+	$(PYTHON) bench/bench_memory.py --dim 3
 	$(if $(DUALSPHYSICS),$(PYTHON) bench/bench_dualsphysics.py --dualsphysics $(DUALSPHYSICS))
 
 # the validation report (python/flexslosh/validate.py): every case, or CASES=taylor_green,dam_break
