@@ -81,11 +81,17 @@ PETSC_INTERN PetscErrorCode FSHaloDestroy(FSHalo *);
 
 /* Cell-linked list (counting sort) and the candidate (Verlet) lists of the owned particles. A particle's
    candidates are the particles of the rows of cells around its cell (FSNeighboursRows: 3 rows of 3 cells
-   in 2-D, 9 in 3-D, contiguous in the cell-sorted order) within the candidate radius; they are kept as one
-   bit per position of those rows, set for a candidate (about 225 bits for 64 candidates in 2-D, 3,400 for
-   520 in 3-D: an eighth of a list of 4-byte indices), and read back through the cell list. No list of the
-   pairs within the support is kept: each pass over the pairs picks them from the candidates
-   (FSNeighboursPick) as it visits them, which costs a distance per candidate and saves the list's memory. */
+   in 2-D, 9 in 3-D, contiguous in the cell-sorted order) within the candidate radius, kept in one of two
+   forms (FSNeighboursForm): their indices (4 bytes a candidate), or one bit per position of those rows, set
+   for a candidate and read back through the cell list (about 6 words for 64 candidates in 2-D, 54 for 520
+   in 3-D: a fifth of the indices' memory, for a few per cent more time in each pass). No list of the pairs
+   within the support is kept: each pass over the pairs picks them from the candidates (FSNeighboursPick)
+   as it visits them, which costs a distance per candidate and saves the list's memory. */
+typedef enum {
+  FS_CANDIDATES_INDICES, /* cand[cstart[i] .. cend[i]) */
+  FS_CANDIDATES_BITS     /* the words mask[cstart[i] .. cstart[i+1]), each row of cells from a word of its own */
+} FSNeighboursForm;
+
 typedef struct {
   PetscInt  dim;
   PetscReal lo[3], cellsize;
@@ -95,13 +101,15 @@ typedef struct {
   PetscInt *order;     /* particles sorted by cell */
   PetscInt  ncap, ccap;
   /* the candidates, built when the lists are rebuilt (with the cell list, which must not change until the next
-     build): particle i's bits are the words mask[mstart[i] .. mstart[i+1]) */
-  PetscInt  *mstart; /* nowned+1 */
-  uint64_t  *mask;
-  PetscInt   scap, mcap;
-  PetscInt64 ncand;   /* the candidates (set bits) */
-  PetscInt   maxcand; /* the most candidates of one particle */
-  PetscInt64 npairs;  /* the pairs within the support at the last right-hand side (set by its pass) */
+     build while the candidates are bits) */
+  FSNeighboursForm form;
+  PetscInt        *cstart, *cend; /* nowned+1: the first index or word of each particle; the end of its indices */
+  PetscInt        *cand;
+  uint64_t        *mask;
+  PetscInt         scap, ccandcap, mcap;
+  PetscInt64       ncand;   /* the candidates */
+  PetscInt         maxcand; /* the most candidates of one particle */
+  PetscInt64       npairs;  /* the pairs within the support at the last right-hand side (set by its pass) */
 } FSNeighbours;
 
 PETSC_INTERN PetscErrorCode FSNeighboursBuildCells(FSNeighbours *, PetscInt dim, PetscInt n, const PetscReal rec[],
@@ -113,68 +121,88 @@ PETSC_INTERN PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *, PetscInt
 
 /*
    FSNeighboursRows - the rows of cells around particle i's cell (its cell at the last build of the cell
-   list): the first position q0[r] of each in the cell-sorted order and its length len[r]; returns their
-   number. A particle's candidate bits number the positions of these rows one after the other.
+   list; the cell list's layer of empty cells makes them all exist): the first position q0[r] of each in the
+   cell-sorted order and its length len[r]; returns their number (3 in 2-D, 9 in 3-D). A particle's
+   candidate bits number the positions of each row from a word of their own, row after row.
 */
 static inline PetscInt FSNeighboursRows(const FSNeighbours *nb, PetscInt i, PetscInt q0[], PetscInt len[])
 {
-  const PetscInt nx = nb->nc[0], ny = nb->nc[1], nz = nb->nc[2], c = nb->cellof[i];
-  const PetscInt cx = c % nx, cy = (c / nx) % ny, cz = c / (nx * ny);
+  const PetscInt nx = nb->nc[0], nxy = nb->nc[0] * nb->nc[1], c = nb->cellof[i], z0 = nb->dim == 3 ? -1 : 0;
   PetscInt       nr = 0;
 
-  for (PetscInt z = PetscMax(cz - 1, 0); z <= PetscMin(cz + 1, nz - 1); z++)
-    for (PetscInt y = PetscMax(cy - 1, 0); y <= PetscMin(cy + 1, ny - 1); y++) {
-      const PetscInt row = nx * (y + ny * z);
-      q0[nr]             = nb->cellstart[row + PetscMax(cx - 1, 0)];
-      len[nr]            = nb->cellstart[row + PetscMin(cx + 1, nx - 1) + 1] - q0[nr];
+  for (PetscInt z = z0; z <= -z0; z++)
+    for (PetscInt y = -1; y <= 1; y++) {
+      const PetscInt mid = c + y * nx + z * nxy;
+      q0[nr]             = nb->cellstart[mid - 1];
+      len[nr]            = nb->cellstart[mid + 2] - q0[nr];
       nr++;
     }
   return nr;
 }
 
 /* Iterating over a particle's candidates (FSNeighboursCandidateBegin / Next / Drop), in the order of the
-   positions of its rows. */
+   positions of its rows. After a Drop the iteration must run to its end (the indices are compacted as it
+   goes). */
 typedef struct {
-  PetscInt  q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS];
-  PetscInt  r, rstart, rend, k, nw, p;
-  uint64_t  bits;
-  uint64_t *w;
+  PetscInt  i, q, wq;                                      /* indices: the particle, the read and write positions */
+  PetscInt  q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS]; /* bits: the rows */
+  PetscInt  nr, r, k, nwr;                                 /* bits: the row, the word within it, the row's words */
+  uint64_t  bits, cur; /* bits: the word's bits not visited yet, the bit of the candidate last returned */
+  uint64_t *w;         /* bits: the row's first word */
 } FSCandidateIter;
 
 static inline void FSNeighboursCandidateBegin(const FSNeighbours *nb, PetscInt i, FSCandidateIter *it)
 {
-  (void)FSNeighboursRows(nb, i, it->q0, it->len);
-  it->r      = 0;
-  it->rstart = 0;
-  it->rend   = it->len[0];
-  it->w      = nb->mask + nb->mstart[i];
-  it->nw     = nb->mstart[i + 1] - nb->mstart[i];
-  it->k      = 0;
-  it->bits   = it->nw ? it->w[0] : 0;
-  it->p      = -1;
+  it->i = i;
+  it->q = it->wq = nb->cstart[i];
+  it->nr = it->r = it->k = it->nwr = 0;
+  it->bits = it->cur = 0;
+  it->w              = NULL;
+  if (nb->form == FS_CANDIDATES_INDICES) return;
+  it->nr   = FSNeighboursRows(nb, i, it->q0, it->len);
+  it->r    = 0;
+  it->k    = 0;
+  it->w    = nb->mask + nb->cstart[i];
+  it->nwr  = (it->len[0] + 63) / 64;
+  it->bits = it->nwr ? it->w[0] : 0;
 }
 
 /* the next candidate's index into j; PETSC_FALSE after the last */
 static inline PetscBool FSNeighboursCandidateNext(const FSNeighbours *nb, FSCandidateIter *it, PetscInt *j)
 {
+  PetscInt p;
+
+  if (nb->form == FS_CANDIDATES_INDICES) {
+    if (it->q >= nb->cend[it->i]) {
+      nb->cend[it->i] = it->wq; /* the candidates kept (the list is the solver's, the iteration writes it) */
+      return PETSC_FALSE;
+    }
+    *j                 = nb->cand[it->q++];
+    nb->cand[it->wq++] = *j;
+    return PETSC_TRUE;
+  }
   while (!it->bits) {
-    if (++it->k >= it->nw) return PETSC_FALSE;
+    if (++it->k >= it->nwr) { /* the next row */
+      if (++it->r >= it->nr) return PETSC_FALSE;
+      it->w += it->nwr;
+      it->nwr = (it->len[it->r] + 63) / 64;
+      it->k   = 0;
+      if (!it->nwr) continue;
+    }
     it->bits = it->w[it->k];
   }
-  it->p = 64 * it->k + __builtin_ctzll(it->bits);
-  it->bits &= it->bits - 1;
-  while (it->p >= it->rend) {
-    it->rstart = it->rend;
-    it->rend += it->len[++it->r];
-  }
-  *j = nb->order[it->q0[it->r] + it->p - it->rstart];
+  p       = 64 * it->k + __builtin_ctzll(it->bits);
+  it->cur = it->bits & (~it->bits + 1); /* its bit, the lowest one left */
+  it->bits ^= it->cur;
+  *j = nb->order[it->q0[it->r] + p];
   return PETSC_TRUE;
 }
 
 /* removes the candidate FSNeighboursCandidateNext() returned last (e.g. a pair a wall cuts) */
 static inline void FSNeighboursCandidateDrop(FSNeighbours *nb, FSCandidateIter *it)
 {
-  it->w[it->p >> 6] &= ~((uint64_t)1 << (it->p & 63));
+  if (nb->form == FS_CANDIDATES_INDICES) it->wq--;
+  else it->w[it->k] &= ~it->cur;
   nb->ncand--;
 }
 
@@ -182,8 +210,9 @@ static inline void FSNeighboursCandidateDrop(FSNeighbours *nb, FSCandidateIter *
    FSNeighboursPick - the neighbours j != i of owned particle i within r^2 < R2 at the current positions
    (records rec with stride, position first), picked from its candidates: their indices into j[], x_j - x_i
    into dx[] (dim a pair) and r^2 into r2[]; returns their number (at most nb->maxcand, which bounds the
-   arrays). Without branches on the distance: whether a candidate is inside is as good as random, and
-   mispredicted branches cost more than the stores, so every candidate is written at the end of the arrays,
+   arrays). With the candidates as bits, their indices first (integer work only, row by row), then their
+   distances in a loop of their own, without branches on the distance: whether a candidate is inside is as good as
+   random, and mispredicted branches cost more than the stores, so every candidate is written at the end of the arrays,
    which moves on only for those inside. Inlined, so that a caller with a constant dim gets the loop for its
    dimension.
 */
@@ -192,24 +221,27 @@ FS_ALWAYS_INLINE PetscInt FSNeighboursPick(const FSNeighbours *nb, const PetscIn
                                            PetscReal dx[], PetscReal r2[])
 {
   const PetscReal *xi = &rec[i * stride];
-  const uint64_t  *w  = nb->mask + nb->mstart[i];
-  const PetscInt   nw = nb->mstart[i + 1] - nb->mstart[i];
-  PetscInt         q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS], nc = 0, m = 0, r = 0, rstart = 0, rend;
+  const PetscInt  *cj = j;
+  PetscInt         nc, m = 0;
 
-  /* the candidates' indices first (integer work only), then their distances in a loop of their own */
-  (void)FSNeighboursRows(nb, i, q0, len);
-  rend = len[0];
-  for (PetscInt k = 0; k < nw; k++)
-    for (uint64_t bits = w[k]; bits; bits &= bits - 1) {
-      const PetscInt p = 64 * k + __builtin_ctzll(bits);
-      while (p >= rend) { /* the next row (a branch taken a few times a particle) */
-        rstart = rend;
-        rend += len[++r];
-      }
-      j[nc++] = nb->order[q0[r] + p - rstart];
+  if (nb->form == FS_CANDIDATES_INDICES) {
+    cj = nb->cand + nb->cstart[i];
+    nc = nb->cend[i] - nb->cstart[i];
+  } else {
+    const uint64_t *w = nb->mask + nb->cstart[i];
+    PetscInt        q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS];
+    const PetscInt  nr = FSNeighboursRows(nb, i, q0, len);
+    nc                 = 0;
+    for (PetscInt r = 0; r < nr; r++) {
+      const PetscInt *base = nb->order + q0[r];
+      const PetscInt  nwr  = (len[r] + 63) / 64;
+      for (PetscInt k = 0; k < nwr; k++)
+        for (uint64_t bits = w[k]; bits; bits &= bits - 1) j[nc++] = base[64 * k + __builtin_ctzll(bits)];
+      w += nwr;
     }
+  }
   for (PetscInt q = 0; q < nc; q++) {
-    const PetscInt   c  = j[q];
+    const PetscInt   c  = cj[q];
     const PetscReal *xc = &rec[c * stride];
     PetscReal        d2 = 0;
     for (PetscInt a = 0; a < dim; a++) {

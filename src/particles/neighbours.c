@@ -1,14 +1,15 @@
 /*
    Neighbour search: a cell-linked list built by counting sort when the lists are rebuilt (cells as wide
-   as the kernel support plus a skin) and from it the candidate (Verlet) list of every owned particle (bits
-   over the positions of the rows of cells around it, fsparticles.h);
+   as the kernel support plus a skin) and from it the candidate (Verlet) list of every owned particle (its
+   indices, or bits over the positions of the rows of cells around it: fsparticles.h);
    the passes over the pairs pick the pairs within the support from the candidates as they visit them
    (FSNeighboursPick, fsparticles.h).
 */
 #include "particles/fsparticles.h"
 
 /*
-   FSNeighboursBuildCells - bins particles (owned and ghosts) into cells of the given size.
+   FSNeighboursBuildCells - bins particles (owned and ghosts) into cells of the given size, with a layer of
+   empty cells around them (so that the cells around any particle's cell exist: FSNeighboursRows).
 
    Input Parameters:
 +  dim      - 2 or 3
@@ -41,7 +42,7 @@ PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n
                  "Particles spread over %g cells in direction %" PetscInt_FMT
                  ": a particle has run away (NaN or huge velocity)",
                  (double)span, d);
-      nb->nc[d] = (PetscInt)span + 1;
+      nb->nc[d] = (PetscInt)span + 3; /* and an empty layer of cells on either side (FSNeighboursRows) */
       nb->lo[d] = lo[d];
     } else nb->nc[d] = 1;
     ncells *= nb->nc[d];
@@ -65,8 +66,8 @@ PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n
     const PetscInt  nx = nb->nc[0], ny = nb->nc[1];
     for (PetscInt p = 0; p < n; p++) {
       const PetscReal *x = &rec[p * stride];
-      PetscInt         c = (PetscInt)((x[0] - lo[0]) * inv) + nx * (PetscInt)((x[1] - lo[1]) * inv);
-      if (dim == 3) c += nx * ny * (PetscInt)((x[2] - lo[2]) * inv);
+      PetscInt         c = 1 + (PetscInt)((x[0] - lo[0]) * inv) + nx * (1 + (PetscInt)((x[1] - lo[1]) * inv));
+      if (dim == 3) c += nx * ny * (1 + (PetscInt)((x[2] - lo[2]) * inv));
       nb->cellof[p] = c;
       nb->cellstart[c + 1]++;
     }
@@ -78,39 +79,73 @@ PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n
   PetscFunctionReturn(0);
 }
 
-/*
-   FSNeighboursBuildCandidates - the candidate neighbours j != i of every owned particle i: all particles
-   within radius (the kernel support plus a skin) at the start of the time step, found through the cell
-   list (FSNeighboursBuildCells first, with cells at least radius wide), kept as bits over the positions of
-   the rows of cells around i's cell (FSNeighboursRows). As long as no two particles approach each other by
-   more than the skin, every pair within the kernel support at any stage is among the candidates (a Verlet
-   list). The cell list must stay as it is while the candidates are used.
-*/
-PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, const PetscReal rec[], PetscInt stride,
-                                           PetscReal radius)
+static PetscErrorCode FSNeighboursGrowCandidates(FSNeighbours *nb, PetscInt64 need)
 {
-  const PetscInt  dim = nb->dim;
-  const PetscReal R2  = radius * radius;
-  PetscInt64      nw = 0, nc = 0;
+  const PetscInt64 cap = PetscMax(need, (PetscInt64)(1.25 * nb->ccandcap));
 
   PetscFunctionBegin;
-  PetscCheck(radius <= nb->cellsize * (1 + 1e-12), PETSC_COMM_SELF, PETSC_ERR_PLIB,
-             "Candidate radius %g exceeds the cell size %g", (double)radius, (double)nb->cellsize);
-  if (nowned + 1 > nb->scap) {
-    PetscCall(PetscFree(nb->mstart));
-    nb->scap = PetscMax(nowned + 1, (PetscInt)(1.25 * nb->scap));
-    PetscCall(PetscMalloc1(nb->scap, &nb->mstart));
-  }
-  /* the words of each particle: one bit per position of its rows */
+  PetscCheck(cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "More than %d candidate pairs on one rank: use more ranks", PETSC_MAX_INT);
+  PetscCall(PetscRealloc((size_t)cap * sizeof(PetscInt), &nb->cand));
+  nb->ccandcap = (PetscInt)cap;
+  PetscFunctionReturn(0);
+}
+
+/* whether particle j is a candidate of i (within the radius, not i), without a branch */
+#define FS_IS_CANDIDATE(dim, xi, xj, j, i, R2)                                              \
+  ((((xi)[0] - (xj)[0]) * ((xi)[0] - (xj)[0]) + ((xi)[1] - (xj)[1]) * ((xi)[1] - (xj)[1]) + \
+        ((dim) == 3 ? ((xi)[2] - (xj)[2]) * ((xi)[2] - (xj)[2]) : 0) <                      \
+    (R2)) &                                                                                 \
+   ((j) != (i)))
+
+/* the candidates of each particle as indices (FS_CANDIDATES_INDICES), in the order of its rows */
+FS_ALWAYS_INLINE PetscErrorCode FSNeighboursBuildIndices(FSNeighbours *nb, const PetscInt dim, PetscInt nowned,
+                                                         const PetscReal rec[], PetscInt stride, PetscReal R2)
+{
+  const PetscInt room = dim == 2 ? 256 : 1024;
+  PetscInt64     nc   = 0;
+
+  PetscFunctionBegin;
+  if (!nb->ccandcap) PetscCall(FSNeighboursGrowCandidates(nb, (PetscInt64)nowned * (dim == 2 ? 96 : 400) + room));
+  nb->maxcand = 0;
   for (PetscInt i = 0; i < nowned; i++) {
-    PetscInt q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS], L = 0, nr = FSNeighboursRows(nb, i, q0, len);
-    for (PetscInt r = 0; r < nr; r++) L += len[r];
-    nb->mstart[i] = (PetscInt)nw;
-    nw += (L + 63) / 64;
+    const PetscReal *xi = &rec[i * stride];
+    PetscInt         q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS], nr = FSNeighboursRows(nb, i, q0, len);
+    nb->cstart[i] = (PetscInt)nc;
+    for (PetscInt r = 0; r < nr; r++) {
+      if (nc + len[r] > nb->ccandcap) PetscCall(FSNeighboursGrowCandidates(nb, nc + len[r] + 16 * room));
+      /* every one written at the end of the list, which moves on only for those within */
+      for (PetscInt q = q0[r]; q < q0[r] + len[r]; q++) {
+        const PetscInt   j  = nb->order[q];
+        const PetscReal *xj = &rec[j * stride];
+        nb->cand[nc]        = j;
+        nc += FS_IS_CANDIDATE(dim, xi, xj, j, i, R2);
+      }
+    }
+    nb->cend[i] = (PetscInt)nc;
+    nb->maxcand = PetscMax(nb->maxcand, nb->cend[i] - nb->cstart[i]);
+  }
+  nb->cstart[nowned] = nb->cend[nowned] = (PetscInt)nc;
+  nb->ncand                             = nc;
+  PetscFunctionReturn(0);
+}
+
+/* the candidates of each particle as bits (FS_CANDIDATES_BITS): one per position of its rows, each row from a word
+   of its own */
+FS_ALWAYS_INLINE PetscErrorCode FSNeighboursBuildBits(FSNeighbours *nb, const PetscInt dim, PetscInt nowned,
+                                                      const PetscReal rec[], PetscInt stride, PetscReal R2)
+{
+  PetscInt64 nw = 0, nc = 0;
+
+  PetscFunctionBegin;
+  for (PetscInt i = 0; i < nowned; i++) {
+    PetscInt q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS], nr = FSNeighboursRows(nb, i, q0, len);
+    nb->cstart[i] = (PetscInt)nw;
+    for (PetscInt r = 0; r < nr; r++) nw += (len[r] + 63) / 64;
   }
   PetscCheck(nw < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
              "More than %d words of candidate bits on one rank: use more ranks", PETSC_MAX_INT);
-  nb->mstart[nowned] = (PetscInt)nw;
+  nb->cstart[nowned] = (PetscInt)nw;
   if (nw > nb->mcap) {
     PetscCall(PetscFree(nb->mask));
     nb->mcap = (PetscInt)PetscMin((PetscInt64)PETSC_MAX_INT, PetscMax(nw, (PetscInt64)(1.25 * nb->mcap)));
@@ -120,34 +155,55 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
   nb->maxcand = 0;
   for (PetscInt i = 0; i < nowned; i++) {
     const PetscReal *xi = &rec[i * stride];
-    uint64_t        *w  = nb->mask + nb->mstart[i];
-    PetscInt q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS], nr = FSNeighboursRows(nb, i, q0, len), p = 0, ni = 0;
-    /* without branches (whether a particle is within the radius is as good as random) */
-    for (PetscInt r = 0; r < nr; r++) {
-      if (dim == 2)
-        for (PetscInt q = q0[r]; q < q0[r] + len[r]; q++, p++) {
-          const PetscInt   j  = nb->order[q];
-          const PetscReal *xj = &rec[j * stride];
-          const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]);
-          const uint64_t   in = (uint64_t)((r2 < R2) & (j != i));
-          w[p >> 6] |= in << (p & 63);
-          ni += (PetscInt)in;
-        }
-      else
-        for (PetscInt q = q0[r]; q < q0[r] + len[r]; q++, p++) {
-          const PetscInt   j  = nb->order[q];
-          const PetscReal *xj = &rec[j * stride];
-          const PetscReal  r2 = (xi[0] - xj[0]) * (xi[0] - xj[0]) + (xi[1] - xj[1]) * (xi[1] - xj[1]) +
-                               (xi[2] - xj[2]) * (xi[2] - xj[2]);
-          const uint64_t in = (uint64_t)((r2 < R2) & (j != i));
-          w[p >> 6] |= in << (p & 63);
-          ni += (PetscInt)in;
-        }
-    }
+    uint64_t        *w  = nb->mask + nb->cstart[i];
+    PetscInt         q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS], nr = FSNeighboursRows(nb, i, q0, len), ni = 0;
+    for (PetscInt r = 0; r < nr; w += (len[r] + 63) / 64, r++)
+      for (PetscInt p = 0; p < len[r]; p++) { /* without branches */
+        const PetscInt   j  = nb->order[q0[r] + p];
+        const PetscReal *xj = &rec[j * stride];
+        const uint64_t   in = (uint64_t)FS_IS_CANDIDATE(dim, xi, xj, j, i, R2);
+        w[p >> 6] |= in << (p & 63);
+        ni += (PetscInt)in;
+      }
     nc += ni;
     nb->maxcand = PetscMax(nb->maxcand, ni);
   }
   nb->ncand = nc;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSNeighboursBuildCandidates - the candidate neighbours j != i of every owned particle i: all particles
+   within radius (the kernel support plus a skin) at the start of the time step, found through the cell
+   list (FSNeighboursBuildCells first, with cells at least radius wide) among the rows of cells around i's
+   cell (FSNeighboursRows), kept in the form nb->form. As long as no two particles approach each other by
+   more than the skin, every pair within the kernel support at any stage is among the candidates (a Verlet
+   list). With the candidates as bits the cell list must stay as it is while they are used.
+*/
+PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, const PetscReal rec[], PetscInt stride,
+                                           PetscReal radius)
+{
+  const PetscReal R2 = radius * radius;
+
+  PetscFunctionBegin;
+  PetscCheck(radius <= nb->cellsize * (1 + 1e-12), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "Candidate radius %g exceeds the cell size %g", (double)radius, (double)nb->cellsize);
+  if (nowned + 1 > nb->scap) {
+    PetscCall(PetscFree2(nb->cstart, nb->cend));
+    nb->scap = PetscMax(nowned + 1, (PetscInt)(1.25 * nb->scap));
+    PetscCall(PetscMalloc2(nb->scap, &nb->cstart, nb->scap, &nb->cend));
+  }
+  if (nb->form == FS_CANDIDATES_INDICES) {
+    PetscCall(PetscFree(nb->mask)); /* a change of form drops the other's storage */
+    nb->mcap = 0;
+    if (nb->dim == 2) PetscCall(FSNeighboursBuildIndices(nb, 2, nowned, rec, stride, R2));
+    else PetscCall(FSNeighboursBuildIndices(nb, 3, nowned, rec, stride, R2));
+  } else {
+    PetscCall(PetscFree(nb->cand));
+    nb->ccandcap = 0;
+    if (nb->dim == 2) PetscCall(FSNeighboursBuildBits(nb, 2, nowned, rec, stride, R2));
+    else PetscCall(FSNeighboursBuildBits(nb, 3, nowned, rec, stride, R2));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -156,7 +212,8 @@ PetscErrorCode FSNeighboursDestroy(FSNeighbours *nb)
   PetscFunctionBegin;
   PetscCall(PetscFree(nb->cellstart));
   PetscCall(PetscFree2(nb->cellof, nb->order));
-  PetscCall(PetscFree(nb->mstart));
+  PetscCall(PetscFree2(nb->cstart, nb->cend));
+  PetscCall(PetscFree(nb->cand));
   PetscCall(PetscFree(nb->mask));
   PetscFunctionReturn(0);
 }

@@ -100,8 +100,9 @@ PetscErrorCode FSSolverWriteMemory(FSSolver s, FSJSON js, PetscReal peak)
                             (PetscInt64)pw->gammacap * (pw->gammav ? 4 : 2) * sizeof(PetscReal) +
                             (PetscInt64)s->mon.fieldcap * sizeof(PetscReal);
   PetscCall(FSSolverTSBytes(s, &b[FS_MEM_TS_VECTORS]));
-  b[FS_MEM_CANDIDATES] = (PetscInt64)nb->mcap * sizeof(uint64_t) + (PetscInt64)nb->scap * sizeof(PetscInt);
-  b[FS_MEM_CELLS]      = (PetscInt64)nb->ccap * sizeof(PetscInt) + (PetscInt64)nb->ncap * 2 * sizeof(PetscInt);
+  b[FS_MEM_CANDIDATES] = (PetscInt64)nb->mcap * sizeof(uint64_t) + (PetscInt64)nb->ccandcap * sizeof(PetscInt) +
+                         (PetscInt64)nb->scap * 2 * sizeof(PetscInt);
+  b[FS_MEM_CELLS] = (PetscInt64)nb->ccap * sizeof(PetscInt) + (PetscInt64)nb->ncap * 2 * sizeof(PetscInt);
   /* the shifts and send lists as allocated; the PetscSF's graph (a remote node and a local index per
      ghost, kept twice) and its pack buffers (a record per ghost and per copy sent) as estimated */
   b[FS_MEM_HALO] = (PetscInt64)hl->cap * dim * sizeof(PetscReal) +

@@ -114,7 +114,7 @@ PetscErrorCode FSParallelStatsSummary(FSSolver s, FSJSON js)
   PetscCall(PetscCommBuildTwoSidedGetType(comm, &bt));
   if (bt == PETSC_BUILDTWOSIDED_IBARRIER && size > 1) uncounted += hl->nbuilds - ps->nbuilds0; /* its MPI_Ibarrier */
   /* the pairs within the support whose neighbour is a ghost, at the last right-hand side */
-  if (nb->mstart && s->pw.rec)
+  if (nb->cstart && s->pw.rec)
     for (PetscInt i = 0; i < s->pw.nowned; i++) {
       const PetscReal *xi = &s->pw.rec[i * s->pw.stride];
       FSCandidateIter  it;

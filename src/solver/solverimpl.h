@@ -61,6 +61,7 @@ typedef struct {
   PetscReal rebalance_threshold; /* -fs_rebalance_threshold: move the cuts when a rank owns this times the mean */
   PetscInt  rebalance_interval;  /* -fs_rebalance_interval: steps at least between two moves of the cuts */
   PetscInt  rebuild;             /* -fs_neighbour_rebuild: FS_REBUILD_AUTO or FS_REBUILD_ALWAYS */
+  PetscInt  candidates;          /* -fs_neighbour_candidates: 0 auto, 1 indices, 2 bits (FSNeighboursForm) */
   char      structname[64];
   PetscBool structure_view;
   PetscReal structure_cfl; /* dt = structure_cfl * shortest period, when there are no particles */

@@ -244,6 +244,8 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   /* candidate neighbours for the whole step: kernel support plus the halo skin */
   PetscCall(FSHaloRefresh(&s->pw.halo, s->opt.dim, s->pw.nowned, s->pw.rec));
   PetscCall(PetscLogEventBegin(FS_Neighbours, 0, 0, 0, 0));
+  s->pw.nbrs.form = s->opt.candidates == 2 || (s->opt.candidates == 0 && s->opt.dim == 3) ? FS_CANDIDATES_BITS
+                                                                                          : FS_CANDIDATES_INDICES;
   PetscCall(FSNeighboursBuildCells(&s->pw.nbrs, s->opt.dim, s->pw.nowned + s->pw.halo.nghost, s->pw.rec, s->pw.stride,
                                    s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
   PetscCall(FSNeighboursBuildCandidates(&s->pw.nbrs, s->pw.nowned, s->pw.rec, s->pw.stride,

@@ -5,7 +5,7 @@ import h5py
 import numpy as np
 import pytest
 
-from conftest import last_snapshot, read_series, read_summary, rel_max_diff, run_flexslosh
+from conftest import REPO_ROOT, last_snapshot, read_series, read_summary, rel_max_diff, run_flexslosh
 
 TG = ["-fs_case", "taylor_green", "-fs_dx", "0.04", "-fs_output_interval", "0"]
 # the columns that follow the flow (momenta are round-off around zero in these cases)
@@ -75,3 +75,26 @@ def test_dam_break_misses_no_pair(tmp_path):
     na, nb = read_summary(auto), read_summary(always)
     assert nb["neighbour_rebuilds"] == nb["steps"]
     assert na["neighbour_rebuilds"] < nb["steps"] // 2, na["neighbour_rebuilds"]
+
+
+@pytest.mark.parametrize("dim,nranks", [(2, 1), (2, 2), (3, 1)])
+def test_candidates_as_bits_equal_indices(tmp_path, dim, nranks):
+    """-fs_neighbour_candidates bits and indices keep the same candidates in the same order: the runs are the same
+    bit for bit (a baffled tank, whose baffles cut pairs the walls drop from the candidates), and the bits take
+    less memory (the candidates' capacity, measured: 2-D, 5,250 particles, 35 against 392 bytes a particle; 3-D,
+    294 particles, 24 against 1,622)."""
+    if dim == 2:
+        args = ["-options_file", str(REPO_ROOT / "cases" / "tank_baffled.opts"), "-ts_max_steps", "40"]
+    else:
+        args = ["-options_file", str(REPO_ROOT / "cases" / "coupled_baffled_3d.opts"), "-fs_dx", "0.015", "-ts_max_steps", "8"]
+    args += ["-fs_output_interval", "0"]
+    bits = run(tmp_path, "bits", args + ["-fs_neighbour_candidates", "bits"], nranks)
+    indices = run(tmp_path, "indices", args + ["-fs_neighbour_candidates", "indices"], nranks)
+    sa, sb = read_series(bits), read_series(indices)
+    for c in sa:
+        assert np.array_equal(sa[c], sb[c], equal_nan=True), c
+    fa, fb = last_snapshot(bits), last_snapshot(indices)
+    for f in ("position", "velocity", "density"):
+        assert np.array_equal(fa[f], fb[f]), f
+    ma, mb = read_summary(bits)["memory"], read_summary(indices)["memory"]
+    assert 0 < ma["candidates"] < 0.2 * mb["candidates"]

@@ -82,6 +82,8 @@ static PetscErrorCode PickPairs(const FSNeighbours *nb, const FSKernel *k, Petsc
   PetscFunctionReturn(0);
 }
 
+static FSNeighboursForm Form; /* the candidates' form the tests build (main runs them with each) */
+
 static PetscErrorCode TestNeighbours(PetscInt dim, PetscInt nowned, PetscInt nextra)
 {
   FSKernel     k;
@@ -95,6 +97,7 @@ static PetscErrorCode TestNeighbours(PetscInt dim, PetscInt nowned, PetscInt nex
 
   PetscFunctionBegin;
   PetscCall(PetscMemzero(&nb, sizeof(nb)));
+  nb.form = Form;
   PetscCall(PetscMemzero(&pl, sizeof(pl)));
   PetscCall(FSKernelSetUp(&k, dim, h));
   PetscCall(PetscRandomCreate(PETSC_COMM_SELF, &rnd));
@@ -517,6 +520,7 @@ static PetscErrorCode TestDistributed(MPI_Comm comm, const DistSetUp *su)
 
   /* the lists over the owned and ghost particles, as in src/solver/stepping.c and rhs.c */
   PetscCall(PetscMemzero(&nb, sizeof(nb)));
+  nb.form = Form;
   PetscCall(PetscMemzero(&pl, sizeof(pl)));
   PetscCall(FSNeighboursBuildCells(&nb, dim, nowned + hl.nghost, rec, S, su->width));
   PetscCall(FSNeighboursBuildCandidates(&nb, nowned, rec, S, su->width));
@@ -576,11 +580,17 @@ int main(int argc, char **argv)
   if (!rank) { /* the serial checks, once */
     PetscCall(TestKernel(2));
     PetscCall(TestKernel(3));
-    PetscCall(TestNeighbours(2, 3000, 500));
-    PetscCall(TestNeighbours(3, 2000, 400));
   }
-  PetscCall(TestDistributed(PETSC_COMM_WORLD, &d2));
-  PetscCall(TestDistributed(PETSC_COMM_WORLD, &d3));
+  for (PetscInt f = 0; f < 2; f++) { /* the candidates as indices, then as bits */
+    Form = f ? FS_CANDIDATES_BITS : FS_CANDIDATES_INDICES;
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "candidates as %s:\n", f ? "bits" : "indices"));
+    if (!rank) {
+      PetscCall(TestNeighbours(2, 3000, 500));
+      PetscCall(TestNeighbours(3, 2000, 400));
+    }
+    PetscCall(TestDistributed(PETSC_COMM_WORLD, &d2));
+    PetscCall(TestDistributed(PETSC_COMM_WORLD, &d3));
+  }
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "test_neighbours: OK\n"));
   PetscCall(PetscFinalize());
   return 0;
