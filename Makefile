@@ -45,6 +45,7 @@ bench: build
 	$(PYTHON) bench/bench_coupled.py
 	$(PYTHON) bench/bench_dam_break_3d.py
 	$(PYTHON) bench/bench_memory.py
+	$(PYTHON) bench/bench_memory.py -- -fs_neighbour_candidates bits
 	$(PYTHON) bench/bench_memory.py --dim 3
 	$(if $(DUALSPHYSICS),$(PYTHON) bench/bench_dualsphysics.py --dualsphysics $(DUALSPHYSICS))
 

@@ -7,7 +7,7 @@ process's fixed cost (the libraries, MPI and PETSc: about 49 MB a process with D
 about 40 MB are the shared libraries' pages), which a particle count divides; the marginal cost is what
 the data structures take for each particle.
 
-    /usr/bin/python3 bench/bench_memory.py [--dim 2] [--dx 0.0045,0.0032] [--ranks 1,2] [--steps 3]
+    /usr/bin/python3 bench/bench_memory.py [--dim 2] [--dx 0.0045,0.0032] [--ranks 1,2] [--steps 3] [-- options]
 
 Defaults: 2-D, dx 0.0045 and 0.0032 (98,568 and about 195,000 particles); in 3-D (--dim 3) dx 0.0235 and
 0.0296 (310,675 and about 155,000 particles). A few steps suffice: every structure has its size after
@@ -23,9 +23,9 @@ from benchutil import print_memory, run_logged
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def measure(exe, nranks, dim, dx, steps):
+def measure(exe, nranks, dim, dx, steps, extra):
     args = ["-fs_case", "dam_break", "-fs_dim", dim, "-fs_dx", repr(dx), "-ts_max_steps", steps,
-            "-fs_output_interval", "0"]
+            "-fs_output_interval", "0"] + extra
     with tempfile.TemporaryDirectory() as d:
         summary, _ = run_logged(exe, nranks, args, d, [])
     return summary
@@ -38,14 +38,15 @@ def main():
     ap.add_argument("--ranks", default="1,2")
     ap.add_argument("--steps", type=int, default=3)
     ap.add_argument("--build", default=os.environ.get("FLEXSLOSH_BUILD", str(ROOT / "build")))
+    ap.add_argument("extra", nargs="*", help="more flexslosh options (after --), e.g. -fs_neighbour_candidates bits")
     a = ap.parse_args()
     exe = Path(a.build) / "flexslosh"
     dxs = [float(v) for v in (a.dx or ("0.0045,0.0032" if a.dim == 2 else "0.0235,0.0296")).split(",")]
-    print(f"flexslosh memory benchmark: {a.dim}-D dam break, dx = {dxs}, {a.steps} steps")
+    print(f"flexslosh memory benchmark: {a.dim}-D dam break, dx = {dxs}, {a.steps} steps {' '.join(a.extra)}")
     for nr in [int(r) for r in a.ranks.split(",")]:
         peaks = []
         for dx in dxs:
-            s = measure(exe, nr, a.dim, dx, a.steps)
+            s = measure(exe, nr, a.dim, dx, a.steps, a.extra)
             n, peak = s["particles"], s["memory"]["peak_resident"]
             peaks.append((n, peak))
             print(f"\n{nr} rank(s), dx = {dx}: {n} particles, peak resident {peak / 2**20:.1f} MiB, "
