@@ -1066,7 +1066,6 @@ PetscErrorCode FSMeshRefine(FSMesh *m, PetscReal hmax)
                                     row[3 * k + 2] - row[FS_TRI_CENTROID + 2]};
             row[FS_TRI_RADIUS]   = PetscMax(row[FS_TRI_RADIUS], PetscSqrtReal(Dot(r, r)));
           }
-          FSTriangleQuadraturePoints(row);
           m->elwall[m->nel] = m->triwall[t];
           m->eltri[m->nel]  = t;
           m->nel++;

@@ -45,8 +45,7 @@ typedef struct {
 #define FS_TRI_NORMAL   12 /* unit normal out of the liquid (3) */
 #define FS_TRI_AREA     15
 #define FS_TRI_RADIUS   16 /* the largest distance from the centroid to a vertex */
-#define FS_TRI_QUAD     17 /* the 7 points of the quadrature rule (integrals.c), 3 reals each */
-#define FS_TRI_STRIDE   38
+#define FS_TRI_STRIDE   17 /* (the quadrature points are computed from the vertices where used: integrals.c) */
 
 PETSC_INTERN PetscErrorCode FSMeshCreate(FSMesh *);
 PETSC_INTERN PetscErrorCode FSMeshDestroy(FSMesh *);
@@ -95,7 +94,6 @@ PETSC_INTERN PetscBool FSTriangleCrossesSegment(const PetscReal a[], const Petsc
 
 /* Shepard factor from the elements (docs/boundary-integrals.md), integrals.c */
 /* fills the row's quadrature points from its vertices (FSMeshRefine calls it) */
-PETSC_INTERN void           FSTriangleQuadraturePoints(PetscReal el[]);
 PETSC_INTERN void           FSTriangleIntegrals(PetscReal h, const PetscReal x[], const PetscReal el[], PetscBool all,
                                                 PetscReal *gammak, PetscReal *wint);
 PETSC_INTERN PetscErrorCode FSMeshShepard(const FSMesh *, PetscReal h, const PetscReal x[], PetscBool all,
