@@ -77,6 +77,7 @@ struct _p_FSBoundary {
   FSWallView view;
   PetscInt  *wstart, *wk;
   PetscReal *wW;
+  PetscInt   wcap; /* room in wk and wW (FSBoundaryWallListsRoom_Private) */
   void      *data;
 };
 
@@ -91,19 +92,15 @@ PETSC_INTERN PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary, const c
                                                              PetscInt nodes, PetscInt nel, const char measure[],
                                                              const char what[]);
 
-/* the per-particle lists' capacities (candidate elements, wall lists): grown by a quarter when full, at least to
-   4096 entries; after a fill of n entries trimmed to n + n/16 when more than an eighth of n is unused, so that they
-   hold about what they hold and a list that shrinks gives its memory back */
-static inline PetscInt  FSBoundaryListGrow(PetscInt cap) { return PetscMax(4096, cap + cap / 4); }
-static inline PetscBool FSBoundaryListTrim(PetscInt n, PetscInt cap, PetscInt *newcap)
-{
-  *newcap = PetscMax(4096, n + n / 16);
-  return (PetscBool)(cap > PetscMax(4096, n + n / 8));
-}
-/* *array (entries of size bytes) with room for cap entries, its content kept (interface/boundary.c) */
-PETSC_INTERN PetscErrorCode FSBoundaryResize_Private(size_t size, PetscInt cap, void *array);
-/* the wall lists wk and wW with room for cap entries, their content kept */
-PETSC_INTERN PetscErrorCode FSBoundaryWallListsResize_Private(FSBoundary, PetscInt cap);
+/* The per-particle lists (the candidate elements of an implementation, the wall lists wk and wW): grown by a
+   quarter when full, at least to 4096 entries (ListRoom: room for entry n); after a fill of n entries trimmed to
+   n + n/16 when more than an eighth of n is unused (ListFit), so that a list holds about what it holds and one
+   that shrinks gives its memory back. *array has entries of size bytes and capacity *cap. (interface/boundary.c) */
+PETSC_INTERN PetscErrorCode FSBoundaryListRoom_Private(size_t size, PetscInt n, PetscInt *cap, void *array);
+PETSC_INTERN PetscErrorCode FSBoundaryListFit_Private(size_t size, PetscInt n, PetscInt *cap, void *array);
+/* the same for the wall lists wk and wW together (capacity b->wcap) */
+PETSC_INTERN PetscErrorCode FSBoundaryWallListsRoom_Private(FSBoundary, PetscInt n);
+PETSC_INTERN PetscErrorCode FSBoundaryWallListsFit_Private(FSBoundary, PetscInt n);
 
 /* adds n bytes to a 64-bit FNV-1a hash (interface/boundary.c) */
 PETSC_INTERN void FSBoundaryHashAdd_Private(uint64_t *hash, const void *data, size_t n);

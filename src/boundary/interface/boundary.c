@@ -612,11 +612,9 @@ void FSBoundaryHashAdd_Private(uint64_t *hash, const void *data, size_t n)
   for (size_t i = 0; i < n; i++) *hash = (*hash ^ c[i]) * 1099511628211ULL;
 }
 
-/*
-   FSBoundaryResize_Private - *array, of entries of size bytes, with room for cap entries, its content kept: a
-   reallocation, which the system does for a large block without copying it (no second block for a while)
-*/
-PetscErrorCode FSBoundaryResize_Private(size_t size, PetscInt cap, void *array)
+/* *array with room for cap entries of size bytes, its content kept: a reallocation, which the system does for a
+   large block without copying it (no second block while it grows) */
+static PetscErrorCode FSBoundaryResize(size_t size, PetscInt cap, void *array)
 {
   void **a = (void **)array;
 
@@ -626,12 +624,63 @@ PetscErrorCode FSBoundaryResize_Private(size_t size, PetscInt cap, void *array)
   PetscFunctionReturn(0);
 }
 
-/* FSBoundaryWallListsResize_Private - the wall lists wk and wW with room for cap entries, their content kept */
-PetscErrorCode FSBoundaryWallListsResize_Private(FSBoundary b, PetscInt cap)
+/* the capacity a list of capacity cap takes for entry n (ListRoom), or after a fill of n entries (ListFit) */
+static inline PetscInt FSBoundaryListRoomCap(PetscInt n, PetscInt cap)
 {
+  return n < cap ? cap : PetscMax(4096, cap + cap / 4);
+}
+static inline PetscInt FSBoundaryListFitCap(PetscInt n, PetscInt cap)
+{
+  return cap > PetscMax(4096, n + n / 8) ? PetscMax(4096, n + n / 16) : cap;
+}
+
+/* FSBoundaryListRoom_Private - room for entry n of *array (boundaryimpl.h) */
+PetscErrorCode FSBoundaryListRoom_Private(size_t size, PetscInt n, PetscInt *cap, void *array)
+{
+  const PetscInt c = FSBoundaryListRoomCap(n, *cap);
+
   PetscFunctionBegin;
-  PetscCall(FSBoundaryResize_Private(sizeof(PetscInt), cap, &b->wk));
-  PetscCall(FSBoundaryResize_Private(sizeof(PetscReal), cap, &b->wW));
+  if (c != *cap) PetscCall(FSBoundaryResize(size, c, array));
+  *cap = c;
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryListFit_Private - *array trimmed to about its n entries (boundaryimpl.h) */
+PetscErrorCode FSBoundaryListFit_Private(size_t size, PetscInt n, PetscInt *cap, void *array)
+{
+  const PetscInt c = FSBoundaryListFitCap(n, *cap);
+
+  PetscFunctionBegin;
+  if (c != *cap) PetscCall(FSBoundaryResize(size, c, array));
+  *cap = c;
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryWallListsRoom_Private - room for entry n of the wall lists wk and wW */
+PetscErrorCode FSBoundaryWallListsRoom_Private(FSBoundary b, PetscInt n)
+{
+  const PetscInt c = FSBoundaryListRoomCap(n, b->wcap);
+
+  PetscFunctionBegin;
+  if (c != b->wcap) {
+    PetscCall(FSBoundaryResize(sizeof(PetscInt), c, &b->wk));
+    PetscCall(FSBoundaryResize(sizeof(PetscReal), c, &b->wW));
+  }
+  b->wcap = c;
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryWallListsFit_Private - the wall lists trimmed to about their n entries */
+PetscErrorCode FSBoundaryWallListsFit_Private(FSBoundary b, PetscInt n)
+{
+  const PetscInt c = FSBoundaryListFitCap(n, b->wcap);
+
+  PetscFunctionBegin;
+  if (c != b->wcap) {
+    PetscCall(FSBoundaryResize(sizeof(PetscInt), c, &b->wk));
+    PetscCall(FSBoundaryResize(sizeof(PetscReal), c, &b->wW));
+  }
+  b->wcap = c;
   PetscFunctionReturn(0);
 }
 

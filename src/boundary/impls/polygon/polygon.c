@@ -131,7 +131,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
   FSWalls            *w  = &wd->walls;
   const PetscReal     R = b->radius, R2 = R * R, Rk2 = b->reach * b->reach, slack = b->reach - 2 * b->h;
-  PetscInt            nc = 0, leak = -1, leakwall = -1, leakseg = -1, newcap;
+  PetscInt            nc = 0, leak = -1, leakwall = -1, leakseg = -1;
 
   PetscFunctionBegin;
   if (n + 1 > wd->scap) {
@@ -155,10 +155,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
             /* kept: within reach and, unless visibility all, not so far behind its line that x cannot face it
                before the rebuild (FSSegmentIntegrals gives such a segment 0) */
             const PetscBool keep = (PetscBool)(d2 < Rk2 && (b->visall || ds > -slack));
-            if (nc == wd->ccap) {
-              wd->ccap = FSBoundaryListGrow(wd->ccap);
-              PetscCall(FSBoundaryResize_Private(sizeof(PetscInt), wd->ccap, &wd->cand));
-            }
+            PetscCall(FSBoundaryListRoom_Private(sizeof(PetscInt), nc, &wd->ccap, &wd->cand));
             wd->cand[nc++] = keep ? k : -1 - k;
           }
         }
@@ -212,10 +209,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
     }
   }
   wd->cstart[n] = nc;
-  if (FSBoundaryListTrim(nc, wd->ccap, &newcap)) {
-    wd->ccap = newcap;
-    PetscCall(FSBoundaryResize_Private(sizeof(PetscInt), wd->ccap, &wd->cand));
-  }
+  PetscCall(FSBoundaryListFit_Private(sizeof(PetscInt), nc, &wd->ccap, &wd->cand));
   lk->particle = leak;
   lk->wall     = leakwall;
   lk->element  = leakseg;
@@ -235,7 +229,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
   FSWalls            *w  = &wd->walls;
   const PetscInt      S = P->stride, n = P->nowned;
   const PetscReal     h  = b->h;
-  PetscInt            nw = 0, newcap;
+  PetscInt            nw = 0;
 
   PetscFunctionBegin;
   for (PetscInt i = 0; i < n; i++) {
@@ -250,10 +244,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
       g += gk;
       if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
       if (wi > 0) {
-        if (nw == wd->wcap) {
-          wd->wcap = FSBoundaryListGrow(wd->wcap);
-          PetscCall(FSBoundaryWallListsResize_Private(b, wd->wcap));
-        }
+        PetscCall(FSBoundaryWallListsRoom_Private(b, nw));
         b->wk[nw] = k;
         b->wW[nw] = wi / sg[FS_SEG_LENGTH]; /* the segment's mean kernel value: wW s_k = int_k W dS */
         nw++;
@@ -263,10 +254,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
     if (noslip) noslip[i] = gn;
   }
   b->wstart[n] = nw;
-  if (FSBoundaryListTrim(nw, wd->wcap, &newcap)) {
-    wd->wcap = newcap;
-    PetscCall(FSBoundaryWallListsResize_Private(b, wd->wcap));
-  }
+  PetscCall(FSBoundaryWallListsFit_Private(b, nw));
   /* wall pressure: p_k = sum_i (p_i + rho_i g.(x_k - x_i)) W_ik V_i / sum_i W_ik V_i over the liquid near
      segment k (all ranks), so that a particle pressed against a wall meets a wall pressure set by its
      neighbours as well as by itself; g is the body acceleration of the tank's frame (P->body: gravity,
@@ -408,9 +396,9 @@ static PetscErrorCode Memory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elemen
   const PetscInt64    nseg = wd->walls.nseg;
 
   PetscFunctionBegin;
-  /* cstart and wstart (scap each), the candidate segments (ccap), the wall lists' k and W (wcap) */
+  /* cstart and wstart (scap each), the candidate segments (ccap), the wall lists' k and W (b->wcap) */
   *lists = (PetscInt64)wd->scap * 2 * sizeof(PetscInt) + (PetscInt64)wd->ccap * sizeof(PetscInt) +
-           (PetscInt64)wd->wcap * (sizeof(PetscInt) + sizeof(PetscReal));
+           (PetscInt64)b->wcap * (sizeof(PetscInt) + sizeof(PetscReal));
   /* the segments, their walls, wetfull and wp (3 nseg + 1), the grid */
   *elements = nseg * (FS_SEG_STRIDE * sizeof(PetscReal) + sizeof(PetscInt) + 4 * sizeof(PetscReal)) +
               (PetscInt64)(wd->gnc[0] * wd->gnc[1] + 1 + nseg) * sizeof(PetscInt);

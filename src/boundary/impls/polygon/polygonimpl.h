@@ -17,9 +17,7 @@ typedef struct {
   PetscInt *cstart, *cand, ccap, scap;
   PetscBool
       occlusion; /* the walls can hide segments from a particle behind others (a non-convex container or obstacles) */
-  /* per right-hand side: the wall lists' capacity (the lists are the boundary's wstart, wk, wW) */
-  PetscInt   wcap;
-  PetscReal *wp;      /* per segment: wall pressure interpolated from the liquid; then 2*nseg work */
+  PetscReal *wp; /* per segment: wall pressure interpolated from the liquid; then 2*nseg work */
   PetscReal *wetfull; /* per segment: the container's Shepard factor at its midpoint, the liquid's sum there when it
                          covers the segment */
 } FSBoundary_Polygon;

@@ -248,17 +248,6 @@ static inline void DecodeRun(const PetscInt c[], PetscInt *q, PetscInt *k0, Pets
   }
 }
 
-/* grows the candidate list to hold one more */
-static PetscErrorCode GrowCandidates(FSBoundary_Trimesh *tm, PetscInt nc)
-{
-  PetscFunctionBegin;
-  if (nc == tm->ccap) {
-    tm->ccap = FSBoundaryListGrow(tm->ccap);
-    PetscCall(FSBoundaryResize_Private(sizeof(PetscInt), tm->ccap, &tm->cand));
-  }
-  PetscFunctionReturn(0);
-}
-
 /*
    Leaked - is x outside the liquid region? Only asked of particles with candidate elements. When every
    element nearest to x (ties included: an edge or corner shared by several) has x on its liquid side,
@@ -308,7 +297,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
   const FSMesh       *m  = &tm->mesh;
   const PetscReal     R = b->radius, Rk = b->reach, slack = b->reach - 2 * b->h;
   const PetscBool     cut = (PetscBool)(tm->occlusion && !b->visall);
-  PetscInt            nc = 0, leak = -1, leakel = -1, newcap;
+  PetscInt            nc = 0, leak = -1, leakel = -1;
 
   PetscFunctionBegin;
   if (n + 1 > tm->scap) {
@@ -332,7 +321,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
         /* kept: within reach and, unless visibility all, not so far behind its plane that x cannot face it before
            the rebuild (FSTriangleIntegrals gives such an element 0) */
         const PetscBool keep = (PetscBool)(near == 2 && (b->visall || d > -slack));
-        PetscCall(GrowCandidates(tm, nc));
+        PetscCall(FSBoundaryListRoom_Private(sizeof(PetscInt), nc, &tm->ccap, &tm->cand));
         tm->cand[nc++] = keep ? k : -1 - k;
         if (cut && tm->tmark[m->eltri[k]] != i) { /* the input triangles near the particle */
           tm->tmark[m->eltri[k]] = i;
@@ -377,10 +366,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
     }
   }
   tm->cstart[n] = nc;
-  if (FSBoundaryListTrim(nc, tm->ccap, &newcap)) {
-    tm->ccap = newcap;
-    PetscCall(FSBoundaryResize_Private(sizeof(PetscInt), tm->ccap, &tm->cand));
-  }
+  PetscCall(FSBoundaryListFit_Private(sizeof(PetscInt), nc, &tm->ccap, &tm->cand));
   lk->particle = leak;
   lk->wall     = leakel >= 0 ? m->elwall[leakel] : -1;
   lk->element  = leakel >= 0 ? m->trisrc[m->eltri[leakel]] : -1;
@@ -398,7 +384,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
   const FSMesh       *m  = &tm->mesh;
   const PetscInt      S = P->stride, n = P->nowned, nel = m->nel;
-  PetscInt            nw = 0, newcap;
+  PetscInt            nw = 0;
 
   PetscFunctionBegin;
   for (PetscInt i = 0; i < n; i++) {
@@ -414,10 +400,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
         g += gk;
         if (b->noslip[b->view.elementwall[k]] && gk < 0) gn -= gk; /* the shadows the no-slip term fills */
         if (wi > 0) {
-          if (nw == tm->wcap) {
-            tm->wcap = FSBoundaryListGrow(tm->wcap);
-            PetscCall(FSBoundaryWallListsResize_Private(b, tm->wcap));
-          }
+          PetscCall(FSBoundaryWallListsRoom_Private(b, nw));
           b->wk[nw] = k;
           b->wW[nw] = wi / el[FS_TRI_AREA];
           nw++;
@@ -428,10 +411,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
     if (noslip) noslip[i] = gn;
   }
   b->wstart[n] = nw;
-  if (FSBoundaryListTrim(nw, tm->wcap, &newcap)) {
-    tm->wcap = newcap;
-    PetscCall(FSBoundaryWallListsResize_Private(b, tm->wcap));
-  }
+  PetscCall(FSBoundaryWallListsFit_Private(b, nw));
   /* the wall pressure: the Shepard interpolation of the liquid's pressure with the hydrostatic
      correction, and its wetted share below the ambient pressure, as for polygons (polygon.c) */
   if (!tm->wp) PetscCall(PetscMalloc1(3 * nel + 1, &tm->wp));
@@ -557,9 +537,9 @@ static PetscErrorCode Memory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elemen
   const PetscInt64    nel = tm->mesh.nel;
 
   PetscFunctionBegin;
-  /* cstart and wstart (scap each), the candidate elements (ccap), the wall lists' k and W (wcap) */
+  /* cstart and wstart (scap each), the candidate elements (ccap), the wall lists' k and W (b->wcap) */
   *lists = (PetscInt64)tm->scap * 2 * sizeof(PetscInt) + (PetscInt64)tm->ccap * sizeof(PetscInt) +
-           (PetscInt64)tm->wcap * (sizeof(PetscInt) + sizeof(PetscReal));
+           (PetscInt64)b->wcap * (sizeof(PetscInt) + sizeof(PetscReal));
   /* the elements (FS_TRI_STRIDE reals, wall and triangle), wetfull and wp (3 nel + 1), the grid, the marks
      of the input triangles (tmark, tlist) */
   *elements = nel * (FS_TRI_STRIDE * sizeof(PetscReal) + 2 * sizeof(PetscInt) + 4 * sizeof(PetscReal)) +

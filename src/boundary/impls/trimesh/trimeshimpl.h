@@ -19,7 +19,6 @@ typedef struct {
   PetscInt *tmark, *tlist; /* per input triangle: the last particle that listed it; the particle's input triangles */
   PetscBool occlusion;     /* the liquid region is not convex: walls can hide elements and cut pairs */
   /* per right-hand side */
-  PetscInt   wcap;
   PetscReal *wp;      /* per element: the wall pressure; then 2 nel work */
   PetscReal *wetfull; /* per element: the container's Shepard factor just inside its centroid */
 } FSBoundary_Trimesh;
