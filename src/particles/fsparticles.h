@@ -141,10 +141,11 @@ static inline PetscInt FSNeighboursRows(const FSNeighbours *nb, PetscInt i, Pets
 }
 
 /* Iterating over a particle's candidates (FSNeighboursCandidateBegin / Next / Drop), in the order of the
-   positions of its rows. After a Drop the iteration must run to its end (the indices are compacted as it
-   goes). */
+   positions of its rows. A plain iteration writes nothing; after a Drop the iteration must run to its end
+   (with the candidates as indices, those that follow a dropped one move up as it goes). */
 typedef struct {
   PetscInt  i, q, wq;                                      /* indices: the particle, the read and write positions */
+  PetscInt *wcand, *wend;                                  /* indices, after a Drop: the list and the particle's end */
   PetscInt  q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS]; /* bits: the rows */
   PetscInt  nr, r, k, nwr;                                 /* bits: the row, the word within it, the row's words */
   uint64_t  bits, cur; /* bits: the word's bits not visited yet, the bit of the candidate last returned */
@@ -155,13 +156,12 @@ static inline void FSNeighboursCandidateBegin(const FSNeighbours *nb, PetscInt i
 {
   it->i = i;
   it->q = it->wq = nb->cstart[i];
+  it->wcand = it->wend = NULL;
   it->nr = it->r = it->k = it->nwr = 0;
   it->bits = it->cur = 0;
   it->w              = NULL;
   if (nb->form == FS_CANDIDATES_INDICES) return;
   it->nr   = FSNeighboursRows(nb, i, it->q0, it->len);
-  it->r    = 0;
-  it->k    = 0;
   it->w    = nb->mask + nb->cstart[i];
   it->nwr  = (it->len[0] + 63) / 64;
   it->bits = it->nwr ? it->w[0] : 0;
@@ -174,11 +174,12 @@ static inline PetscBool FSNeighboursCandidateNext(const FSNeighbours *nb, FSCand
 
   if (nb->form == FS_CANDIDATES_INDICES) {
     if (it->q >= nb->cend[it->i]) {
-      nb->cend[it->i] = it->wq; /* the candidates kept (the list is the solver's, the iteration writes it) */
+      if (it->wend) *it->wend = it->wq; /* the candidates kept */
       return PETSC_FALSE;
     }
-    *j                 = nb->cand[it->q++];
-    nb->cand[it->wq++] = *j;
+    *j = nb->cand[it->q++];
+    if (it->wcand) it->wcand[it->wq] = *j;
+    it->wq++;
     return PETSC_TRUE;
   }
   while (!it->bits) {
@@ -201,8 +202,11 @@ static inline PetscBool FSNeighboursCandidateNext(const FSNeighbours *nb, FSCand
 /* removes the candidate FSNeighboursCandidateNext() returned last (e.g. a pair a wall cuts) */
 static inline void FSNeighboursCandidateDrop(FSNeighbours *nb, FSCandidateIter *it)
 {
-  if (nb->form == FS_CANDIDATES_INDICES) it->wq--;
-  else it->w[it->k] &= ~it->cur;
+  if (nb->form == FS_CANDIDATES_INDICES) {
+    it->wcand = nb->cand;
+    it->wend  = &nb->cend[it->i];
+    it->wq--;
+  } else it->w[it->k] &= ~it->cur;
   nb->ncand--;
 }
 

@@ -123,18 +123,15 @@ static PetscErrorCode TSCreate_RK4Lean(TS ts)
 
 /*
    FSTSRegisterRK4Lean - adds the TS type FSTSRK4LEAN ("rk4lean") to PETSc's table of TS types (-ts_type
-   rk4lean), once.
+   rk4lean). Registering again replaces the entry with itself, so every TS set-up may call it (and the type
+   is there again after a PetscFinalize() and a new PetscInitialize(), which empty the table).
 
    Not collective
 */
 PetscErrorCode FSTSRegisterRK4Lean(void)
 {
-  static PetscBool registered = PETSC_FALSE;
-
   PetscFunctionBegin;
-  if (registered) PetscFunctionReturn(0);
   PetscCall(TSRegister(FSTSRK4LEAN, TSCreate_RK4Lean));
-  registered = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
