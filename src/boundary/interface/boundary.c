@@ -634,53 +634,56 @@ static inline PetscInt FSBoundaryListFitCap(PetscInt n, PetscInt cap)
   return cap > PetscMax(4096, n + n / 8) ? PetscMax(4096, n + n / 16) : cap;
 }
 
-/* FSBoundaryListRoom_Private - room for entry n of *array (boundaryimpl.h) */
-PetscErrorCode FSBoundaryListRoom_Private(size_t size, PetscInt n, PetscInt *cap, void *array)
+/* *array (capacity *cap) with capacity c */
+static PetscErrorCode FSBoundaryListResize(size_t size, PetscInt c, PetscInt *cap, void *array)
 {
-  const PetscInt c = FSBoundaryListRoomCap(n, *cap);
-
   PetscFunctionBegin;
   if (c != *cap) PetscCall(FSBoundaryResize(size, c, array));
   *cap = c;
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryListRoom_Private - room for entry n of *array (boundaryimpl.h) */
+PetscErrorCode FSBoundaryListRoom_Private(size_t size, PetscInt n, PetscInt *cap, void *array)
+{
+  PetscFunctionBegin;
+  PetscCall(FSBoundaryListResize(size, FSBoundaryListRoomCap(n, *cap), cap, array));
   PetscFunctionReturn(0);
 }
 
 /* FSBoundaryListFit_Private - *array trimmed to about its n entries (boundaryimpl.h) */
 PetscErrorCode FSBoundaryListFit_Private(size_t size, PetscInt n, PetscInt *cap, void *array)
 {
-  const PetscInt c = FSBoundaryListFitCap(n, *cap);
-
   PetscFunctionBegin;
-  if (c != *cap) PetscCall(FSBoundaryResize(size, c, array));
-  *cap = c;
+  PetscCall(FSBoundaryListResize(size, FSBoundaryListFitCap(n, *cap), cap, array));
+  PetscFunctionReturn(0);
+}
+
+/* the wall lists wk and wW with capacity c */
+static PetscErrorCode FSBoundaryWallListsResize(FSBoundary b, PetscInt c)
+{
+  PetscFunctionBegin;
+  if (c != b->wcap) {
+    PetscCall(FSBoundaryResize(sizeof(PetscInt), c, &b->wk));
+    PetscCall(FSBoundaryResize(sizeof(PetscReal), c, &b->wW));
+  }
+  b->wcap = c;
   PetscFunctionReturn(0);
 }
 
 /* FSBoundaryWallListsRoom_Private - room for entry n of the wall lists wk and wW */
 PetscErrorCode FSBoundaryWallListsRoom_Private(FSBoundary b, PetscInt n)
 {
-  const PetscInt c = FSBoundaryListRoomCap(n, b->wcap);
-
   PetscFunctionBegin;
-  if (c != b->wcap) {
-    PetscCall(FSBoundaryResize(sizeof(PetscInt), c, &b->wk));
-    PetscCall(FSBoundaryResize(sizeof(PetscReal), c, &b->wW));
-  }
-  b->wcap = c;
+  PetscCall(FSBoundaryWallListsResize(b, FSBoundaryListRoomCap(n, b->wcap)));
   PetscFunctionReturn(0);
 }
 
 /* FSBoundaryWallListsFit_Private - the wall lists trimmed to about their n entries */
 PetscErrorCode FSBoundaryWallListsFit_Private(FSBoundary b, PetscInt n)
 {
-  const PetscInt c = FSBoundaryListFitCap(n, b->wcap);
-
   PetscFunctionBegin;
-  if (c != b->wcap) {
-    PetscCall(FSBoundaryResize(sizeof(PetscInt), c, &b->wk));
-    PetscCall(FSBoundaryResize(sizeof(PetscReal), c, &b->wW));
-  }
-  b->wcap = c;
+  PetscCall(FSBoundaryWallListsResize(b, FSBoundaryListFitCap(n, b->wcap)));
   PetscFunctionReturn(0);
 }
 
