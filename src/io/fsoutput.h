@@ -9,11 +9,18 @@
 #pragma once
 #include <petscsys.h>
 
-/* One per-particle real field: data holds nlocal*bs values (particle-major, bs per particle). */
+/* A field's values written on demand: the nlocal*bs values of field f of the list into values */
+typedef PetscErrorCode (*FSOutputFill)(void *ctx, PetscInt f, PetscReal values[]);
+
+/* One per-particle real field: data holds nlocal*bs values (particle-major, bs per particle), or data is NULL
+   and fill writes them when the field is written, into a buffer that the fields written so share (so that a
+   writer holds one field's values at a time, not all of them). */
 typedef struct {
   const char      *name; /* dataset name, e.g. "velocity" */
   PetscInt         bs;   /* components per particle: 1 (scalar) or dim (vector) */
-  const PetscReal *data; /* local values, nlocal*bs */
+  const PetscReal *data; /* local values, nlocal*bs; or NULL and fill */
+  FSOutputFill     fill;
+  void            *ctx;
 } FSOutputField;
 
 /* ---------------- particle snapshots ---------------- */

@@ -88,7 +88,7 @@ PetscErrorCode FSCheckFields_Private(MPI_Comm comm, const char file[], PetscInt 
                "Output \"%s\": field \"%s\" has bs %" PetscInt_FMT ", expected 1 (scalar) or %" PetscInt_FMT
                " (vector)",
                file, name, fields[f].bs, dim);
-    PetscCheck(fields[f].data || nlocal == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL,
+    PetscCheck(fields[f].data || fields[f].fill || nlocal == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL,
                "Output \"%s\": field \"%s\" has no data", file, name);
     for (PetscInt g = 0; g < f; g++) {
       PetscBool same;
@@ -102,21 +102,34 @@ PetscErrorCode FSCheckFields_Private(MPI_Comm comm, const char file[], PetscInt 
 
 /*
    FSViewFields_Private - Writes each field as a dataset named after it in the viewer's current
-   group: the local array is wrapped (no copy) in an MPI Vec with the field's block size.
+   group: the local array is wrapped (no copy) in an MPI Vec with the field's block size; a field given
+   by its fill function is written into one buffer, the largest field's size, that the fields share.
 */
 PetscErrorCode FSViewFields_Private(PetscViewer viewer, MPI_Comm comm, PetscInt nlocal, PetscInt nfields,
                                     const FSOutputField fields[])
 {
-  PetscFunctionBegin;
-  for (PetscInt f = 0; f < nfields; f++) {
-    Vec v;
+  PetscReal *buf  = NULL;
+  PetscInt   most = 0;
 
-    PetscCall(VecCreateMPIWithArray(comm, fields[f].bs, nlocal * fields[f].bs, PETSC_DECIDE,
-                                    (const PetscScalar *)fields[f].data, &v));
+  PetscFunctionBegin;
+  for (PetscInt f = 0; f < nfields; f++)
+    if (!fields[f].data) most = PetscMax(most, nlocal * fields[f].bs);
+  PetscCall(PetscMalloc1(most + 1, &buf));
+  for (PetscInt f = 0; f < nfields; f++) {
+    const PetscReal *data = fields[f].data;
+    Vec              v;
+
+    if (!data) { /* on every rank, none or not: a fill may be collective */
+      PetscCall((*fields[f].fill)(fields[f].ctx, f, buf));
+      data = buf;
+    }
+    PetscCall(
+        VecCreateMPIWithArray(comm, fields[f].bs, nlocal * fields[f].bs, PETSC_DECIDE, (const PetscScalar *)data, &v));
     PetscCall(PetscObjectSetName((PetscObject)v, fields[f].name));
     PetscCall(VecView(v, viewer));
     PetscCall(VecDestroy(&v));
   }
+  PetscCall(PetscFree(buf));
   PetscFunctionReturn(0);
 }
 

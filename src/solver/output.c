@@ -5,17 +5,6 @@
 #include "solver/solverimpl.h"
 #include <sys/resource.h>
 
-static PetscErrorCode FSSolverEnsureField(FSSolver s, PetscInt n)
-{
-  PetscFunctionBegin;
-  if (n > s->mon.fieldcap) {
-    PetscCall(PetscFree(s->mon.field));
-    s->mon.fieldcap = n;
-    PetscCall(PetscMalloc1(n, &s->mon.field));
-  }
-  PetscFunctionReturn(0);
-}
-
 /*
    FSSolverEvaluateAtState - a fresh evaluation of the right-hand side at the current state U and time t,
    for the outputs (not counted in the run's statistics): the particles' volumes, pressures, first-pass
@@ -30,13 +19,17 @@ PetscErrorCode FSSolverEvaluateAtState(FSSolver s, PetscReal t)
   const PetscScalar *u;
   PetscScalar       *f;
   Vec                F;
+  PetscBool          staged;
 
   PetscFunctionBegin;
   if (s->state.evaluated && s->state.rhs_time == t) PetscFunctionReturn(0);
   /* the rates are not kept: into a stage vector of the integrator that the next step overwrites; else (an
      integrator without a free stage, or before the first step: the stages do not exist yet) into Fout, made once
-     and kept with the state's layout, and dropped as soon as a free stage exists */
+     and kept with the state's layout for an integrator that never has a free stage, and dropped at once by one
+     that will have it (rk4lean, rk: the outputs before the first step; kept, it would add a state-sized vector
+     to the run's peak memory) */
   PetscCall(FSSolverGetFreeStage(s, &F));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)s->ts, &staged, FSTSRK4LEAN, TSRK, ""));
   if (F) PetscCall(VecDestroy(&s->state.Fout));
   else {
     if (!s->state.Fout) PetscCall(VecDuplicate(s->state.U, &s->state.Fout));
@@ -48,6 +41,7 @@ PetscErrorCode FSSolverEvaluateAtState(FSSolver s, PetscReal t)
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_FALSE));
   PetscCall(VecRestoreArray(F, &f));
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
+  if (F == s->state.Fout && staged) PetscCall(VecDestroy(&s->state.Fout));
   s->state.evaluated = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
@@ -85,23 +79,80 @@ static PetscErrorCode FSSolverDerivedFields(FSSolver s, PetscReal p[], PetscReal
   PetscFunctionReturn(0);
 }
 
+/* the snapshot's fields, in FSSolverWriteSnapshot's order */
+enum {
+  FS_SNAP_POSITION,
+  FS_SNAP_VELOCITY,
+  FS_SNAP_DENSITY,
+  FS_SNAP_PRESSURE,
+  FS_SNAP_STRAIN_RATE,
+  FS_SNAP_TURBULENT_VISCOSITY,
+  FS_SNAP_RANK,
+  FS_SNAP_ID,
+  FS_SNAP_N
+};
+
+typedef struct {
+  FSSolver           s;
+  const PetscScalar *u;
+  const PetscInt    *pid;
+  PetscMPIInt        rank;
+} FSSnapshotFill;
+
+/* a snapshot field of the owned particles into values, when the writer writes it (one field at a time) */
+static PetscErrorCode FSSolverFillSnapshotField(void *ctx, PetscInt f, PetscReal values[])
+{
+  const FSSnapshotFill *c   = (const FSSnapshotFill *)ctx;
+  FSSolver              s   = c->s;
+  const PetscInt        dim = s->opt.dim, n = s->pw.nowned, US = s->state.ustride;
+
+  PetscFunctionBegin;
+  switch (f) {
+  case FS_SNAP_POSITION:
+    for (PetscInt k = 0; k < n; k++) {
+      for (PetscInt d = 0; d < dim; d++) values[k * dim + d] = c->u[k * US + d];
+      FSSolverWrapPeriodic(s, &values[k * dim]); /* between rebuilds a particle may have crossed a periodic side */
+    }
+    break;
+  case FS_SNAP_VELOCITY:
+    for (PetscInt k = 0; k < n; k++)
+      for (PetscInt d = 0; d < dim; d++) values[k * dim + d] = c->u[k * US + dim + d];
+    break;
+  case FS_SNAP_DENSITY:
+    for (PetscInt k = 0; k < n; k++) values[k] = c->u[k * US + 2 * dim];
+    break;
+  case FS_SNAP_PRESSURE: PetscCall(FSSolverDerivedFields(s, values, NULL, NULL)); break;
+  case FS_SNAP_STRAIN_RATE: PetscCall(FSSolverDerivedFields(s, NULL, values, NULL)); break;
+  case FS_SNAP_TURBULENT_VISCOSITY: PetscCall(FSSolverDerivedFields(s, NULL, NULL, values)); break;
+  case FS_SNAP_RANK:
+    for (PetscInt k = 0; k < n; k++) values[k] = c->rank;
+    break;
+  case FS_SNAP_ID:
+    for (PetscInt k = 0; k < n; k++) values[k] = c->pid[k];
+    break;
+  }
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverWriteSnapshot - writes the particles (position, velocity, density, pressure, strain_rate
    ||D||, turbulent_viscosity, rank, id) to the next snapshot file, and updates the XDMF index.
-   The derived fields come from a fresh evaluation of the first pass at the current state.
+   The derived fields come from a fresh evaluation of the right-hand side at the current state. Each
+   field is made when the writer writes it, into one buffer (3 reals a particle, not 12).
 */
 PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
 {
-  const PetscInt     dim = s->opt.dim, n = s->pw.nowned, US = s->state.ustride;
-  FSOutputField      fields[8];
-  PetscReal         *pos, *vel, *rho, *p, *nD, *nut, *rk, *id, t;
-  PetscInt          *pid, step;
-  PetscMPIInt        rank;
-  const PetscScalar *u;
+  const PetscInt    dim = s->opt.dim, n = s->pw.nowned;
+  const char *const names[FS_SNAP_N] = {
+      "position", "velocity", "density", "pressure", "strain_rate", "turbulent_viscosity", "rank", "id"};
+  FSOutputField  fields[FS_SNAP_N];
+  FSSnapshotFill c;
+  PetscReal      t;
+  PetscInt       step;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_Output, 0, 0, 0, 0));
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &c.rank));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCall(FSSolverStructureSnapshot(s)); /* the structure's own output (e.g. the deflected shape) */
@@ -110,39 +161,16 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
     PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
     PetscFunctionReturn(0);
   }
-  PetscCall(FSSolverEnsureField(s, n * (2 * dim + 6) + 1));
-  pos = s->mon.field;
-  vel = pos + n * dim;
-  rho = vel + n * dim;
-  p   = rho + n;
-  nD  = p + n;
-  nut = nD + n;
-  rk  = nut + n;
-  id  = rk + n;
-  PetscCall(FSSolverDerivedFields(s, p, nD, nut));
-  PetscCall(VecGetArrayRead(s->state.U, &u));
-  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
-  for (PetscInt k = 0; k < n; k++) {
-    for (PetscInt d = 0; d < dim; d++) {
-      pos[k * dim + d] = u[k * US + d];
-      vel[k * dim + d] = u[k * US + dim + d];
-    }
-    FSSolverWrapPeriodic(s, &pos[k * dim]); /* between rebuilds a particle may have crossed a periodic side */
-    rho[k] = u[k * US + 2 * dim];
-    rk[k]  = rank;
-    id[k]  = pid[k];
-  }
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
-  PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  fields[0] = (FSOutputField){"position", dim, pos};
-  fields[1] = (FSOutputField){"velocity", dim, vel};
-  fields[2] = (FSOutputField){"density", 1, rho};
-  fields[3] = (FSOutputField){"pressure", 1, p};
-  fields[4] = (FSOutputField){"strain_rate", 1, nD};
-  fields[5] = (FSOutputField){"turbulent_viscosity", 1, nut};
-  fields[6] = (FSOutputField){"rank", 1, rk};
-  fields[7] = (FSOutputField){"id", 1, id};
-  PetscCall(FSSnapshotWriterWrite(s->mon.snapshots, t, step, dim, n, 8, fields));
+  PetscCall(FSSolverEvaluateAtState(s, t)); /* before the state is read: the derived fields evaluate at it */
+  c.s = s;
+  PetscCall(VecGetArrayRead(s->state.U, &c.u));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c.pid));
+  for (PetscInt f = 0; f < FS_SNAP_N; f++)
+    fields[f] = (FSOutputField){
+        .name = names[f], .bs = f < FS_SNAP_DENSITY ? dim : 1, .fill = FSSolverFillSnapshotField, .ctx = &c};
+  PetscCall(FSSnapshotWriterWrite(s->mon.snapshots, t, step, dim, n, FS_SNAP_N, fields));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c.pid));
+  PetscCall(VecRestoreArrayRead(s->state.U, &c.u));
   s->mon.last_snapshot_time = t;
   PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -238,6 +266,22 @@ PetscErrorCode FSSolverRestoreField(FSSolver s, const char name[], PetscInt *n, 
   PetscFunctionReturn(0);
 }
 
+typedef struct {
+  const PetscInt *pid;
+  PetscInt        n;
+} FSIdsFill;
+
+/* the particles' ids as reals, when the checkpoint writes them */
+static PetscErrorCode FSSolverFillIds(void *ctx, PetscInt f, PetscReal values[])
+{
+  const FSIdsFill *c = (const FSIdsFill *)ctx;
+
+  PetscFunctionBegin;
+  (void)f;
+  for (PetscInt k = 0; k < c->n; k++) values[k] = c->pid[k];
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverWriteCheckpoint - writes <output_dir>/checkpoint_<step>.h5 with the whole state: particles
    (position, velocity, density, mass, id, and the positions at the last build of the lists, from which
@@ -252,8 +296,8 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   const PetscInt     dim = s->opt.dim, n = s->pw.nowned;
   FSCheckpointHeader hdr;
   FSOutputField      fields[6];
-  PetscReal         *x, *v, *rho, *m, *id, *xb;
-  PetscInt          *pid;
+  PetscReal         *x, *v, *rho, *m, *xb;
+  FSIdsFill          ids;
   char               path[PETSC_MAX_PATH_LEN];
   PetscMPIInt        rank;
 
@@ -285,21 +329,19 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
     hdr.global[s->state.nglobaldofs + 2] = (PetscReal)s->state.dt_limit;
     hdr.global[s->state.nglobaldofs + 3] = (PetscReal)(s->state.gdiss - s->state.gstruct);
   }
-  PetscCall(FSSolverEnsureField(s, n + 1));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&ids.pid));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
-  id = s->mon.field;
-  for (PetscInt k = 0; k < n; k++) id[k] = pid[k];
-  fields[0] = (FSOutputField){FS_FIELD_POSITION, dim, x};
-  fields[1] = (FSOutputField){FS_FIELD_VELOCITY, dim, v};
-  fields[2] = (FSOutputField){FS_FIELD_DENSITY, 1, rho};
-  fields[3] = (FSOutputField){FS_FIELD_MASS, 1, m};
-  fields[4] = (FSOutputField){FS_FIELD_ID, 1, id};
-  fields[5] = (FSOutputField){FS_FIELD_BUILD, dim, xb};
+  ids.n     = n;
+  fields[0] = (FSOutputField){.name = FS_FIELD_POSITION, .bs = dim, .data = x};
+  fields[1] = (FSOutputField){.name = FS_FIELD_VELOCITY, .bs = dim, .data = v};
+  fields[2] = (FSOutputField){.name = FS_FIELD_DENSITY, .bs = 1, .data = rho};
+  fields[3] = (FSOutputField){.name = FS_FIELD_MASS, .bs = 1, .data = m};
+  fields[4] = (FSOutputField){.name = FS_FIELD_ID, .bs = 1, .fill = FSSolverFillIds, .ctx = &ids};
+  fields[5] = (FSOutputField){.name = FS_FIELD_BUILD, .bs = dim, .data = xb};
   hdr.setup = s->mon.setup;
   /* the split of the domain (the cuts move with -fs_rebalance_threshold) and the step it was last balanced at */
   PetscReal layout[FS_LAYOUT_MAX];
@@ -312,7 +354,7 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt_FMT ".h5", s->opt.outdir, hdr.step));
   PetscCall(FSCheckpointWrite(PetscObjectComm((PetscObject)s), path, &hdr, n, 6, fields));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&ids.pid));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
@@ -355,19 +397,19 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
              s->state.nglobaldofs + 4, s->state.gdiss - s->state.gstruct);
   PetscCall(FSCheckpointGetLocalSize(comm, s->opt.restart, &n));
   PetscCall(DMSwarmSetLocalSizes(s->swarm, n, 1024));
-  PetscCall(FSSolverEnsureField(s, n + 1));
+  PetscCall(PetscMalloc1(n + 1, &id));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
-  id = s->mon.field;
   PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_POSITION, dim, n, x));
   PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_VELOCITY, dim, n, v));
   PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_DENSITY, 1, n, rho));
   PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_MASS, 1, n, m));
   PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_ID, 1, n, id));
   for (PetscInt k = 0; k < n; k++) pid[k] = (PetscInt)id[k];
+  PetscCall(PetscFree(id));
   /* the positions of the last build (a checkpoint older than them: the lists are built at the positions) */
   PetscCall(FSCheckpointHasField(comm, s->opt.restart, FS_FIELD_BUILD, &hasbuild));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));

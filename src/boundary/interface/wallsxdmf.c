@@ -188,10 +188,10 @@ PetscErrorCode FSBoundaryWriteWallsH5_Private(FSBoundary b, const char dir[], Pe
 
   PetscFunctionBegin;
   PetscCall(FSBoundaryJoinWallNames_Private(b, &names));
-  fields[0] = (FSOutputField){"points", dim, pts};
-  fields[1] = (FSOutputField){"wall", 1, wall};
-  fields[2] = (FSOutputField){"normal", dim, nrm};
-  fields[3] = (FSOutputField){measure, 1, meas};
+  fields[0] = (FSOutputField){.name = "points", .bs = dim, .data = pts};
+  fields[1] = (FSOutputField){.name = "wall", .bs = 1, .data = wall};
+  fields[2] = (FSOutputField){.name = "normal", .bs = dim, .data = nrm};
+  fields[3] = (FSOutputField){.name = measure, .bs = 1, .data = meas};
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/walls.h5", dir));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
   /* a failed write (a full disk) is an error naming the file */

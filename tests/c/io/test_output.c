@@ -40,6 +40,22 @@ static PetscErrorCode FillField(PetscInt f, PetscInt start, PetscInt nlocal, Pet
   PetscFunctionReturn(0);
 }
 
+/* a field written on demand (FSOutputField.fill): the velocity of FillField, the particles start.. */
+typedef struct {
+  PetscInt start, nlocal, calls;
+} VelocityFill;
+
+static PetscErrorCode FillVelocity(void *ctx, PetscInt f, PetscReal values[])
+{
+  VelocityFill *c = (VelocityFill *)ctx;
+
+  PetscFunctionBegin;
+  (void)f;
+  c->calls++;
+  PetscCall(FillField(1, c->start, c->nlocal, 2, values));
+  PetscFunctionReturn(0);
+}
+
 /* Reads a whole text file on rank 0 into a PetscMalloc'ed string */
 static PetscErrorCode ReadText(const char path[], char **text)
 {
@@ -210,9 +226,14 @@ static PetscErrorCode TestSnapshots(TestCtx *ctx)
   PetscCall(PetscSNPrintf(dir2, sizeof(dir2), "%s/snap2d", ctx->dir));
   PetscCall(FSSnapshotWriterCreate(ctx->comm, dir2, -1.0, &w));
   {
-    FSOutputField f2[3] = {{"position", 2, pos}, {"velocity", 2, vel}, {"rho", 1, rho}};
+    /* the velocity given by a fill function, called once per snapshot on every rank (CheckDataset reads it back) */
+    VelocityFill  vf    = {start, nlocal, 0};
+    FSOutputField f2[3] = {{"position", 2, pos}, {"velocity", 2, NULL, FillVelocity, &vf}, {"rho", 1, rho}};
 
     for (PetscInt s = 0; s < 3; s++) PetscCall(FSSnapshotWriterWrite(w, times[s], 10 * s, 2, nlocal, 3, f2));
+    TCHECK(ctx->comm, vf.calls == 3, "the velocity's fill function called %" PetscInt_FMT " times, expected 3",
+           vf.calls);
+    f2[1] = (FSOutputField){.name = "velocity", .bs = 2, .data = vel};
     char msg[PETSC_MAX_PATH_LEN + 128];
 
     /* invalid calls: missing position, bad bs, bad name; the messages name the file (the next snapshot) */
