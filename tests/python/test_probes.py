@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 
 from conftest import MPI_ENV, REPO_ROOT, read_series, run_flexslosh
-from test_standing_wave import H as SW_H, K as SW_K, NU as SW_NU, exact_viscous_mode
+from flexslosh.waves import exact_viscous_mode
+from test_standing_wave import H as SW_H, K as SW_K, NU as SW_NU
 
 RHO0, G, H, DX = 1000.0, 9.81, 0.03, 0.003
 TANK = ["-fs_case", "tank", "-fs_tank_length", 0.2, "-fs_dx", DX, "-fs_relax_time", 0.1, "-fs_delta_min", 0.1,

@@ -24,48 +24,13 @@ import numpy as np
 import pytest
 
 from conftest import read_series, run_flexslosh
+from flexslosh.waves import exact_viscous_mode, fit_decaying_oscillation
 
 G, H, L, A, RE = 1.0, 1.0, 2.0, 0.05, 250.0
 K = np.pi / L
 OMEGA = np.sqrt(G * K * np.tanh(K * H))
 NU = H * np.sqrt(G * H) / RE
 RATE = 4 * NU * K * K
-
-
-def exact_viscous_mode(k, h, nu, g=G, floor="free-slip"):
-    """The root s = -lam/2 + i w of the linearized Navier-Stokes mode cos(kx) in liquid h deep under
-    a stress-free surface, on a free-slip or a no-slip floor (free-slip side walls satisfy the mode
-    exactly). The vertical velocity is V(y) cos(kx) e^(st) with
-      V = a cosh(ky) + b sinh(ky) + c e^(-my) + d e^(m(y-h)),  m^2 = k^2 + s/nu
-    (the potential part and the two boundary layers), the pressure -rho s (a sinh(ky) + b cosh(ky))/k
-    cos(kx) e^(st), the horizontal velocity -V'(y)/k sin(kx) e^(st). The floor y = 0 has V = 0 and
-    V'' = 0 (free-slip: no shear) or V' = 0 (no-slip: u = 0); the surface y = h has no shear,
-    V'' + k^2 V = 0, and no normal stress, g V/s - p/rho + 2 nu V' = 0 (the kinematic condition
-    s eta = V). The determinant of these four conditions in (a, b, c, d) vanishes at s: Newton from
-    s = -2 nu k^2 + i sqrt(g k tanh(kh)). Free-slip it is Lamb's relation at finite depth; with
-    nu -> 0 the decay tends to 4 nu k^2, plus on a no-slip floor the Stokes layer's dissipation
-    rho/2 sqrt(nu w/2) U^2 per unit area (U the potential flow's speed at the floor).
-    Returns (w, lam): E_k oscillates at 2w and decays at lam."""
-    assert floor in ("free-slip", "no-slip")
-
-    def det(s):
-        m = np.sqrt(k * k + s / nu)
-        C, S, E = np.cosh(k * h), np.sinh(k * h), np.exp(-m * h)
-        rows = [[1, 0, 1, E],
-                [0, k, -m, m * E] if floor == "no-slip" else [k * k, 0, m * m, m * m * E],
-                [2 * k * k * C, 2 * k * k * S, (m * m + k * k) * E, m * m + k * k],
-                [g * C / s + s * S / k + 2 * nu * k * S, g * S / s + s * C / k + 2 * nu * k * C,
-                 g * E / s - 2 * nu * m * E, g / s + 2 * nu * m]]
-        return np.linalg.det(np.array(rows, dtype=complex))
-
-    s = complex(-2 * nu * k * k, np.sqrt(g * k * np.tanh(k * h)))
-    for _ in range(50):
-        ds = 1e-7 * abs(s)
-        step = det(s) / ((det(s + ds) - det(s - ds)) / (2 * ds))
-        s -= step
-        if abs(step) < 1e-14 * abs(s):
-            break
-    return s.imag, -2 * s.real
 
 
 def stokes_layer_rate(k, h, nu, g=G):
@@ -78,26 +43,6 @@ def stokes_layer_rate(k, h, nu, g=G):
 
 OMEGA_NU, RATE_NU = exact_viscous_mode(K, H, NU)
 RUN = ["-fs_case", "standing_wave", "-fs_dx", H / 20, "-ts_max_time", 15, "-fs_output_interval", 0]
-
-
-def fit_decaying_oscillation(t, e, omega0):
-    """Fits e(t) ~ exp(-lam t) (a + b cos 2wt + c sin 2wt); returns (w, lam, (a, b, c)).
-
-    For given (w, lam) the model is linear in (a, b, c) (least squares); (w, lam) minimize the
-    residual on a grid around (omega0, 0), refined five-fold six times (to about 1e-5 omega0)."""
-    def solve(w, lam):
-        x = np.exp(-lam * t)
-        M = np.stack([x, x * np.cos(2 * w * t), x * np.sin(2 * w * t)], axis=1)
-        coef = np.linalg.lstsq(M, e, rcond=None)[0]
-        return np.sum((M @ coef - e) ** 2), coef
-
-    w, lam, dw, dl = omega0, 0.0, 0.1 * omega0, 0.2
-    for _ in range(6):
-        ws, ls = w + dw * np.linspace(-1, 1, 21), lam + dl * np.linspace(-1, 1, 21)
-        r = np.array([[solve(a, b)[0] for b in ls] for a in ws])
-        i, j = np.unravel_index(np.argmin(r), r.shape)
-        w, lam, dw, dl = ws[i], ls[j], dw / 5, dl / 5
-    return w, lam, solve(w, lam)[1]
 
 
 def test_exact_viscous_mode():
