@@ -76,7 +76,7 @@ struct _p_FSBoundary {
   /* the wall terms' view and each owned particle's wall elements (CSR), filled by ops->prepare */
   FSWallView view;
   PetscInt  *wstart, *wk;
-  float     *wW;   /* in single precision: 8 bytes an entry with wk, not 12 (most of a 3-D particle's wall memory) */
+  PetscReal *wW;
   PetscInt   wcap; /* room in wk and wW (FSBoundaryWallListsRoom_Private) */
   void      *data;
 };

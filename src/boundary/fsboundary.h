@@ -63,7 +63,7 @@ PETSC_INTERN PetscErrorCode FSBoundaryPrepare(FSBoundary, const FSBoundaryPartic
                                               PetscReal noslip[]);
 PETSC_INTERN PetscErrorCode FSBoundaryHasNoSlip(FSBoundary, PetscBool *);
 PETSC_INTERN PetscErrorCode FSBoundaryGetView(FSBoundary, const FSWallView **, const PetscInt **wstart,
-                                              const PetscInt **wk, const float **wW);
+                                              const PetscInt **wk, const PetscReal **wW);
 PETSC_INTERN PetscErrorCode FSBoundaryGetBounce(FSBoundary, PetscBool *);
 PETSC_INTERN PetscErrorCode FSBoundaryBounce(FSBoundary, PetscInt n, PetscReal x[], PetscReal v[], const PetscReal m[],
                                              FSParticleEnergyFn, void *, PetscReal de[2]);

@@ -192,8 +192,8 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
   PetscCall(FSProbesParse(s, text));
   PetscCall(PetscFree(text));
   if (s->boundary) {
-    const PetscInt *wstart, *wk;
-    const float    *wW;
+    const PetscInt  *wstart, *wk;
+    const PetscReal *wW;
     PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
   }
   /* the probes on walls: the nearest element, then those of its wall within D/2 */
@@ -357,8 +357,8 @@ static PetscErrorCode FSProbesSample(FSSolver s)
   }
   if (s->boundary) { /* a probe on a wall: the wall pressure times the area of the elements this rank owns (their
                        wall pressure is known on their owner), summed over the ranks with the rest */
-    const PetscInt *wstart, *wk;
-    const float    *wW;
+    const PetscInt  *wstart, *wk;
+    const PetscReal *wW;
     PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
     for (PetscInt k = 0; k < ps->n && B && B->pressure; k++) {
       const FSProbe *it = &ps->item[k];

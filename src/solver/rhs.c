@@ -187,18 +187,11 @@ static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscRe
   const PetscInt    dim = s->opt.dim, US = s->state.ustride, n = s->pw.nowned;
   const FSWallView *B;
   const PetscInt   *wstart, *wk;
-  const float      *wW;
-  PetscInt          most = 0;
+  const PetscReal  *wW;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_WallPass, 0, 0, 0, 0));
   PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
-  for (PetscInt i = 0; i < n; i++) most = PetscMax(most, wstart[i + 1] - wstart[i]);
-  if (most > s->pw.wallWcap) {
-    PetscCall(PetscFree(s->pw.wallW));
-    s->pw.wallWcap = PetscMax(most, (PetscInt)(1.25 * s->pw.wallWcap));
-    PetscCall(PetscMalloc1(s->pw.wallWcap, &s->pw.wallW));
-  }
   for (PetscInt i = 0; i < n; i++) {
     FSWallNeighbourhood nb;
     FSRate              rn = {0, {0, 0, 0}, {0, 0, 0}}, ru = {0, {0, 0, 0}, {0, 0, 0}};
@@ -207,8 +200,7 @@ static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscRe
     nb.i = i;
     nb.n = wstart[i + 1] - wstart[i];
     nb.k = wk + wstart[i];
-    for (PetscInt q = 0; q < nb.n; q++) s->pw.wallW[q] = wW[wstart[i] + q]; /* kept as floats (FSBoundaryGetView) */
-    nb.W = s->pw.wallW;
+    nb.W = wW + wstart[i];
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
       if (!term->ops.wall) continue;

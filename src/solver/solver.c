@@ -810,7 +810,6 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSNeighboursDestroy(&s->pw.nbrs));
   PetscCall(PetscFree4(s->pw.rec, s->pw.aux, s->pw.vol, s->pw.pressure));
   PetscCall(PetscFree2(s->pw.scratch, s->pw.scratchj));
-  PetscCall(PetscFree(s->pw.wallW));
   PetscCall(PetscFree(s->mon.setup));
   PetscCall(PetscHeaderDestroy(solver));
   PetscFunctionReturn(0);

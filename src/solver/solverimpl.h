@@ -91,8 +91,6 @@ typedef struct {
   PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW, 1/r2 */
   PetscInt    *scratchj; /* per-i neighbourhood scratch: the neighbours' indices */
   PetscInt     scratchcap;
-  PetscReal   *wallW; /* the wall pass: a particle's mean kernel values widened to double for the terms */
-  PetscInt     wallWcap;
   PetscReal   *gamma,
       *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
   PetscReal *gammav, *invgammav; /* with no-slip walls: gamma plus the share behind them, and its inverse */

@@ -459,13 +459,12 @@ PetscErrorCode FSBoundaryOwnsElement(FSBoundary b, PetscInt k, PetscBool *owns)
 /*
    FSBoundaryGetView - the wall terms' view (elements, wall pressure, conditions, loads) and the wall
    elements of every owned particle as the last FSBoundaryPrepare left them: particle i's are
-   wk[wstart[i] .. wstart[i+1]-1] with the mean kernel values wW[...], kept in single precision (a relative
-   6e-8, below the 1e-7 of the 3-D quadrature; the wall pass widens them for the terms).
+   wk[wstart[i] .. wstart[i+1]-1] with the mean kernel values wW[...].
 
    Not collective
 */
 PetscErrorCode FSBoundaryGetView(FSBoundary b, const FSWallView **view, const PetscInt **wstart, const PetscInt **wk,
-                                 const float **wW)
+                                 const PetscReal **wW)
 {
   PetscFunctionBegin;
   *view   = &b->view;
@@ -666,7 +665,7 @@ static PetscErrorCode FSBoundaryWallListsResize(FSBoundary b, PetscInt c)
   PetscFunctionBegin;
   if (c != b->wcap) {
     PetscCall(FSBoundaryResize(sizeof(PetscInt), c, &b->wk));
-    PetscCall(FSBoundaryResize(sizeof(float), c, &b->wW));
+    PetscCall(FSBoundaryResize(sizeof(PetscReal), c, &b->wW));
   }
   b->wcap = c;
   PetscFunctionReturn(0);

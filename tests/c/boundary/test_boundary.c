@@ -109,7 +109,7 @@ static PetscErrorCode TestGammaAndLists(MPI_Comm comm)
   FSBoundaryLeak  leak;
   const FSWallView *V;
   const PetscInt   *wstart, *wk;
-  const float      *wW;
+  const PetscReal  *wW;
   PetscReal         maxg = 0, maxint = 0;
 
   PetscFunctionBegin;
@@ -172,10 +172,9 @@ static PetscErrorCode TestGammaAndLists(MPI_Comm comm)
              e, (double)SegmentDistance(el, p1, x));
     }
     if (k < 4) { /* a flat wall: the list's int W dS add up to the kernel's integral along the wall's line (the
-                    boundary's 8-point Gauss rule per piece: 7e-9 at 0.01h, where W varies on the scale d; the lists
-                    keep W in single precision, 2.8e-8 at most) */
+                    boundary's 8-point Gauss rule per piece: 7e-9 at 0.01h, where W varies on the scale d) */
       const PetscReal exact = LineIntegral(h, x[1]), err = PetscAbsReal(sumW - exact) / exact;
-      TCHECK(err < 5e-8,
+      TCHECK(err < 1e-8,
              "particle %" PetscInt_FMT
              " at %gh from the floor: sum of int W dS %.15g, line integral %.15g (relative error %.3g)",
              k, (double)dist[k], (double)sumW, (double)exact, (double)err);
@@ -189,7 +188,7 @@ static PetscErrorCode TestGammaAndLists(MPI_Comm comm)
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &maxint, 1, MPIU_REAL, MPI_MAX, comm));
   PetscCall(PetscPrintf(comm,
                         "  gamma: largest difference from the reference values %.3g (tolerance 2e-6); int W dS against "
-                        "the line integral: %.3g (tolerance 5e-8)\n",
+                        "the line integral: %.3g (tolerance 1e-8)\n",
                         (double)maxg, (double)maxint));
   PetscCall(TestParticlesDestroy(&pa));
   PetscCall(FSBoundaryDestroy(&b));
@@ -218,8 +217,7 @@ static PetscErrorCode TestHydrostatic(MPI_Comm comm)
   FSBoundaryLeak     leak;
   const FSWallView  *V;
   const PetscInt    *wstart, *wk;
-  const PetscReal   *loads;
-  const float       *wW;
+  const PetscReal   *wW, *loads;
   const char *const *names;
   PetscReal          maxp = 0, weight = rho0 * grav * H * L, side = 0.5 * rho0 * grav * H * H, ef, er, el;
 

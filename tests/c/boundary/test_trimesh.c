@@ -226,8 +226,7 @@ static PetscErrorCode TestHydrostatic(MPI_Comm comm)
   FSBoundaryLeak    leak;
   const FSWallView *V;
   const PetscInt   *wstart, *wk;
-  const PetscReal  *loads;
-  const float      *wW;
+  const PetscReal  *wW, *loads;
   PetscReal         maxp = 0, weight = rho0 * grav * H * L * W, side = 0.5 * rho0 * grav * H * H * W, ef, er, el;
   PetscReal         mfx, mfz;
 

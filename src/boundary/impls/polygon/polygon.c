@@ -246,7 +246,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
       if (wi > 0) {
         PetscCall(FSBoundaryWallListsRoom_Private(b, nw));
         b->wk[nw] = k;
-        b->wW[nw] = (float)(wi / sg[FS_SEG_LENGTH]); /* the segment's mean kernel value: wW s_k = int_k W dS */
+        b->wW[nw] = wi / sg[FS_SEG_LENGTH]; /* the segment's mean kernel value: wW s_k = int_k W dS */
         nw++;
       }
     }
@@ -398,7 +398,7 @@ static PetscErrorCode Memory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elemen
   PetscFunctionBegin;
   /* cstart and wstart (scap each), the candidate segments (ccap), the wall lists' k and W (b->wcap) */
   *lists = (PetscInt64)wd->scap * 2 * sizeof(PetscInt) + (PetscInt64)wd->ccap * sizeof(PetscInt) +
-           (PetscInt64)b->wcap * (sizeof(PetscInt) + sizeof(float));
+           (PetscInt64)b->wcap * (sizeof(PetscInt) + sizeof(PetscReal));
   /* the segments, their walls, wetfull and wp (3 nseg + 1), the grid */
   *elements = nseg * (FS_SEG_STRIDE * sizeof(PetscReal) + sizeof(PetscInt) + 4 * sizeof(PetscReal)) +
               (PetscInt64)(wd->gnc[0] * wd->gnc[1] + 1 + nseg) * sizeof(PetscInt);

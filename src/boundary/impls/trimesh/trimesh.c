@@ -402,7 +402,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
         if (wi > 0) {
           PetscCall(FSBoundaryWallListsRoom_Private(b, nw));
           b->wk[nw] = k;
-          b->wW[nw] = (float)(wi / el[FS_TRI_AREA]);
+          b->wW[nw] = wi / el[FS_TRI_AREA];
           nw++;
         }
       }
@@ -539,7 +539,7 @@ static PetscErrorCode Memory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elemen
   PetscFunctionBegin;
   /* cstart and wstart (scap each), the candidate elements (ccap), the wall lists' k and W (b->wcap) */
   *lists = (PetscInt64)tm->scap * 2 * sizeof(PetscInt) + (PetscInt64)tm->ccap * sizeof(PetscInt) +
-           (PetscInt64)b->wcap * (sizeof(PetscInt) + sizeof(float));
+           (PetscInt64)b->wcap * (sizeof(PetscInt) + sizeof(PetscReal));
   /* the elements (FS_TRI_STRIDE reals, wall and triangle), wetfull and wp (3 nel + 1), the grid, the marks
      of the input triangles (tmark, tlist) */
   *elements = nel * (FS_TRI_STRIDE * sizeof(PetscReal) + 2 * sizeof(PetscInt) + 4 * sizeof(PetscReal)) +
