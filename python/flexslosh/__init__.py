@@ -14,6 +14,7 @@ Modules:
     solver    Solver: one run of the C core, its TS and DMSwarm as petsc4py objects, fields as numpy
     structure Structure: structure models in Python, registered with register_structure
     sweep     sweep(): many runs (fill levels, tank shapes...) in sequence or over MPI ranks, damping per cycle
+    waves     the linear viscous standing wave (Lamb) and the fit of a decaying oscillation to E_k(t)
 
 petsc4py (and MPI) are initialized on first use of Solver or register_structure, not on import.
 """
@@ -21,13 +22,14 @@ from __future__ import annotations
 
 __version__ = "0.1.0"
 
-__all__ = ["__version__", "damping", "output", "figures", "movie", "solver", "structure", "sweep", "Solver", "Structure",
-           "TankMotion", "register_structure"]
+__all__ = ["__version__", "damping", "output", "figures", "movie", "solver", "structure", "sweep", "waves", "Solver",
+           "Structure", "TankMotion", "register_structure"]
 
 from . import damping  # noqa: E402  (light: numpy only)
 from . import output  # noqa: E402  (numpy; h5py only when a snapshot is read)
 from . import figures  # noqa: E402  (numpy; matplotlib only when a figure is drawn)
 from . import movie  # noqa: E402  (numpy; matplotlib only when drawing)
+from . import waves  # noqa: E402  (light: numpy only)
 from . import solver, structure, sweep  # noqa: E402  (light: numpy; petsc4py and the binding are loaded on first use)
 from .solver import Solver  # noqa: E402
 from .structure import Structure, TankMotion, register_structure  # noqa: E402
