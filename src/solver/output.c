@@ -28,8 +28,7 @@ PetscErrorCode FSSolverEvaluateAtState(FSSolver s, PetscReal t)
      and kept with the state's layout for an integrator that never has a free stage, and dropped at once by one
      that will have it (rk4lean, rk: the outputs before the first step; kept, it would add a state-sized vector
      to the run's peak memory) */
-  PetscCall(FSSolverGetFreeStage(s, &F));
-  PetscCall(PetscObjectTypeCompareAny((PetscObject)s->ts, &staged, FSTSRK4LEAN, TSRK, ""));
+  PetscCall(FSSolverGetFreeStage(s, &F, &staged));
   if (F) PetscCall(VecDestroy(&s->state.Fout));
   else {
     if (!s->state.Fout) PetscCall(VecDuplicate(s->state.U, &s->state.Fout));
@@ -93,9 +92,25 @@ enum {
 };
 
 typedef struct {
+  const PetscInt *pid;
+  PetscInt        n;
+} FSIdsFill;
+
+/* the particles' ids as reals, when a snapshot or a checkpoint writes them */
+static PetscErrorCode FSSolverFillIds(void *ctx, PetscInt f, PetscReal values[])
+{
+  const FSIdsFill *c = (const FSIdsFill *)ctx;
+
+  PetscFunctionBegin;
+  (void)f;
+  for (PetscInt k = 0; k < c->n; k++) values[k] = c->pid[k];
+  PetscFunctionReturn(0);
+}
+
+typedef struct {
   FSSolver           s;
   const PetscScalar *u;
-  const PetscInt    *pid;
+  FSIdsFill          ids;
   PetscMPIInt        rank;
 } FSSnapshotFill;
 
@@ -127,9 +142,7 @@ static PetscErrorCode FSSolverFillSnapshotField(void *ctx, PetscInt f, PetscReal
   case FS_SNAP_RANK:
     for (PetscInt k = 0; k < n; k++) values[k] = c->rank;
     break;
-  case FS_SNAP_ID:
-    for (PetscInt k = 0; k < n; k++) values[k] = c->pid[k];
-    break;
+  case FS_SNAP_ID: PetscCall(FSSolverFillIds((void *)&c->ids, f, values)); break;
   }
   PetscFunctionReturn(0);
 }
@@ -162,14 +175,15 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
     PetscFunctionReturn(0);
   }
   PetscCall(FSSolverEvaluateAtState(s, t)); /* before the state is read: the derived fields evaluate at it */
-  c.s = s;
+  c.s     = s;
+  c.ids.n = n;
   PetscCall(VecGetArrayRead(s->state.U, &c.u));
-  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c.pid));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c.ids.pid));
   for (PetscInt f = 0; f < FS_SNAP_N; f++)
     fields[f] = (FSOutputField){
         .name = names[f], .bs = f < FS_SNAP_DENSITY ? dim : 1, .fill = FSSolverFillSnapshotField, .ctx = &c};
   PetscCall(FSSnapshotWriterWrite(s->mon.snapshots, t, step, dim, n, FS_SNAP_N, fields));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c.pid));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c.ids.pid));
   PetscCall(VecRestoreArrayRead(s->state.U, &c.u));
   s->mon.last_snapshot_time = t;
   PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
@@ -263,22 +277,6 @@ PetscErrorCode FSSolverRestoreField(FSSolver s, const char name[], PetscInt *n, 
   PetscCall(PetscFree(*values));
   if (n) *n = 0;
   if (bs) *bs = 0;
-  PetscFunctionReturn(0);
-}
-
-typedef struct {
-  const PetscInt *pid;
-  PetscInt        n;
-} FSIdsFill;
-
-/* the particles' ids as reals, when the checkpoint writes them */
-static PetscErrorCode FSSolverFillIds(void *ctx, PetscInt f, PetscReal values[])
-{
-  const FSIdsFill *c = (const FSIdsFill *)ctx;
-
-  PetscFunctionBegin;
-  (void)f;
-  for (PetscInt k = 0; k < c->n; k++) values[k] = c->pid[k];
   PetscFunctionReturn(0);
 }
 

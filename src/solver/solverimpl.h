@@ -120,7 +120,8 @@ typedef struct {
   Vec Uprev;             /* state at the start of the step (for the displacement check), only with an integrator that
                             keeps no copy of it (rk4lean and TSRK do: FSSolverGetStepStart) */
   Vec Fout;              /* the outputs' rates at the state (FSSolverEvaluateAtState) when the integrator has no
-                            vector free for them (FSSolverGetFreeStage): made there, destroyed with U */
+                            vector free for them (FSSolverGetFreeStage): made there and kept only by an
+                            integrator that never has one, destroyed with U */
   PetscBool     rkstart; /* the integrator's own vector holds the state at the start of the last step */
   FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
   PetscInt      ngblocks;
@@ -262,7 +263,7 @@ PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetStepStart(FSSolver, Vec *);
-PETSC_INTERN PetscErrorCode FSSolverGetFreeStage(FSSolver, Vec *);
+PETSC_INTERN PetscErrorCode FSSolverGetFreeStage(FSSolver, Vec *, PetscBool *later);
 #define FSTSRK4LEAN "rk4lean" /* classical RK4 in four vectors (tsrk4lean.c): the default integrator */
 PETSC_INTERN PetscErrorCode FSTSRegisterRK4Lean(void);
 PETSC_INTERN PetscErrorCode FSTSRK4LeanGetWork(TS, Vec *, Vec *);

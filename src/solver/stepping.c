@@ -47,15 +47,21 @@ PetscErrorCode FSSolverGetStepStart(FSSolver s, Vec *U0)
 /*
    FSSolverGetFreeStage - a vector of U's layout the outputs' evaluation may write its rates into (they
    are not kept): rk4lean's rate vector, or TSRK's last stage when there is one besides the first
-   (FSSolverGetStepStart's); the next step writes either before it reads it. Else NULL.
+   (FSSolverGetStepStart's); the next step writes either before it reads it. Else NULL. *later (may be
+   NULL) says whether the integrator has such a vector once it is set up (rk4lean and TSRK; a one-stage
+   TSRK is counted in), so that a vector made for the outputs before the first step need not be kept.
 */
-PetscErrorCode FSSolverGetFreeStage(FSSolver s, Vec *F)
+PetscErrorCode FSSolverGetFreeStage(FSSolver s, Vec *F, PetscBool *later)
 {
   PetscInt ns;
   Vec     *Y;
 
   PetscFunctionBegin;
   *F = NULL;
+  if (later) {
+    *later = PETSC_FALSE;
+    if (s->ts) PetscCall(PetscObjectTypeCompareAny((PetscObject)s->ts, later, FSTSRK4LEAN, TSRK, ""));
+  }
   if (s->ts) PetscCall(FSTSRK4LeanGetWork(s->ts, NULL, F));
   if (*F) PetscFunctionReturn(0);
   PetscCall(FSSolverRKStages(s, &ns, &Y));
