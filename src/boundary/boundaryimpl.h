@@ -18,7 +18,8 @@ struct _FSBoundaryOps {
   PetscErrorCode (*update)(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *,
                            FSBoundaryLeak *);
   /* at every right-hand side (FSBoundaryPrepare): gamma of the owned particles, the share of their
-     support behind no-slip walls (when not NULL), the wall lists, the wall pressure, the pressure loads;
+     support behind no-slip walls (when not NULL), the wall lists, and this rank's sums of the wall pressure, ending
+     with FSBoundaryWallPressureBegin (FSBoundaryPrepareExchange and End finish the pressure and make the loads);
      collective */
   PetscErrorCode (*prepare)(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[], PetscReal noslip[]);
   /* after each step (FSBoundaryBounce); not collective */
@@ -38,6 +39,9 @@ struct _FSBoundaryOps {
   /* the bytes this rank's walls hold: the particles' candidate elements and wall lists (lists), the
      elements and their search grid (elements); not collective */
   PetscErrorCode (*memory)(FSBoundary, PetscInt64 *lists, PetscInt64 *elements);
+  /* adds each owned particle's cost of a right-hand side's wall work, in fluid candidate pairs, from the candidate
+     elements of the last update (FSBoundaryAddWork); not collective */
+  PetscErrorCode (*work)(FSBoundary, PetscInt nowned, PetscInt64 work[]);
   PetscErrorCode (*destroy)(FSBoundary);
 };
 
@@ -77,8 +81,13 @@ struct _p_FSBoundary {
   FSWallView view;
   PetscInt  *wstart, *wk;
   PetscReal *wW;
-  PetscInt   wcap; /* room in wk and wW (FSBoundaryWallListsRoom_Private) */
-  void      *data;
+  struct { /* the wall pressure between FSBoundaryWallPressureBegin and FSBoundaryPrepareEnd */
+    PetscInt         nel;
+    const PetscReal *wetfull;
+    PetscReal        pamb, *wp;
+  } wpx;
+  PetscInt wcap; /* room in wk and wW (FSBoundaryWallListsRoom_Private) */
+  void    *data;
 };
 
 /* for the implementations' writegeometry (interface/wallsxdmf.c): the wall names comma separated, and
@@ -105,9 +114,10 @@ PETSC_INTERN PetscErrorCode FSBoundaryWallListsFit_Private(FSBoundary, PetscInt 
 /* adds n bytes to a 64-bit FNV-1a hash (interface/boundary.c) */
 PETSC_INTERN void FSBoundaryHashAdd_Private(uint64_t *hash, const void *data, size_t n);
 
-/* the wall pressure from the implementations' per-element sums, and the pressure loads (interface/boundary.c) */
-PETSC_INTERN PetscErrorCode FSBoundaryWallPressure(FSBoundary, PetscInt nel, const PetscReal wetfull[], PetscReal pamb,
-                                                   PetscReal wp[]);
+/* the wall pressure's start from the implementations' per-element sums, and the pressure loads (interface/boundary.c)
+ */
+PETSC_INTERN PetscErrorCode FSBoundaryWallPressureBegin(FSBoundary, PetscInt nel, const PetscReal wetfull[],
+                                                        PetscReal pamb, PetscReal wp[]);
 PETSC_INTERN PetscErrorCode FSBoundaryPressureLoads(FSBoundary, const PetscReal wp[]);
 /* one particle's bounce off an element (interface/boundary.c) */
 PETSC_INTERN void FSBoundaryBounceParticle(FSBoundary, const PetscReal n[], PetscReal d, PetscReal un, PetscReal x[],

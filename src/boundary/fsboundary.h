@@ -61,6 +61,10 @@ PETSC_INTERN PetscErrorCode FSBoundaryUpdate(FSBoundary, PetscInt nowned, const 
                                              FSNeighbours *, FSBoundaryLeak *);
 PETSC_INTERN PetscErrorCode FSBoundaryPrepare(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[],
                                               PetscReal noslip[]);
+PETSC_INTERN PetscErrorCode FSBoundaryPrepareBegin(FSBoundary, const FSBoundaryParticles *, PetscReal gamma[],
+                                                   PetscReal noslip[]);
+PETSC_INTERN PetscErrorCode FSBoundaryPrepareExchange(FSBoundary);
+PETSC_INTERN PetscErrorCode FSBoundaryPrepareEnd(FSBoundary);
 PETSC_INTERN PetscErrorCode FSBoundaryHasNoSlip(FSBoundary, PetscBool *);
 PETSC_INTERN PetscErrorCode FSBoundaryGetView(FSBoundary, const FSWallView **, const PetscInt **wstart,
                                               const PetscInt **wk, const PetscReal **wW);
@@ -81,6 +85,7 @@ PETSC_INTERN PetscErrorCode FSBoundaryDraw(FSBoundary, FSImage *, const FSImageM
 PETSC_INTERN PetscErrorCode FSBoundaryWriteGeometry(FSBoundary, const char dir[], PetscBool verbose);
 PETSC_INTERN PetscErrorCode FSBoundarySummary(FSBoundary, FSJSON);
 PETSC_INTERN PetscErrorCode FSBoundaryGetMemory(FSBoundary, PetscInt64 *lists, PetscInt64 *elements);
+PETSC_INTERN PetscErrorCode FSBoundaryAddWork(FSBoundary, PetscInt nowned, PetscInt64 work[]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetGeometryHash(FSBoundary, char hash[], size_t len);
 PETSC_INTERN PetscErrorCode FSBoundaryView(FSBoundary, PetscViewer);
 PETSC_INTERN PetscErrorCode FSBoundaryDestroy(FSBoundary *);

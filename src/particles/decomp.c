@@ -87,12 +87,18 @@ PetscErrorCode FSDecompSetUp(FSDecomp *dd, MPI_Comm comm, PetscInt dim, const Pe
 
 /*
    FSDecompBalance - moves the cuts so that each slab of ranks in every direction holds about
-   the same number of particles (from a global histogram of the coordinates), keeping every
-   subdomain at least minwidth wide.
+   the same weight of particles (from a global histogram of the coordinates, 4096 bins a direction), keeping
+   every subdomain at least minwidth wide.
+
+   Input Parameters:
++  n, x     - this rank's particles and their positions (dim each)
+.  w        - their weights (e.g. their work in a right-hand side), or NULL: 1 each
+-  minwidth - the smallest subdomain width allowed (the halo width)
 
    Notes: collective; the histogram is integer, so every rank computes the same cuts.
 */
-PetscErrorCode FSDecompBalance(FSDecomp *dd, MPI_Comm comm, PetscInt n, const PetscReal x[], PetscReal minwidth)
+PetscErrorCode FSDecompBalance(FSDecomp *dd, MPI_Comm comm, PetscInt n, const PetscReal x[], const PetscInt64 w[],
+                               PetscReal minwidth)
 {
   const PetscInt nbins = 4096;
   PetscInt64    *hist, total;
@@ -106,16 +112,20 @@ PetscErrorCode FSDecompBalance(FSDecomp *dd, MPI_Comm comm, PetscInt n, const Pe
     PetscCall(PetscArrayzero(hist, nbins));
     for (PetscInt p = 0; p < n; p++) {
       PetscInt b = (PetscInt)((x[p * dd->dim + d] - dd->lo[d]) / dd->len[d] * nbins);
-      hist[PetscMax(0, PetscMin(nbins - 1, b))]++;
+      hist[PetscMax(0, PetscMin(nbins - 1, b))] += w ? w[p] : 1;
     }
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, hist, nbins, MPIU_INT64, MPI_SUM, comm));
     total = 0;
     for (PetscInt b = 0; b < nbins; b++) total += hist[b];
     if (!total) continue;
+    /* cut k at the bin edge where the weight below comes closest to k/np of the total: before or after the bin
+       that crosses it (a lattice puts whole planes of particles in one bin) */
     for (PetscInt b = 0; b < nbins && k < dd->np[d]; b++) {
+      const PetscInt64 below = acc;
       acc += hist[b];
       while (k < dd->np[d] && acc * dd->np[d] >= total * k) {
-        dd->cut[d][k] = dd->lo[d] + dd->len[d] * (b + 1) / nbins;
+        const PetscBool before = (PetscBool)(b > 0 && total * k - below * dd->np[d] < acc * dd->np[d] - total * k);
+        dd->cut[d][k]          = dd->lo[d] + dd->len[d] * (before ? b : b + 1) / nbins;
         k++;
       }
     }

@@ -43,7 +43,8 @@ typedef struct {
 
 PETSC_INTERN PetscErrorCode FSDecompSetUp(FSDecomp *, MPI_Comm, PetscInt dim, const PetscReal lo[],
                                           const PetscReal hi[], const PetscBool periodic[], PetscReal minwidth);
-PETSC_INTERN PetscErrorCode FSDecompBalance(FSDecomp *, MPI_Comm, PetscInt n, const PetscReal x[], PetscReal minwidth);
+PETSC_INTERN PetscErrorCode FSDecompBalance(FSDecomp *, MPI_Comm, PetscInt n, const PetscReal x[], const PetscInt64 w[],
+                                            PetscReal minwidth);
 PETSC_INTERN PetscErrorCode FSDecompDestroy(FSDecomp *);
 PETSC_INTERN PetscInt       FSDecompLayoutSize(const FSDecomp *);
 PETSC_INTERN PetscErrorCode FSDecompGetLayout(const FSDecomp *, PetscReal v[]);
@@ -75,9 +76,30 @@ typedef struct {
 PETSC_INTERN PetscErrorCode FSHaloBuild(FSHalo *, MPI_Comm, const FSDecomp *, PetscInt nowned, const PetscReal rec[],
                                         PetscInt stride, PetscReal width);
 PETSC_INTERN PetscErrorCode FSHaloRefresh(FSHalo *, PetscInt dim, PetscInt nowned, PetscReal rec[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshBegin(FSHalo *, PetscReal rec[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshEnd(FSHalo *, PetscInt dim, PetscInt nowned, PetscReal rec[]);
 PETSC_INTERN PetscErrorCode FSHaloRefreshAux(FSHalo *, PetscReal aux[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshAuxBegin(FSHalo *, PetscReal aux[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshAuxEnd(FSHalo *, PetscReal aux[]);
 PETSC_INTERN PetscErrorCode FSHaloRefreshScalar(FSHalo *, PetscReal a[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshScalarBegin(FSHalo *, PetscReal a[]);
+PETSC_INTERN PetscErrorCode FSHaloRefreshScalarEnd(FSHalo *, PetscReal a[]);
 PETSC_INTERN PetscErrorCode FSHaloDestroy(FSHalo *);
+
+/*
+   FSCommProgress - called with the index i of a long loop over particles: every FS_PROGRESS_INTERVAL particles lets
+   MPI move the messages in flight (an MPI_Iprobe, under a microsecond). Open MPI moves a large message only inside
+   MPI calls of both ranks, so without it a rank that sends and receives in a halo refresh waits in its ...End until
+   the other rank reaches its own: the passes between a Begin and its End would not overlap the messages.
+*/
+#define FS_PROGRESS_INTERVAL 256
+static inline void FSCommProgress(PetscInt i)
+{
+  if ((i & (FS_PROGRESS_INTERVAL - 1)) == FS_PROGRESS_INTERVAL - 1) {
+    int flag;
+    (void)MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_SELF, &flag, MPI_STATUS_IGNORE);
+  }
+}
 
 /* Cell-linked list (counting sort) and the candidate (Verlet) lists of the owned particles. A particle's
    candidates are the particles of the rows of cells around its cell (FSNeighboursRows: 3 rows of 3 cells
@@ -118,6 +140,9 @@ PETSC_INTERN PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *, PetscInt
                                                         PetscInt stride, PetscReal radius);
 
 #define FS_NEIGHBOUR_ROWS 9 /* the most rows of cells around a cell (3-D) */
+
+PETSC_INTERN PetscErrorCode FSNeighboursSplitByGhosts(const FSNeighbours *, PetscInt nowned, PetscInt ntotal,
+                                                      PetscInt pass[], PetscInt *ninterior);
 
 /*
    FSNeighboursRows - the rows of cells around particle i's cell (its cell at the last build of the cell
@@ -197,6 +222,15 @@ static inline PetscBool FSNeighboursCandidateNext(const FSNeighbours *nb, FSCand
   it->bits ^= it->cur;
   *j = nb->order[it->q0[it->r] + p];
   return PETSC_TRUE;
+}
+
+/* the number of owned particle i's candidates */
+static inline PetscInt FSNeighboursCandidateCount(const FSNeighbours *nb, PetscInt i)
+{
+  PetscInt nc = 0;
+  if (nb->form == FS_CANDIDATES_INDICES) return nb->cend[i] - nb->cstart[i];
+  for (PetscInt k = nb->cstart[i]; k < nb->cstart[i + 1]; k++) nc += __builtin_popcountll(nb->mask[k]);
+  return nc;
 }
 
 /* removes the candidate FSNeighboursCandidateNext() returned last (e.g. a pair a wall cuts) */

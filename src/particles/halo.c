@@ -228,13 +228,23 @@ PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscI
   PetscFunctionReturn(0);
 }
 
-/* FSHaloRefresh - copies the owners' current records into the ghost records and applies the periodic shifts. */
-PetscErrorCode FSHaloRefresh(FSHalo *hl, PetscInt dim, PetscInt nowned, PetscReal rec[])
+/*
+   FSHaloRefreshBegin/End - copies the owners' current records into the ghost records and applies the periodic
+   shifts. Between the two the owned records may be read but not changed, and the ghosts' are not ready: work
+   on the owned particles alone can go on while the messages travel. FSHaloRefresh does both.
+*/
+PetscErrorCode FSHaloRefreshBegin(FSHalo *hl, PetscReal rec[])
 {
   PetscFunctionBegin;
   hl->refresh_msgs += hl->nsendranks;
   hl->refresh_bytes += (PetscLogDouble)hl->nsendremote * hl->recstride * sizeof(PetscReal);
   PetscCall(PetscSFBcastBegin(hl->sf, hl->rectype, rec, rec, MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSHaloRefreshEnd(FSHalo *hl, PetscInt dim, PetscInt nowned, PetscReal rec[])
+{
+  PetscFunctionBegin;
   PetscCall(PetscSFBcastEnd(hl->sf, hl->rectype, rec, rec, MPI_REPLACE));
   for (PetscInt g = 0; g < hl->nghost; g++) {
     PetscReal *x = &rec[(nowned + g) * hl->recstride];
@@ -243,25 +253,63 @@ PetscErrorCode FSHaloRefresh(FSHalo *hl, PetscInt dim, PetscInt nowned, PetscRea
   PetscFunctionReturn(0);
 }
 
-/* FSHaloRefreshAux - copies the owners' derived quantities (density gradient, ||D||) to the ghosts. */
-PetscErrorCode FSHaloRefreshAux(FSHalo *hl, PetscReal aux[])
+PetscErrorCode FSHaloRefresh(FSHalo *hl, PetscInt dim, PetscInt nowned, PetscReal rec[])
+{
+  PetscFunctionBegin;
+  PetscCall(FSHaloRefreshBegin(hl, rec));
+  PetscCall(FSHaloRefreshEnd(hl, dim, nowned, rec));
+  PetscFunctionReturn(0);
+}
+
+/* FSHaloRefreshAuxBegin/End - copies the owners' derived quantities (density gradient, ||D||) to the ghosts, as
+   FSHaloRefreshBegin/End; FSHaloRefreshAux does both. */
+PetscErrorCode FSHaloRefreshAuxBegin(FSHalo *hl, PetscReal aux[])
 {
   PetscFunctionBegin;
   hl->refresh_msgs += hl->nsendranks;
   hl->refresh_bytes += (PetscLogDouble)hl->nsendremote * hl->auxstride * sizeof(PetscReal);
   PetscCall(PetscSFBcastBegin(hl->sf, hl->auxtype, aux, aux, MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSHaloRefreshAuxEnd(FSHalo *hl, PetscReal aux[])
+{
+  PetscFunctionBegin;
   PetscCall(PetscSFBcastEnd(hl->sf, hl->auxtype, aux, aux, MPI_REPLACE));
   PetscFunctionReturn(0);
 }
 
-/* FSHaloRefreshScalar - copies one real per particle (e.g. the Shepard factor) from the owners to the ghosts. */
-PetscErrorCode FSHaloRefreshScalar(FSHalo *hl, PetscReal a[])
+PetscErrorCode FSHaloRefreshAux(FSHalo *hl, PetscReal aux[])
+{
+  PetscFunctionBegin;
+  PetscCall(FSHaloRefreshAuxBegin(hl, aux));
+  PetscCall(FSHaloRefreshAuxEnd(hl, aux));
+  PetscFunctionReturn(0);
+}
+
+/* FSHaloRefreshScalarBegin/End - copies one real per particle (e.g. the Shepard factor) from the owners to the
+   ghosts, as FSHaloRefreshBegin/End; FSHaloRefreshScalar does both. */
+PetscErrorCode FSHaloRefreshScalarBegin(FSHalo *hl, PetscReal a[])
 {
   PetscFunctionBegin;
   hl->refresh_msgs += hl->nsendranks;
   hl->refresh_bytes += (PetscLogDouble)hl->nsendremote * sizeof(PetscReal);
   PetscCall(PetscSFBcastBegin(hl->sf, MPIU_REAL, a, a, MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSHaloRefreshScalarEnd(FSHalo *hl, PetscReal a[])
+{
+  PetscFunctionBegin;
   PetscCall(PetscSFBcastEnd(hl->sf, MPIU_REAL, a, a, MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FSHaloRefreshScalar(FSHalo *hl, PetscReal a[])
+{
+  PetscFunctionBegin;
+  PetscCall(FSHaloRefreshScalarBegin(hl, a));
+  PetscCall(FSHaloRefreshScalarEnd(hl, a));
   PetscFunctionReturn(0);
 }
 

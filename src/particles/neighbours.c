@@ -207,6 +207,36 @@ PetscErrorCode FSNeighboursBuildCandidates(FSNeighbours *nb, PetscInt nowned, co
   PetscFunctionReturn(0);
 }
 
+/*
+   FSNeighboursSplitByGhosts - the owned particles in two groups, each in ascending order: first those none of whose
+   candidates can be a ghost (no ghost in the rows of cells around them), then the others, into pass[0..nowned),
+   with the size of the first group. A pass over the pairs can do the first group while the ghosts' fields are
+   still on their way (FSSolverEvaluateRates). ntotal: the owned and ghost particles of the cell list.
+*/
+PetscErrorCode FSNeighboursSplitByGhosts(const FSNeighbours *nb, PetscInt nowned, PetscInt ntotal, PetscInt pass[],
+                                         PetscInt *ninterior)
+{
+  PetscInt *ghosts, ni = 0, nb2 = 0;
+
+  PetscFunctionBegin;
+  PetscCall(PetscMalloc1(ntotal + 1, &ghosts)); /* ghosts[q]: the ghosts among the first q of the cell-sorted order */
+  ghosts[0] = 0;
+  for (PetscInt q = 0; q < ntotal; q++) ghosts[q + 1] = ghosts[q] + (nb->order[q] >= nowned);
+  for (PetscInt i = 0; i < nowned; i++) {
+    PetscInt  q0[FS_NEIGHBOUR_ROWS], len[FS_NEIGHBOUR_ROWS], nr = ghosts[ntotal] ? FSNeighboursRows(nb, i, q0, len) : 0;
+    PetscBool border = PETSC_FALSE;
+    for (PetscInt r = 0; r < nr && !border; r++) border = (PetscBool)(ghosts[q0[r] + len[r]] > ghosts[q0[r]]);
+    if (!border) pass[ni++] = i;
+  }
+  for (PetscInt i = 0, k = 0; i < nowned; i++) { /* the others after, in order */
+    if (k < ni && pass[k] == i) k++;
+    else pass[ni + nb2++] = i;
+  }
+  PetscCall(PetscFree(ghosts));
+  *ninterior = ni;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FSNeighboursDestroy(FSNeighbours *nb)
 {
   PetscFunctionBegin;

@@ -21,6 +21,7 @@ static const char *FSParallelKeys[] = {"owned",
                                        "ghosts_mean",
                                        "pairs",
                                        "pairs_with_ghosts",
+                                       "work",
                                        "pair_visits",
                                        "send_ranks",
                                        "messages_per_step",
@@ -33,6 +34,7 @@ static const char *FSParallelKeys[] = {"owned",
                                        "migration_bytes_per_step",
                                        "collectives_per_step"};
 #define FS_PAR_NKEYS ((PetscInt)(sizeof(FSParallelKeys) / sizeof(FSParallelKeys[0])))
+#define FS_PAR_WORK  8 /* the index of "work" */
 
 static inline void FSParallelCounters(PetscLogDouble c[3])
 {
@@ -101,7 +103,7 @@ PetscErrorCode FSParallelStatsSummary(FSSolver s, FSJSON js)
   const FSHalo          *hl   = &s->pw.halo;
   const FSNeighbours    *nb   = &s->pw.nbrs;
   PetscReal              mine[FS_PAR_NKEYS], *all = NULL, *col = NULL, steps, grid[3], sums[3], mx;
-  PetscInt64             across = 0;
+  PetscInt64             across = 0, work = 0;
   PetscMPIInt            size, rank;
   PetscLogDouble         uncounted = ps->uncounted;
   PetscBuildTwoSidedType bt;
@@ -128,6 +130,7 @@ PetscErrorCode FSParallelStatsSummary(FSSolver s, FSJSON js)
         across += r2 < s->pw.kernel.support2;
       }
     }
+  if (nb->cstart && s->pw.rec) PetscCall(FSSolverGetWorkSum(s, &work));
   mine[k++] = s->pw.nowned;
   mine[k++] = hl->nghost;
   mine[k++] = ps->owned_first;
@@ -136,6 +139,7 @@ PetscErrorCode FSParallelStatsSummary(FSSolver s, FSJSON js)
   mine[k++] = ps->ghost_sum / steps;
   mine[k++] = (PetscReal)nb->npairs;
   mine[k++] = (PetscReal)across;
+  mine[k++] = (PetscReal)work;
   mine[k++] = (PetscReal)s->mon.pair_visits;
   mine[k++] = hl->nsendranks;
   mine[k++] = ps->msgs / steps;
@@ -169,6 +173,12 @@ PetscErrorCode FSParallelStatsSummary(FSSolver s, FSJSON js)
     }
     mx = osum > 0 ? omax * size / osum : 1;
     PetscCall(FSJSONWriteReal(js, "imbalance_owned_end", mx));
+    omax = osum = 0;
+    for (PetscMPIInt r = 0; r < size; r++) {
+      omax = PetscMax(omax, all[r * FS_PAR_NKEYS + FS_PAR_WORK]);
+      osum += all[r * FS_PAR_NKEYS + FS_PAR_WORK];
+    }
+    PetscCall(FSJSONWriteReal(js, "imbalance_work_end", osum > 0 ? omax * size / osum : 1));
     PetscCall(FSJSONWriteReal(js, "imbalance_owned", sums[0] > 0 ? ps->max_owned_sum * size / sums[0] : 1));
     PetscCall(FSJSONWriteReal(js, "imbalance_pairs", sums[1] > 0 ? ps->max_pairs_sum * size / sums[1] : 1));
     for (PetscInt key = 0; key < FS_PAR_NKEYS; key++) {

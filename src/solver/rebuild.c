@@ -166,39 +166,128 @@ PetscErrorCode FSSolverKeepLists(FSSolver s)
 }
 
 /*
-   FSSolverRebalance - at a rebuild of the lists, before the migration: when the rank owning the most particles
-   holds more than -fs_rebalance_threshold times the mean and -fs_rebalance_interval steps have passed since the
-   cuts last moved, balances the cuts again on the particles' present positions (FSDecompBalance); the migration
-   that follows sends each particle to its new owner. The cuts set at the start are balanced on the liquid as it
-   was then; a sloshing or collapsing liquid leaves them behind (the largest rank's share drifts, measured in
-   docs/performance.md). The imbalance is the time step's reduction's (no collective unless the cuts move).
+   FSSolverGetWork - with weighted, each owned particle's work in a right-hand side, counted in fluid candidate pairs
+   (the unit of the passes over the pairs): 1 plus its candidates plus its walls' work (FSBoundaryAddWork), from the
+   lists of the last build, which must be this swarm's particles in this order; without, *work is NULL (1 each).
+   Free with PetscFree(). Also the sum over this rank's particles.
+
+   Not collective
+*/
+static PetscErrorCode FSSolverGetWork(FSSolver s, PetscBool weighted, PetscInt64 **work, PetscInt64 *sum)
+{
+  const PetscInt n = s->pw.nowned;
+
+  PetscFunctionBegin;
+  *work = NULL;
+  *sum  = n;
+  if (!weighted) PetscFunctionReturn(0);
+  PetscCall(PetscMalloc1(n, work));
+  for (PetscInt i = 0; i < n; i++) (*work)[i] = 1 + FSNeighboursCandidateCount(&s->pw.nbrs, i);
+  if (s->boundary) PetscCall(FSBoundaryAddWork(s->boundary, n, *work));
+  *sum = 0;
+  for (PetscInt i = 0; i < n; i++) *sum += (*work)[i];
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetWorkSum - this rank's work in a right-hand side, in fluid candidate pairs (FSSolverGetWork), whatever
+   -fs_balance says: the parallel statistics' "work". From the lists of the last build.
+
+   Not collective
+*/
+PetscErrorCode FSSolverGetWorkSum(FSSolver s, PetscInt64 *sum)
+{
+  PetscInt64 *work;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetWork(s, PETSC_TRUE, &work, sum));
+  PetscCall(PetscFree(work));
+  PetscFunctionReturn(0);
+}
+
+/* balances the cuts on the swarm's particles weighted by work (NULL: 1 each) and tells the walls */
+static PetscErrorCode FSSolverBalanceCuts(FSSolver s, const PetscInt64 work[])
+{
+  PetscReal *x;
+  PetscInt   n;
+
+  PetscFunctionBegin;
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(FSDecompBalance(&s->pw.decomp, PetscObjectComm((PetscObject)s), n, x, work,
+                            s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(FSSolverPartitionWalls(s));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverBalanceWork - at the set-up, with -fs_balance work on more than one rank, once the lists are built on the
+   cuts balanced on the particles: balances the cuts on the particles' work (FSSolverGetWork), moves the particles
+   to their new owners and builds the lists again. Not at a restart, which keeps the checkpoint's cuts.
+
+   Collective
+*/
+PetscErrorCode FSSolverBalanceWork(FSSolver s)
+{
+  PetscInt64 *work, sum;
+  PetscBool   changed;
+
+  PetscFunctionBegin;
+  if (s->pw.decomp.size == 1 || s->opt.balance != FS_BALANCE_WORK || s->opt.restart[0]) PetscFunctionReturn(0);
+  PetscCall(FSSolverGetWork(s, (PetscBool)(s->opt.balance == FS_BALANCE_WORK), &work, &sum));
+  PetscCall(FSSolverBalanceCuts(s, work));
+  PetscCall(PetscFree(work));
+  PetscCall(FSSolverMigrate(s, &changed));
+  PetscCall(FSSolverSortByCell(s));
+  PetscCall(FSSolverResize(s, changed));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverRebalance - at a rebuild of the lists, before the migration: when the rank with the most work holds more
+   than -fs_rebalance_threshold times the mean and -fs_rebalance_interval steps have passed since the cuts last moved,
+   balances the cuts again on the particles' present positions (FSDecompBalance); the migration that follows sends
+   each particle to its new owner. The work is a rank's particles (-fs_balance particles) or their work in a
+   right-hand side (-fs_balance work, FSSolverGetWork: candidate pairs and wall elements). The cuts set at the start
+   are balanced on the liquid as it was then; a sloshing or collapsing liquid leaves them behind (the largest rank's
+   share drifts, measured in docs/performance.md). With -fs_balance particles the imbalance is the time step's
+   reduction's (no collective unless the cuts move); with work one gather of a number per rank at each rebuild.
    *moved says whether they did (on every rank).
 
    Collective
 */
 PetscErrorCode FSSolverRebalance(FSSolver s, PetscInt step, PetscBool *moved)
 {
-  const PetscReal mean = (PetscReal)s->pw.nglobal_particles / s->pw.decomp.size;
-  PetscReal       imbalance, *x;
-  PetscInt        n;
+  PetscReal   imbalance;
+  PetscInt64 *work = NULL, sum;
 
   PetscFunctionBegin;
   *moved = PETSC_FALSE;
-  if (s->pw.decomp.size == 1 || s->opt.rebalance_threshold <= 0 || mean <= 0) PetscFunctionReturn(0);
-  imbalance = s->mon.par.step_max[0] / mean;
-  if (imbalance <= s->opt.rebalance_threshold || step - s->pw.balance_step < s->opt.rebalance_interval)
+  if (s->pw.decomp.size == 1 || s->opt.rebalance_threshold <= 0 || s->pw.nglobal_particles <= 0 ||
+      step - s->pw.balance_step < s->opt.rebalance_interval)
     PetscFunctionReturn(0);
-  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
-  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  PetscCall(FSDecompBalance(&s->pw.decomp, PetscObjectComm((PetscObject)s), n, x,
-                            s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  PetscCall(PetscInfo(s, "step %" PetscInt_FMT ": imbalance %g above %g, cuts balanced again\n", step,
-                      (double)imbalance, (double)s->opt.rebalance_threshold));
-  PetscCall(FSSolverPartitionWalls(s));
-  s->pw.balance_step = step;
-  s->mon.nrebalances++;
-  *moved = PETSC_TRUE;
+  if (s->opt.balance == FS_BALANCE_WORK) {
+    PetscInt64 *all, max = 0, total = 0;
+    PetscCall(FSSolverGetWork(s, (PetscBool)(s->opt.balance == FS_BALANCE_WORK), &work, &sum));
+    PetscCall(PetscMalloc1(s->pw.decomp.size, &all));
+    PetscCallMPI(MPI_Allgather(&sum, 1, MPIU_INT64, all, 1, MPIU_INT64, PetscObjectComm((PetscObject)s)));
+    for (PetscMPIInt r = 0; r < s->pw.decomp.size; r++) {
+      max = PetscMax(max, all[r]);
+      total += all[r];
+    }
+    PetscCall(PetscFree(all));
+    imbalance = total > 0 ? (PetscReal)max / ((PetscReal)total / s->pw.decomp.size) : 1;
+  } else imbalance = s->mon.par.step_max[0] / ((PetscReal)s->pw.nglobal_particles / s->pw.decomp.size);
+  if (imbalance > s->opt.rebalance_threshold) {
+    PetscCall(FSSolverBalanceCuts(s, work));
+    PetscCall(PetscInfo(s, "step %" PetscInt_FMT ": imbalance %g above %g, cuts balanced again\n", step,
+                        (double)imbalance, (double)s->opt.rebalance_threshold));
+    s->pw.balance_step = step;
+    s->mon.nrebalances++;
+    *moved = PETSC_TRUE;
+  }
+  PetscCall(PetscFree(work));
   PetscFunctionReturn(0);
 }
 

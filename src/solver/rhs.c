@@ -81,6 +81,7 @@ FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
   PetscInt64       np = 0;
 
   for (PetscInt i = 0; i < n; i++) {
+    FSCommProgress(i); /* the walls' and the ghosts' messages travel meanwhile */
     const PetscReal *ri   = &rec[i * S];
     PetscReal        M[9] = {0}, Minv[9], G[3] = {0, 0, 0}, Au[9] = {0}, J[9] = {0}, nrm = 0;
     PetscReal       *out = &s->pw.aux[i * A];
@@ -134,12 +135,14 @@ static PetscErrorCode FSSolverFirstPass(FSSolver s)
 }
 
 /*
-   FSSolverBoundaryPrepare - the boundary's work of a right-hand side (FSBoundaryPrepare): gamma of the
-   owned particles, their wall elements, the wall pressure and loads; then gamma of the ghosts (for the
-   symmetric, dissipative viscous terms) and 1/gamma of all. With no-slip walls also gamma_v, gamma
-   plus the share of the support behind them, which the laminar viscous terms use (FSParticles).
+   FSSolverBoundaryPrepareBegin - the boundary's work of a right-hand side on the owned particles
+   (FSBoundaryPrepareBegin): their gamma, wall elements and their sums of the wall pressure, which go on
+   their way to the other ranks; then 1/gamma of the owned particles, and gamma of the ghosts (for the
+   symmetric, dissipative viscous terms) on its way (FSSolverBoundaryGhosts). With no-slip walls also gamma_v,
+   gamma plus the share of the support behind them, which the laminar viscous terms use (FSParticles). Needs
+   the owned records only.
 */
-static PetscErrorCode FSSolverBoundaryPrepare(FSSolver s)
+static PetscErrorCode FSSolverBoundaryPrepareBegin(FSSolver s)
 {
   const PetscInt      n = s->pw.nowned;
   FSBoundaryParticles bp;
@@ -163,15 +166,33 @@ static PetscErrorCode FSSolverBoundaryPrepare(FSSolver s)
   bp.pressure = s->pw.pressure;
   PetscCall(FSCouplingGetBody(s->coupling, &bp.body));
   bp.background_pressure = s->opt.background_pressure;
-  PetscCall(FSBoundaryPrepare(s->boundary, &bp, s->pw.gamma, s->pw.gammav));
+  PetscCall(FSBoundaryPrepareBegin(s->boundary, &bp, s->pw.gamma, s->pw.gammav));
   for (PetscInt g = 0; g < s->pw.halo.nghost; g++) s->pw.gamma[n + g] = 1;
-  PetscCall(FSHaloRefreshScalar(&s->pw.halo, s->pw.gamma));
-  for (PetscInt k = 0; k < n + s->pw.halo.nghost; k++) s->pw.invgamma[k] = 1.0 / s->pw.gamma[k];
+  PetscCall(FSHaloRefreshScalarBegin(&s->pw.halo, s->pw.gamma));
+  for (PetscInt k = 0; k < n; k++) s->pw.invgamma[k] = 1.0 / s->pw.gamma[k];
   if (noslip) {
     for (PetscInt k = 0; k < n; k++) s->pw.gammav[k] += s->pw.gamma[k];
     for (PetscInt g = 0; g < s->pw.halo.nghost; g++) s->pw.gammav[n + g] = 1;
-    PetscCall(FSHaloRefreshScalar(&s->pw.halo, s->pw.gammav));
-    for (PetscInt k = 0; k < n + s->pw.halo.nghost; k++) s->pw.invgammav[k] = 1.0 / s->pw.gammav[k];
+    PetscCall(FSHaloRefreshScalarBegin(&s->pw.halo, s->pw.gammav));
+    for (PetscInt k = 0; k < n; k++) s->pw.invgammav[k] = 1.0 / s->pw.gammav[k];
+  }
+  PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverBoundaryGhosts - gamma (and gamma_v) of the ghosts arrived (FSSolverBoundaryPrepareBegin), and their
+   inverses */
+static PetscErrorCode FSSolverBoundaryGhosts(FSSolver s)
+{
+  const PetscInt n = s->pw.nowned, ng = s->pw.halo.nghost;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
+  PetscCall(FSHaloRefreshScalarEnd(&s->pw.halo, s->pw.gamma));
+  for (PetscInt k = n; k < n + ng; k++) s->pw.invgamma[k] = 1.0 / s->pw.gamma[k];
+  if (s->pw.gammav) {
+    PetscCall(FSHaloRefreshScalarEnd(&s->pw.halo, s->pw.gammav));
+    for (PetscInt k = n; k < n + ng; k++) s->pw.invgammav[k] = 1.0 / s->pw.gammav[k];
   }
   PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -217,12 +238,24 @@ static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscRe
   PetscFunctionReturn(0);
 }
 
+/* the volumes and pressures of particles k0 .. k1-1 (owned, then ghosts), shared by the passes and the terms */
+static void FSSolverVolumesAndPressures(FSSolver s, PetscInt k0, PetscInt k1)
+{
+  const PetscInt dim = s->opt.dim, S = s->pw.stride;
+
+  for (PetscInt k = k0; k < k1; k++) {
+    const PetscReal *rk = &s->pw.rec[k * S];
+    s->pw.vol[k]        = rk[2 * dim + 1] / rk[2 * dim];
+    s->pw.pressure[k]   = s->opt.c0 * s->opt.c0 * (rk[2 * dim] - s->opt.rho0) + s->opt.background_pressure;
+  }
+}
+
 /*
-   FSSolverGatherRecords - the start of a right-hand side: the owned particles' records from the packed
-   state u, the ghosts' from the halo, the neighbourhood scratch, and the volumes and pressures of the
-   owned and ghost particles, which the passes and the terms share.
+   FSSolverGatherRecordsBegin - the start of a right-hand side: the owned particles' records from the packed
+   state u, the neighbourhood scratch, and the volumes and pressures of the owned particles, which the passes and
+   the terms share; the ghosts' records on their way from the halo (FSSolverGatherRecordsEnd).
 */
-static PetscErrorCode FSSolverGatherRecords(FSSolver s, const PetscReal *u)
+static PetscErrorCode FSSolverGatherRecordsBegin(FSSolver s, const PetscReal *u)
 {
   const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
   const PetscInt maxn = s->pw.nbrs.maxcand; /* the scratch holds one particle's neighbours: its candidates bound them */
@@ -231,30 +264,38 @@ static PetscErrorCode FSSolverGatherRecords(FSSolver s, const PetscReal *u)
   for (PetscInt i = 0; i < n; i++)
     for (PetscInt a = 0; a < US; a++) s->pw.rec[i * S + a] = u[i * US + a];
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
-  PetscCall(FSHaloRefresh(&s->pw.halo, dim, n, s->pw.rec));
+  PetscCall(FSHaloRefreshBegin(&s->pw.halo, s->pw.rec));
   PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
   if (maxn > s->pw.scratchcap) {
     PetscCall(PetscFree2(s->pw.scratch, s->pw.scratchj));
     s->pw.scratchcap = PetscMax(maxn, 2 * s->pw.scratchcap);
     PetscCall(PetscMalloc2((2 * dim + 2) * s->pw.scratchcap, &s->pw.scratch, s->pw.scratchcap, &s->pw.scratchj));
   }
-  /* per-particle volumes and pressures (owned and ghosts), shared by the passes and the terms */
-  for (PetscInt k = 0; k < n + s->pw.halo.nghost; k++) {
-    const PetscReal *rk = &s->pw.rec[k * S];
-    s->pw.vol[k]        = rk[2 * dim + 1] / rk[2 * dim];
-    s->pw.pressure[k]   = s->opt.c0 * s->opt.c0 * (rk[2 * dim] - s->opt.rho0) + s->opt.background_pressure;
-  }
+  FSSolverVolumesAndPressures(s, 0, n);
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverGatherRecordsEnd - the ghosts' records arrived (FSSolverGatherRecordsBegin), and their volumes and
+   pressures */
+static PetscErrorCode FSSolverGatherRecordsEnd(FSSolver s)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
+  PetscCall(FSHaloRefreshEnd(&s->pw.halo, s->opt.dim, s->pw.nowned, s->pw.rec));
+  PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
+  FSSolverVolumesAndPressures(s, s->pw.nowned, s->pw.nowned + s->pw.halo.nghost);
   PetscFunctionReturn(0);
 }
 
 /*
-   FSSolverPairPass - the terms' pass over the neighbours of every owned particle: the renormalized
-   terms first (their sum divided by gamma_i near walls), then the others; the rates into f. Sets the
-   count of pairs within the support (s->pw.nbrs.npairs).
+   FSSolverPairPass - the terms' pass over the neighbours of the owned particles passorder[k0 .. k1): the
+   renormalized terms first (their sum divided by gamma_i near walls), then the others; the rates into f.
+   Adds the count of pairs within the support to *npairs.
 */
-static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscReal *f)
+static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscReal *f, PetscInt k0, PetscInt k1,
+                                       PetscInt64 *npairs)
 {
-  const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
+  const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride;
   PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * s->pw.scratchcap, *gw = r2 + s->pw.scratchcap,
             *ri2 = gw + dim * s->pw.scratchcap;
   PetscInt  *js  = s->pw.scratchj;
@@ -262,13 +303,15 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
-  for (PetscInt i = 0; i < n; i++) {
+  for (PetscInt k = k0; k < k1; k++) {
+    const PetscInt  i = s->pw.passorder[k];
     FSNeighbourhood nb;
-    FSRate          rate = {0, {0, 0, 0}, {0, 0, 0}};
-    nb.i                 = i;
-    nb.n                 = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, js, dx, r2, gw, ri2)
-                                    : FSFillNeighbourhoodDim(s, 3, i, js, dx, r2, gw, ri2);
-    nb.j                 = js;
+    FSCommProgress(k); /* the ghosts' first-pass fields and gamma, and the walls' sums, travel meanwhile */
+    FSRate rate = {0, {0, 0, 0}, {0, 0, 0}};
+    nb.i        = i;
+    nb.n        = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, js, dx, r2, gw, ri2)
+                           : FSFillNeighbourhoodDim(s, 3, i, js, dx, r2, gw, ri2);
+    nb.j        = js;
     np += nb.n;
     nb.dx    = dx;
     nb.r2    = r2;
@@ -301,7 +344,7 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
     }
     f[i * US + 2 * dim] = rate.drho;
   }
-  s->pw.nbrs.npairs = np;
+  *npairs += np;
   PetscCall(PetscLogEventEnd(FS_PairPass, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -387,35 +430,50 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   FSParticles    P;
   PetscReal      reaction[3] = {0, 0, 0};
   PetscBool      coupled;
+  PetscInt64     npairs;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_RHS, 0, 0, 0, 0));
   PetscCall(FSCouplingGetActive(s->coupling, &coupled));
-  PetscCall(FSSolverGatherRecords(s, u));
+  /* The order lets each rank go on with its own particles while the others' fields travel (the ranks' work
+     differs, by their walls above all): the ghosts' records travel during the walls' work on the owned particles;
+     the ghosts' first-pass fields and gamma, and the wall pressure's sums, during the pair pass over the owned
+     particles that have no ghost among their candidates (passorder). */
   if (count && s->ts) { /* FLEXSLOSH_FAULT (tests only): an error on one rank, amid the collectives */
     PetscInt step;
     PetscCall(TSGetStepNumber(s->ts, &step));
     PetscCall(FSDebugFault(PetscObjectComm((PetscObject)s), "alloc", step, NULL));
   }
-  if (coupled) {
+  if (coupled) { /* before the messages start: a structure's error stops the run with none in flight */
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
     PetscCall(FSSolverCouplingPredict(s, u));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   }
-  if (s->boundary) PetscCall(FSSolverBoundaryPrepare(s));
+  PetscCall(FSSolverGatherRecordsBegin(s, u));
+  if (s->boundary) PetscCall(FSSolverBoundaryPrepareBegin(s));
+  PetscCall(FSSolverGatherRecordsEnd(s));
   PetscCall(FSSolverGetParticles(s, &P));
 
   if (s->terms.needs) {
     PetscCall(FSSolverFirstPass(s));
     PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
-    PetscCall(FSHaloRefreshAux(&s->pw.halo, s->pw.aux));
+    PetscCall(FSHaloRefreshAuxBegin(&s->pw.halo, s->pw.aux));
     PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
     if (count) s->mon.pair_visits += s->pw.nbrs.npairs;
   }
-  for (PetscInt t = 0; t < s->terms.nterms; t++) {
-    FSTerm term = s->terms.term[t];
-    term->power = 0;
-    if (term->ops.prepare) PetscCall((*term->ops.prepare)(term, &P));
+  if (s->boundary) {
+    PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
+    PetscCall(FSBoundaryPrepareExchange(s->boundary));
+    PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
+  }
+  { /* the terms' per-particle fields of the owned particles now, of all once the ghosts' have arrived */
+    FSParticles Pown = P;
+    Pown.nghost      = 0;
+    for (PetscInt t = 0; t < s->terms.nterms; t++) {
+      FSTerm term = s->terms.term[t];
+      term->power = 0;
+      if (term->ops.prepare) PetscCall((*term->ops.prepare)(term, &Pown));
+    }
   }
   if (count) { /* the viscosity bound of the next time step comes from the integrator's own evaluations only */
     s->state.nu_src[0] = s->opt.nu;
@@ -426,7 +484,25 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     }
   }
 
-  PetscCall(FSSolverPairPass(s, &P, f));
+  npairs = 0;
+  PetscCall(FSSolverPairPass(s, &P, f, 0, s->pw.ninterior, &npairs));
+  if (s->terms.needs) {
+    PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
+    PetscCall(FSHaloRefreshAuxEnd(&s->pw.halo, s->pw.aux));
+    PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
+  }
+  if (s->boundary) PetscCall(FSSolverBoundaryGhosts(s));
+  for (PetscInt t = 0; t < s->terms.nterms; t++) {
+    FSTerm term = s->terms.term[t];
+    if (term->ops.prepare) PetscCall((*term->ops.prepare)(term, &P));
+  }
+  PetscCall(FSSolverPairPass(s, &P, f, s->pw.ninterior, n, &npairs));
+  s->pw.nbrs.npairs = npairs;
+  if (s->boundary) {
+    PetscCall(PetscLogEventBegin(FS_Walls, 0, 0, 0, 0));
+    PetscCall(FSBoundaryPrepareEnd(s->boundary));
+    PetscCall(PetscLogEventEnd(FS_Walls, 0, 0, 0, 0));
+  }
   if (s->boundary) PetscCall(FSSolverWallPass(s, &P, f));
   /* the reaction of the forces on the liquid: for a structure before the start-up relaxation, for a prescribed
      motion after it (the motion also does the relaxation's work in the absolute frame: work_motion) */

@@ -47,6 +47,7 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.sort_interval         = 1;
   s->opt.rebalance_threshold   = 1.2;
   s->opt.rebalance_interval    = 100;
+  s->opt.balance               = FS_BALANCE_WORK;
   s->opt.rebuild               = FS_REBUILD_AUTO;
   s->opt.candidates            = 0; /* auto */
   s->mon.probes.interval       = 1;
@@ -290,6 +291,7 @@ static PetscErrorCode FSSolverOptionsPhysics(FSSolver s, PetscOptionItems *Petsc
 static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
   static const char *const rebuildnames[] = {"auto", "always"}, *const candnames[] = {"auto", "indices", "bits"};
+  static const char *const balancenames[] = {"particles", "work"};
 
   PetscFunctionBegin;
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_cfl",
@@ -311,11 +313,16 @@ static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *Pets
   PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_sort_interval", "Steps between reorderings of the particles by cell",
                          "FSSolverSortByCell", &s->opt.sort_interval, NULL, 1, PETSC_MAX_INT));
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_rebalance_threshold",
-                          "Move the ranks' cuts, at a rebuild of the lists, when a rank owns more than this times the "
-                          "mean number of particles (0: never; the cuts set at the start stay)",
+                          "Move the ranks' cuts, at a rebuild of the lists, when a rank has more than this times the "
+                          "mean work or number of particles (-fs_balance; 0: never, the cuts set at the start stay)",
                           "FSSolverRebalance", &s->opt.rebalance_threshold, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_rebalance_interval", "Steps at least between two moves of the cuts",
                          "FSSolverRebalance", &s->opt.rebalance_interval, NULL, 1, PETSC_MAX_INT));
+  PetscCall(PetscOptionsEList("-fs_balance",
+                              "What the ranks' cuts balance, at the set-up and when they move: the particles, or "
+                              "their work in a right-hand side (candidate pairs and wall elements)",
+                              "FSSolverRebalance", balancenames, 2, balancenames[s->opt.balance], &s->opt.balance,
+                              NULL));
   PetscCheck(s->opt.rebalance_threshold == 0 || s->opt.rebalance_threshold >= 1, PetscObjectComm((PetscObject)s),
              PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_rebalance_threshold %g: a rank owns at least the mean; give 0 (never move the cuts) or a value >= 1",
@@ -661,7 +668,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscCall(FSDecompSetUp(&s->pw.decomp, comm, s->opt.dim, s->pw.lo, s->pw.hi, s->pw.periodic, width));
   PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  PetscCall(FSDecompBalance(&s->pw.decomp, comm, n, x, width));
+  PetscCall(FSDecompBalance(&s->pw.decomp, comm, n, x, NULL, width));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
 
   /* the coupling (the liquid's mass, which the structure's payload may need), the structure, then the
@@ -704,6 +711,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   if (s->opt.restart[0]) PetscCall(FSSolverSwapBuildPositions(s));
   s->pw.resume = (PetscBool)(s->opt.restart[0] != 0);
   PetscCall(FSSolverResize(s, PETSC_TRUE));
+  PetscCall(FSSolverBalanceWork(s)); /* on the lists just built */
   if (!s->opt.restart[0]) {
     PetscReal dt;
     PetscCall(FSSolverComputeStableDt(s, &dt));
@@ -810,6 +818,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSNeighboursDestroy(&s->pw.nbrs));
   PetscCall(PetscFree4(s->pw.rec, s->pw.aux, s->pw.vol, s->pw.pressure));
   PetscCall(PetscFree2(s->pw.scratch, s->pw.scratchj));
+  PetscCall(PetscFree(s->pw.passorder));
   PetscCall(PetscFree(s->mon.setup));
   PetscCall(PetscHeaderDestroy(solver));
   PetscFunctionReturn(0);

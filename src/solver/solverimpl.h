@@ -60,6 +60,7 @@ typedef struct {
   PetscInt  sort_interval;
   PetscReal rebalance_threshold; /* -fs_rebalance_threshold: move the cuts when a rank owns this times the mean */
   PetscInt  rebalance_interval;  /* -fs_rebalance_interval: steps at least between two moves of the cuts */
+  PetscInt  balance;             /* -fs_balance: what the cuts balance (FSBalance) */
   PetscInt  rebuild;             /* -fs_neighbour_rebuild: FS_REBUILD_AUTO or FS_REBUILD_ALWAYS */
   PetscInt  candidates;          /* -fs_neighbour_candidates: 0 auto, 1 indices, 2 bits (FSNeighboursForm) */
   char      structname[64];
@@ -72,6 +73,12 @@ typedef enum {
   FS_REBUILD_AUTO,  /* when a pair could come within the support without being a candidate */
   FS_REBUILD_ALWAYS /* after every step */
 } FSRebuildType;
+
+/* what the ranks' cuts balance (-fs_balance) */
+typedef enum {
+  FS_BALANCE_PARTICLES, /* the particles */
+  FS_BALANCE_WORK       /* their work in a right-hand side: candidate pairs and wall elements (FSSolverRebalance) */
+} FSBalance;
 
 /* The particles' work: the domain and its decomposition, the records of the owned and ghost particles
    and the quantities derived from them at each right-hand side, the halo and the neighbour lists. */
@@ -91,6 +98,8 @@ typedef struct {
   PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW, 1/r2 */
   PetscInt    *scratchj; /* per-i neighbourhood scratch: the neighbours' indices */
   PetscInt     scratchcap;
+  PetscInt    *passorder; /* the owned particles, those with no ghost among their candidates first (FSSolverResize) */
+  PetscInt     ninterior, passcap;
   PetscReal   *gamma,
       *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
   PetscReal *gammav, *invgammav; /* with no-slip walls: gamma plus the share behind them, and its inverse */
@@ -273,6 +282,8 @@ PETSC_INTERN PetscErrorCode FSSolverRecordsAtBuild(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRebuildNeeded(FSSolver, PetscBool *rebuild, PetscBool *sort);
 PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRebalance(FSSolver, PetscInt step, PetscBool *moved);
+PETSC_INTERN PetscErrorCode FSSolverBalanceWork(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverGetWorkSum(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverPartitionWalls(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);

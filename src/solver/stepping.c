@@ -257,6 +257,13 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   PetscCall(FSNeighboursBuildCandidates(&s->pw.nbrs, s->pw.nowned, s->pw.rec, s->pw.stride,
                                         s->pw.kernel.support + s->opt.halo_skin * s->opt.h));
   if (s->boundary) PetscCall(FSSolverBoundaryUpdate(s));
+  if (s->pw.nowned > s->pw.passcap) {
+    PetscCall(PetscFree(s->pw.passorder));
+    s->pw.passcap = PetscMax(s->pw.nowned, (PetscInt)(1.25 * s->pw.passcap));
+    PetscCall(PetscMalloc1(s->pw.passcap, &s->pw.passorder));
+  }
+  PetscCall(FSNeighboursSplitByGhosts(&s->pw.nbrs, s->pw.nowned, s->pw.nowned + s->pw.halo.nghost, s->pw.passorder,
+                                      &s->pw.ninterior));
   PetscCall(PetscLogEventEnd(FS_Neighbours, 0, 0, 0, 0));
   PetscCall(FSSolverMarkBuild(s));
   if (s->pw.resume) PetscCall(FSSolverPackState(s)); /* the records of the state again */

@@ -126,6 +126,7 @@ NAMES = {
     "-fs_walls_visibility": (["nosuch"], None),
     "-fs_neighbour_rebuild": (["nosuch"], None),
     "-fs_neighbour_candidates": (["nosuch"], None),
+    "-fs_balance": (["nosuch"], None),
     "-fs_coupling_loads": (["-fs_structure", "msd", "-fs_coupling_loads", "nosuch"], "nosuch"),
     "-fs_walls_noslip": (["nosuch"], None),
     "-fs_tank_file": (["-fs_tank_shape", "file", "-fs_tank_file", "/nonexistent.walls"], "/nonexistent.walls"),

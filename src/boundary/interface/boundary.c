@@ -282,17 +282,85 @@ PetscErrorCode FSBoundaryUpdate(FSBoundary b, PetscInt nowned, const PetscReal r
    liquid, and the pressure loads on the walls (the wall terms add the shear). With noslip not NULL,
    also the share of each particle's kernel support that lies behind no-slip walls (the sum of -gamma_k
    over their elements), which the no-slip wall term fills with the wall's velocity field (wall.c).
+   FSBoundaryPrepareBegin, FSBoundaryPrepareExchange and FSBoundaryPrepareEnd in one call.
 
    Collective
 */
 PetscErrorCode FSBoundaryPrepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[], PetscReal noslip[])
 {
   PetscFunctionBegin;
+  PetscCall(FSBoundaryPrepareBegin(b, P, gamma, noslip));
+  PetscCall(FSBoundaryPrepareExchange(b));
+  PetscCall(FSBoundaryPrepareEnd(b));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryPrepareBegin - FSBoundaryPrepare in three parts, so that a rank's other work can go on while the wall
+   pressure's sums travel between the ranks: Begin computes gamma, noslip and the wall lists of the owned particles
+   (the owned records only) and sends this rank's sums of the wall pressure; FSBoundaryPrepareExchange, once the
+   other ranks have sent theirs (later is better), sends the sums back from the elements' owners;
+   FSBoundaryPrepareEnd makes the wall pressure and the loads. The wall view's pressure and the loads are ready
+   after End only.
+
+   Collective (each of the three)
+*/
+PetscErrorCode FSBoundaryPrepareBegin(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[], PetscReal noslip[])
+{
+  PetscFunctionBegin;
   PetscCall(PetscArrayzero(b->load, FS_WALL_LOAD_STRIDE * b->nwalls));
   b->wp_reductions = 0;
   b->wp_values     = 0;
   b->wp_exchanged  = 0;
+  b->wpx.wp        = NULL;
   PetscCall((*b->ops->prepare)(b, P, gamma, noslip));
+  PetscCheck(b->wpx.wp, PetscObjectComm((PetscObject)b), PETSC_ERR_PLIB,
+             "Boundary %s: prepare must start the wall pressure (FSBoundaryWallPressureBegin)",
+             ((PetscObject)b)->type_name);
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryPrepareExchange - the second part of FSBoundaryPrepare (FSBoundaryPrepareBegin). Collective */
+PetscErrorCode FSBoundaryPrepareExchange(FSBoundary b)
+{
+  const PetscInt nel = b->wpx.nel;
+  PetscReal     *num = b->wpx.wp + nel;
+
+  PetscFunctionBegin;
+  if (b->wpsf) {
+    PetscCall(PetscSFReduceEnd(b->wpsf, MPIU_REAL, num, b->wproot, MPI_SUM));
+    PetscCall(PetscSFBcastBegin(b->wpsf, MPIU_REAL, b->wproot, num, MPI_REPLACE));
+  } else {
+    b->wp_reductions++;
+    b->wp_values += 2 * nel;
+    PetscCallMPI(
+        MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * nel), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryPrepareEnd - the last part of FSBoundaryPrepare (FSBoundaryPrepareBegin). Collective */
+PetscErrorCode FSBoundaryPrepareEnd(FSBoundary b)
+{
+  const PetscInt  nel  = b->wpx.nel;
+  const PetscReal pamb = b->wpx.pamb, *wetfull = b->wpx.wetfull;
+  PetscReal      *wp = b->wpx.wp, *num = wp + nel, *den = num + nel;
+
+  PetscFunctionBegin;
+  if (b->wpsf) {
+    PetscCall(PetscSFBcastEnd(b->wpsf, MPIU_REAL, b->wproot, num, MPI_REPLACE));
+    b->wp_exchanged += 2 * b->wp_leaves;
+  }
+  for (PetscInt k = 0; k < nel; k++) {
+    PetscReal pk = den[k] > 0 ? num[k] / den[k] : pamb;
+    if (pk < pamb) {
+      const PetscReal c = PetscMin(1.0, den[k] / wetfull[k]);
+      pk                = pamb + (pk - pamb) * c * c;
+    }
+    wp[k] = pk;
+  }
+  PetscCall(FSBoundaryPressureLoads(b, wp));
+  b->view.pressure = wp;
   PetscFunctionReturn(0);
 }
 
@@ -305,51 +373,37 @@ PetscErrorCode FSBoundaryHasNoSlip(FSBoundary b, PetscBool *has)
 }
 
 /*
-   FSBoundaryWallPressure - for the implementations' prepare: the wall pressure of the nel elements from
-   the sums over this rank's particles near each, num[k] = sum_i (p_i + rho_i g.(x_k - x_i)) W_ik V_i and
+   FSBoundaryWallPressureBegin - for the implementations' prepare, at its end: the wall pressure of the nel elements
+   from the sums over this rank's particles near each, num[k] = sum_i (p_i + rho_i g.(x_k - x_i)) W_ik V_i and
    den[k] = sum_i W_ik V_i, held in wp[nel .. 3 nel): summed over the ranks, p_k = num/den (the ambient
    pressure p_b where no liquid is near). Below p_b, p_k counts with the square of the element's wetted
    share c_k = min(1, den_k / wetfull_k) (wetfull: the container's Shepard factor at the element), so
    that the hydrostatic correction does not extrapolate suction onto a dry wall above a free surface
-   (docs/decisions.md), while a covered wall keeps its tension. Into wp[0 .. nel): with a partition
+   (docs/decisions.md), while a covered wall keeps its tension. Into wp[0 .. nel) by FSBoundaryPrepareEnd, which
+   also makes the pressure loads (FSBoundaryPressureLoads) and sets the view's pressure to wp: with a partition
    (FSBoundarySetPartition) valid at the elements this rank's particles can reach and at those it owns, the
-   sums going from the ranks that reach an element to its owner and back (neighbour messages); without
-   one at every element, through one MPI_Allreduce of all the sums.
+   sums going from the ranks that reach an element to its owner and back (neighbour messages, started here);
+   without one at every element, through one MPI_Allreduce of all the sums (FSBoundaryPrepareExchange).
 
    Collective
 */
-PetscErrorCode FSBoundaryWallPressure(FSBoundary b, PetscInt nel, const PetscReal wetfull[], PetscReal pamb,
-                                      PetscReal wp[])
+PetscErrorCode FSBoundaryWallPressureBegin(FSBoundary b, PetscInt nel, const PetscReal wetfull[], PetscReal pamb,
+                                           PetscReal wp[])
 {
-  PetscReal *num = wp + nel, *den = num + nel;
-
   PetscFunctionBegin;
+  b->wpx.nel     = nel;
+  b->wpx.wetfull = wetfull;
+  b->wpx.pamb    = pamb;
+  b->wpx.wp      = wp;
   if (b->wpsf) {
     PetscCall(PetscArrayzero(b->wproot, 2 * nel));
-    PetscCall(PetscSFReduceBegin(b->wpsf, MPIU_REAL, num, b->wproot, MPI_SUM));
-    PetscCall(PetscSFReduceEnd(b->wpsf, MPIU_REAL, num, b->wproot, MPI_SUM));
-    PetscCall(PetscSFBcastBegin(b->wpsf, MPIU_REAL, b->wproot, num, MPI_REPLACE));
-    PetscCall(PetscSFBcastEnd(b->wpsf, MPIU_REAL, b->wproot, num, MPI_REPLACE));
-    b->wp_exchanged += 2 * b->wp_leaves;
-  } else {
-    b->wp_reductions++;
-    b->wp_values += 2 * nel;
-    PetscCallMPI(
-        MPI_Allreduce(MPI_IN_PLACE, num, (PetscMPIInt)(2 * nel), MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)b)));
-  }
-  for (PetscInt k = 0; k < nel; k++) {
-    PetscReal pk = den[k] > 0 ? num[k] / den[k] : pamb;
-    if (pk < pamb) {
-      const PetscReal c = PetscMin(1.0, den[k] / wetfull[k]);
-      pk                = pamb + (pk - pamb) * c * c;
-    }
-    wp[k] = pk;
+    PetscCall(PetscSFReduceBegin(b->wpsf, MPIU_REAL, wp + nel, b->wproot, MPI_SUM));
   }
   PetscFunctionReturn(0);
 }
 
 /*
-   FSBoundaryPressureLoads - for the implementations' prepare, after FSBoundaryWallPressure: this rank's share of
+   FSBoundaryPressureLoads - after the wall pressure (FSBoundaryPrepareEnd): this rank's share of
    the pressure loads on the walls, sum_k p_k A_k n_k and its moment about the load point, over the elements it
    owns (with a partition; rank 0 all of them without one), into b->load (FSBoundaryGetLoads sums the ranks').
 
@@ -743,6 +797,21 @@ PetscErrorCode FSBoundaryGetMemory(FSBoundary b, PetscInt64 *lists, PetscInt64 *
   PetscFunctionBegin;
   *lists = *elements = 0;
   if (b->ops->memory) PetscCall((*b->ops->memory)(b, lists, elements));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryAddWork - adds to work[i] the cost of owned particle i's wall work in a right-hand side (its
+   wall Shepard factor, wall lists and wall terms), counted in fluid candidate pairs (the cost of a pair
+   in the passes over the pairs), from its candidate elements of the last FSBoundaryUpdate(). The
+   decomposition balances the ranks' summed work (-fs_balance work).
+
+   Not collective
+*/
+PetscErrorCode FSBoundaryAddWork(FSBoundary b, PetscInt nowned, PetscInt64 work[])
+{
+  PetscFunctionBegin;
+  if (b->ops->work) PetscCall((*b->ops->work)(b, nowned, work));
   PetscFunctionReturn(0);
 }
 

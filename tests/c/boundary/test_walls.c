@@ -382,7 +382,7 @@ static PetscErrorCode TestParallel(MPI_Comm comm)
     xc[2 * ncreate + 1] = lattice[2 * g + 1];
   }
   PetscCall(FSDecompSetUp(&dd, comm, 2, lo, hi, periodic, radius));
-  PetscCall(FSDecompBalance(&dd, comm, ncreate, xc, radius));
+  PetscCall(FSDecompBalance(&dd, comm, ncreate, xc, NULL, radius));
   PetscCall(PetscMalloc1(N, &owned));
   for (PetscInt g = 0; g < N; g++)
     if (FSDecompRankOf(&dd, &lattice[2 * g]) == rank) owned[nown++] = g;

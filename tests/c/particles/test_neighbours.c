@@ -218,7 +218,7 @@ static PetscErrorCode Distribute(MPI_Comm comm, const DistSetUp *su, FSDecomp *d
   }
   PetscCall(PetscRandomDestroy(&rnd));
   PetscCall(FSDecompSetUp(dd, comm, dim, lo, su->len, su->periodic, su->width));
-  PetscCall(FSDecompBalance(dd, comm, ncreate, px, su->width));
+  PetscCall(FSDecompBalance(dd, comm, ncreate, px, NULL, su->width));
   PetscCall(DMSwarmGetField(sw, DMSwarmField_rank, NULL, NULL, (void **)&prank));
   for (PetscInt p = 0; p < ncreate; p++) prank[p] = FSDecompRankOf(dd, &px[p * dim]);
   PetscCall(DMSwarmRestoreField(sw, DMSwarmField_rank, NULL, NULL, (void **)&prank));
@@ -536,6 +536,44 @@ static PetscErrorCode TestDistributed(MPI_Comm comm, const DistSetUp *su)
              (int)size);
   PetscCheck(!anyperiodic || c.periodic > 0, comm, PETSC_ERR_PLIB,
              "%" PetscInt_FMT "-D: no pair across the periodic side: it is not tested", dim);
+  { /* the owned particles split by whether a ghost can be among their candidates (FSNeighboursSplitByGhosts): an
+       ordered permutation, none of the first group with a ghost candidate; cnt: first group, second, second with one */
+    PetscInt  *pass, ni;
+    PetscBool *seen;
+    PetscInt64 cnt[3] = {0, 0, 0};
+    PetscCall(PetscMalloc1(nowned, &pass));
+    PetscCall(PetscCalloc1(nowned, &seen));
+    PetscCall(FSNeighboursSplitByGhosts(&nb, nowned, nowned + hl.nghost, pass, &ni));
+    for (PetscInt q = 0; q < nowned; q++) {
+      const PetscInt  i     = pass[q];
+      PetscBool       ghost = PETSC_FALSE;
+      FSCandidateIter it;
+      PetscInt        j;
+      PetscCheck(
+          i >= 0 && i < nowned && !seen[i] && (q == 0 || q == ni || pass[q - 1] < i), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+          "[%d] the split is not the owned particles in two ordered groups (entry %" PetscInt_FMT ")", (int)rank, q);
+      seen[i] = PETSC_TRUE;
+      FSNeighboursCandidateBegin(&nb, i, &it);
+      while (FSNeighboursCandidateNext(&nb, &it, &j)) ghost = (PetscBool)(ghost || j >= nowned);
+      PetscCheck(q >= ni || !ghost, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                 "[%d] particle %" PetscInt_FMT " is in the first group but has a ghost among its candidates",
+                 (int)rank, i);
+      cnt[q < ni ? 0 : 1]++;
+      cnt[2] += q >= ni && ghost;
+    }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, cnt, 3, MPIU_INT64, MPI_SUM, comm));
+    PetscCheck(cnt[0] > 0 && (gh[0] == 0 || cnt[2] > 0), comm, PETSC_ERR_PLIB,
+               "the split has %" PetscInt64_FMT " particles without ghost candidates, %" PetscInt64_FMT
+               " with a ghost among them: a group is not tested",
+               cnt[0], cnt[2]);
+    PetscCall(PetscPrintf(comm,
+                          "  %" PetscInt_FMT "-D: %" PetscInt64_FMT
+                          " particles with no ghost among their candidates, %" PetscInt64_FMT
+                          " others (%" PetscInt64_FMT " of them with a ghost candidate)\n",
+                          dim, cnt[0], cnt[1], cnt[2]));
+    PetscCall(PetscFree(pass));
+    PetscCall(PetscFree(seen));
+  }
   /* the same lists without the ghosts: the check must find exactly the pairs with a ghost missing */
   PetscCall(FSNeighboursBuildCells(&nb, dim, nowned, rec, S, su->width));
   PetscCall(FSNeighboursBuildCandidates(&nb, nowned, rec, S, su->width));
@@ -565,6 +603,64 @@ static PetscErrorCode TestDistributed(MPI_Comm comm, const DistSetUp *su)
   PetscFunctionReturn(0);
 }
 
+/*
+   The cuts balanced on weighted particles (FSDecompBalance): a 2-D lattice of 400 x 10 particles in [0, 4] x [0, 1],
+   dealt to the ranks by turns, three times as heavy below x = 1.013 (101 planes of x). Each cut must have below it
+   the planes whose weight comes closest to k/size of the total (brute force over the planes; on 2 ranks the closest
+   is the edge before the plane that crosses the half), and without weights the count's quantile.
+*/
+static PetscErrorCode TestBalanceWeights(MPI_Comm comm)
+{
+  const PetscInt  nx = 400, ny = 10;
+  const PetscReal lo[2] = {0, 0}, hi[2] = {4, 1}, a = 0.01, heavy = 1.013;
+  const PetscBool periodic[2] = {PETSC_FALSE, PETSC_FALSE};
+  PetscMPIInt     rank, size;
+  FSDecomp        dd;
+  PetscReal      *x;
+  PetscInt64     *w;
+  PetscInt        n = 0;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (size == 1) PetscFunctionReturn(0);
+  PetscCall(PetscMalloc2(2 * nx * ny, &x, nx * ny, &w));
+  for (PetscInt p = 0; p < nx * ny; p++) {
+    if (p % size != rank) continue;
+    x[2 * n]     = ((p / ny) + 0.5) * a;
+    x[2 * n + 1] = ((p % ny) + 0.5) * 0.1;
+    w[n++]       = x[2 * n] < heavy ? 3 : 1;
+  }
+  for (PetscInt weighted = 0; weighted < 2; weighted++) {
+    PetscInt64 total = 0, acc = 0;
+    PetscInt   k = 1;
+    PetscCall(FSDecompSetUp(&dd, comm, 2, lo, hi, periodic, 0.05));
+    PetscCheck(dd.np[0] == size, comm, PETSC_ERR_PLIB, "the grid splits x in %d, not in %d", (int)dd.np[0], (int)size);
+    PetscCall(FSDecompBalance(&dd, comm, n, x, weighted ? w : NULL, 0.05));
+    for (PetscInt i = 0; i < nx; i++) total += ny * (weighted && (i + 0.5) * a < heavy ? 3 : 1);
+    for (PetscInt i = 0; i < nx && k < size; i++) { /* after plane i: the edge (i + 1) a */
+      const PetscInt64 below = acc;
+      acc += ny * (weighted && (i + 0.5) * a < heavy ? 3 : 1);
+      while (k < size && acc * size >= total * k) {
+        const PetscInt planes = (total * k - below * size < acc * size - total * k) ? i : i + 1; /* below the edge */
+        PetscInt       got    = 0;
+        for (PetscInt q = 0; q < nx; q++) got += (q + 0.5) * a < dd.cut[0][k];
+        PetscCheck(got == planes, comm, PETSC_ERR_PLIB,
+                   "%s cut %" PetscInt_FMT " at %g has %" PetscInt_FMT " planes below it; the closest to %" PetscInt_FMT
+                   "/%d of the weight has %" PetscInt_FMT,
+                   weighted ? "weighted" : "unweighted", k, (double)dd.cut[0][k], got, k, (int)size, planes);
+        PetscCall(PetscPrintf(comm,
+                              "  %s particles, %d ranks: cut %" PetscInt_FMT " at %g, %" PetscInt_FMT " planes below\n",
+                              weighted ? "weighted" : "unweighted", (int)size, k, (double)dd.cut[0][k], got));
+        k++;
+      }
+    }
+    PetscCall(FSDecompDestroy(&dd));
+  }
+  PetscCall(PetscFree2(x, w));
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
   /* 2-D: a long box split along x, periodic along x (across the cut on 2 ranks, onto the rank itself on 1);
@@ -591,6 +687,7 @@ int main(int argc, char **argv)
     PetscCall(TestDistributed(PETSC_COMM_WORLD, &d2));
     PetscCall(TestDistributed(PETSC_COMM_WORLD, &d3));
   }
+  PetscCall(TestBalanceWeights(PETSC_COMM_WORLD));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "test_neighbours: OK\n"));
   PetscCall(PetscFinalize());
   return 0;

@@ -220,8 +220,9 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
    Prepare - at every right-hand side: gamma_i of every owned particle near a wall (1 elsewhere) and
    its facing segments within the support with their mean kernel values (int_k W dS / s_k); with
    -fs_walls_visibility all every segment within the support, with the signed gamma_k; the share of the
-   support behind no-slip segments (-sum of their gamma_k) into noslip[i] when given. Then the wall
-   pressure and the pressure loads.
+   support behind no-slip segments (-sum of their gamma_k) into noslip[i] when given. Then this rank's
+   sums of the wall pressure, sent on their way (FSBoundaryWallPressureBegin; FSBoundaryPrepareEnd makes the
+   pressure and the loads).
 */
 static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[], PetscReal noslip[])
 {
@@ -233,6 +234,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
 
   PetscFunctionBegin;
   for (PetscInt i = 0; i < n; i++) {
+    FSCommProgress(i); /* the ghosts' records travel meanwhile (FSSolverEvaluateRates) */
     const PetscReal *x = &P->rec[i * S];
     PetscReal        g = 1, gn = 0;
     b->wstart[i] = nw;
@@ -268,6 +270,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
   {
     PetscReal *num = wd->wp + w->nseg, *den = num + w->nseg;
     for (PetscInt i = 0; i < n; i++) {
+      FSCommProgress(i);
       const PetscReal *x = &P->rec[i * S], rho = x[2 * P->dim];
       for (PetscInt q = b->wstart[i]; q < b->wstart[i + 1]; q++) {
         const PetscInt   k      = b->wk[q];
@@ -283,11 +286,8 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
         den[k] += wv;
       }
     }
-    PetscCall(FSBoundaryWallPressure(b, w->nseg, wd->wetfull, P->background_pressure, wd->wp));
+    PetscCall(FSBoundaryWallPressureBegin(b, w->nseg, wd->wetfull, P->background_pressure, wd->wp));
   }
-  /* the pressure loads on the walls, the integral of p_k n_k over the segments (this rank's share) */
-  PetscCall(FSBoundaryPressureLoads(b, wd->wp));
-  b->view.pressure = wd->wp;
   PetscFunctionReturn(0);
 }
 
@@ -405,6 +405,22 @@ static PetscErrorCode Memory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elemen
   PetscFunctionReturn(0);
 }
 
+/* a candidate segment's cost in a right-hand side (its integrals for gamma, and for the facing ones within the
+   support the wall list entry, the wall pressure's sums and the wall terms), in fluid candidate pairs: measured on
+   the 2-D dam break (docs/performance.md, "Balancing the work") */
+#define FS_POLYGON_SEGMENT_COST 8.2
+
+static PetscErrorCode Work(FSBoundary b, PetscInt n, PetscInt64 work[])
+{
+  FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
+
+  PetscFunctionBegin;
+  if (!wd->cstart) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < n; i++)
+    work[i] += (PetscInt64)(FS_POLYGON_SEGMENT_COST * (wd->cstart[i + 1] - wd->cstart[i]) + 0.5);
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Destroy(FSBoundary b)
 {
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
@@ -454,6 +470,7 @@ PetscErrorCode FSBoundaryCreate_Polygon(FSBoundary b)
   b->ops->hash          = Hash;
   b->ops->destroy       = Destroy;
   b->ops->memory        = Memory;
+  b->ops->work          = Work;
   PetscCall(
       PetscObjectComposeFunction((PetscObject)b, "FSBoundaryPolygonSetWalls_C", FSBoundaryPolygonSetWalls_Polygon));
   PetscFunctionReturn(0);

@@ -376,8 +376,8 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
 /*
    Prepare - at every right-hand side: gamma_i of every owned particle near a wall (1 elsewhere) and its
    facing elements within the support with their mean kernel values (int_k W dS / A_k); with
-   -fs_walls_visibility all every element within the support. Then the wall pressure and the pressure
-   loads, as for polygons (polygon.c).
+   -fs_walls_visibility all every element within the support. Then this rank's sums of the wall pressure,
+   sent on their way, as for polygons (polygon.c).
 */
 static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscReal gamma[], PetscReal noslip[])
 {
@@ -388,6 +388,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
 
   PetscFunctionBegin;
   for (PetscInt i = 0; i < n; i++) {
+    FSCommProgress(i); /* the ghosts' records travel meanwhile (FSSolverEvaluateRates) */
     const PetscReal *x = &P->rec[i * S];
     PetscReal        g = 1, gn = 0;
     b->wstart[i] = nw;
@@ -419,6 +420,7 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
   {
     PetscReal *num = tm->wp + nel, *den = num + nel;
     for (PetscInt i = 0; i < n; i++) {
+      FSCommProgress(i);
       const PetscReal *x = &P->rec[i * S], rho = x[2 * P->dim];
       for (PetscInt q = b->wstart[i]; q < b->wstart[i + 1]; q++) {
         const PetscInt   k  = b->wk[q];
@@ -432,11 +434,8 @@ static PetscErrorCode Prepare(FSBoundary b, const FSBoundaryParticles *P, PetscR
         den[k] += wv;
       }
     }
-    PetscCall(FSBoundaryWallPressure(b, nel, tm->wetfull, P->background_pressure, tm->wp));
+    PetscCall(FSBoundaryWallPressureBegin(b, nel, tm->wetfull, P->background_pressure, tm->wp));
   }
-  /* the pressure loads: force sum_k p_k A_k n_k and its moment about the load point (this rank's share) */
-  PetscCall(FSBoundaryPressureLoads(b, tm->wp));
-  b->view.pressure = tm->wp;
   PetscFunctionReturn(0);
 }
 
@@ -547,6 +546,28 @@ static PetscErrorCode Memory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elemen
   PetscFunctionReturn(0);
 }
 
+/* a candidate element's cost in a right-hand side (its integrals for gamma, and for the facing ones within
+   the support the wall list entry, the wall pressure's sums and the wall terms), in fluid candidate pairs:
+   measured on the 3-D dam break (docs/performance.md, "Balancing the work") */
+#define FS_TRIMESH_ELEMENT_COST 3.8
+
+static PetscErrorCode Work(FSBoundary b, PetscInt n, PetscInt64 work[])
+{
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+
+  PetscFunctionBegin;
+  if (!tm->cstart) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < n; i++) {
+    PetscInt ne = 0;
+    for (PetscInt q = tm->cstart[i], k0, k1; q < tm->cstart[i + 1];) {
+      DecodeRun(tm->cand, &q, &k0, &k1);
+      ne += k1 - k0;
+    }
+    work[i] += (PetscInt64)(FS_TRIMESH_ELEMENT_COST * ne + 0.5);
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Destroy(FSBoundary b)
 {
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
@@ -599,6 +620,7 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   b->ops->hash           = Hash;
   b->ops->destroy        = Destroy;
   b->ops->memory         = Memory;
+  b->ops->work           = Work;
   PetscCall(PetscObjectComposeFunction((PetscObject)b, "FSBoundaryTrimeshSetMesh_C", FSBoundaryTrimeshSetMesh_Trimesh));
   PetscFunctionReturn(0);
 }
