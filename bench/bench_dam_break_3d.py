@@ -48,6 +48,10 @@ def main():
         print(f"  particle-steps per second     {s['particles'] * s['steps'] / wall:12.4g}")
         print(f"  pair visits per second        {s['pair_visits'] / wall:12.4g}   ({s['pair_visits'] / wall / nr:.4g} per core)")
         print(f"  peak memory per particle      {s['peak_memory_bytes_per_particle']:10.0f} bytes")
+        if nr > 1:
+            par = s["parallel"]
+            print(f"  largest rank over the mean    {par['imbalance_work_end']:10.3f} of the work at the end "
+                  f"(-fs_balance), {par['imbalance_owned_end']:.3f} of the particles")
         print_memory(s)
         tot = t.get("FSStep", 0.0)
         if tot:

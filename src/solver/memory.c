@@ -97,7 +97,8 @@ PetscErrorCode FSSolverWriteMemory(FSSolver s, FSJSON js, PetscReal peak)
   PetscCall(FSSolverSwarmBytes(s, &b[FS_MEM_PARTICLE_FIELDS]));
   b[FS_MEM_PARTICLE_WORK] = (PetscInt64)pw->reccap * (pw->stride + pw->auxstride + 2) * sizeof(PetscReal) +
                             (PetscInt64)pw->scratchcap * ((2 * dim + 2) * sizeof(PetscReal) + sizeof(PetscInt)) +
-                            (PetscInt64)pw->gammacap * (pw->gammav ? 4 : 2) * sizeof(PetscReal);
+                            (PetscInt64)pw->gammacap * (pw->gammav ? 4 : 2) * sizeof(PetscReal) +
+                            (PetscInt64)pw->passcap * sizeof(PetscInt);
   PetscCall(FSSolverTSBytes(s, &b[FS_MEM_TS_VECTORS]));
   b[FS_MEM_CANDIDATES] = (PetscInt64)nb->mcap * sizeof(uint64_t) + (PetscInt64)nb->ccandcap * sizeof(PetscInt) +
                          (PetscInt64)nb->scap * 2 * sizeof(PetscInt);
