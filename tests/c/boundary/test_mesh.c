@@ -4,8 +4,9 @@
      baffled tank with baffles on the floor (part of the outline) and with free-standing baffles (the
      obstacle polygons make tunnels: a surface of genus 6) pass FSMeshCheck, enclose the 2-D area times
      the width, have the surface area of the outline and the Euler characteristic 2 - 2 genus;
-   - FSMeshRefine: every element's edges at most hmax, m^2 elements per triangle, the areas add up, the
-     elements are oriented as their triangle, sum n dS = 0 and sum (x.n) dS / 3 = the volume;
+   - FSMeshRefine: every element's edges at most hmax, at most m^2 elements per triangle (far fewer on a thin box's
+     sliver faces), the areas add up, the elements are oriented as their triangle, sum n dS = 0 and sum (x.n) dS / 3 =
+     the volume;
    - the geometry of one triangle: solid angles of a cube's faces (4 pi from inside, 0 from outside,
      2 pi on a face, 4 pi / 6 one face from the centre), the distance against brute-force sampling in
      the vertex, edge and face regions, the segment crossings;
@@ -198,24 +199,39 @@ static PetscErrorCode TestExtrude(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-/* the elements of a checked mesh against its triangles */
-static PetscErrorCode CheckElements(const FSMesh *m, PetscReal hmax)
+/* the elements of a checked mesh against its triangles: at most m^2 for each (m = ceil(longest edge / hmax): its
+   similar split), the split's element count returned in *similar */
+static PetscErrorCode CheckElements(const FSMesh *m, PetscReal hmax, PetscInt *similar)
 {
-  PetscInt  expect = 0;
-  PetscReal area = 0, elarea = 0, vecarea[3] = {0, 0, 0}, vol = 0;
+  PetscInt  expect = 0, *count;
+  PetscReal area = 0, elarea = 0, vecarea[3] = {0, 0, 0}, vol = 0, *tarea;
 
   PetscFunctionBegin;
+  PetscCall(PetscCalloc2(m->ntri, &count, m->ntri, &tarea));
+  for (PetscInt e = 0; e < m->nel; e++) {
+    count[m->eltri[e]]++;
+    tarea[m->eltri[e]] += m->el[e * FS_TRI_STRIDE + FS_TRI_AREA];
+  }
   for (PetscInt t = 0; t < m->ntri; t++) {
     PetscReal L = 0;
+    PetscInt  ms;
     for (PetscInt k = 0; k < 3; k++) {
       const PetscReal *a = &m->vert[3 * m->tri[3 * t + k]], *b = &m->vert[3 * m->tri[3 * t + (k + 1) % 3]];
       L = PetscMax(L, PetscSqrtReal(PetscSqr(b[0] - a[0]) + PetscSqr(b[1] - a[1]) + PetscSqr(b[2] - a[2])));
     }
-    expect += PetscSqr((PetscInt)PetscMax(1, PetscCeilReal(L / hmax)));
+    ms = (PetscInt)PetscMax(1, PetscCeilReal(L / hmax));
+    expect += ms * ms;
     area += TriangleArea(m, t);
+    TCHECK(count[t] >= 1 && count[t] <= ms * ms,
+           "hmax %g: triangle %" PetscInt_FMT " has %" PetscInt_FMT " elements, at most m^2 = %" PetscInt_FMT
+           " expected",
+           (double)hmax, t, count[t], ms * ms);
+    TCHECK(Rel(tarea[t], TriangleArea(m, t)) < 1e-12,
+           "hmax %g: triangle %" PetscInt_FMT "'s elements cover %.15g of %.15g", (double)hmax, t, (double)tarea[t],
+           (double)TriangleArea(m, t));
   }
-  TCHECK(m->nel == expect, "hmax %g: %" PetscInt_FMT " elements, expected the sum of m^2 = %" PetscInt_FMT,
-         (double)hmax, m->nel, expect);
+  PetscCall(PetscFree2(count, tarea));
+  *similar = expect;
   for (PetscInt e = 0; e < m->nel; e++) {
     const PetscReal *r = &m->el[e * FS_TRI_STRIDE], *n = &r[FS_TRI_NORMAL];
     const PetscInt   t = m->eltri[e];
@@ -257,16 +273,38 @@ static PetscErrorCode TestRefine(MPI_Comm comm)
 {
   FSMesh    m;
   PetscReal a, p;
+  PetscInt  similar;
 
   PetscFunctionBegin;
+  /* a long, low, narrow box (the seed's rectangular tank 0.05 m wide): its faces' halves are slivers, split on a
+     grid along their short edges; measured 7,768 elements where similar triangles would make 40,584 */
+  {
+    FSWalls w;
+    PetscCall(FSWallsCreate(&w));
+    PetscCall(FSWallsRectangularTank(&w, comm, 0.7, 0.06));
+    PetscCall(FSWallsCheck(&w, comm));
+    PetscCall(FSMeshCreate(&m));
+    PetscCall(FSMeshExtrude(&m, comm, &w, 0.05));
+    PetscCall(FSWallsDestroy(&w));
+    PetscCall(FSMeshCheck(&m, comm));
+    PetscCall(FSMeshRefine(&m, 0.01));
+    PetscCall(CheckElements(&m, 0.01, &similar));
+    TCHECK(similar == 40584 && m.nel < similar / 5,
+           "the thin box: %" PetscInt_FMT " elements, %" PetscInt_FMT " similar", m.nel, similar);
+    PetscCall(PetscPrintf(comm,
+                          "  thin box 0.7 x 0.06 x 0.05 at hmax 0.01: %" PetscInt_FMT
+                          " elements (similar split %" PetscInt_FMT ")\n",
+                          m.nel, similar));
+    PetscCall(FSMeshDestroy(&m));
+  }
   PetscCall(BaffledMesh(comm, 0.01, 0.04, 0.1, &m, &a, &p));
   PetscCall(FSMeshCheck(&m, comm));
   PetscCall(FSMeshRefine(&m, 0.02));
-  PetscCall(CheckElements(&m, 0.02));
+  PetscCall(CheckElements(&m, 0.02, &similar));
   PetscCall(FSMeshRefine(&m, 0.013)); /* again: the elements replaced */
-  PetscCall(CheckElements(&m, 0.013));
+  PetscCall(CheckElements(&m, 0.013, &similar));
   PetscCall(FSMeshRefine(&m, 1.0)); /* one element per triangle */
-  PetscCall(CheckElements(&m, 1.0));
+  PetscCall(CheckElements(&m, 1.0, &similar));
   TCHECK(m.nel == m.ntri, "hmax 1: %" PetscInt_FMT " elements for %" PetscInt_FMT " triangles", m.nel, m.ntri);
   /* the end faces: -z at z = 0, +z at z = W */
   {

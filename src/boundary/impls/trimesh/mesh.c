@@ -998,10 +998,117 @@ PetscErrorCode FSMeshCheck(FSMesh *m, MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
+/* appends the element p0, p1, p2 of triangle t, whose unit normal is n (mesh.h's row: vertices, centroid, normal,
+   area, radius of its bounding sphere about the centroid) */
+static void AddElement(FSMesh *m, PetscInt t, const PetscReal p0[], const PetscReal p1[], const PetscReal p2[],
+                       const PetscReal n[])
+{
+  PetscReal *row = &m->el[m->nel * FS_TRI_STRIDE], e[3];
+
+  for (PetscInt d = 0; d < 3; d++) {
+    row[FS_TRI_P0 + d]       = p0[d];
+    row[FS_TRI_P1 + d]       = p1[d];
+    row[FS_TRI_P2 + d]       = p2[d];
+    row[FS_TRI_CENTROID + d] = (p0[d] + p1[d] + p2[d]) / 3;
+    row[FS_TRI_NORMAL + d]   = n[d];
+  }
+  Normal(&row[FS_TRI_P0], &row[FS_TRI_P1], &row[FS_TRI_P2], e);
+  row[FS_TRI_AREA]   = 0.5 * PetscSqrtReal(Dot(e, e));
+  row[FS_TRI_RADIUS] = 0;
+  for (PetscInt k = 0; k < 3; k++) {
+    PetscReal r[3];
+    Sub(&row[3 * k], &row[FS_TRI_CENTROID], r);
+    row[FS_TRI_RADIUS] = PetscMax(row[FS_TRI_RADIUS], PetscSqrtReal(Dot(r, r)));
+  }
+  m->elwall[m->nel] = m->triwall[t];
+  m->eltri[m->nel]  = t;
+  m->nel++;
+}
+
+/* A triangle's split (FSMeshRefine): m^2 similar triangles (grid = 0), or a grid of cells along the edges AB and AC
+   at its widest angle (A opposite the longest edge, B and C after it in the triangle's order), m1 x m2 cells of
+   sides at most s = hmax / sqrt(2 + 2 |cos A|), which bounds every segment within a cell by hmax: each cell two
+   triangles cut along its shorter diagonal, those the edge BC crosses clipped to the triangle (a convex polygon of
+   3 to 5 corners, fanned from its first) */
+typedef struct {
+  PetscInt  grid, m, m1, m2;
+  PetscReal A[3], B[3], C[3], cosA;
+} FSTriangleSplit;
+
+/* the corners of cell (i, j) in (u, v), P = A + u (B - A) + v (C - A), clipped to u + v <= 1, counterclockwise;
+   returns their number (0: the cell lies beyond BC) */
+static PetscInt GridCell(const FSTriangleSplit *sp, PetscInt i, PetscInt j, PetscReal uv[][2])
+{
+  const PetscReal eps = 1e-12, c[4][2] = {{(PetscReal)i / sp->m1, (PetscReal)j / sp->m2},
+                                          {(PetscReal)(i + 1) / sp->m1, (PetscReal)j / sp->m2},
+                                          {(PetscReal)(i + 1) / sp->m1, (PetscReal)(j + 1) / sp->m2},
+                                          {(PetscReal)i / sp->m1, (PetscReal)(j + 1) / sp->m2}};
+  PetscInt        n = 0;
+
+  for (PetscInt k = 0; k < 4; k++) { /* Sutherland-Hodgman against f = 1 - u - v >= 0 */
+    const PetscReal *p = c[k], *q = c[(k + 1) % 4], fp = 1 - p[0] - p[1], fq = 1 - q[0] - q[1];
+    if (fp >= -eps) {
+      uv[n][0]   = p[0];
+      uv[n++][1] = p[1];
+    }
+    if ((fp > eps && fq < -eps) || (fp < -eps && fq > eps)) {
+      const PetscReal w = fp / (fp - fq);
+      uv[n][0]          = p[0] + w * (q[0] - p[0]);
+      uv[n++][1]        = p[1] + w * (q[1] - p[1]);
+    }
+  }
+  return n;
+}
+
+/* the split of triangle t with edges at most hmax that makes the fewer elements; their number */
+static PetscInt64 ChooseSplit(const FSMesh *m, PetscInt t, PetscReal hmax, FSTriangleSplit *sp)
+{
+  const PetscReal *p[3];
+  PetscReal        len[3], ab[3], ac[3], s;
+  PetscInt         k     = 0;
+  PetscInt64       ngrid = 0;
+
+  for (PetscInt q = 0; q < 3; q++) p[q] = &m->vert[3 * m->tri[3 * t + q]];
+  for (PetscInt q = 0; q < 3; q++) {
+    PetscReal e[3];
+    Sub(p[(q + 2) % 3], p[(q + 1) % 3], e); /* the edge opposite corner q */
+    len[q] = PetscSqrtReal(Dot(e, e));
+    if (len[q] > len[k]) k = q;
+  }
+  sp->grid = 0;
+  sp->m    = PetscMax(1, (PetscInt)PetscCeilReal(len[k] / hmax));
+  for (PetscInt d = 0; d < 3; d++) {
+    sp->A[d] = p[k][d];
+    sp->B[d] = p[(k + 1) % 3][d];
+    sp->C[d] = p[(k + 2) % 3][d];
+  }
+  Sub(sp->B, sp->A, ab);
+  Sub(sp->C, sp->A, ac);
+  sp->cosA = Dot(ab, ac) / PetscSqrtReal(Dot(ab, ab) * Dot(ac, ac));
+  s        = hmax / PetscSqrtReal(2 + 2 * PetscAbsReal(sp->cosA));
+  sp->m1   = PetscMax(1, (PetscInt)PetscCeilReal(PetscSqrtReal(Dot(ab, ab)) / s));
+  sp->m2   = PetscMax(1, (PetscInt)PetscCeilReal(PetscSqrtReal(Dot(ac, ac)) / s));
+  if ((PetscInt64)sp->m1 * sp->m2 >= (PetscInt64)sp->m * sp->m) return (PetscInt64)sp->m * sp->m; /* not fewer */
+  for (PetscInt j = 0; j < sp->m2; j++)
+    for (PetscInt i = 0; i < sp->m1; i++) {
+      PetscReal      uv[5][2];
+      const PetscInt n = GridCell(sp, i, j, uv);
+      ngrid += n >= 3 ? n - 2 : 0;
+    }
+  if (ngrid < (PetscInt64)sp->m * sp->m) {
+    sp->grid = 1;
+    return ngrid;
+  }
+  return (PetscInt64)sp->m * sp->m;
+}
+
 /*
-   FSMeshRefine - the elements: each input triangle split into m^2 similar triangles (m = ceil(longest
-   edge / hmax), at least 1), oriented as their triangle; each element's row holds its vertices,
-   centroid, unit normal (its triangle's) and area. Elements made before are replaced.
+   FSMeshRefine - the elements: every edge at most hmax. Each input triangle is split into m^2 similar triangles
+   (m = ceil(longest edge / hmax), at least 1) or, where that makes fewer (a thin triangle, e.g. half of a long
+   narrow face: similar pieces of a sliver are slivers), into a grid of cells along its two edges at its widest
+   angle, each cell two triangles and those its third edge crosses clipped to it. Elements are oriented as their
+   triangle; each element's row holds its vertices, centroid, unit normal (its triangle's) and area. Elements made
+   before are replaced.
 
    Not collective
 
@@ -1009,8 +1116,8 @@ PetscErrorCode FSMeshCheck(FSMesh *m, MPI_Comm comm)
 */
 PetscErrorCode FSMeshRefine(FSMesh *m, PetscReal hmax)
 {
-  PetscInt  *split;
-  PetscInt64 nel = 0;
+  FSTriangleSplit *split;
+  PetscInt64       nel = 0;
 
   PetscFunctionBegin;
   PetscCheck(hmax > 0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "The element size %g must be positive", (double)hmax);
@@ -1024,8 +1131,7 @@ PetscErrorCode FSMeshRefine(FSMesh *m, PetscReal hmax)
     PetscCheck(L / hmax < 1e7, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
                TRI_FMT ": an edge of length %g split into elements of at most %g: too many", TRI_ARGS(t), (double)L,
                (double)hmax);
-    split[t] = PetscMax(1, (PetscInt)PetscCeilReal(L / hmax));
-    nel += (PetscInt64)split[t] * split[t];
+    nel += ChooseSplit(m, t, hmax, &split[t]);
   }
   PetscCheck(nel * FS_TRI_STRIDE < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
              "%" PetscInt64_FMT " elements of size at most %g: too many", nel, (double)hmax);
@@ -1037,40 +1143,52 @@ PetscErrorCode FSMeshRefine(FSMesh *m, PetscReal hmax)
   PetscCall(PetscMalloc1(nel, &m->eltri));
   m->nel = 0;
   for (PetscInt t = 0; t < m->ntri; t++) {
-    const PetscReal *a = &m->vert[3 * m->tri[3 * t]], *b = &m->vert[3 * m->tri[3 * t + 1]];
-    const PetscReal *c = &m->vert[3 * m->tri[3 * t + 2]];
-    const PetscInt   s = split[t];
-    PetscReal        n[3], ln;
-    Normal(a, b, c, n);
+    const FSTriangleSplit *sp = &split[t];
+    const PetscReal       *a = sp->A, *b = sp->B, *c = sp->C;
+    PetscReal              n[3], ln;
+    Normal(&m->vert[3 * m->tri[3 * t]], &m->vert[3 * m->tri[3 * t + 1]], &m->vert[3 * m->tri[3 * t + 2]], n);
     ln = PetscSqrtReal(Dot(n, n));
-    for (PetscInt j = 0; j < s; j++)
-      for (PetscInt i = 0; i + j < s; i++)
-        for (PetscInt up = 1; up >= 0; up--) {
-          /* the corners (i, j) of the grid P(i, j) = a + i (b - a)/s + j (c - a)/s: the triangle pointing
-             up ((i,j), (i+1,j), (i,j+1)), and the one pointing down ((i+1,j), (i+1,j+1), (i,j+1)) */
-          const PetscInt ij[3][2] = {{i + !up, j}, {i + 1, j + !up}, {i, j + 1}};
-          PetscReal     *row      = &m->el[m->nel * FS_TRI_STRIDE], e[3];
-          if (!up && i + j + 2 > s) continue;
-          for (PetscInt k = 0; k < 3; k++)
-            for (PetscInt d = 0; d < 3; d++)
-              row[3 * k + d] = ((s - ij[k][0] - ij[k][1]) * a[d] + ij[k][0] * b[d] + ij[k][1] * c[d]) / s;
-          for (PetscInt d = 0; d < 3; d++) {
-            row[FS_TRI_CENTROID + d] = (row[FS_TRI_P0 + d] + row[FS_TRI_P1 + d] + row[FS_TRI_P2 + d]) / 3;
-            row[FS_TRI_NORMAL + d]   = n[d] / ln;
+    for (PetscInt d = 0; d < 3; d++) n[d] /= ln;
+    if (!sp->grid) { /* from the triangle's first corner, as it comes */
+      const PetscInt   s  = sp->m;
+      const PetscReal *p0 = &m->vert[3 * m->tri[3 * t]], *p1 = &m->vert[3 * m->tri[3 * t + 1]];
+      const PetscReal *p2 = &m->vert[3 * m->tri[3 * t + 2]];
+      for (PetscInt j = 0; j < s; j++)
+        for (PetscInt i = 0; i + j < s; i++)
+          for (PetscInt up = 1; up >= 0; up--) {
+            /* the corners (i, j) of the grid P(i, j) = p0 + i (p1 - p0)/s + j (p2 - p0)/s: the triangle pointing
+               up ((i,j), (i+1,j), (i,j+1)), and the one pointing down ((i+1,j), (i+1,j+1), (i,j+1)) */
+            const PetscInt ij[3][2] = {{i + !up, j}, {i + 1, j + !up}, {i, j + 1}};
+            PetscReal      q[3][3];
+            if (!up && i + j + 2 > s) continue;
+            for (PetscInt k = 0; k < 3; k++)
+              for (PetscInt d = 0; d < 3; d++)
+                q[k][d] = ((s - ij[k][0] - ij[k][1]) * p0[d] + ij[k][0] * p1[d] + ij[k][1] * p2[d]) / s;
+            AddElement(m, t, q[0], q[1], q[2], n);
           }
-          Normal(&row[FS_TRI_P0], &row[FS_TRI_P1], &row[FS_TRI_P2], e);
-          row[FS_TRI_AREA]   = 0.5 * PetscSqrtReal(Dot(e, e));
-          row[FS_TRI_RADIUS] = 0;
-          for (PetscInt k = 0; k < 3; k++) {
-            const PetscReal r[3] = {row[3 * k] - row[FS_TRI_CENTROID], row[3 * k + 1] - row[FS_TRI_CENTROID + 1],
-                                    row[3 * k + 2] - row[FS_TRI_CENTROID + 2]};
-            row[FS_TRI_RADIUS]   = PetscMax(row[FS_TRI_RADIUS], PetscSqrtReal(Dot(r, r)));
-          }
-          m->elwall[m->nel] = m->triwall[t];
-          m->eltri[m->nel]  = t;
-          m->nel++;
+    } else {
+      for (PetscInt j = 0; j < sp->m2; j++)
+        for (PetscInt i = 0; i < sp->m1; i++) {
+          PetscReal      uv[5][2], q[5][3];
+          const PetscInt nc = GridCell(sp, i, j, uv);
+          if (nc < 3) continue;
+          for (PetscInt k = 0; k < nc; k++)
+            for (PetscInt d = 0; d < 3; d++) q[k][d] = a[d] + uv[k][0] * (b[d] - a[d]) + uv[k][1] * (c[d] - a[d]);
+          if (nc == 4) { /* a whole cell: cut along its shorter diagonal */
+            if (sp->cosA >= 0) {
+              AddElement(m, t, q[0], q[1], q[3], n);
+              AddElement(m, t, q[1], q[2], q[3], n);
+            } else {
+              AddElement(m, t, q[0], q[1], q[2], n);
+              AddElement(m, t, q[0], q[2], q[3], n);
+            }
+          } else
+            for (PetscInt k = 1; k + 1 < nc; k++) AddElement(m, t, q[0], q[k], q[k + 1], n);
         }
+    }
   }
+  PetscCheck(m->nel == nel, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "%" PetscInt_FMT " elements made, %" PetscInt64_FMT " counted", m->nel, nel);
   PetscCall(PetscFree(split));
   PetscFunctionReturn(0);
 }
