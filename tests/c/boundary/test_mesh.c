@@ -126,6 +126,22 @@ static PetscErrorCode BaffledMesh(MPI_Comm comm, PetscReal gap, PetscReal hb, Pe
   PetscFunctionReturn(0);
 }
 
+/* the rectangular tank L x H (FSWallsRectangularTank) extruded W wide, checked */
+static PetscErrorCode BoxMesh(MPI_Comm comm, PetscReal L, PetscReal H, PetscReal W, FSMesh *m)
+{
+  FSWalls w;
+
+  PetscFunctionBegin;
+  PetscCall(FSWallsCreate(&w));
+  PetscCall(FSWallsRectangularTank(&w, comm, L, H));
+  PetscCall(FSWallsCheck(&w, comm));
+  PetscCall(FSMeshCreate(m));
+  PetscCall(FSMeshExtrude(m, comm, &w, W));
+  PetscCall(FSWallsDestroy(&w));
+  PetscCall(FSMeshCheck(m, comm));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TestExtrude(MPI_Comm comm)
 {
   const PetscReal L = 0.7, H = 0.06, W = 0.1;
@@ -135,12 +151,7 @@ static PetscErrorCode TestExtrude(MPI_Comm comm)
 
   PetscFunctionBegin;
   /* the rectangular tank: a box of 12 triangles on 8 shared vertices */
-  PetscCall(FSWallsCreate(&w));
-  PetscCall(FSWallsRectangularTank(&w, comm, L, H));
-  PetscCall(FSWallsCheck(&w, comm));
-  PetscCall(FSMeshCreate(&m));
-  PetscCall(FSMeshExtrude(&m, comm, &w, W));
-  PetscCall(FSMeshCheck(&m, comm));
+  PetscCall(BoxMesh(comm, L, H, W, &m));
   TCHECK(m.ntri == 12 && m.nvert == 8 && m.nwalls == 1 && !strcmp(m.name[0], "tank"),
          "rectangular tank: %" PetscInt_FMT " triangles, %" PetscInt_FMT " vertices, %" PetscInt_FMT
          " walls; expected 12, 8, 1 (\"tank\")",
@@ -154,6 +165,9 @@ static PetscErrorCode TestExtrude(MPI_Comm comm)
     TCHECK(m.trisrc[t] == t, "triangle %" PetscInt_FMT ": source number %" PetscInt_FMT, t, m.trisrc[t]);
   PetscCall(FSMeshDestroy(&m));
   /* errors: a width of 0, a slanted edge */
+  PetscCall(FSWallsCreate(&w));
+  PetscCall(FSWallsRectangularTank(&w, comm, L, H));
+  PetscCall(FSWallsCheck(&w, comm));
   PetscCall(FSMeshCreate(&m));
   EXPECT_ERROR(FSMeshExtrude(&m, comm, &w, 0.0), "-fs_tank_width");
   PetscCall(FSMeshDestroy(&m));
@@ -279,14 +293,7 @@ static PetscErrorCode TestRefine(MPI_Comm comm)
   /* a long, low, narrow box (the seed's rectangular tank 0.05 m wide): its faces' halves are slivers, split on a
      grid along their short edges; measured 7,768 elements where similar triangles would make 40,584 */
   {
-    FSWalls w;
-    PetscCall(FSWallsCreate(&w));
-    PetscCall(FSWallsRectangularTank(&w, comm, 0.7, 0.06));
-    PetscCall(FSWallsCheck(&w, comm));
-    PetscCall(FSMeshCreate(&m));
-    PetscCall(FSMeshExtrude(&m, comm, &w, 0.05));
-    PetscCall(FSWallsDestroy(&w));
-    PetscCall(FSMeshCheck(&m, comm));
+    PetscCall(BoxMesh(comm, 0.7, 0.06, 0.05, &m));
     PetscCall(FSMeshRefine(&m, 0.01));
     PetscCall(CheckElements(&m, 0.01, &similar));
     TCHECK(similar == 40584 && m.nel < similar / 5,
