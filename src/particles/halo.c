@@ -228,6 +228,24 @@ PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscI
   PetscFunctionReturn(0);
 }
 
+/* a refresh of count reals a particle from the owners to the ghosts (unit: their MPI type), counted in the
+   run's statistics; the ghosts' values are ready after FSHaloBcastEnd */
+static PetscErrorCode FSHaloBcastBegin(FSHalo *hl, MPI_Datatype unit, PetscInt count, PetscReal a[])
+{
+  PetscFunctionBegin;
+  hl->refresh_msgs += hl->nsendranks;
+  hl->refresh_bytes += (PetscLogDouble)hl->nsendremote * count * sizeof(PetscReal);
+  PetscCall(PetscSFBcastBegin(hl->sf, unit, a, a, MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FSHaloBcastEnd(FSHalo *hl, MPI_Datatype unit, PetscReal a[])
+{
+  PetscFunctionBegin;
+  PetscCall(PetscSFBcastEnd(hl->sf, unit, a, a, MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
 /*
    FSHaloRefreshBegin/End - copies the owners' current records into the ghost records and applies the periodic
    shifts. Between the two the owned records may be read but not changed, and the ghosts' are not ready: work
@@ -235,17 +253,13 @@ PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscI
 */
 PetscErrorCode FSHaloRefreshBegin(FSHalo *hl, PetscReal rec[])
 {
-  PetscFunctionBegin;
-  hl->refresh_msgs += hl->nsendranks;
-  hl->refresh_bytes += (PetscLogDouble)hl->nsendremote * hl->recstride * sizeof(PetscReal);
-  PetscCall(PetscSFBcastBegin(hl->sf, hl->rectype, rec, rec, MPI_REPLACE));
-  PetscFunctionReturn(0);
+  return FSHaloBcastBegin(hl, hl->rectype, hl->recstride, rec);
 }
 
 PetscErrorCode FSHaloRefreshEnd(FSHalo *hl, PetscInt dim, PetscInt nowned, PetscReal rec[])
 {
   PetscFunctionBegin;
-  PetscCall(PetscSFBcastEnd(hl->sf, hl->rectype, rec, rec, MPI_REPLACE));
+  PetscCall(FSHaloBcastEnd(hl, hl->rectype, rec));
   for (PetscInt g = 0; g < hl->nghost; g++) {
     PetscReal *x = &rec[(nowned + g) * hl->recstride];
     for (PetscInt d = 0; d < dim; d++) x[d] += hl->shift[g * dim + d];
@@ -265,19 +279,10 @@ PetscErrorCode FSHaloRefresh(FSHalo *hl, PetscInt dim, PetscInt nowned, PetscRea
    FSHaloRefreshBegin/End; FSHaloRefreshAux does both. */
 PetscErrorCode FSHaloRefreshAuxBegin(FSHalo *hl, PetscReal aux[])
 {
-  PetscFunctionBegin;
-  hl->refresh_msgs += hl->nsendranks;
-  hl->refresh_bytes += (PetscLogDouble)hl->nsendremote * hl->auxstride * sizeof(PetscReal);
-  PetscCall(PetscSFBcastBegin(hl->sf, hl->auxtype, aux, aux, MPI_REPLACE));
-  PetscFunctionReturn(0);
+  return FSHaloBcastBegin(hl, hl->auxtype, hl->auxstride, aux);
 }
 
-PetscErrorCode FSHaloRefreshAuxEnd(FSHalo *hl, PetscReal aux[])
-{
-  PetscFunctionBegin;
-  PetscCall(PetscSFBcastEnd(hl->sf, hl->auxtype, aux, aux, MPI_REPLACE));
-  PetscFunctionReturn(0);
-}
+PetscErrorCode FSHaloRefreshAuxEnd(FSHalo *hl, PetscReal aux[]) { return FSHaloBcastEnd(hl, hl->auxtype, aux); }
 
 PetscErrorCode FSHaloRefreshAux(FSHalo *hl, PetscReal aux[])
 {
@@ -289,21 +294,9 @@ PetscErrorCode FSHaloRefreshAux(FSHalo *hl, PetscReal aux[])
 
 /* FSHaloRefreshScalarBegin/End - copies one real per particle (e.g. the Shepard factor) from the owners to the
    ghosts, as FSHaloRefreshBegin/End; FSHaloRefreshScalar does both. */
-PetscErrorCode FSHaloRefreshScalarBegin(FSHalo *hl, PetscReal a[])
-{
-  PetscFunctionBegin;
-  hl->refresh_msgs += hl->nsendranks;
-  hl->refresh_bytes += (PetscLogDouble)hl->nsendremote * sizeof(PetscReal);
-  PetscCall(PetscSFBcastBegin(hl->sf, MPIU_REAL, a, a, MPI_REPLACE));
-  PetscFunctionReturn(0);
-}
+PetscErrorCode FSHaloRefreshScalarBegin(FSHalo *hl, PetscReal a[]) { return FSHaloBcastBegin(hl, MPIU_REAL, 1, a); }
 
-PetscErrorCode FSHaloRefreshScalarEnd(FSHalo *hl, PetscReal a[])
-{
-  PetscFunctionBegin;
-  PetscCall(PetscSFBcastEnd(hl->sf, MPIU_REAL, a, a, MPI_REPLACE));
-  PetscFunctionReturn(0);
-}
+PetscErrorCode FSHaloRefreshScalarEnd(FSHalo *hl, PetscReal a[]) { return FSHaloBcastEnd(hl, MPIU_REAL, a); }
 
 PetscErrorCode FSHaloRefreshScalar(FSHalo *hl, PetscReal a[])
 {

@@ -34,7 +34,20 @@ static const char *FSParallelKeys[] = {"owned",
                                        "migration_bytes_per_step",
                                        "collectives_per_step"};
 #define FS_PAR_NKEYS ((PetscInt)(sizeof(FSParallelKeys) / sizeof(FSParallelKeys[0])))
-#define FS_PAR_WORK  8 /* the index of "work" */
+
+/* the largest rank's value of key over the ranks' mean, from the gathered per-rank values (rank 0) */
+static PetscReal FSParallelMaxOverMean(const PetscReal all[], PetscMPIInt size, const char key[])
+{
+  PetscInt  c   = 0;
+  PetscReal max = 0, sum = 0;
+
+  while (c < FS_PAR_NKEYS - 1 && strcmp(FSParallelKeys[c], key)) c++;
+  for (PetscMPIInt r = 0; r < size; r++) {
+    max = PetscMax(max, all[r * FS_PAR_NKEYS + c]);
+    sum += all[r * FS_PAR_NKEYS + c];
+  }
+  return sum > 0 ? max * size / sum : 1;
+}
 
 static inline void FSParallelCounters(PetscLogDouble c[3])
 {
@@ -102,7 +115,7 @@ PetscErrorCode FSParallelStatsSummary(FSSolver s, FSJSON js)
   const FSParallelStats *ps   = &s->mon.par;
   const FSHalo          *hl   = &s->pw.halo;
   const FSNeighbours    *nb   = &s->pw.nbrs;
-  PetscReal              mine[FS_PAR_NKEYS], *all = NULL, *col = NULL, steps, grid[3], sums[3], mx;
+  PetscReal              mine[FS_PAR_NKEYS], *all = NULL, *col = NULL, steps, grid[3], sums[3];
   PetscInt64             across = 0, work = 0;
   PetscMPIInt            size, rank;
   PetscLogDouble         uncounted = ps->uncounted;
@@ -166,19 +179,8 @@ PetscErrorCode FSParallelStatsSummary(FSSolver s, FSJSON js)
   PetscCall(FSJSONWriteInt(js, "halo_builds", hl->nbuilds - ps->nbuilds0));
   PetscCall(FSJSONWriteString(js, "two_sided", PetscBuildTwoSidedTypes[bt]));
   if (!rank) {
-    PetscReal omax = 0, osum = 0;
-    for (PetscMPIInt r = 0; r < size; r++) {
-      omax = PetscMax(omax, all[r * FS_PAR_NKEYS]);
-      osum += all[r * FS_PAR_NKEYS];
-    }
-    mx = osum > 0 ? omax * size / osum : 1;
-    PetscCall(FSJSONWriteReal(js, "imbalance_owned_end", mx));
-    omax = osum = 0;
-    for (PetscMPIInt r = 0; r < size; r++) {
-      omax = PetscMax(omax, all[r * FS_PAR_NKEYS + FS_PAR_WORK]);
-      osum += all[r * FS_PAR_NKEYS + FS_PAR_WORK];
-    }
-    PetscCall(FSJSONWriteReal(js, "imbalance_work_end", osum > 0 ? omax * size / osum : 1));
+    PetscCall(FSJSONWriteReal(js, "imbalance_owned_end", FSParallelMaxOverMean(all, size, "owned")));
+    PetscCall(FSJSONWriteReal(js, "imbalance_work_end", FSParallelMaxOverMean(all, size, "work")));
     PetscCall(FSJSONWriteReal(js, "imbalance_owned", sums[0] > 0 ? ps->max_owned_sum * size / sums[0] : 1));
     PetscCall(FSJSONWriteReal(js, "imbalance_pairs", sums[1] > 0 ? ps->max_pairs_sum * size / sums[1] : 1));
     for (PetscInt key = 0; key < FS_PAR_NKEYS; key++) {

@@ -166,21 +166,18 @@ PetscErrorCode FSSolverKeepLists(FSSolver s)
 }
 
 /*
-   FSSolverGetWork - with weighted, each owned particle's work in a right-hand side, counted in fluid candidate pairs
-   (the unit of the passes over the pairs): 1 plus its candidates plus its walls' work (FSBoundaryAddWork), from the
-   lists of the last build, which must be this swarm's particles in this order; without, *work is NULL (1 each).
-   Free with PetscFree(). Also the sum over this rank's particles.
+   FSSolverGetWork - each owned particle's work in a right-hand side, counted in fluid candidate pairs (the unit of
+   the passes over the pairs): 1 plus its candidates plus its walls' work (FSBoundaryAddWork), from the lists of the
+   last build, which must be this swarm's particles in this order. Free with PetscFree(). Also the sum over this
+   rank's particles.
 
    Not collective
 */
-static PetscErrorCode FSSolverGetWork(FSSolver s, PetscBool weighted, PetscInt64 **work, PetscInt64 *sum)
+static PetscErrorCode FSSolverGetWork(FSSolver s, PetscInt64 **work, PetscInt64 *sum)
 {
   const PetscInt n = s->pw.nowned;
 
   PetscFunctionBegin;
-  *work = NULL;
-  *sum  = n;
-  if (!weighted) PetscFunctionReturn(0);
   PetscCall(PetscMalloc1(n, work));
   for (PetscInt i = 0; i < n; i++) (*work)[i] = 1 + FSNeighboursCandidateCount(&s->pw.nbrs, i);
   if (s->boundary) PetscCall(FSBoundaryAddWork(s->boundary, n, *work));
@@ -200,7 +197,7 @@ PetscErrorCode FSSolverGetWorkSum(FSSolver s, PetscInt64 *sum)
   PetscInt64 *work;
 
   PetscFunctionBegin;
-  PetscCall(FSSolverGetWork(s, PETSC_TRUE, &work, sum));
+  PetscCall(FSSolverGetWork(s, &work, sum));
   PetscCall(PetscFree(work));
   PetscFunctionReturn(0);
 }
@@ -235,7 +232,7 @@ PetscErrorCode FSSolverBalanceWork(FSSolver s)
 
   PetscFunctionBegin;
   if (s->pw.decomp.size == 1 || s->opt.balance != FS_BALANCE_WORK || s->opt.restart[0]) PetscFunctionReturn(0);
-  PetscCall(FSSolverGetWork(s, (PetscBool)(s->opt.balance == FS_BALANCE_WORK), &work, &sum));
+  PetscCall(FSSolverGetWork(s, &work, &sum));
   PetscCall(FSSolverBalanceCuts(s, work));
   PetscCall(PetscFree(work));
   PetscCall(FSSolverMigrate(s, &changed));
@@ -269,7 +266,7 @@ PetscErrorCode FSSolverRebalance(FSSolver s, PetscInt step, PetscBool *moved)
     PetscFunctionReturn(0);
   if (s->opt.balance == FS_BALANCE_WORK) {
     PetscInt64 *all, max = 0, total = 0;
-    PetscCall(FSSolverGetWork(s, (PetscBool)(s->opt.balance == FS_BALANCE_WORK), &work, &sum));
+    PetscCall(FSSolverGetWork(s, &work, &sum));
     PetscCall(PetscMalloc1(s->pw.decomp.size, &all));
     PetscCallMPI(MPI_Allgather(&sum, 1, MPIU_INT64, all, 1, MPIU_INT64, PetscObjectComm((PetscObject)s)));
     for (PetscMPIInt r = 0; r < s->pw.decomp.size; r++) {
