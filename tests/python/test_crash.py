@@ -80,14 +80,17 @@ def check_output_dir(out):
             ET.parse(f)
         elif f.suffix == ".json":
             pytest.fail(f"summary.json of a killed run: {f}")
-    # the XDMF index lists exactly the snapshots of snapshots.csv, each complete
+    # the XDMF index lists the snapshots of snapshots.csv, each complete; snapshots.csv is renamed first, so a kill
+    # between the two renames leaves the newest snapshot out of the XDMF only (the restart rewrites both)
     if not (out / "snapshots.csv").exists():
         assert not (out / "particles.xdmf").exists()
         return leftovers
     index = [r[3] for r in check_csv(out / "snapshots.csv")[1:]]
-    listed = [item.text.split(":")[0] for item in ET.parse(out / "particles.xdmf").iter("DataItem")
-              if item.text.endswith("/particles/position")]
-    assert listed == index
+    listed = []
+    if (out / "particles.xdmf").exists():
+        listed = [item.text.split(":")[0] for item in ET.parse(out / "particles.xdmf").iter("DataItem")
+                  if item.text.endswith("/particles/position")]
+    assert listed in (index, index[:-1])
     for name in index:
         with h5py.File(out / name, "r") as h5:
             assert h5["particles/position"].shape[0] == h5["particles"].attrs["nparticles"]
