@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Benchmark of the solver with walls: the 2-D dam break of Martin & Moyce's proportions used by other
 SPH codes' examples (a 1 m wide, 2 m high water column in a 4 m wide tank, dx = 0.01 m: 20,000
-particles), 0.1 s of physical time with the case's own stable time step (RK4, CFL 1.0), the full
+particles), 0.1 s of physical time with the case's own stable time step (RK4, CFL 2.0), the full
 delta-LES-SPH right-hand side with boundary-integral walls, on 1 and 2 ranks. Prints the wall time,
 particle-steps per second, the 1 -> 2 rank efficiency and the share of the step in neighbour search,
 halo exchange, walls (gamma, wall lists, wall pressure), wall terms, the first pass and the fluid

@@ -294,9 +294,10 @@ static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *Pets
   static const char *const balancenames[] = {"particles", "work"};
 
   PetscFunctionBegin;
-  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_cfl",
-                          "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (the wall cases use 1.0 with RK4)",
-                          "FSSolverComputeStableDt", &s->opt.cfl, &s->opt.cfl_set, 0, 2, FS_RANGE_OPEN_LOWER));
+  PetscCall(
+      FSOptionsReal(PetscOptionsObject, "-fs_cfl",
+                    "Acoustic CFL number: dt <= CFL h/(c0 + |u|max) (with RK4 the tanks use 1.0, the dam break 2.0)",
+                    "FSSolverComputeStableDt", &s->opt.cfl, &s->opt.cfl_set, 0, 2, FS_RANGE_OPEN_LOWER));
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_relax_time",
                           "Start-up relaxation: damp the particle velocities until this time (0: none)",
                           "FSSolverEvaluateRates", &s->opt.relax_time, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
@@ -443,7 +444,7 @@ static PetscErrorCode FSSolverCreateTerms(FSSolver s, PetscOptionItems *PetscOpt
 .  -fs_structure <none|msd|modal>  - the structure carrying the tank (-fs_structure_view lists the models)
 .  -fs_structure_cfl <0.02>        - without particles: time step as a fraction of the shortest period the structure
 resolves (or -ts_dt) .  -fs_cfl, -fs_cfl_viscous, -fs_cfl_force - time-step limits: CFL h/(c0+|u|max), CFL_v h^2/nu,
-CFL_f sqrt(h/|g|) (CFL 0.4; the wall cases use 1.0 with the default RK4) .  -fs_relax_time <0>              - start-up
+CFL_f sqrt(h/|g|) (CFL 0.4; with the default RK4 the tanks use 1.0, the dam break 2.0) .  -fs_relax_time <0> - start-up
 relaxation: the velocities are damped until this time .  -fs_output_dir <dir>            - output directory (default
 output/<case>) .  -fs_output_interval <t>         - simulated time between particle snapshots (0: first and last only)
 .  -fs_checkpoint_interval <n>     - steps between checkpoints (0: none)
@@ -508,8 +509,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   if (s->opt.structure_view) PetscCall(FSStructureListView(PETSC_VIEWER_STDOUT_(comm)));
   s->opt.h = s->opt.h_over_dx * s->opt.dx;
   PetscCall(FSSolverSetUpTS(s));
-  if (!s->opt.cfl_set &&
-      s->opt.cfl > 0.4) { /* a case's larger default holds for RK4 only (stable on the imaginary axis up to 2.8) */
+  {
     TSType    type;
     TSRKType  rk = NULL;
     PetscBool isrk, islean;
@@ -517,8 +517,10 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
     PetscCall(PetscStrcmp(type, TSRK, &isrk));
     PetscCall(PetscStrcmp(type, FSTSRK4LEAN, &islean));
     if (isrk) PetscCall(TSRKGetType(s->ts, &rk));
-    if (!islean && !(isrk && rk && !strcmp(rk, TSRK4))) s->opt.cfl = 0.4;
+    s->opt.rk4 = (PetscBool)(islean || (isrk && rk && !strcmp(rk, TSRK4)));
   }
+  /* a case's larger default holds for RK4 only (stable on the imaginary axis up to 2.8) */
+  if (!s->opt.cfl_set && s->opt.cfl > 0.4 && !s->opt.rk4) s->opt.cfl = 0.4;
   PetscFunctionReturn(0);
 }
 

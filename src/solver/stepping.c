@@ -360,11 +360,10 @@ void FSSolverStableDtOf(FSSolver s, PetscReal umax, PetscReal nu, PetscInt sourc
      dt = min(CFL h/(c0 + |u|max), CFL_v h^2/nu_max, 0.4 skin h/|u|max, CFL_f sqrt(h/|g|)),
    nu_max being the largest viscosity any term applied in the integrator's last right-hand side
    (kept in checkpoints, so that a restarted run takes the same steps); a term with its own
-   coefficient (the delta term's -fs_delta_cfl) enters scaled to CFL_v. With a structure, dt also
-   resolves its shortest period (dt <= -fs_structure_cfl T_min, explicit integrators being stable
-   and accurate only for omega dt = O(1)). Without particles dt comes from the structure alone
-   (FSSolverStructureDt: -ts_dt if given, else -fs_structure_cfl T_min). Which limit set dt goes to
-   s->state.dt_limit (the time series' dt_limit column).
+   coefficient (the delta term's -fs_delta_cfl, or its default with RK4) enters scaled to CFL_v. With a structure, dt
+   also resolves its shortest period (dt <= -fs_structure_cfl T_min, explicit integrators being stable and accurate only
+   for omega dt = O(1)). Without particles dt comes from the structure alone (FSSolverStructureDt: -ts_dt if given, else
+   -fs_structure_cfl T_min). Which limit set dt goes to s->state.dt_limit (the time series' dt_limit column).
 
    Collective
 */

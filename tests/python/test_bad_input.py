@@ -71,7 +71,7 @@ def test_unwritable_output_dir(run, tmp_path):
 @pytest.mark.parametrize("nranks", [1, 2])
 def test_blow_up_is_detected(run, tmp_path, nranks):
     # CFL 2 on a coarse Taylor-Green vortex, with the diffusive limits lifted: the density blows up within a few steps
-    proc = run(TG + ["-fs_dx", "0.05", "-fs_cfl", "2", "-fs_cfl_viscous", "5", "-ts_max_steps", "200", "-fs_output_dir", tmp_path / "out"],
+    proc = run(TG + ["-fs_dx", "0.05", "-fs_cfl", "2", "-fs_cfl_viscous", "5", "-fs_delta_cfl", "5", "-ts_max_steps", "200", "-fs_output_dir", tmp_path / "out"],
                nranks=nranks, check=False)
     assert_no_crash(proc)
     msg = petsc_error_message(proc.stdout)

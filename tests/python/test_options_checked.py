@@ -74,7 +74,7 @@ ACCEPT = {
     "-fs_delta_constant": {"0": "the delta-LES delta", "1e300": "only bounds the time step"},
     "-fs_delta_min": {"0": "no floor", "1e300": "only bounds the time step"},
     "-fs_delta_max": {"0": "no cap", "1e300": "a cap that never binds"},
-    "-fs_delta_cfl": {"0": "-fs_cfl_viscous's coefficient", "1e300": "a limit that never binds (unstable in slams: docs)"},
+    "-fs_delta_cfl": {"0": "0.1875 with RK4, else -fs_cfl_viscous's coefficient", "1e300": "a limit that never binds (unstable in slams: docs)"},
     "-fs_les_c": {"0": "no turbulent viscosity", "1e300": "only bounds the time step"},
     "-fs_viscosity_K": {"1e300": "only bounds the time step"},
     "-fs_shifting_c": {"0": "no shifting", "1e300": "the shifting velocity is capped by -fs_shifting_max"},

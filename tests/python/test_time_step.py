@@ -59,6 +59,18 @@ def test_the_density_diffusion_limit_and_its_coefficient(tmp_path):
     assert s2["dt"][2] == pytest.approx(2 * s1["dt"][2], rel=1e-12)
 
 
+@pytest.mark.parametrize("ts, coefficient", [([], 0.1875), (["-ts_type", "rk", "-ts_rk_type", "4"], 0.1875),
+                                               (["-ts_type", "rk", "-ts_rk_type", "3"], 0.125),
+                                               (["-ts_type", "euler"], 0.125)])
+def test_the_density_diffusion_default_coefficient_follows_the_integrator(tmp_path, ts, coefficient):
+    # a constant delta = 5 (kappa = 5 h c0) makes the diffusion's limit c h/(5 c0) the step's from the second on:
+    # c = 0.1875 with RK4 (inside its stability for this operator on any arrangement), -fs_cfl_viscous's 0.125 else
+    run_flexslosh(TG + ts + ["-fs_delta_constant", 5, "-ts_max_steps", 4, "-fs_output_dir", tmp_path])
+    s, lim = names(tmp_path)
+    assert lim[2:] == ["delta"] * 3, lim
+    assert np.allclose(s["dt"][2:], coefficient * H / (5 * C0), rtol=1e-12, atol=0)
+
+
 @pytest.mark.parametrize("value", ["-1", "nan", "inf"])
 def test_a_bad_delta_coefficient_is_refused(tmp_path, value):
     p = run_flexslosh(TG + ["-fs_delta_cfl", value, "-ts_max_steps", 1, "-fs_output_dir", tmp_path], check=False)

@@ -54,7 +54,7 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 10 * PetscSqrtReal(2 * 9.81 * db->height), 1e-6, g));
   PetscCall(FSSolverSetDefaultTerms(s, FS_WALL_CASE_TERMS));
   PetscCall(FSSolverSetDefaultSpacing(s, db->a / 40));
-  PetscCall(FSSolverSetDefaultCFL(s, 1.0)); /* RK4 only; chosen by measurement (docs/decisions.md) */
+  PetscCall(FSSolverSetDefaultCFL(s, 2.0)); /* RK4 only; chosen by measurement (docs/decisions.md) */
   PetscCall(FSSolverSetDefaultFinalTime(s, 3.0 / PetscSqrtReal(2 * 9.81 / db->a)));
   PetscFunctionReturn(0);
 }
