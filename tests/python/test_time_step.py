@@ -76,3 +76,25 @@ def test_a_bad_delta_coefficient_is_refused(tmp_path, value):
     p = run_flexslosh(TG + ["-fs_delta_cfl", value, "-ts_max_steps", 1, "-fs_output_dir", tmp_path], check=False)
     assert p.returncode != 0
     assert f"-fs_delta_cfl {value} is out of range" in p.output
+
+
+def test_the_dam_breaks_larger_step_keeps_the_flow(tmp_path):
+    """The dam break's defaults with RK4 (CFL 2.0, the density diffusion's coefficient 0.1875) against the former
+    CFL 1.0 and 0.125, through the jet's impact on the far wall (t = 0.65 s): measured at dx = 0.04 m, 1,013 steps
+    against 1,563, the surge front within 0.22 % and the column's height within 0.16 % of each other every 0.1 s,
+    the energy residual 1.1e-4 of the column's potential energy against 3e-5."""
+    runs = {}
+    for name, extra in (("default", []), ("former", ["-fs_cfl", 1.0, "-fs_delta_cfl", 0.125])):
+        d = tmp_path / name
+        run_flexslosh(["-fs_case", "dam_break", "-fs_dx", 0.04, "-ts_max_time", 0.8, "-fs_output_interval", 0,
+                       "-fs_output_dir", d] + extra)
+        runs[name] = (read_series(d), np.genfromtxt(d / "energy.csv", delimiter=",", names=True), read_summary(d))
+    (new, enew, snew), (old, eold, sold) = runs["default"], runs["former"]
+    assert snew["steps"] < 0.7 * sold["steps"], (snew["steps"], sold["steps"])
+    assert snew["dt_limit_steps"]["delta"] > 0.9 * snew["steps"]  # after the impact the diffusion's limit rules
+    for t in np.arange(0.1, 0.81, 0.1):
+        i, j = np.searchsorted(new["time"], t - 1e-9), np.searchsorted(old["time"], t - 1e-9)
+        for col in ("front_position", "column_height"):
+            assert new[col][i] == pytest.approx(old[col][j], rel=4e-3), (t, col)
+    epot = 1000 * 9.81 * 1.0 * 2.0 * 1.0  # rho0 g a (2a) (2a/2) of the 1 x 2 m column, per metre
+    assert np.abs(enew["residual_total"]).max() < 1.5e-4 * epot
