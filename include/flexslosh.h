@@ -195,8 +195,8 @@ struct _p_FSTerm {
   PetscBool has_power;      /* the term dissipates: it accumulates power */
   PetscReal power;          /* dissipation power of the last right-hand side, this rank's share (seed Eq. 38) */
   PetscReal max_viscosity;  /* largest kinematic viscosity the term applies (time-step limit), set in prepare */
-  PetscReal dt_coefficient; /* the term's own limit dt <= c h^2/max_viscosity (0: the default below) */
-  PetscReal dt_coefficient_rk4; /* the term's default c with RK4 (0: -fs_cfl_viscous's, as with other integrators) */
+  PetscReal dt_coefficient; /* the term's own limit dt <= c h^2/max_viscosity (0: -fs_cfl_viscous's) */
+  PetscReal dt_coefficient_rk4; /* dt_coefficient's default with RK4 (set up by FSSolverSetFromOptions; 0: none) */
   void     *data;               /* implementation data */
 };
 

@@ -478,11 +478,9 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   if (count) { /* the viscosity bound of the next time step comes from the integrator's own evaluations only */
     s->state.nu_src[0] = s->opt.nu;
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
-      const FSTerm    term   = s->terms.term[t];
-      const PetscReal c      = term->dt_coefficient > 0                     ? term->dt_coefficient
-                               : s->opt.rk4 && term->dt_coefficient_rk4 > 0 ? term->dt_coefficient_rk4
-                                                                            : s->opt.cfl_visc;
-      s->state.nu_src[1 + t] = term->max_viscosity * (s->opt.cfl_visc / c);
+      const FSTerm term      = s->terms.term[t];
+      s->state.nu_src[1 + t] = term->dt_coefficient > 0 ? term->max_viscosity * (s->opt.cfl_visc / term->dt_coefficient)
+                                                        : term->max_viscosity;
     }
   }
 

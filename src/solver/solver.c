@@ -512,15 +512,20 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   {
     TSType    type;
     TSRKType  rk = NULL;
-    PetscBool isrk, islean;
+    PetscBool isrk, islean, rk4;
     PetscCall(TSGetType(s->ts, &type));
     PetscCall(PetscStrcmp(type, TSRK, &isrk));
     PetscCall(PetscStrcmp(type, FSTSRK4LEAN, &islean));
     if (isrk) PetscCall(TSRKGetType(s->ts, &rk));
-    s->opt.rk4 = (PetscBool)(islean || (isrk && rk && !strcmp(rk, TSRK4)));
+    rk4 = (PetscBool)(islean || (isrk && rk && !strcmp(rk, TSRK4)));
+    /* a case's larger CFL and a term's own default coefficient hold for RK4 only (stable on the imaginary axis up
+       to 2.8, on the real axis to 2.79); the terms are made anew by each call, their coefficients 0 unless given */
+    if (!s->opt.cfl_set && s->opt.cfl > 0.4 && !rk4) s->opt.cfl = 0.4;
+    for (PetscInt t = 0; rk4 && t < s->terms.nterms; t++) {
+      FSTerm term = s->terms.term[t];
+      if (term->dt_coefficient == 0) term->dt_coefficient = term->dt_coefficient_rk4;
+    }
   }
-  /* a case's larger default holds for RK4 only (stable on the imaginary axis up to 2.8) */
-  if (!s->opt.cfl_set && s->opt.cfl > 0.4 && !s->opt.rk4) s->opt.cfl = 0.4;
   PetscFunctionReturn(0);
 }
 

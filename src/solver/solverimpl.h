@@ -47,7 +47,6 @@ typedef struct {
   PetscReal dx, h_over_dx, h, rho0, c0, nu, gravity[3], background_pressure;
   PetscReal cfl, cfl_visc, cfl_force, relax_time;
   PetscBool cfl_set;   /* -fs_cfl given (else chosen by integrator) */
-  PetscBool rk4;       /* the integrator is the classical RK4 (rk4lean, or rk with -ts_rk_type 4) */
   PetscReal halo_skin; /* extra halo width, in units of h */
   PetscReal max_density_variation;
   PetscReal final_time;
