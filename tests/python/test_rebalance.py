@@ -9,7 +9,11 @@ from conftest import TG, last_snapshot, petsc_error_message, rel_max_diff, run_f
 from test_restart import FIELDS, check_continuation
 
 DAM = ["-options_file", "cases/dam_break.opts", "-fs_dx", "0.05", "-ts_max_time", "0.8", "-fs_output_interval", "0"]
-DAM3 = ["-options_file", "cases/dam_break_3d.opts", "-fs_dx", "0.0125", "-ts_max_steps", "6", "-fs_output_interval", "0"]
+# with wall elements of edge h/2, whose work (four times the elements of the default) makes the rank at the back wall's
+# excess plain at this size: with the default edge h the whole-plane steps of the cuts (128 particles) cannot bring
+# 1.17 x the mean work nearer than 1.13 x
+DAM3 = ["-options_file", "cases/dam_break_3d.opts", "-fs_dx", "0.0125", "-ts_max_steps", "6", "-fs_output_interval", "0",
+        "-fs_walls_element_size", "0.5"]
 
 
 def summary(directory):

@@ -162,11 +162,12 @@ def test_python_front_in_3d(tmp_path):
     np.testing.assert_allclose(got, want, rtol=1e-9)
     weight = csv["mass"][0] * 9.81
     assert 0.8 * weight < -got[1] < 1.2 * weight
-    # symmetric but for the triangulation of the walls (each face's diagonals): measured 2.3e-4 and 7e-8
-    # of the weight sideways, the load's line within 2.1e-4 and 1e-7 of the middle
-    assert abs(got[0]) < 4e-4 * weight and abs(got[2]) < 1e-6 * weight
-    assert got[5] / got[1] == pytest.approx(0.03, rel=4e-4)  # M_z = x F_y
-    assert -got[3] / got[1] == pytest.approx(0.015, rel=1e-6)  # M_x = -z F_y
+    # symmetric but for the triangulation of the walls (each face's diagonals): measured 8.5e-4 and 1.6e-6
+    # of the weight sideways, the load's line within 7.8e-4 and 2.8e-6 of the middle, with the default
+    # elements of edge h (2.3e-4, 7e-8, 2.1e-4, 3e-8 with edge h/2: the imprint grows as the edge squared)
+    assert abs(got[0]) < 1e-3 * weight and abs(got[2]) < 2e-6 * weight
+    assert got[5] / got[1] == pytest.approx(0.03, rel=1e-3)  # M_z = x F_y
+    assert -got[3] / got[1] == pytest.approx(0.015, rel=4e-6)  # M_x = -z F_y
 
 
 def test_box_tank_restart_is_exact(tmp_path):
@@ -228,8 +229,10 @@ def test_coupled_narrow_tank_follows_2d(tmp_path):
     the 2-D run's loads per unit width times the same width): the beam's tip follows the 2-D run within
     0.5 % of the initial deflection over the first 0.05 s (measured 0.1 %: the liquid moves in the beam's
     plane, the end walls add only their free-slip boundary layer), the loads the beam does not carry
-    (force_z, moment_x, moment_y) stay at round-off against the weight, and the 3-D energy budget closes
-    as the 2-D one (liquid residual over the liquid's energy: measured 4.8e-4 against 8.5e-4 in 2-D)."""
+    (force_z, moment_x, moment_y) stay at the walls' triangulation's imprint, far below the weight
+    (measured 1.9e-4, 5e-6 and 2.3e-3 m of it with elements of edge h; 5e-6, 1.3e-7 and 3.7e-4 m with h/2),
+    and the 3-D energy budget closes as the 2-D one (liquid residual over the liquid's energy: measured
+    5.2e-4 against 8.5e-4 in 2-D)."""
     out3, out2 = tmp_path / "c3", tmp_path / "c2"
     run_flexslosh(COUPLED3 + ["-ts_max_time", 0.05, "-fs_output_dir", out3], cwd=tmp_path, timeout=600)
     run_flexslosh(COUPLED + ["-ts_max_time", 0.05, "-fs_output_dir", out2], cwd=tmp_path, timeout=600)
@@ -238,8 +241,8 @@ def test_coupled_narrow_tank_follows_2d(tmp_path):
     d3, d2 = np.interp(t, s3["time"], s3["tip_displacement"]), np.interp(t, s2["time"], s2["tip_displacement"])
     assert np.abs(d3 - d2).max() < 0.005 * 0.04, (d3, d2)
     weight = 1000 * 9.81 * 0.7 * 0.03 * 0.05
-    for c in ("load_force_z", "load_moment_x", "load_moment_y"):
-        assert np.abs(s3[c]).max() < 1e-3 * weight, c
+    for c, tol in (("load_force_z", 3e-4), ("load_moment_x", 1e-5), ("load_moment_y", 3e-3)):
+        assert np.abs(s3[c]).max() < tol * weight, c
     e3 = np.genfromtxt(out3 / "energy.csv", delimiter=",", names=True)
     e2 = np.genfromtxt(out2 / "energy.csv", delimiter=",", names=True)
     rel3 = np.abs(e3["residual_liquid"]).max() / e3["E_liquid"][0]

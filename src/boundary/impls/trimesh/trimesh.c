@@ -87,8 +87,8 @@ static PetscBool MeshConvex(const FSMesh *m)
    SetFromOptions - the triangle-mesh boundary's options.
 
    Options Database Key:
-.  -fs_walls_element_size <0.5> - the longest element edge, in units of h: the mesh's triangles are split
-   until their edges are at most this (gamma to 1e-7 at 0.5, 3.5e-6 at 1; docs/walls.md)
+.  -fs_walls_element_size <1> - the longest element edge, in units of h: the mesh's triangles are split
+   until their edges are at most this (gamma to 5e-7 at 1, 3e-8 at 0.5; docs/walls.md)
 */
 static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
 {
@@ -605,7 +605,7 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   PetscFunctionBegin;
   PetscCall(PetscNew(&tm));
   PetscCall(FSMeshCreate(&tm->mesh));
-  tm->element            = 0.5;
+  tm->element            = 1.0;
   b->data                = tm;
   b->ops->setfromoptions = SetFromOptions;
   b->ops->setup          = SetUp;
