@@ -19,7 +19,8 @@
    Phi/r^3 = 21/(4 h^3) (1/3 - q^2/2 + 5/12 q^3 - 15/112 q^4 + q^5/64) (FSTriangleIntegrals). */
 
 /* an element whose centroid is nearer to x than this many of its radii is integrated as its four halves-scaled
-   copies (with elements of edge h: gamma within 4.4e-7 instead of 1.9e-6, docs/boundary-integrals.md) */
+   copies (elements of edge h then give gamma within 4.6e-7 of elements of edge h/8, 1.9e-6 without the split:
+   docs/boundary-integrals.md) */
 #define FS_TRI_SPLIT 1.5
 
 /* Dunavant's 7-point rule, degree 5: barycentric coordinates of the points and weights (sum 1) */
@@ -43,8 +44,8 @@ static inline void FSTriangleQuadraturePoints(const PetscReal a[], const PetscRe
   }
 }
 
-/* the rule on the triangle a, b, c (weights summing to scale): adds the sums of Phi(r)/r^3 (times 4 pi h^3
-   / 21 ... as pnorm gives it) and of W to *phi and *w */
+/* the rule on the triangle a, b, c with its weights scaled by scale: adds its sums of Phi(r)/r^3 to *phi and of
+   W(r) to *w (the mean values over the triangle, to be multiplied by its area) */
 static inline void FSTriangleRule(PetscReal h, const PetscReal x[], const PetscReal a[], const PetscReal b[],
                                   const PetscReal c[], PetscReal scale, PetscReal *phi, PetscReal *w)
 {
@@ -69,7 +70,7 @@ static inline void FSTriangleRule(PetscReal h, const PetscReal x[], const PetscR
 
 /*
    FSTriangleIntegrals - an element's contribution gamma_k to gamma(x) - 1, and int_k W(|y - x|) dS
-   over it, from one set of quadrature points. The latter is the wall terms' kernel weight: with it
+   over it, from the same quadrature points. The latter is the wall terms' kernel weight: with it
    the wall part of grad gamma, -sum_k n_k int_k W dS, is the gradient of the geometric gamma.
    With all = PETSC_FALSE only an element that faces x (x on the liquid side of its plane) counts,
    else both are 0 (a thin baffle's far face is hidden behind its near face); with all = PETSC_TRUE
