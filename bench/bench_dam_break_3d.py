@@ -2,7 +2,7 @@
 """Benchmark of the solver in 3-D with triangle-mesh walls: Martin & Moyce's dam break (a column 1 m
 wide, 2 m high and 2 m across, at the end of a tank 4 m long, 3 m high and 2 m across; dx = 0.0235 m:
 about 310,000 particles), a fixed physical time (0.02 s) with the case's own stable time step (RK4,
-CFL 2.0), the full delta-LES-SPH right-hand side with boundary-integral walls (elements of edge h/2),
+CFL 2.0), the full delta-LES-SPH right-hand side with boundary-integral walls (elements of edge h),
 on 1 and 2 ranks. Prints what bench_dam_break.py prints for the 2-D dam break: particles, steps, wall
 time, particle-steps per second, pair visits per second per core, the shares of the step's phases, the
 peak memory per particle, and the 1 -> 2 rank efficiency.

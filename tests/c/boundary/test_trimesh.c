@@ -135,8 +135,8 @@ static void Rotation(const PetscReal a[3], PetscReal t, PetscReal Rm[3][3])
   Rm[2][2] = c + a[2] * a[2] * C;
 }
 
-/* a 6h cube's mesh, refined to elements of edge e h */
-static PetscErrorCode CubeMesh(MPI_Comm comm, PetscReal h, PetscReal e, FSMesh *m)
+/* a 6h cube's mesh, turned by Rm and moved by 0.3 when Rm is given, refined to elements of edge e h */
+static PetscErrorCode CubeMesh(MPI_Comm comm, PetscReal h, PetscReal e, PetscReal (*Rm)[3], FSMesh *m)
 {
   FSWalls w;
 
@@ -147,6 +147,11 @@ static PetscErrorCode CubeMesh(MPI_Comm comm, PetscReal h, PetscReal e, FSMesh *
   PetscCall(FSMeshCreate(m));
   PetscCall(FSMeshExtrude(m, comm, &w, 6 * h));
   PetscCall(FSWallsDestroy(&w));
+  for (PetscInt v = 0; Rm && v < m->nvert; v++) {
+    PetscReal *p = &m->vert[3 * v], q[3];
+    for (PetscInt r = 0; r < 3; r++) q[r] = Rm[r][0] * p[0] + Rm[r][1] * p[1] + Rm[r][2] * p[2];
+    for (PetscInt r = 0; r < 3; r++) p[r] = q[r] + 0.3; /* and moved off the origin */
+  }
   PetscCall(FSMeshCheck(m, comm));
   PetscCall(FSMeshRefine(m, e * h));
   PetscFunctionReturn(0);
@@ -163,8 +168,8 @@ static PetscErrorCode TestElementSize(MPI_Comm comm)
   uint64_t        state = 12345;
 
   PetscFunctionBegin;
-  PetscCall(CubeMesh(comm, h, 0.125, &ref));
-  PetscCall(CubeMesh(comm, h, 1.0, &m));
+  PetscCall(CubeMesh(comm, h, 0.125, NULL, &ref));
+  PetscCall(CubeMesh(comm, h, 1.0, NULL, &m));
   for (PetscInt k = 0; k < 120; k++) {
     PetscReal x[3], g0, g1, d0[3], d1[3];
     for (PetscInt d = 0; d < 3; d++) {
@@ -193,24 +198,11 @@ static PetscErrorCode TestRotatedAndGradient(MPI_Comm comm)
 {
   const PetscReal h = 1.0, axis[3] = {0.48, 0.6, 0.64}; /* unit */
   PetscReal       Rm[3][3], maxg = 0, maxgrad = 0;
-  FSWalls         w;
   FSMesh          m;
 
   PetscFunctionBegin;
   Rotation(axis, 0.7, Rm);
-  PetscCall(FSWallsCreate(&w));
-  PetscCall(FSWallsRectangularTank(&w, comm, 6 * h, 6 * h));
-  PetscCall(FSWallsCheck(&w, comm));
-  PetscCall(FSMeshCreate(&m));
-  PetscCall(FSMeshExtrude(&m, comm, &w, 6 * h));
-  PetscCall(FSWallsDestroy(&w));
-  for (PetscInt v = 0; v < m.nvert; v++) {
-    PetscReal *p = &m.vert[3 * v], q[3];
-    for (PetscInt r = 0; r < 3; r++) q[r] = Rm[r][0] * p[0] + Rm[r][1] * p[1] + Rm[r][2] * p[2];
-    for (PetscInt r = 0; r < 3; r++) p[r] = q[r] + 0.3; /* and moved off the origin */
-  }
-  PetscCall(FSMeshCheck(&m, comm));
-  PetscCall(FSMeshRefine(&m, 0.5 * h));
+  PetscCall(CubeMesh(comm, h, 0.5, Rm, &m));
   for (PetscInt k = 0; k < 6; k++) {
     PetscReal x[3], g, grad[3];
     for (PetscInt r = 0; r < 3; r++)

@@ -86,12 +86,11 @@ void FSTriangleIntegrals(PetscReal h, const PetscReal x[], const PetscReal el[],
   const PetscReal *a = el + FS_TRI_P0, *b = el + FS_TRI_P1, *c = el + FS_TRI_P2, *n = el + FS_TRI_NORMAL;
   const PetscReal  d = (a[0] - x[0]) * n[0] + (a[1] - x[1]) * n[1] + (a[2] - x[2]) * n[2]; /* > 0: facing */
   const PetscReal  R = 2 * h, *ct = el + FS_TRI_CENTROID, rad = el[FS_TRI_RADIUS];
-  const PetscReal  dc2 = (ct[0] - x[0]) * (ct[0] - x[0]) + (ct[1] - x[1]) * (ct[1] - x[1]) +
-                        (ct[2] - x[2]) * (ct[2] - x[2]);
-  PetscReal phi = 0, w = 0;
+  PetscReal        dc2, phi = 0, w = 0;
 
   *gammak = *wint = 0;
   if ((!all && d <= 0) || PetscAbsReal(d) >= R) return;
+  dc2 = (ct[0] - x[0]) * (ct[0] - x[0]) + (ct[1] - x[1]) * (ct[1] - x[1]) + (ct[2] - x[2]) * (ct[2] - x[2]);
   /* beyond the support: its bounding sphere first, the exact distance where the sphere straddles it */
   if (dc2 >= (R + rad) * (R + rad)) return;
   if ((rad >= R || dc2 > (R - rad) * (R - rad)) && FSTriangleDistance2(a, b, c, x) >= R * R) return;
