@@ -4,6 +4,7 @@ import json
 import os
 import re
 import subprocess
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 
@@ -40,3 +41,46 @@ def print_memory(summary):
     for key, label in MEMORY_LABELS:
         if key in mem:
             print(f"    {label:34s} {mem[key] / n:8.0f} bytes  ({mem[key] / 2**20:8.1f} MiB)")
+
+
+def step_time(result):
+    """The wall time of the steps (flexslosh's FSStep event; the whole run without it) of a (summary, times, ...)
+    result of run_logged."""
+    summary, times = result[0], result[1]
+    return times.get("FSStep", summary["wall_time"])
+
+
+def run_rounds(run_one, ranks, rounds, side_by_side=False):
+    """Runs run_one(nranks) for each rank count in turn, `rounds` times over (1, 2, 1, 2, ... ranks: the rank counts
+    interleaved, so that a slow spell of a shared machine does not fall on one rank count only), printing each
+    round's step times and 1 -> 2 rank efficiency as it goes. Returns {nranks: the run with the fastest steps}.
+
+    One run's time on a shared virtual machine varies by up to 10 % (measured: the same 2-rank 3-D run three
+    times in five minutes, 39.9, 41.6 and 44.4 s), so figures compared across rank counts or builds come from the
+    fastest of several rounds.
+
+    side_by_side: each round also runs two 1-rank runs at once, which share nothing but the machine: the ratio of
+    the 1-rank run's time alone to theirs is the machine's own 1 -> 2 core efficiency (shared caches, memory
+    bandwidth, the host's clock when both cores are busy), the most a 2-rank run can reach on it."""
+    best = {}
+    for rnd in range(1, rounds + 1):
+        walls = {}
+        for nr in ranks:
+            r = run_one(nr)
+            walls[nr] = step_time(r)
+            if nr not in best or walls[nr] < step_time(best[nr]):
+                best[nr] = r
+        line = ", ".join(f"{nr} rank(s) {walls[nr]:.3f} s" for nr in ranks)
+        if 1 in walls and 2 in walls:
+            line += f", efficiency 1 -> 2 ranks {100 * walls[1] / (2 * walls[2]):.1f} %"
+        if side_by_side and 1 in walls:
+            with ThreadPoolExecutor(2) as ex:
+                pair = [step_time(r) for r in ex.map(run_one, [1, 1])]
+            ceiling = walls[1] / max(pair)
+            line += (f"; two 1-rank runs side by side {pair[0]:.3f} / {pair[1]:.3f} s: the machine's own 1 -> 2 core "
+                     f"efficiency {100 * ceiling:.1f} %")
+            if 2 in walls:
+                line += f", the 2-rank run's {100 * walls[1] / (2 * walls[2]) / ceiling:.1f} % of it"
+        if rounds > 1 or side_by_side:
+            print(f"round {rnd}: {line}", flush=True)
+    return best
