@@ -48,7 +48,7 @@ G = 9.81
 RESOLUTIONS: dict[str, list[float]] = {
     "taylor_green": [0.02, 0.01],
     "hydrostatic": [0.0015],
-    "hydrostatic_3d": [0.0015],
+    "hydrostatic_3d": [0.0012],
     "standing_wave": [0.04, 0.02],
     "standing_wave_3d": [0.1, 0.05],
     "dam_break": [0.05, 0.025, 0.0125],
