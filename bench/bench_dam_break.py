@@ -10,7 +10,7 @@ terms (PETSc -log_view with flexslosh's events), and the surge front at the end.
     /usr/bin/python3 bench/bench_dam_break.py [--dx 0.01] [--time 0.1] [--ranks 1,2] [--rounds 1] [--side-by-side] [-- options]
 
 With --rounds N the rank counts run N times, interleaved, and the fastest run of each is reported (one run's
-time on a shared machine varies by up to 10 %). --side-by-side runs, in each round, two 1-rank runs at once as well:
+time on a shared machine varies by up to a fifth). --side-by-side runs, in each round, two 1-rank runs at once as well:
 the 1-rank run's time alone over theirs is the machine's own 1 -> 2 core efficiency, the ceiling of a 2-rank
 run's.
 """

@@ -55,9 +55,9 @@ def run_rounds(run_one, ranks, rounds, side_by_side=False):
     interleaved, so that a slow spell of a shared machine does not fall on one rank count only), printing each
     round's step times and 1 -> 2 rank efficiency as it goes. Returns {nranks: the run with the fastest steps}.
 
-    One run's time on a shared virtual machine varies by up to 10 % (measured: the same 2-rank 3-D run three
-    times in five minutes, 39.9, 41.6 and 44.4 s), so figures compared across rank counts or builds come from the
-    fastest of several rounds.
+    One run's time on a shared virtual machine varies by up to a fifth, most when both cores are busy (measured:
+    the 3-D dam break benchmark's 2-rank run 126.9-159.3 s in three rounds, its 1-rank run 233.9-270.5 s), so
+    figures compared across rank counts or builds come from the fastest of several rounds.
 
     side_by_side: each round also runs two 1-rank runs at once, which share nothing but the machine: the ratio of
     the 1-rank run's time alone to theirs is the machine's own 1 -> 2 core efficiency (shared caches, memory
