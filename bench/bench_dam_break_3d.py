@@ -54,7 +54,7 @@ def main():
     results = run_rounds(run_one, ranks, a.rounds, a.side_by_side)
     for nr in ranks:
         s, t = results[nr]
-        wall = t.get("FSStep", s["wall_time"])
+        wall = step_time(results[nr])
         print(f"\n{nr} rank(s): {s['particles']} particles, {s['steps']} steps, {s['rhs_evaluations']} RHS evaluations")
         print(f"  wall time of the steps        {wall:10.3f} s   (whole run with set-up and output {s['wall_time']:.3f} s)")
         print(f"  particle-steps per second     {s['particles'] * s['steps'] / wall:12.4g}")
