@@ -135,7 +135,7 @@ def test_standing_wave_3d_mode_11(tmp_path):
     velocity, and the dispersion relation with the 3-D wavenumber. Measured: period +3.5 % against the
     exact viscous mode at h/dx = 10 (+4.2 % against inviscid linear theory; +1.4 % at h/dx = 20,
     docs/walls.md), decay 1.43 x the exact linear viscous
-    rate (1.22 x at h/dx = 20: converging from above as in 2-D). The test asserts the period within 4 %
+    rate (1.23 x at h/dx = 20 and 1.05 x at h/dx = 30, the validation report: converging from above as in 2-D). The test asserts the period within 4 %
     and the decay within [1.35, 1.5] x; a 2-D wavenumber (k = pi/L) would make the period 56 % longer."""
     Lz, k = 1.0, np.pi * np.sqrt(1 / L**2 + 1)
     omega = np.sqrt(G * k * np.tanh(k * H))

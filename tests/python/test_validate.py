@@ -85,3 +85,27 @@ def test_impact_figures():
     p[t >= 1.55] = 0.0
     f = validate.impact_figures(t, p, [(1.6, 1.9)])
     assert math.isnan(f[0]["arrival"]) and math.isnan(f[0]["plateau"]) and f[0]["peak"] == 0.0
+
+
+
+def test_reuse(tmp_path, capsys):
+    """--reuse reads a finished run of the same command from --work instead of running it again (its wall
+    time kept), and runs again where the command differs: a section's checks are redone from the same runs."""
+    out, work = tmp_path / "report", tmp_path / "runs"
+    common = ["--quick", "--cases", "beam", "--out", str(out), "--work", str(work), "--build", str(build_dir())]
+    assert validate.main(common) == 0
+    first = (out / "README.md").read_text()
+    records = sorted(work.rglob("validate_run.json"))
+    assert records and all(json.loads(r.read_text())["wall"] > 0 for r in records)
+    capsys.readouterr()
+    assert validate.main(common + ["--reuse"]) == 0
+    assert capsys.readouterr().out.count(": reused (") == len(records)
+    rows = lambda text: re.findall(r"^\| .+ \| (?:PASS|\*\*FAIL\*\*) \|$|^\| \S+ \| \d+ \| \d+ s \| .+ \|$", text, re.M)  # noqa: E731
+    assert rows((out / "README.md").read_text()) == rows(first)
+    # a run recorded with another command is run again
+    changed = json.loads(records[0].read_text())
+    changed["command"] = changed["command"] + ["-fs_dt", "1"]
+    records[0].write_text(json.dumps(changed))
+    assert validate.main(common + ["--reuse"]) == 0
+    assert capsys.readouterr().out.count(": reused (") == len(records) - 1
+    assert json.loads(records[0].read_text())["command"] != changed["command"]
