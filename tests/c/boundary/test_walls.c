@@ -7,6 +7,7 @@
    evaluation of the same particles (TestParallel, below).
 */
 #include <string.h>
+#include <unistd.h>
 #include "boundarytest.h"
 #include "../errorcapture.h"
 #include "boundary/impls/polygon/walls.h"
@@ -646,6 +647,13 @@ static PetscErrorCode TestErrors(const char dir[])
   PetscCall(FSWallsDiscretize(&w, 0.1));
   CHECK(w.nseg == 60 + 8, "good file: %" PetscInt_FMT " segments, expected 68", w.nseg);
   PetscCall(FSWallsDestroy(&w));
+  /* leave nothing behind in /tmp */
+  for (int k = 0; k < 3; k++) {
+    const char *name[3] = {"open", "bad", "good"};
+    PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.walls", dir, name[k]));
+    PetscCheck(!remove(path), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot remove %s", path);
+  }
+  PetscCheck(!rmdir(dir), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot remove %s", dir);
   PetscFunctionReturn(0);
 }
 

@@ -7,7 +7,8 @@
    Usage: mpirun -n <1..3> test_output [output_dir]   (default: a fresh directory under /tmp)
    Prints "test_output: OK" and returns 0 on success.
 */
-#define _POSIX_C_SOURCE 200809L
+#define _XOPEN_SOURCE 700 /* nftw */
+#include <ftw.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -527,9 +528,19 @@ static PetscErrorCode TestJSON(TestCtx *ctx)
   PetscFunctionReturn(0);
 }
 
+/* nftw's callback: removes a file, or a folder once emptied (FTW_DEPTH) */
+static int RemoveEntry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
+{
+  (void)sb;
+  (void)flag;
+  (void)ftw;
+  return remove(path);
+}
+
 int main(int argc, char **argv)
 {
-  TestCtx ctx;
+  TestCtx   ctx;
+  PetscBool made = PETSC_FALSE; /* the folder is ours to remove at the end */
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, "Unit test of the flexslosh output writers"));
   ctx.comm = PETSC_COMM_WORLD;
@@ -543,6 +554,7 @@ int main(int argc, char **argv)
       PetscCheck(mkdtemp(ctx.dir), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "mkdtemp failed");
     }
     PetscCallMPI(MPI_Bcast(ctx.dir, sizeof(ctx.dir), MPI_CHAR, 0, ctx.comm));
+    made = PETSC_TRUE;
   }
   PetscCall(FSMakeDirectory(ctx.comm, ctx.dir, NULL));
   PetscCall(TestDirectory(&ctx));
@@ -550,7 +562,12 @@ int main(int argc, char **argv)
   PetscCall(TestCheckpoint(&ctx));
   PetscCall(TestTimeSeries(&ctx));
   PetscCall(TestJSON(&ctx));
-  PetscCall(PetscPrintf(ctx.comm, "test_output: OK (%d ranks, output in %s)\n", (int)ctx.size, ctx.dir));
+  PetscCall(PetscPrintf(ctx.comm, "test_output: OK (%d ranks, output in %s%s)\n", (int)ctx.size, ctx.dir,
+                        made ? ", removed" : ""));
+  PetscCallMPI(MPI_Barrier(ctx.comm));
+  if (made && ctx.rank == 0)
+    PetscCheck(!nftw(ctx.dir, RemoveEntry, 16, FTW_DEPTH | FTW_PHYS), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
+               "cannot remove %s", ctx.dir);
   PetscCall(PetscFinalize());
   return 0;
 }
