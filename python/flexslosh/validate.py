@@ -51,6 +51,7 @@ RESOLUTIONS: dict[str, list[float]] = {
     "hydrostatic_3d": [0.0012],
     "standing_wave": [0.04, 0.02],
     "standing_wave_3d": [0.1, 0.05, 1 / 30],
+    "standing_wave_3d_10": [0.1, 0.05, 1 / 30],
     "dam_break": [0.05, 0.025, 0.0125],
     "dam_break_3d": [0.01],
     "dam_break_pressure": [0.03, 0.015],
@@ -67,6 +68,7 @@ QUICK: dict[str, list[float]] = {
     "hydrostatic_3d": [0.01],
     "standing_wave": [0.1],
     "standing_wave_3d": [0.2],
+    "standing_wave_3d_10": [0.2],
     "dam_break": [0.1],
     "dam_break_3d": [0.025],
     "dam_break_pressure": [0.06],
@@ -354,22 +356,26 @@ def case_hydrostatic_3d(ctx: Context) -> Section:
     return _hydrostatic(ctx, "hydrostatic_3d", 3)
 
 
-def _standing_wave(ctx: Context, name: str, dim: int) -> Section:
+def _standing_wave(ctx: Context, name: str, dim: int, mode_z: int = 1, width: float = 1.0) -> Section:
+    """The standing wave of cases/standing_wave.opts (2-D) or cases/standing_wave_3d.opts (3-D: mode (1, mode_z)
+    in a box width h wide)."""
     L, h, A, Re = 2.0, 1.0, 0.05, 250.0
     nu = 1.0 / Re  # non-dimensional: g = h = 1, nu = h sqrt(g h)/Re
-    kz = math.pi if dim == 3 else 0.0
+    kz = mode_z * math.pi / width if dim == 3 else 0.0
     k = math.sqrt((math.pi / L) ** 2 + kz**2)
     omega = math.sqrt(k * math.tanh(k * h))
     omega_nu, rate_nu = exact_viscous_mode(k, h, nu)
     ptol = 0.01 if dim == 2 else 0.02
-    title = "Standing wave (2-D, free-slip walls)" if dim == 2 else "Standing wave (3-D box, mode (1, 1))"
+    title = "Standing wave (2-D, free-slip walls)" if dim == 2 else f"Standing wave (3-D box, mode (1, {mode_z}))"
     converge = dim == 3 and len(ctx.dxs(name)) >= 3  # the 3-D decay is checked by its convergence
     how = ", at two resolutions (h/dx)." if len(ctx.dxs(name)) == 2 else "."
     if converge:
-        how = (" at three resolutions: the mode's wavelength is 1.8 h against the 2-D mode's 4 h, so at the same h/dx "
-               "it has 2.2 times fewer particles a wavelength. The period is checked at h/dx >= 20; the decay at the "
-               "finest and by its convergence, its excess over the exact rate shrinking by a fifth or more at each "
-               "refinement (h/dx = 10 enters only that).")
+        how = (f" at three resolutions, in a box {L:g} h long and {width:g} h wide"
+               + (f": the mode's wavelength is {2 * math.pi / k:.1f} h against the 2-D mode's {2 * L:g} h, so at the same "
+                  f"h/dx it has {2 * L * k / (2 * math.pi):.1f} times fewer particles a wavelength" if mode_z else
+                  f" (the 2-D wave, {width / max(ctx.dxs(name)):.0f} to {width / min(ctx.dxs(name)):.0f} particles across)")
+               + ". The period is checked at h/dx >= 20; the decay at the finest and by its convergence, its excess over "
+               "the exact rate shrinking by a fifth or more at each refinement (h/dx = 10 enters only that).")
     sec = Section(name, title,
                   "The kinetic energy of a small standing wave (A/h = 0.05, Re = 250): its period and its decay rate, from a "
                   "least-squares fit of exp(-lam t)(a + b cos 2wt + c sin 2wt) to E_k(t) over the whole record "
@@ -378,12 +384,14 @@ def _standing_wave(ctx: Context, name: str, dim: int) -> Section:
                   f"{2 * math.pi / omega:.4f}, energy decay 4 nu k^2 = {4 * nu * k * k:.5f} to leading order in nu) and the exact "
                   f"linear viscous mode (Lamb's relation at finite depth, flexslosh.waves.exact_viscous_mode: period "
                   f"{2 * math.pi / omega_nu:.4f}, energy decay {rate_nu:.5f}); docs/validation.md; formulas, no data file.")
-    tmax = (3.0 if dim == 2 else 2.0) if ctx.quick else (20.0 if dim == 2 else 8.0)
+    tmax = (3.0 if dim == 2 else 2.0) if ctx.quick else (20.0 if dim == 2 else 8.0 if mode_z else 15.0)
+    extra: list[Any] = [] if dim == 2 or (mode_z == 1 and width == 1.0) else ["-fs_sw_mode_z", mode_z, "-fs_sw_width", width]
     fig, ax = _figure()
     first = True
     decays: list[tuple[float, float]] = []  # (dx, lam / rate_nu)
     for dx in ctx.dxs(name):
-        r = ctx.run(name, _label(dx), ["-options_file", _case(name), "-fs_dx", dx, "-ts_max_time", tmax, "-fs_output_interval", 0], sec.runs)
+        r = ctx.run(name, _label(dx), ["-options_file", _case("standing_wave" if dim == 2 else "standing_wave_3d"), "-fs_dx", dx,
+                                       "-ts_max_time", tmax, "-fs_output_interval", 0] + extra, sec.runs)
         t, ek = r.column("time"), r.column("kinetic_energy")
         if first:
             ax.plot(t, r.column("kinetic_energy_linear"), "k-", lw=2, label="linear theory (inviscid period, 4 nu k^2)")
@@ -422,6 +430,12 @@ def case_standing_wave(ctx: Context) -> Section:
 def case_standing_wave_3d(ctx: Context) -> Section:
     """The 3-D standing wave, mode (1, 1) (cases/standing_wave_3d.opts)."""
     return _standing_wave(ctx, "standing_wave_3d", 3)
+
+
+def case_standing_wave_3d_10(ctx: Context) -> Section:
+    """The 3-D standing wave, mode (1, 0) in a box half as wide (cases/standing_wave_3d.opts, -fs_sw_mode_z 0
+    -fs_sw_width 0.5)."""
+    return _standing_wave(ctx, "standing_wave_3d_10", 3, mode_z=0, width=0.5)
 
 
 def _dam_break(ctx: Context, name: str, dim: int) -> Section:
@@ -907,6 +921,7 @@ CASES: dict[str, Callable[[Context], Section]] = {
     "hydrostatic_3d": case_hydrostatic_3d,
     "standing_wave": case_standing_wave,
     "standing_wave_3d": case_standing_wave_3d,
+    "standing_wave_3d_10": case_standing_wave_3d_10,
     "dam_break": case_dam_break,
     "dam_break_pressure": case_dam_break_pressure,
     "dam_break_3d": case_dam_break_3d,
@@ -922,6 +937,7 @@ TITLES = {
     "hydrostatic_3d": "Hydrostatic tank (3-D box, triangle-mesh walls)",
     "standing_wave": "Standing wave (2-D, free-slip walls)",
     "standing_wave_3d": "Standing wave (3-D box, mode (1, 1))",
+    "standing_wave_3d_10": "Standing wave (3-D box, mode (1, 0))",
     "dam_break": "Dam break: surge front and column (Martin & Moyce 1952)",
     "dam_break_pressure": "Dam break: pressure on the downstream wall (Buchner 2002, De Courcy et al. 2024)",
     "dam_break_3d": "Dam break: surge front and column (Martin & Moyce 1952) in 3-D",
