@@ -87,7 +87,6 @@ def test_impact_figures():
     assert math.isnan(f[0]["arrival"]) and math.isnan(f[0]["plateau"]) and f[0]["peak"] == 0.0
 
 
-
 def test_reuse(tmp_path, capsys):
     """--reuse reads a finished run of the same command from --work instead of running it again (its wall
     time kept), and runs again where the command differs: a section's checks are redone from the same runs."""

@@ -24,8 +24,8 @@
 */
 #include <stdint.h>
 #include <string.h>
-#include <unistd.h>
 #include "boundary/impls/trimesh/mesh.h"
+#include "../tempdir.h"
 
 #define TCHECK(cond, ...) PetscCheck(cond, PETSC_COMM_SELF, PETSC_ERR_PLIB, "test_mesh: " __VA_ARGS__)
 
@@ -937,10 +937,6 @@ int main(int argc, char **argv)
   PetscMPIInt rank;
   char        dir[PETSC_MAX_PATH_LEN] = "/tmp/fsmeshXXXXXX";
   PetscInt    n                       = 64;
-  /* the files the test writes (removed at the end) */
-  const char *files[] = {"two.stl",        "unnamed.stl",   "bin.stl",       "badcount.stl", "open.stl",
-                         "degenerate.stl", "reversed.stl",  "insideout.stl", "overlap.stl",  "touch.stl",
-                         "outside.stl",    "truncated.stl", "badnumber.stl"};
 
   PetscFunctionBeginUser;
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
@@ -962,14 +958,7 @@ int main(int argc, char **argv)
   PetscCall(TestBadSTL(comm, dir));
   PetscCall(TestLarge(comm, dir, n));
   PetscCallMPI(MPI_Barrier(comm));
-  if (!rank) {
-    char path[PETSC_MAX_PATH_LEN];
-    for (size_t k = 0; k < sizeof(files) / sizeof(files[0]); k++) {
-      PetscCall(Path(dir, files[k], path));
-      remove(path);
-    }
-    rmdir(dir);
-  }
+  if (!rank) PetscCall(FSTestRemoveTree(dir));
   PetscCall(PetscPrintf(comm, "test_mesh: OK\n"));
   PetscCall(PetscFinalize());
   return 0;

@@ -7,9 +7,9 @@
    evaluation of the same particles (TestParallel, below).
 */
 #include <string.h>
-#include <unistd.h>
 #include "boundarytest.h"
 #include "../errorcapture.h"
+#include "../tempdir.h"
 #include "boundary/impls/polygon/walls.h"
 #include "terms/fsterms.h"
 
@@ -647,13 +647,6 @@ static PetscErrorCode TestErrors(const char dir[])
   PetscCall(FSWallsDiscretize(&w, 0.1));
   CHECK(w.nseg == 60 + 8, "good file: %" PetscInt_FMT " segments, expected 68", w.nseg);
   PetscCall(FSWallsDestroy(&w));
-  /* leave nothing behind in /tmp */
-  for (int k = 0; k < 3; k++) {
-    const char *name[3] = {"open", "bad", "good"};
-    PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s.walls", dir, name[k]));
-    PetscCheck(!remove(path), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot remove %s", path);
-  }
-  PetscCheck(!rmdir(dir), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot remove %s", dir);
   PetscFunctionReturn(0);
 }
 
@@ -673,6 +666,7 @@ int main(int argc, char **argv)
     PetscCall(TestGradient());
     PetscCall(TestBaffles());
     PetscCall(TestErrors(dir));
+    PetscCall(FSTestRemoveTree(dir));
   }
   PetscCall(FSInitializePackage());
   PetscCall(TestParallel(PETSC_COMM_WORLD));

@@ -7,8 +7,7 @@
    Usage: mpirun -n <1..3> test_output [output_dir]   (default: a fresh directory under /tmp)
    Prints "test_output: OK" and returns 0 on success.
 */
-#define _XOPEN_SOURCE 700 /* nftw */
-#include <ftw.h>
+#define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,6 +16,7 @@
 #include <petscviewerhdf5.h>
 #include "io/fsoutput.h"
 #include "../errorcapture.h"
+#include "../tempdir.h"
 
 /* Fails the test (on every rank of comm) when cond is false */
 #define TCHECK(comm, cond, ...) PetscCheck(cond, comm, PETSC_ERR_PLIB, "test_output: " __VA_ARGS__)
@@ -528,15 +528,6 @@ static PetscErrorCode TestJSON(TestCtx *ctx)
   PetscFunctionReturn(0);
 }
 
-/* nftw's callback: removes a file, or a folder once emptied (FTW_DEPTH) */
-static int RemoveEntry(const char *path, const struct stat *sb, int flag, struct FTW *ftw)
-{
-  (void)sb;
-  (void)flag;
-  (void)ftw;
-  return remove(path);
-}
-
 int main(int argc, char **argv)
 {
   TestCtx   ctx;
@@ -565,9 +556,7 @@ int main(int argc, char **argv)
   PetscCall(PetscPrintf(ctx.comm, "test_output: OK (%d ranks, output in %s%s)\n", (int)ctx.size, ctx.dir,
                         made ? ", removed" : ""));
   PetscCallMPI(MPI_Barrier(ctx.comm));
-  if (made && ctx.rank == 0)
-    PetscCheck(!nftw(ctx.dir, RemoveEntry, 16, FTW_DEPTH | FTW_PHYS), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
-               "cannot remove %s", ctx.dir);
+  if (made && ctx.rank == 0) PetscCall(FSTestRemoveTree(ctx.dir));
   PetscCall(PetscFinalize());
   return 0;
 }
