@@ -31,21 +31,27 @@ def ascii_stl(solids):
     return "\n".join(out) + "\n"
 
 
+def one_and_three_ranks(tmp_path, args, fields=("position", "velocity", "density"), timeout=300):
+    """Runs args on 1 and on 3 ranks (into tmp_path/r1, r3) and asserts the same particles, their fields equal to
+    round-off; returns the 1-rank run's last snapshot."""
+    snaps = {}
+    for n in (1, 3):
+        run_flexslosh(args + ["-fs_output_dir", tmp_path / f"r{n}"], nranks=n, cwd=tmp_path, timeout=timeout)
+        snaps[n] = last_snapshot(tmp_path / f"r{n}")
+    a, b = snaps[1], snaps[3]
+    assert np.array_equal(a["id"], b["id"])
+    for f in fields:
+        assert rel_max_diff(a[f], b[f]) < 1e-10, f
+    return a
+
+
 def test_box_tank_ranks_agree(tmp_path):
     """The rectangular tank extruded to 3-D (0.06 x 0.06 x 0.03 m, 50 % full, dx = 5 mm, 432
     particles): 20 steps on 1 and 3 ranks give the same particles; the liquid stays in the box, and the
     loads are force and moment vectors (6 columns per wall)."""
-    snaps = {}
-    for n in (1, 3):
-        out = tmp_path / f"r{n}"
-        run_flexslosh(TANK3 + ["-fs_tank_length", 0.06, "-fs_tank_width", 0.03, "-fs_dx", 0.005, "-ts_max_steps", 20,
-                               "-fs_output_dir", out], nranks=n, cwd=tmp_path, timeout=300)
-        snaps[n] = last_snapshot(out)
-    a, b = snaps[1], snaps[3]
-    assert len(a["id"]) == 432 and np.array_equal(a["id"], b["id"])
-    for f in ("position", "velocity", "density"):
-        assert rel_max_diff(a[f], b[f]) < 1e-10, f
-    assert a["position"].shape[1] == 3
+    a = one_and_three_ranks(tmp_path, TANK3 + ["-fs_tank_length", 0.06, "-fs_tank_width", 0.03, "-fs_dx", 0.005,
+                                               "-ts_max_steps", 20])
+    assert len(a["id"]) == 432 and a["position"].shape[1] == 3
     x = a["position"]
     assert (x > 0).all() and (x[:, 0] < 0.06).all() and (x[:, 1] < 0.031).all() and (x[:, 2] < 0.03).all()
     s = read_series(tmp_path / "r1")
@@ -59,17 +65,8 @@ def test_baffled_tank_3d_ranks_agree(tmp_path, extra):
     is not convex, so fluid pairs through a baffle are cut and hidden elements dropped; also with the
     baffles lifted 5 mm and every pair and element counted (-fs_walls_visibility all). 10 steps on 1
     and 3 ranks agree, and no particle sits in a baffle."""
-    args = TANK3 + ["-fs_tank_shape", "baffled", "-fs_tank_compartments", 2, "-fs_tank_width", 0.02, "-fs_dx", 0.004,
-                    "-ts_max_steps", 10] + extra
-    snaps = {}
-    for n in (1, 3):
-        out = tmp_path / f"r{n}"
-        run_flexslosh(args + ["-fs_output_dir", out], nranks=n, cwd=tmp_path, timeout=300)
-        snaps[n] = last_snapshot(out)
-    a, b = snaps[1], snaps[3]
-    assert np.array_equal(a["id"], b["id"])
-    for f in ("position", "velocity", "density"):
-        assert rel_max_diff(a[f], b[f]) < 1e-10, f
+    a = one_and_three_ranks(tmp_path, TANK3 + ["-fs_tank_shape", "baffled", "-fs_tank_compartments", 2, "-fs_tank_width",
+                                               0.02, "-fs_dx", 0.004, "-ts_max_steps", 10] + extra)
     x = a["position"]
     gap = 0.005 if extra else 0.0
     assert not ((x[:, 0] > 0.1) & (x[:, 0] < 0.105) & (x[:, 1] > gap)).any()  # the baffle between the compartments
@@ -273,7 +270,6 @@ def test_coupled_3d_ranks_and_restart(tmp_path):
         assert abs(sa["tip_displacement"][-1] - so["tip_displacement"][-1]) < 1e-12
 
 
-
 def resting_3d(tmp_path, label, args, T_end):
     """Liquid at rest 0.03 m deep in the 3-D tank of args, 0.02 m wide, with cases/hydrostatic_3d.opts's settings
     (c0 8 m/s, a delta floor of 0.1 with the hydrostatic correction, a start-up relaxation of 0.1 s) to
@@ -308,7 +304,6 @@ def test_lifted_baffles_3d_as_quiet_as_the_box(tmp_path):
     rms_box, _ = resting_3d(tmp_path, "box", ["-fs_tank_shape", "rectangular", "-fs_tank_length", 0.205,
                                               "-fs_dx", 0.004], 2)
     rms_cut, _ = resting_3d(tmp_path, "cut", ["-fs_tank_shape", "baffled"] + base, 2)
-    print("rms all", rms_all, "box", rms_box, "cut", rms_cut)
     x = last["position"]
     assert not ((x[:, 0] > 0.1) & (x[:, 0] < 0.105) & (x[:, 1] > 0.005)).any()  # none in the baffle
     assert (rms_all < 1.25 * rms_box).all(), (rms_all, rms_box)
@@ -322,15 +317,7 @@ def test_3d_validation_cases_ranks_agree(tmp_path, case, steps):
     4,000 particles; the column collapsing, the front moving) and the standing wave (1, 1) (h/dx = 10, 2,000
     particles) give the same particles on 1 and 3 ranks."""
     extra = ["-fs_dx", 0.1] if case == "standing_wave_3d" else []
-    snaps = {}
-    for n in (1, 3):
-        out = tmp_path / f"r{n}"
-        run_flexslosh(["-options_file", REPO_ROOT / "cases" / f"{case}.opts", "-ts_max_steps", steps, "-fs_output_interval", 0,
-                       "-fs_output_dir", out] + extra, nranks=n, cwd=tmp_path, timeout=600)
-        snaps[n] = last_snapshot(out)
-    a, b = snaps[1], snaps[3]
-    assert np.array_equal(a["id"], b["id"])
+    a = one_and_three_ranks(tmp_path, ["-options_file", REPO_ROOT / "cases" / f"{case}.opts", "-ts_max_steps", steps,
+                                       "-fs_output_interval", 0] + extra, ("position", "velocity", "density", "pressure"), 600)
     # it moves: the collapse faster than 0.1 sqrt(g a); the wave (g = h = 1) at 0.050 after 20 steps (A omega = 0.094)
     assert np.abs(a["velocity"]).max() > (0.1 * np.sqrt(9.81 * 0.1) if case == "dam_break_3d" else 0.03)
-    for f in ("position", "velocity", "density", "pressure"):
-        assert rel_max_diff(a[f], b[f]) < 1e-10, f
