@@ -367,13 +367,14 @@ def _standing_wave(ctx: Context, name: str, dim: int, mode_z: int = 1, width: fl
     omega_nu, rate_nu = exact_viscous_mode(k, h, nu)
     ptol = 0.01 if dim == 2 else 0.02
     title = "Standing wave (2-D, free-slip walls)" if dim == 2 else f"Standing wave (3-D box, mode (1, {mode_z}))"
-    converge = dim == 3 and len(ctx.dxs(name)) >= 3  # the 3-D decay is checked by its convergence
-    how = ", at two resolutions (h/dx)." if len(ctx.dxs(name)) == 2 else "."
+    dxs = ctx.dxs(name)
+    converge = dim == 3 and len(dxs) >= 3  # the 3-D decay is checked by its convergence
+    how = ", at two resolutions (h/dx)." if len(dxs) == 2 else "."
     if converge:
         how = (f" at three resolutions, in a box {L:g} h long and {width:g} h wide"
                + (f": the mode's wavelength is {2 * math.pi / k:.1f} h against the 2-D mode's {2 * L:g} h, so at the same "
                   f"h/dx it has {2 * L * k / (2 * math.pi):.1f} times fewer particles a wavelength" if mode_z else
-                  f" (the 2-D wave, {width / max(ctx.dxs(name)):.0f} to {width / min(ctx.dxs(name)):.0f} particles across)")
+                  f" (the 2-D wave, {width / max(dxs):.0f} to {width / min(dxs):.0f} particles across)")
                + ". The period is checked at h/dx >= 20; the decay at the finest and by its convergence, its excess over "
                "the exact rate shrinking by a fifth or more at each refinement (h/dx = 10 enters only that).")
     sec = Section(name, title,
@@ -389,7 +390,7 @@ def _standing_wave(ctx: Context, name: str, dim: int, mode_z: int = 1, width: fl
     fig, ax = _figure()
     first = True
     decays: list[tuple[float, float]] = []  # (dx, lam / rate_nu)
-    for dx in ctx.dxs(name):
+    for dx in dxs:
         r = ctx.run(name, _label(dx), ["-options_file", _case("standing_wave" if dim == 2 else "standing_wave_3d"), "-fs_dx", dx,
                                        "-ts_max_time", tmax, "-fs_output_interval", 0] + extra, sec.runs)
         t, ek = r.column("time"), r.column("kinetic_energy")
