@@ -112,12 +112,13 @@ class Check:
 
 @dataclass
 class RunInfo:
-    """One flexslosh run of a case: its label, command line, particles and wall time (s)."""
+    """One flexslosh run of a case: its label, command line, particles, wall time (s) and the commit it ran on."""
 
     label: str
     command: str
     particles: int
     wall: float
+    commit: str = ""
 
 
 @dataclass
@@ -154,7 +155,9 @@ class Section:
         status = "all checks pass" if npass == len(self.checks) else f"{len(self.checks) - npass} of {len(self.checks)} checks FAIL"
         stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
         mode = " (--quick smoke run: the numbers mean nothing)" if quick else ""
-        out += [f"*Run {stamp} on commit {_commit()}{mode}: {status}.*", ""]
+        earlier = sorted({r.commit for r in self.runs if r.commit and r.commit != _commit()})  # runs read by --reuse
+        runs_on = f" (its runs on {', '.join(earlier)})" if earlier else ""
+        out += [f"*Run {stamp} on commit {_commit()}{runs_on}{mode}: {status}.*", ""]
         out += [f"**Compared.** {self.compared}", "", f"**Reference.** {self.reference}", ""]
         if self.figure:
             out += [f"![{self.caption}]({self.figure})", "", f"*{self.caption}*", ""]
@@ -204,10 +207,10 @@ class Context:
         cmd = [str(self.exe)] + args
         if self.ranks > 1:
             cmd = ["mpirun", "--oversubscribe", "-n", str(self.ranks)] + cmd
-        record = outdir / "validate_run.json"  # written after the run finished: its command and wall time
+        record = outdir / "validate_run.json"  # written after the run finished: its command, wall time and commit
         done = json.loads(record.read_text()) if self.reuse and record.is_file() else {}
         if done.get("command") == cmd:
-            wall = float(done["wall"])
+            wall, commit = float(done["wall"]), done.get("commit", "unknown")
             print(f"  {case}/{label}: reused ({wall:.0f} s when run)", flush=True)
         else:
             outdir.mkdir(parents=True, exist_ok=True)
@@ -220,13 +223,14 @@ class Context:
             wall = time.time() - t0
             if proc.returncode != 0:
                 raise RuntimeError(f"flexslosh failed (exit {proc.returncode}): {' '.join(cmd)}\n{proc.stdout[-3000:]}")
-            record.write_text(json.dumps({"command": cmd, "wall": wall}))
+            commit = _commit()
+            record.write_text(json.dumps({"command": cmd, "wall": wall, "commit": commit}))
             print(f"  {case}/{label}: {wall:.0f} s", flush=True)
         run = read_run(outdir)
         shown = ["flexslosh"] + [a for a in args[: len(args) - 4]]
         if self.ranks > 1:
             shown = ["mpirun", "-n", str(self.ranks)] + shown
-        runs.append(RunInfo(label, " ".join(shown), run.particles, wall))
+        runs.append(RunInfo(label, " ".join(shown), run.particles, wall, commit))
         return run
 
 

@@ -89,7 +89,8 @@ def test_impact_figures():
 
 def test_reuse(tmp_path, capsys):
     """--reuse reads a finished run of the same command from --work instead of running it again (its wall
-    time kept), and runs again where the command differs: a section's checks are redone from the same runs."""
+    time kept, the section naming the commit it ran on when that is another), and runs again where the command
+    differs: a section's checks are redone from the same runs."""
     out, work = tmp_path / "report", tmp_path / "runs"
     common = ["--quick", "--cases", "beam", "--out", str(out), "--work", str(work), "--build", str(build_dir())]
     assert validate.main(common) == 0
@@ -101,6 +102,13 @@ def test_reuse(tmp_path, capsys):
     assert capsys.readouterr().out.count(": reused (") == len(records)
     rows = lambda text: re.findall(r"^\| .+ \| (?:PASS|\*\*FAIL\*\*) \|$|^\| \S+ \| \d+ \| \d+ s \| .+ \|$", text, re.M)  # noqa: E731
     assert rows((out / "README.md").read_text()) == rows(first)
+    assert "(its runs on" not in first  # run on the commit the section was written on
+    # runs of an earlier commit: the section says which
+    for r in records:
+        r.write_text(json.dumps(dict(json.loads(r.read_text()), commit="abc1234")))
+    assert validate.main(common + ["--reuse"]) == 0
+    assert "(its runs on abc1234)" in (out / "README.md").read_text()
+    capsys.readouterr()
     # a run recorded with another command is run again
     changed = json.loads(records[0].read_text())
     changed["command"] = changed["command"] + ["-fs_dt", "1"]
