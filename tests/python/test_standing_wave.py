@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from conftest import read_series, run_flexslosh
-from flexslosh.waves import exact_viscous_mode, fit_decaying_oscillation
+from flexslosh.waves import exact_viscous_mode, fit_decaying_oscillation, fit_decaying_wave
 
 G, H, L, A, RE = 1.0, 1.0, 2.0, 0.05, 250.0
 K = np.pi / L
@@ -62,6 +62,11 @@ def test_fit_recovers_known_signal():
     e = np.exp(-0.04 * t) * (1 + np.cos(2 * 1.19 * t + 0.1)) / 2 + 1e-3 * np.sin(37 * t)
     w, lam, _ = fit_decaying_oscillation(t, e, OMEGA)
     assert w == pytest.approx(1.19, rel=1e-4) and lam == pytest.approx(0.04, rel=0.02)
+    # a mode's amplitude with an offset: its energy decays at twice the amplitude's rate
+    a = np.exp(-0.02 * t) * np.cos(1.19 * t + 0.3) + 0.01 + 3e-3 * np.sin(37 * t)
+    w, lam, (b, c, d) = fit_decaying_wave(t, a, OMEGA)
+    assert w == pytest.approx(1.19, rel=1e-4) and lam == pytest.approx(0.04, rel=0.01)
+    assert np.hypot(b, c) == pytest.approx(1, rel=0.01) and d == pytest.approx(0.01, abs=1e-3)
 
 
 def test_standing_wave_period_and_viscous_decay(tmp_path):
@@ -80,6 +85,15 @@ def test_standing_wave_period_and_viscous_decay(tmp_path):
     period, expected = 2 * np.pi / w, 2 * np.pi / OMEGA
     assert abs(period / expected - 1) < 0.005, f"period {period:.4f}, linear theory {expected:.4f}"  # measured -0.34 %
     assert 1.1 * RATE_NU < lam < 1.2 * RATE_NU, f"decay rate {lam:.4f}, linear theory {RATE_NU:.4f} (4 nu k^2 = {RATE:.4f})"
+    # the mode's amplitude (the particles' velocity projected on the mode's initial field): 1 at the start, the
+    # case's column of linear theory cos(omega t) exp(-2 nu k^2 t) beside it; its fit measures the wave's own
+    # decay, without the particles' small-scale motion the kinetic energy also holds (measured: period -0.43 %,
+    # decay 1.115 x, where the kinetic energy gives 1.158 x)
+    assert s["mode_amplitude"][0] == pytest.approx(1, abs=1e-12)
+    assert np.abs(s["mode_amplitude_linear"] - np.cos(OMEGA * t) * np.exp(-RATE / 2 * t)).max() < 1e-9
+    wa, lama, _ = fit_decaying_wave(t, s["mode_amplitude"], OMEGA)
+    assert abs(OMEGA_NU / wa - 1) < 0.005, f"period {2 * np.pi / wa:.4f} from the amplitude"
+    assert 1.08 * RATE_NU < lama < 1.15 * RATE_NU, f"decay rate {lama:.4f} from the amplitude, exact {RATE_NU:.4f}"
     # a standing wave: the energy swings between (nearly) all kinetic and (nearly) all potential
     # (measured: the swing 3.7 % below the mean)
     assert np.hypot(b, c) == pytest.approx(a, rel=0.05)
@@ -97,6 +111,8 @@ def test_standing_wave_without_viscosity_barely_decays(tmp_path):
     w, lam, _ = fit_decaying_oscillation(s["time"], s["kinetic_energy"] / s["kinetic_energy"][0], OMEGA)
     assert abs(2 * np.pi / w / (2 * np.pi / OMEGA) - 1) < 0.005  # measured -0.29 %
     assert abs(lam) < 0.06 * RATE_NU, f"decay rate {lam:.4f} without viscosity, {RATE_NU:.4f} with"
+    lama = fit_decaying_wave(s["time"], s["mode_amplitude"], OMEGA)[1]  # the amplitude's: measured 0.059 x
+    assert abs(lama) < 0.07 * RATE_NU, f"decay rate {lama:.4f} of the amplitude without viscosity"
 
 
 # liquid half as deep, where a no-slip floor quadruples the decay (h/dx = 20: 1600 particles, ~15 s)
@@ -135,7 +151,7 @@ def test_standing_wave_3d_mode_11(tmp_path):
     velocity, and the dispersion relation with the 3-D wavenumber. Measured: period +3.5 % against the
     exact viscous mode at h/dx = 10 (+4.2 % against inviscid linear theory; +1.4 % at h/dx = 20,
     docs/walls.md), decay 1.43 x the exact linear viscous
-    rate (1.23 x at h/dx = 20 and 1.05 x at h/dx = 30, the validation report: converging from above as in 2-D). The test asserts the period within 4 %
+    rate (1.23 x at h/dx = 20 and 1.05 x at h/dx = 30; from the mode's amplitude 1.14 x and 1.08 x, the validation report: converging from above as in 2-D). The test asserts the period within 4 %
     and the decay within [1.35, 1.5] x; a 2-D wavenumber (k = pi/L) would make the period 56 % longer."""
     Lz, k = 1.0, np.pi * np.sqrt(1 / L**2 + 1)
     omega = np.sqrt(G * k * np.tanh(k * H))
@@ -150,3 +166,6 @@ def test_standing_wave_3d_mode_11(tmp_path):
     w, lam, _ = fit_decaying_oscillation(t, e / e[0], omega)
     assert abs(w_exact / w - 1) < 0.04, f"period {2 * np.pi / w:.4f}, linear theory {2 * np.pi / omega:.4f}"
     assert 1.35 * lam_exact < lam < 1.5 * lam_exact, f"decay rate {lam:.4f}, exact linear {lam_exact:.4f}"
+    wa, lama, _ = fit_decaying_wave(t, s["mode_amplitude"], omega)
+    assert abs(w_exact / wa - 1) < 0.06, f"period {2 * np.pi / wa:.4f} from the amplitude"
+    assert 1.25 * lam_exact < lama < 1.4 * lam_exact, f"decay rate {lama:.4f} from the amplitude, exact {lam_exact:.4f}"
