@@ -56,24 +56,34 @@ def exact_viscous_mode(k: float, h: float, nu: float, g: float = 1.0, floor: str
     return float(s.imag), float(-2 * s.real)
 
 
+def _fit_grid(t: np.ndarray, y: np.ndarray, omega0: float, rate_span: float, columns) -> tuple[float, float, np.ndarray]:
+    """Least squares of y(t) on the model columns(w, rate) (an n x 3 matrix, linear in its coefficients):
+    (w, rate) minimize the residual on a grid of 21 x 21 around (omega0, 0), +-0.1 omega0 and +-rate_span,
+    refined five-fold six times (to about 1e-5 omega0); returns (w, rate, coefficients)."""
+    def solve(w, rate):
+        M = columns(w, rate)
+        coef = np.linalg.lstsq(M, y, rcond=None)[0]
+        return np.sum((M @ coef - y) ** 2), coef
+
+    w, rate, dw, dr = omega0, 0.0, 0.1 * omega0, rate_span
+    for _ in range(6):
+        ws, rs = w + dw * np.linspace(-1, 1, 21), rate + dr * np.linspace(-1, 1, 21)
+        r = np.array([[solve(a, b)[0] for b in rs] for a in ws])
+        i, j = np.unravel_index(np.argmin(r), r.shape)
+        w, rate, dw, dr = ws[i], rs[j], dw / 5, dr / 5
+    return float(w), float(rate), solve(w, rate)[1]
+
+
 def fit_decaying_oscillation(t: np.ndarray, e: np.ndarray, omega0: float) -> tuple[float, float, np.ndarray]:
     """Fits e(t) ~ exp(-lam t) (a + b cos 2wt + c sin 2wt); returns (w, lam, (a, b, c)).
 
     For given (w, lam) the model is linear in (a, b, c) (least squares); (w, lam) minimize the
     residual on a grid around (omega0, 0), refined five-fold six times (to about 1e-5 omega0)."""
-    def solve(w, lam):
+    def columns(w, lam):
         x = np.exp(-lam * t)
-        M = np.stack([x, x * np.cos(2 * w * t), x * np.sin(2 * w * t)], axis=1)
-        coef = np.linalg.lstsq(M, e, rcond=None)[0]
-        return np.sum((M @ coef - e) ** 2), coef
+        return np.stack([x, x * np.cos(2 * w * t), x * np.sin(2 * w * t)], axis=1)
 
-    w, lam, dw, dl = omega0, 0.0, 0.1 * omega0, 0.2
-    for _ in range(6):
-        ws, ls = w + dw * np.linspace(-1, 1, 21), lam + dl * np.linspace(-1, 1, 21)
-        r = np.array([[solve(a, b)[0] for b in ls] for a in ws])
-        i, j = np.unravel_index(np.argmin(r), r.shape)
-        w, lam, dw, dl = ws[i], ls[j], dw / 5, dl / 5
-    return float(w), float(lam), solve(w, lam)[1]
+    return _fit_grid(t, e, omega0, 0.2, columns)
 
 
 def fit_decaying_wave(t: np.ndarray, a: np.ndarray, omega0: float) -> tuple[float, float, np.ndarray]:
@@ -83,16 +93,9 @@ def fit_decaying_wave(t: np.ndarray, a: np.ndarray, omega0: float) -> tuple[floa
     quantity as the lam of :func:`fit_decaying_oscillation`. For given (w, mu) the model is linear in
     (b, c, d) (least squares); (w, mu) minimize the residual on a grid around (omega0, 0), refined
     five-fold six times (to about 1e-5 omega0)."""
-    def solve(w, mu):
+    def columns(w, mu):
         x = np.exp(-mu * t)
-        M = np.stack([x * np.cos(w * t), x * np.sin(w * t), np.ones_like(t)], axis=1)
-        coef = np.linalg.lstsq(M, a, rcond=None)[0]
-        return np.sum((M @ coef - a) ** 2), coef
+        return np.stack([x * np.cos(w * t), x * np.sin(w * t), np.ones_like(t)], axis=1)
 
-    w, mu, dw, dm = omega0, 0.0, 0.1 * omega0, 0.1
-    for _ in range(6):
-        ws, ms = w + dw * np.linspace(-1, 1, 21), mu + dm * np.linspace(-1, 1, 21)
-        r = np.array([[solve(p, q)[0] for q in ms] for p in ws])
-        i, j = np.unravel_index(np.argmin(r), r.shape)
-        w, mu, dw, dm = ws[i], ms[j], dw / 5, dm / 5
-    return float(w), float(2 * mu), solve(w, mu)[1]
+    w, mu, coef = _fit_grid(t, a, omega0, 0.1, columns)
+    return w, 2 * mu, coef
