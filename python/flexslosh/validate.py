@@ -55,7 +55,7 @@ RESOLUTIONS: dict[str, list[float]] = {
     "dam_break": [0.05, 0.025, 0.0125],
     "dam_break_3d": [0.01],
     "dam_break_pressure": [0.03, 0.015],
-    "roll_tank": [0.0124, 0.0062],
+    "roll_tank": [0.0124, 0.0062, 0.0031],
     "beam": [0.0],
     "energy": [0.05],
     "seed": [0.005],
