@@ -321,3 +321,7 @@ def test_3d_validation_cases_ranks_agree(tmp_path, case, steps):
                                        "-fs_output_interval", 0] + extra, ("position", "velocity", "density", "pressure"), 600)
     # it moves: the collapse faster than 0.1 sqrt(g a); the wave (g = h = 1) at 0.050 after 20 steps (A omega = 0.094)
     assert np.abs(a["velocity"]).max() > (0.1 * np.sqrt(9.81 * 0.1) if case == "dam_break_3d" else 0.03)
+    if case == "standing_wave_3d":  # the mode's amplitude, a sum over all ranks' particles, to round-off
+        s1, s3 = read_series(tmp_path / "r1"), read_series(tmp_path / "r3")
+        assert len(s1["mode_amplitude"]) > 2 and np.ptp(s1["mode_amplitude"]) > 0.01
+        assert np.abs(s1["mode_amplitude"] - s3["mode_amplitude"]).max() < 1e-10
