@@ -78,6 +78,7 @@ ACCEPT = {
     "-fs_les_c": {"0": "no turbulent viscosity", "1e300": "only bounds the time step"},
     "-fs_viscosity_K": {"1e300": "only bounds the time step"},
     "-fs_shifting_c": {"0": "no shifting", "1e300": "the shifting velocity is capped by -fs_shifting_max"},
+    "-fs_walls_repulsion": {"0": "no repulsion (the default)"},
     "-fs_shifting_umin": {"0": "no smallest reference speed", "1e300": "capped by -fs_shifting_max"},
     "-fs_shifting_max": {"1e300": "no cap on the shifting velocity"},
     "-fs_halo_skin": {"1e300": "every rank sees every particle: slow, not wrong"},

@@ -8,12 +8,19 @@
    The walls are at rest in the tank's frame (u_k = 0).
 
    wall_continuity:  D rho_i/Dt += -rho_i sum_k (u_k - u_i) . n_k W_ik s_k
-   wall_pressure:    D u_i/Dt   += -1/rho_i sum_k (p_i + p_k) n_k W_ik s_k, the wall pressure p_k
+   wall_pressure:    D u_i/Dt   += -1/rho_i sum_k (f_ik p_i + p_k) n_k W_ik s_k, the wall pressure p_k
                      interpolated from the liquid near the segment (Shepard sum over all ranks with the
                      hydrostatic correction rho_j g . (x_k - x_j)). The liquid's pressure force on each
                      wall is the integral of that wall pressure, F_w = sum_{k in w} p_k s_k n_k (the
                      continuous form of seed Eq. 29, exact for a liquid at rest), computed by the core
                      with the wall pressures, and its moment about -fs_walls_load_point.
+                     f_ik = 1 + kappa (d0 - d_ik)/d0 where particle i is closer than d0 to element k's plane
+                     (d_ik), else 1 (kappa = -fs_walls_repulsion, 0 by default; d0 =
+                     -fs_walls_repulsion_distance dx): a push back from the wall near contact. The particle's
+                     own pressure holds it off the wall through the difference between the particles' kernel
+                     gradient sum and the wall integral; in 3-D that restoring is weak for one particle of the
+                     first row (docs/walls.md), and f_ik > 1 adds to it without changing a first row at rest
+                     (0.47 dx from the wall, beyond d0).
    wall_viscosity:   on no-slip walls (-fs_walls_noslip), the part of the laminar viscous sum
                      (viscosity.c, K nu rho0/rho_i sum_j Pi_ij grad W_ij V_j) that the support behind the
                      wall would give, filled with the velocity that is linear along the wall's normal,
@@ -58,16 +65,28 @@ static void Continuity(FSTerm t, const FSParticles *P, const FSWallView *B, cons
   else ContinuityD(3, t, P, B, nb, rate);
 }
 
+/* wall_pressure's options: the repulsion near contact (f_ik above) */
+typedef struct {
+  PetscReal kappa, distance; /* distance in units of dx */
+} WallPressure;
+
 FS_ALWAYS_INLINE void PressureD(PetscInt D, FSTerm t, const FSParticles *P, const FSWallView *B,
                                 const FSWallNeighbourhood *nb, FSRate *rate)
 {
-  const PetscInt   i = nb->i, N = B->normal, A = B->measure;
-  const PetscReal *ri = &P->rec[i * P->stride], rhoi = ri[2 * D], pi = P->pressure[i];
-  PetscReal        acc[3] = {0, 0, 0}, pw = 0;
+  const WallPressure *ctx = (const WallPressure *)t->data;
+  const PetscInt      i = nb->i, N = B->normal, A = B->measure, C = B->centroid;
+  const PetscReal    *ri = &P->rec[i * P->stride], rhoi = ri[2 * D], pi = P->pressure[i];
+  const PetscReal     d0 = ctx->distance * P->dx, kd = ctx->kappa / d0;
+  PetscReal           acc[3] = {0, 0, 0}, pw = 0;
   for (PetscInt q = 0; q < nb->n; q++) {
-    const PetscInt   k = nb->k[q];
-    const PetscReal *e = &B->element[k * B->stride];
-    const PetscReal  f = (pi + B->pressure[k]) * nb->W[q] * e[A];
+    const PetscInt   k  = nb->k[q];
+    const PetscReal *e  = &B->element[k * B->stride];
+    PetscReal        fi = 1, dist = 0;
+    if (ctx->kappa > 0) {
+      for (PetscInt d = 0; d < D; d++) dist += (e[C + d] - ri[d]) * e[N + d];
+      if (dist < d0) fi += kd * (d0 - dist);
+    }
+    const PetscReal f = (fi * pi + B->pressure[k]) * nb->W[q] * e[A];
     for (PetscInt d = 0; d < D; d++) acc[d] += f * e[N + d];
   }
   for (PetscInt d = 0; d < D; d++) {
@@ -240,12 +259,57 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm t)
   PetscFunctionReturn(0);
 }
 
-PETSC_EXTERN PetscErrorCode FSTermCreate_WallPressure(FSTerm t)
+static PetscErrorCode PressureSetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObject)
+{
+  WallPressure *ctx = (WallPressure *)t->data;
+
+  PetscFunctionBegin;
+  PetscOptionsHeadBegin(PetscOptionsObject, "Term wall_pressure: the pressure's boundary integral");
+  PetscCall(
+      FSOptionsReal(PetscOptionsObject, "-fs_walls_repulsion",
+                    "Push back from a wall near contact: the particle's own pressure counts 1 + kappa (d0 - d)/d0 "
+                    "times for an element closer than d0 (0: none)",
+                    "", &ctx->kappa, NULL, 0, 10, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_walls_repulsion_distance",
+                          "Distance d0 from an element's plane (in dx) within which -fs_walls_repulsion acts", "",
+                          &ctx->distance, NULL, 0, 1, FS_RANGE_OPEN_LOWER));
+  PetscOptionsHeadEnd();
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode PressureView(FSTerm t, PetscViewer v)
+{
+  WallPressure *ctx = (WallPressure *)t->data;
+
+  PetscFunctionBegin;
+  if (ctx->kappa > 0)
+    PetscCall(PetscViewerASCIIPrintf(v, "wall_pressure: repulsion %g within %g dx of a wall\n", (double)ctx->kappa,
+                                     (double)ctx->distance));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode PressureDestroy(FSTerm t)
 {
   PetscFunctionBegin;
-  t->renormalized = PETSC_TRUE;
-  t->has_power    = PETSC_TRUE;
-  t->ops.wall     = Pressure;
+  PetscCall(PetscFree(t->data));
+  PetscFunctionReturn(0);
+}
+
+PETSC_EXTERN PetscErrorCode FSTermCreate_WallPressure(FSTerm t)
+{
+  WallPressure *ctx;
+
+  PetscFunctionBegin;
+  PetscCall(PetscNew(&ctx));
+  ctx->kappa            = 0;
+  ctx->distance         = 0.45;
+  t->data               = ctx;
+  t->renormalized       = PETSC_TRUE;
+  t->has_power          = PETSC_TRUE;
+  t->ops.wall           = Pressure;
+  t->ops.setfromoptions = PressureSetFromOptions;
+  t->ops.view           = PressureView;
+  t->ops.destroy        = PressureDestroy;
   PetscFunctionReturn(0);
 }
 
