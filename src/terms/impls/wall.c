@@ -20,7 +20,7 @@
                      own pressure holds it off the wall through the difference between the particles' kernel
                      gradient sum and the wall integral; in 3-D that restoring is weak for one particle of the
                      first row (docs/walls.md), and f_ik > 1 adds to it without changing a first row at rest
-                     (0.47 dx from the wall, beyond d0).
+                     (which sits beyond the default d0). Faces turned away (d_ik <= 0) keep f_ik = 1.
    wall_viscosity:   on no-slip walls (-fs_walls_noslip), the part of the laminar viscous sum
                      (viscosity.c, K nu rho0/rho_i sum_j Pi_ij grad W_ij V_j) that the support behind the
                      wall would give, filled with the velocity that is linear along the wall's normal,
@@ -65,6 +65,15 @@ static void Continuity(FSTerm t, const FSParticles *P, const FSWallView *B, cons
   else ContinuityD(3, t, P, B, nb, rate);
 }
 
+/* The distance of x from element e's plane, positive on the liquid's side (negative: a face turned away, which
+   -fs_walls_visibility all lists: the other side of a thin baffle) */
+FS_ALWAYS_INLINE PetscReal PlaneDistance(PetscInt D, const FSWallView *B, const PetscReal *e, const PetscReal *x)
+{
+  PetscReal d = 0;
+  for (PetscInt a = 0; a < D; a++) d += (e[B->vertex + a] - x[a]) * e[B->normal + a];
+  return d;
+}
+
 /* wall_pressure's options: the repulsion near contact (f_ik above) */
 typedef struct {
   PetscReal kappa, distance; /* distance in units of dx */
@@ -74,17 +83,17 @@ FS_ALWAYS_INLINE void PressureD(PetscInt D, FSTerm t, const FSParticles *P, cons
                                 const FSWallNeighbourhood *nb, FSRate *rate)
 {
   const WallPressure *ctx = (const WallPressure *)t->data;
-  const PetscInt      i = nb->i, N = B->normal, A = B->measure, C = B->centroid;
+  const PetscInt      i = nb->i, N = B->normal, A = B->measure;
   const PetscReal    *ri = &P->rec[i * P->stride], rhoi = ri[2 * D], pi = P->pressure[i];
   const PetscReal     d0 = ctx->distance * P->dx, kd = ctx->kappa / d0;
   PetscReal           acc[3] = {0, 0, 0}, pw = 0;
   for (PetscInt q = 0; q < nb->n; q++) {
     const PetscInt   k  = nb->k[q];
     const PetscReal *e  = &B->element[k * B->stride];
-    PetscReal        fi = 1, dist = 0;
+    PetscReal        fi = 1;
     if (ctx->kappa > 0) {
-      for (PetscInt d = 0; d < D; d++) dist += (e[C + d] - ri[d]) * e[N + d];
-      if (dist < d0) fi += kd * (d0 - dist);
+      const PetscReal dist = PlaneDistance(D, B, e, ri);
+      if (dist > 0 && dist < d0) fi += kd * (d0 - dist); /* not through a face turned away */
     }
     const PetscReal f = (fi * pi + B->pressure[k]) * nb->W[q] * e[A];
     for (PetscInt d = 0; d < D; d++) acc[d] += f * e[N + d];
@@ -218,10 +227,10 @@ FS_ALWAYS_INLINE void ViscosityD(PetscInt D, FSTerm t, const FSParticles *P, con
   for (PetscInt q = 0; q < nb->n; q++) {
     const PetscInt   k = nb->k[q];
     const PetscReal *e = &B->element[k * B->stride];
-    PetscReal        d = 0, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, f[3] = {0, 0, 0}, r[3] = {0, 0, 0}, *L;
+    PetscReal        d, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, f[3] = {0, 0, 0}, r[3] = {0, 0, 0}, *L;
     if (!B->noslip[B->elementwall[k]]) continue;
-    for (PetscInt a = 0; a < D; a++) d += (e[X + a] - ri[a]) * e[N + a];
-    if (d <= 0) continue; /* a face turned away (-fs_walls_visibility all): the other side's wall */
+    d = PlaneDistance(D, B, e, ri);
+    if (d <= 0) continue; /* a face turned away: the other side's wall */
     if (D == 2) SegmentTensor(P->h, ri, e + X, e + N, d, PetscMax(d, dmin), M);
     else TriangleTensor(P->h, ri, e + X, e + C, e[A], d, PetscMax(d, dmin), M);
     for (PetscInt a = 0; a < D; a++)
