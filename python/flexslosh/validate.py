@@ -735,10 +735,10 @@ def case_roll_tank(ctx: Context) -> Section:
         sec.notes.append("\n".join(rows))
         if len(figures) > 1:
             dfine, dnext = sorted(figures)[:2]  # the two finest resolutions
-            fine, coarse = figures[dfine], figures[dnext]
-            darr = max(abs(g["arrival"] - h["arrival"]) for g, h in zip(fine, coarse))
-            dplat = max(abs(g["plateau"] / h["plateau"] - 1) for g, h in zip(fine, coarse))
-            dpeak = max(max(g["peak"], h["peak"]) / min(g["peak"], h["peak"]) for g, h in zip(fine, coarse))
+            pairs = list(zip(figures[dfine], figures[dnext]))
+            darr = max(abs(g["arrival"] - h["arrival"]) for g, h in pairs)
+            dplat = max(abs(g["plateau"] / h["plateau"] - 1) for g, h in pairs)
+            dpeak = max(max(g["peak"], h["peak"]) / min(g["peak"], h["peak"]) for g, h in pairs)
             dpre = abs(pre[dfine] / pre[dnext] - 1)
             sec.notes.append(f"Change between the two finest resolutions (dx = {dnext * 1000:g} and {dfine * 1000:g} mm; largest "
                              f"over the impacts): arrival {darr:.3f} s, mean p after "

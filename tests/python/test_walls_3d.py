@@ -6,6 +6,9 @@ import pytest
 from conftest import REPO_ROOT, assert_no_crash, last_snapshot, petsc_error_message, read_series, rel_max_diff, run_flexslosh
 
 TANK3 = ["-fs_case", "tank", "-fs_dim", 3, "-fs_output_interval", 0]
+# cases/hydrostatic_3d.opts's settings for a liquid at rest: c0 8 m/s, a delta floor with the hydrostatic correction,
+# a start-up relaxation of 0.1 s
+AT_REST = ["-fs_c0", 8, "-fs_relax_time", 0.1, "-fs_delta_min", 0.1, "-fs_delta_hydrostatic"]
 
 
 def box_facets(lo, hi):
@@ -280,9 +283,8 @@ def resting_3d(tmp_path, label, args, T_end):
     H, g = 0.03, 9.81
     tscale = np.sqrt(H / g)
     out = tmp_path / label
-    run_flexslosh(TANK3 + ["-fs_tank_width", 0.02, "-fs_c0", 8, "-fs_relax_time", 0.1, "-fs_delta_min", 0.1,
-                           "-fs_delta_hydrostatic", "-ts_max_time", T_end * tscale, "-fs_output_interval", tscale,
-                           "-fs_output_dir", out] + args, nranks=2, cwd=tmp_path, timeout=600)
+    run_flexslosh(TANK3 + AT_REST + ["-fs_tank_width", 0.02, "-ts_max_time", T_end * tscale, "-fs_output_interval", tscale,
+                                     "-fs_output_dir", out] + args, nranks=2, cwd=tmp_path, timeout=600)
     snaps = [read_snapshot(f) for f in snapshot_files(out)][1:]
     assert len(snaps) == T_end
     rms = np.array([np.sqrt(np.mean(np.sum(sn["velocity"] ** 2, axis=1))) / np.sqrt(g * H) for sn in snaps])
@@ -342,10 +344,9 @@ def test_wall_repulsion_holds_the_first_row(tmp_path):
 
     def rest(label, extra):
         out = tmp_path / label
-        run_flexslosh(TANK3 + ["-fs_tank_shape", "rectangular", "-fs_tank_length", 0.036, "-fs_tank_height", 0.06,
-                               "-fs_tank_width", 0.018, "-fs_fill", 0.5, "-fs_dx", dx, "-fs_c0", 8, "-fs_relax_time", 0.1,
-                               "-fs_delta_min", 0.1, "-fs_delta_hydrostatic", "-ts_max_time", 0.3,
-                               "-fs_output_interval", 0.3, "-fs_output_dir", out] + extra, cwd=tmp_path, timeout=600)
+        run_flexslosh(TANK3 + AT_REST + ["-fs_tank_shape", "rectangular", "-fs_tank_length", 0.036, "-fs_tank_height", 0.06,
+                                         "-fs_tank_width", 0.018, "-fs_fill", 0.5, "-fs_dx", dx, "-ts_max_time", 0.3,
+                                         "-fs_output_interval", 0.3, "-fs_output_dir", out] + extra, cwd=tmp_path, timeout=600)
         files = snapshot_files(out)
         first, last = read_snapshot(files[0]), read_snapshot(files[-1])
         assert len(files) == 2 and np.array_equal(first["id"], last["id"])  # t = 0 and 0.3, sorted by id
