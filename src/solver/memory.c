@@ -47,7 +47,7 @@ static PetscErrorCode FSSolverSwarmBytes(FSSolver s, PetscInt64 *bytes)
   PetscFunctionReturn(0);
 }
 
-/* the vectors of the state: U, Uprev, Fout, and those the integrator allocates (rk4lean: three; TSRK: a
+/* the vectors of the state: U, Uprev, Fout, and those the integrator allocates (rk4lean: two or three; TSRK: a
    stage and its rate per stage; other types are not counted) */
 static PetscErrorCode FSSolverTSBytes(FSSolver s, PetscInt64 *bytes)
 {
@@ -60,9 +60,9 @@ static PetscErrorCode FSSolverTSBytes(FSSolver s, PetscInt64 *bytes)
   PetscCall(VecGetLocalSize(s->state.U, &n));
   nvec = 1 + (s->state.Uprev ? 1 : 0) + (s->state.Fout ? 1 : 0);
   if (s->ts) {
-    Vec free;
-    PetscCall(FSTSRK4LeanGetWork(s->ts, NULL, &free));
-    if (free) nvec += 3; /* rk4lean's stage, rate and sum */
+    PetscInt nlean;
+    PetscCall(FSTSRK4LeanGetNumVectors(s->ts, &nlean));
+    nvec += nlean; /* rk4lean's stage, rate (unless in place) and sum */
     PetscCall(PetscObjectTypeCompare((PetscObject)s->ts, TSRK, &isrk));
     if (isrk && s->ts->setupcalled) {
       PetscInt stages;

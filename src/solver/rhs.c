@@ -421,6 +421,8 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
    state u, into f (same layout); the global DOFs' rates (the structure's, at time s->state.rhs_time,
    and the dissipated energies) on rank 0.
    count: add the work to the run's statistics (PETSC_FALSE for evaluations made for output).
+   u and f may be one array: u is read (the particles into the records, the structure's DOFs) before a
+   rate is written.
 
    Collective
 */
@@ -575,6 +577,12 @@ PetscErrorCode FSSolverRHS(TS ts, PetscReal t, Vec U, Vec F, void *ctx)
   (void)ts;
   s->state.rhs_time  = t;
   s->state.evaluated = PETSC_FALSE; /* the work arrays now hold this stage's evaluation */
+  if (U == F) { /* in place (FSTSRK4LeanSetInPlace): the state is read into the records before a rate is written */
+    PetscCall(VecGetArray(F, &f));
+    PetscCall(FSSolverEvaluateRates(s, f, f, PETSC_TRUE));
+    PetscCall(VecRestoreArray(F, &f));
+    PetscFunctionReturn(0);
+  }
   PetscCall(VecGetArrayRead(U, &u));
   PetscCall(VecGetArray(F, &f));
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_TRUE));

@@ -273,9 +273,11 @@ PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetStepStart(FSSolver, Vec *);
 PETSC_INTERN PetscErrorCode FSSolverGetFreeStage(FSSolver, Vec *, PetscBool *later);
-#define FSTSRK4LEAN "rk4lean" /* classical RK4 in four vectors (tsrk4lean.c): the default integrator */
+#define FSTSRK4LEAN "rk4lean" /* classical RK4 in three vectors (tsrk4lean.c): the default integrator */
 PETSC_INTERN PetscErrorCode FSTSRegisterRK4Lean(void);
 PETSC_INTERN PetscErrorCode FSTSRK4LeanGetWork(TS, Vec *, Vec *);
+PETSC_INTERN PetscErrorCode FSTSRK4LeanGetNumVectors(TS, PetscInt *);
+PETSC_INTERN PetscErrorCode FSTSRK4LeanSetInPlace(TS, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverMarkBuild(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverSwapBuildPositions(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRecordsAtBuild(FSSolver);

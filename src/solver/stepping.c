@@ -69,7 +69,7 @@ PetscErrorCode FSSolverGetFreeStage(FSSolver s, Vec *F, PetscBool *later)
   PetscFunctionReturn(0);
 }
 
-/* FSSolverSetUpTS - creates the TS (classical RK4 in four vectors, FSTSRK4LEAN, by default; -ts_type and
+/* FSSolverSetUpTS - creates the TS (classical RK4 in three vectors, FSTSRK4LEAN, by default; -ts_type and
    friends change it). Called from FSSolverSetFromOptions, so that -help shows the TS options with
    flexslosh's defaults. */
 PetscErrorCode FSSolverSetUpTS(FSSolver s)
@@ -86,6 +86,7 @@ PetscErrorCode FSSolverSetUpTS(FSSolver s)
   PetscCall(TSSetMaxTime(s->ts, s->opt.final_time));
   PetscCall(TSSetExactFinalTime(s->ts, TS_EXACTFINALTIME_MATCHSTEP));
   PetscCall(TSSetFromOptions(s->ts));
+  PetscCall(FSTSRK4LeanSetInPlace(s->ts, PETSC_TRUE)); /* FSSolverRHS reads all of its state first */
   PetscFunctionReturn(0);
 }
 

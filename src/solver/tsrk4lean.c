@@ -1,5 +1,5 @@
 /*
-   The TS type "rk4lean": the classical fourth-order Runge-Kutta method kept in four vectors of the
+   The TS type "rk4lean": the classical fourth-order Runge-Kutta method kept in four (or three) vectors of the
    state's size (the state, one stage, one rate and the running sum of the update) where TSRK keeps
    nine (the state, four stages and four rates). A step of h from (t, U):
      k1 = F(t, U),             S = U + h/6 k1,  Y = U + h/2 k1
@@ -7,19 +7,43 @@
      k3 = F(t + h/2, Y),       S += h/3 k3,     Y = U + h k3
      k4 = F(t + h, Y),         Y = U,           U = S + h/6 k4
    The same method as -ts_type rk -ts_rk_type 4, summed in another order (the results agree to
-   round-off). After a step, Y holds the state at its start (the solver's checks read it) and the
-   rate vector is free until the next step (the solver's output evaluations write into it). No error
-   estimate: the step is the one set with TSSetTimeStep(), as the solver's stable step is.
+   round-off). When the right-hand side function may write its rate over its state (it reads all of
+   the state before it writes: FSTSRK4LeanSetInPlace) the rate k_i takes the stage's place and three
+   vectors do (U, Y and S); the last lines become S += h/6 k4, Y = U, U = S. After a step, Y holds
+   the state at its start (the solver's checks read it) and the rate vector (S in place) is free until
+   the next step (the solver's output evaluations write into it). No error estimate: the step is the
+   one set with TSSetTimeStep(), as the solver's stable step is.
 */
 #include "solver/solverimpl.h"
 #include <petsc/private/tsimpl.h>
 
 typedef struct {
-  Vec       Y;       /* the stage's state; after a step, the state at its start */
-  Vec       K;       /* the rate at the stage */
+  Vec       Y;       /* the stage's state (in place: then its rate); after a step, the state at its start */
+  Vec       K;       /* the rate at the stage (NULL in place) */
   Vec       S;       /* U + h sum_j b_j k_j, summed so far */
+  PetscBool inplace; /* the right-hand side may write its rate over its state (FSTSRK4LeanSetInPlace) */
   PetscBool started; /* Y holds the state at the start of the last step */
 } TS_RK4Lean;
+
+/* F(t, X) into R, as TSComputeRHSFunction() does it, but allowing R == X (which it refuses: it locks X) */
+static PetscErrorCode TSRK4LeanRHS(TS ts, PetscReal t, Vec X, Vec R)
+{
+  TSRHSFunction rhs;
+  void         *ctx;
+
+  PetscFunctionBegin;
+  if (X != R) {
+    PetscCall(TSComputeRHSFunction(ts, t, X, R));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(TSGetRHSFunction(ts, NULL, &rhs, &ctx));
+  PetscCheck(rhs, PetscObjectComm((PetscObject)ts), PETSC_ERR_USER, "rk4lean needs a right-hand side function");
+  PetscCall(PetscLogEventBegin(TS_FunctionEval, X, R, 0, 0));
+  PetscCallBack("TS callback right-hand-side", (*rhs)(ts, t, X, R, ctx));
+  ts->rhsfuncs++;
+  PetscCall(PetscLogEventEnd(TS_FunctionEval, X, R, 0, 0));
+  PetscFunctionReturn(0);
+}
 
 static PetscErrorCode TSStep_RK4Lean(TS ts)
 {
@@ -34,15 +58,24 @@ static PetscErrorCode TSStep_RK4Lean(TS ts)
   rk->started = PETSC_FALSE;
   for (PetscInt i = 0; i < 4; i++) {
     Vec X = i ? rk->Y : U;
+    Vec R = rk->inplace ? rk->Y : rk->K; /* the rate: over the stage's state in place (from U into Y first) */
     PetscCall(TSPreStage(ts, t + c[i] * h));
-    PetscCall(TSComputeRHSFunction(ts, t + c[i] * h, X, rk->K));
-    PetscCall(TSPostStage(ts, t + c[i] * h, i, &X));
-    if (i == 0) PetscCall(VecWAXPY(rk->S, b[0], rk->K, U));
-    else if (i < 3) PetscCall(VecAXPY(rk->S, b[i], rk->K));
-    if (i < 3) PetscCall(VecWAXPY(rk->Y, a[i], rk->K, U));
+    PetscCall(TSPostStage(ts, t + c[i] * h, i, &X)); /* the stage's state is final: before it is evaluated, as TSRK */
+    PetscCall(TSRK4LeanRHS(ts, t + c[i] * h, X, R));
+    if (i == 0) PetscCall(VecWAXPY(rk->S, b[0], R, U));
+    else if (i < 3 || rk->inplace) PetscCall(VecAXPY(rk->S, b[i], R));
+    if (i < 3) {
+      if (rk->inplace) PetscCall(VecAYPX(rk->Y, a[i], U)); /* Y = U + a_i k_i, k_i in Y */
+      else PetscCall(VecWAXPY(rk->Y, a[i], R, U));
+    }
   }
-  PetscCall(VecCopy(U, rk->Y));
-  PetscCall(VecWAXPY(U, b[3], rk->K, rk->S));
+  if (rk->inplace) { /* S = U + sum b_i k_i: the new state; Y the old, S free */
+    PetscCall(VecCopy(U, rk->Y));
+    PetscCall(VecCopy(rk->S, U));
+  } else {
+    PetscCall(VecCopy(U, rk->Y));
+    PetscCall(VecWAXPY(U, b[3], rk->K, rk->S));
+  }
   rk->started = PETSC_TRUE;
   ts->ptime += h;
   PetscFunctionReturn(0);
@@ -54,7 +87,7 @@ static PetscErrorCode TSSetUp_RK4Lean(TS ts)
 
   PetscFunctionBegin;
   PetscCall(VecDuplicate(ts->vec_sol, &rk->Y));
-  PetscCall(VecDuplicate(ts->vec_sol, &rk->K));
+  if (!rk->inplace) PetscCall(VecDuplicate(ts->vec_sol, &rk->K));
   PetscCall(VecDuplicate(ts->vec_sol, &rk->S));
   rk->started = PETSC_FALSE;
   PetscFunctionReturn(0);
@@ -82,11 +115,15 @@ static PetscErrorCode TSDestroy_RK4Lean(TS ts)
 
 static PetscErrorCode TSView_RK4Lean(TS ts, PetscViewer viewer)
 {
-  PetscBool ascii;
+  TS_RK4Lean *rk = (TS_RK4Lean *)ts->data;
+  PetscBool   ascii;
 
   PetscFunctionBegin;
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
-  if (ascii)
+  if (ascii && rk->inplace)
+    PetscCall(PetscViewerASCIIPrintf(
+        viewer, "  classical RK4 (4 stages, order 4) in 3 vectors: state, stage (its rate over it), sum\n"));
+  else if (ascii)
     PetscCall(
         PetscViewerASCIIPrintf(viewer, "  classical RK4 (4 stages, order 4) in 4 vectors: state, stage, rate, sum\n"));
   PetscFunctionReturn(0);
@@ -153,7 +190,48 @@ PetscErrorCode FSTSRK4LeanGetWork(TS ts, Vec *start, Vec *free)
   if (is && ts->setupcalled) {
     TS_RK4Lean *rk = (TS_RK4Lean *)ts->data;
     if (start && rk->started) *start = rk->Y;
-    if (free) *free = rk->K;
+    if (free) *free = rk->inplace ? rk->S : rk->K;
   }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSTSRK4LeanGetNumVectors - for a TS of type rk4lean that is set up: the number of state-sized vectors
+   it allocated (3, or 2 in place); 0 otherwise.
+
+   Not collective
+*/
+PetscErrorCode FSTSRK4LeanGetNumVectors(TS ts, PetscInt *n)
+{
+  PetscBool is;
+
+  PetscFunctionBegin;
+  *n = 0;
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, FSTSRK4LEAN, &is));
+  if (is && ts->setupcalled) {
+    TS_RK4Lean *rk = (TS_RK4Lean *)ts->data;
+    *n             = (rk->Y ? 1 : 0) + (rk->K ? 1 : 0) + (rk->S ? 1 : 0);
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSTSRK4LeanSetInPlace - says that the TS's right-hand side function reads all of its state before it
+   writes any of its rate, so that a TS of type rk4lean may evaluate it with the rate's vector the state's
+   own and keep three state-sized vectors instead of four. Without effect for another type. Call it
+   before TSSetUp().
+
+   Logically collective
+*/
+PetscErrorCode FSTSRK4LeanSetInPlace(TS ts, PetscBool inplace)
+{
+  PetscBool is;
+
+  PetscFunctionBegin;
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, FSTSRK4LEAN, &is));
+  if (!is) PetscFunctionReturn(0);
+  PetscCheck(!ts->setupcalled, PetscObjectComm((PetscObject)ts), PETSC_ERR_ARG_WRONGSTATE,
+             "FSTSRK4LeanSetInPlace() after TSSetUp()");
+  ((TS_RK4Lean *)ts->data)->inplace = inplace;
   PetscFunctionReturn(0);
 }

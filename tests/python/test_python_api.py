@@ -76,7 +76,7 @@ def test_ts_and_swarm_are_the_solvers_objects():
     s = Solver(M.TG).set_up()
     ts, sw = s.ts, s.swarm
     assert isinstance(ts, PETSc.TS) and isinstance(sw, PETSc.DMSwarm)
-    assert ts.getType() == "rk4lean"  # the default integrator: classical RK4 in four vectors
+    assert ts.getType() == "rk4lean"  # the default integrator: classical RK4 in three vectors
     assert ts.getRefCount() == 2  # the C solver's reference and the wrapper's
     assert s.ts is ts  # one wrapper per object
     s.step(3)
