@@ -21,7 +21,9 @@ typedef struct {
   Vec       Y;       /* the stage's state (in place: then its rate); after a step, the state at its start */
   Vec       K;       /* the rate at the stage (NULL in place) */
   Vec       S;       /* U + h sum_j b_j k_j, summed so far */
-  PetscBool inplace; /* the right-hand side may write its rate over its state (FSTSRK4LeanSetInPlace) */
+  PetscBool allowed; /* the right-hand side may write its rate over its state (FSTSRK4LeanSetInPlace) */
+  PetscBool use;     /* -ts_rk4lean_in_place: then do so */
+  PetscBool inplace; /* both, fixed at the set-up: three vectors */
   PetscBool started; /* Y holds the state at the start of the last step */
 } TS_RK4Lean;
 
@@ -87,6 +89,7 @@ static PetscErrorCode TSSetUp_RK4Lean(TS ts)
 
   PetscFunctionBegin;
   PetscCall(VecDuplicate(ts->vec_sol, &rk->Y));
+  rk->inplace = (PetscBool)(rk->allowed && rk->use);
   if (!rk->inplace) PetscCall(VecDuplicate(ts->vec_sol, &rk->K));
   PetscCall(VecDuplicate(ts->vec_sol, &rk->S));
   rk->started = PETSC_FALSE;
@@ -110,6 +113,20 @@ static PetscErrorCode TSDestroy_RK4Lean(TS ts)
   PetscFunctionBegin;
   PetscCall(TSReset_RK4Lean(ts));
   PetscCall(PetscFree(ts->data));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSSetFromOptions_RK4Lean(TS ts, PetscOptionItems *PetscOptionsObject)
+{
+  TS_RK4Lean *rk = (TS_RK4Lean *)ts->data;
+
+  PetscFunctionBegin;
+  PetscOptionsHeadBegin(PetscOptionsObject, "RK4Lean options");
+  PetscCall(
+      PetscOptionsBool("-ts_rk4lean_in_place",
+                       "Write each stage's rate over the stage where the right-hand side allows it (3 vectors, not 4)",
+                       "FSTSRK4LeanSetInPlace", rk->use, &rk->use, NULL));
+  PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }
 
@@ -146,15 +163,17 @@ static PetscErrorCode TSCreate_RK4Lean(TS ts)
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&rk));
-  ts->data               = (void *)rk;
-  ts->ops->setup         = TSSetUp_RK4Lean;
-  ts->ops->step          = TSStep_RK4Lean;
-  ts->ops->reset         = TSReset_RK4Lean;
-  ts->ops->destroy       = TSDestroy_RK4Lean;
-  ts->ops->view          = TSView_RK4Lean;
-  ts->ops->getstages     = TSGetStages_RK4Lean;
-  ts->default_adapt_type = TSADAPTNONE;
-  ts->usessnes           = PETSC_FALSE;
+  rk->use                 = PETSC_TRUE;
+  ts->data                = (void *)rk;
+  ts->ops->setup          = TSSetUp_RK4Lean;
+  ts->ops->step           = TSStep_RK4Lean;
+  ts->ops->reset          = TSReset_RK4Lean;
+  ts->ops->destroy        = TSDestroy_RK4Lean;
+  ts->ops->view           = TSView_RK4Lean;
+  ts->ops->setfromoptions = TSSetFromOptions_RK4Lean;
+  ts->ops->getstages      = TSGetStages_RK4Lean;
+  ts->default_adapt_type  = TSADAPTNONE;
+  ts->usessnes            = PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 
@@ -218,8 +237,8 @@ PetscErrorCode FSTSRK4LeanGetNumVectors(TS ts, PetscInt *n)
 /*
    FSTSRK4LeanSetInPlace - says that the TS's right-hand side function reads all of its state before it
    writes any of its rate, so that a TS of type rk4lean may evaluate it with the rate's vector the state's
-   own and keep three state-sized vectors instead of four. Without effect for another type. Call it
-   before TSSetUp().
+   own and keep three state-sized vectors instead of four (unless -ts_rk4lean_in_place false). Without
+   effect for another type. Call it before TSSetUp().
 
    Logically collective
 */
@@ -232,6 +251,6 @@ PetscErrorCode FSTSRK4LeanSetInPlace(TS ts, PetscBool inplace)
   if (!is) PetscFunctionReturn(0);
   PetscCheck(!ts->setupcalled, PetscObjectComm((PetscObject)ts), PETSC_ERR_ARG_WRONGSTATE,
              "FSTSRK4LeanSetInPlace() after TSSetUp()");
-  ((TS_RK4Lean *)ts->data)->inplace = inplace;
+  ((TS_RK4Lean *)ts->data)->allowed = inplace;
   PetscFunctionReturn(0);
 }
