@@ -5,7 +5,10 @@ summary.json's "memory"; and what a particle costs at the margin: the growth of 
 between the two resolutions over the growth of the particle count. The peak per particle holds each
 process's fixed cost (the libraries, MPI and PETSc: about 49 MB a process with Debian's PETSc, of which
 about 40 MB are the shared libraries' pages), which a particle count divides; the marginal cost is what
-the data structures take for each particle.
+the data structures take for each particle. With several ranks the peak counts each rank's copy of the
+libraries' pages, which the ranks of a node share (one physical copy): the figure "with the libraries'
+shared pages counted once" (summary.json's "peak_resident_shared_once") is what the run takes from the
+machine.
 
     /usr/bin/python3 bench/bench_memory.py [--dim 2] [--dx 0.0045,0.0032] [--ranks 1,2] [--steps 3] [-- options]
 
@@ -48,9 +51,10 @@ def main():
         for dx in dxs:
             s = measure(exe, nr, a.dim, dx, a.steps, a.extra)
             n, peak = s["particles"], s["memory"]["peak_resident"]
+            once = s["memory"].get("peak_resident_shared_once", peak)
             peaks.append((n, peak))
             print(f"\n{nr} rank(s), dx = {dx}: {n} particles, peak resident {peak / 2**20:.1f} MiB, "
-                  f"{peak / n:.0f} bytes a particle")
+                  f"{peak / n:.0f} bytes a particle ({once / n:.0f} with the libraries' shared pages counted once)")
             print_memory(s)
         (n0, p0), (n1, p1) = peaks
         if n0 != n1:

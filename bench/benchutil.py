@@ -28,7 +28,9 @@ MEMORY_LABELS = [("particle_fields", "particle fields (swarm)"), ("particle_work
                  ("ts_vectors", "TS vectors"), ("candidates", "candidates"),
                  ("cells", "cell list"), ("halo", "halo buffers"), ("walls_lists", "walls: particles' lists"),
                  ("walls_elements", "walls: elements"), ("accounted", "accounted (allocated)"),
-                 ("peak_resident", "peak resident, all ranks"), ("not_accounted", "not accounted (the process, ...)")]
+                 ("peak_resident", "peak resident, all ranks"), ("not_accounted", "not accounted (the process, ...)"),
+                 ("shared_clean", "of it shared clean pages (libraries)"),
+                 ("peak_resident_shared_once", "peak resident, shared pages once")]
 
 
 def print_memory(summary):

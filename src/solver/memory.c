@@ -74,11 +74,61 @@ static PetscErrorCode FSSolverTSBytes(FSSolver s, PetscInt64 *bytes)
   PetscFunctionReturn(0);
 }
 
+/* the resident pages of this process that another process maps too and none has written (Shared_Clean of
+   /proc/self/smaps_rollup, Linux): mostly the shared libraries' code and read-only data, one physical copy
+   for all the ranks on a node; 0 where the file cannot be read */
+static PetscErrorCode FSProcessSharedClean(PetscInt64 *bytes)
+{
+  FILE *f;
+  char  line[256];
+
+  PetscFunctionBegin;
+  *bytes = 0;
+  f      = fopen("/proc/self/smaps_rollup", "r");
+  if (!f) PetscFunctionReturn(0);
+  while (fgets(line, sizeof(line), f)) {
+    long long kb;
+    if (sscanf(line, "Shared_Clean: %lld kB", &kb) == 1) {
+      *bytes = (PetscInt64)kb * 1024;
+      break;
+    }
+  }
+  (void)fclose(f);
+  PetscFunctionReturn(0);
+}
+
+/* the peak resident memory of all ranks counting once the clean pages the ranks of a node share: on each
+   node the sum over its ranks less the largest rank's shared pages (the ranks map the same libraries, so
+   the largest rank's set holds the others'), from the shared pages at the end of the run (the libraries'
+   are resident from the start) */
+static PetscErrorCode FSSolverSharedOnce(FSSolver s, PetscReal peak, PetscInt64 *shared, PetscReal *once)
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s), node;
+  PetscInt64  mine, v[2], twice = 0;
+  PetscMPIInt noderank;
+
+  PetscFunctionBegin;
+  PetscCall(FSProcessSharedClean(&mine));
+  PetscCallMPI(MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node));
+  PetscCallMPI(MPI_Comm_rank(node, &noderank));
+  PetscCallMPI(MPI_Allreduce(&mine, &v[0], 1, MPIU_INT64, MPI_SUM, node));
+  PetscCallMPI(MPI_Allreduce(&mine, &v[1], 1, MPIU_INT64, MPI_MAX, node));
+  PetscCallMPI(MPI_Comm_free(&node));
+  if (!noderank) twice = v[0] - v[1];
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &twice, 1, MPIU_INT64, MPI_SUM, comm));
+  PetscCallMPI(MPI_Allreduce(&mine, shared, 1, MPIU_INT64, MPI_SUM, comm));
+  *once = peak - (PetscReal)twice;
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverWriteMemory - writes "memory" into summary.json: the bytes of each data structure summed over
    the ranks (what is allocated at the end of the run: the capacities only grow), their sum "accounted",
    the peak resident memory of all ranks, and "not_accounted", the rest (the process itself: the
-   libraries, MPI, PETSc's objects; and whatever the items leave out).
+   libraries, MPI, PETSc's objects; and whatever the items leave out). Also "shared_clean", the ranks'
+   resident pages shared with other processes and not written (the libraries' code: each rank's peak
+   counts them, the machine holds them once a node), and "peak_resident_shared_once", the peak with the
+   pages the ranks of a node share counted once (an estimate: from the shared pages at the end).
 
    Collective
 */
@@ -90,7 +140,8 @@ PetscErrorCode FSSolverWriteMemory(FSSolver s, FSJSON js, PetscReal peak)
   const FSHalo         *hl   = &pw->halo;
   const PetscInt        dim  = s->opt.dim;
   PetscInt64            b[FS_MEM_N + 1];
-  PetscInt64            sum = 0;
+  PetscInt64            sum  = 0, shared;
+  PetscReal             once = peak;
 
   PetscFunctionBegin;
   PetscCall(PetscArrayzero(b, FS_MEM_N + 1));
@@ -119,6 +170,9 @@ PetscErrorCode FSSolverWriteMemory(FSSolver s, FSJSON js, PetscReal peak)
   PetscCall(FSJSONWriteInt(js, "accounted", sum));
   PetscCall(FSJSONWriteInt(js, "peak_resident", (PetscInt64)peak));
   PetscCall(FSJSONWriteInt(js, "not_accounted", (PetscInt64)peak - sum));
+  PetscCall(FSSolverSharedOnce(s, peak, &shared, &once));
+  PetscCall(FSJSONWriteInt(js, "shared_clean", shared));
+  PetscCall(FSJSONWriteInt(js, "peak_resident_shared_once", (PetscInt64)once));
   PetscCall(FSJSONEndObject(js));
   PetscFunctionReturn(0);
 }
