@@ -62,12 +62,18 @@ def test_box_tank_ranks_agree(tmp_path):
     assert cols == [f"wall_tank_{p}" for p in ("force_x", "force_y", "force_z", "moment_x", "moment_y", "moment_z")]
 
 
-@pytest.mark.parametrize("extra", [[], ["-fs_tank_baffle_gap", 0.005, "-fs_walls_visibility", "all"]], ids=["cut", "lifted-all"])
+LIFTED_ALL = ["-fs_tank_baffle_gap", 0.005, "-fs_walls_visibility", "all"]
+
+
+@pytest.mark.parametrize("extra", [[], LIFTED_ALL, LIFTED_ALL + ["-fs_walls_repulsion", 0.5, "-fs_walls_repulsion_distance", 0.6]],
+                         ids=["cut", "lifted-all", "lifted-all-repulsion"])
 def test_baffled_tank_3d_ranks_agree(tmp_path, extra):
     """The seed's baffled tank extruded across 0.02 m (two compartments, dx = 4 mm): the liquid region
     is not convex, so fluid pairs through a baffle are cut and hidden elements dropped; also with the
-    baffles lifted 5 mm and every pair and element counted (-fs_walls_visibility all). 10 steps on 1
-    and 3 ranks agree, and no particle sits in a baffle."""
+    baffles lifted 5 mm and every pair and element counted (-fs_walls_visibility all), and so with the
+    push back near contact of cases/baffles_at_rest_3d.opts (here from 0.6 dx, so that the rows started
+    dx/2 from the walls feel it from the first step). 10 steps on 1 and 3 ranks agree, and no particle
+    sits in a baffle."""
     a = one_and_three_ranks(tmp_path, TANK3 + ["-fs_tank_shape", "baffled", "-fs_tank_compartments", 2, "-fs_tank_width",
                                                0.02, "-fs_dx", 0.004, "-ts_max_steps", 10] + extra)
     x = a["position"]
