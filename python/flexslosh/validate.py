@@ -310,7 +310,7 @@ def case_taylor_green(ctx: Context) -> Section:
     return sec
 
 
-def _hydrostatic(ctx: Context, name: str, dim: int, what: str = "") -> Section:
+def _hydrostatic(ctx: Context, name: str, what: str = "") -> Section:
     title = TITLES[name]
     sec = Section(name, title,
                   "A liquid at rest, H = 0.03 m deep, for t sqrt(g/H) = 20: the particles' pressure against rho0 g (H - y) "
@@ -354,17 +354,17 @@ def _hydrostatic(ctx: Context, name: str, dim: int, what: str = "") -> Section:
 
 def case_hydrostatic(ctx: Context) -> Section:
     """The 2-D hydrostatic tank (cases/hydrostatic.opts)."""
-    return _hydrostatic(ctx, "hydrostatic", 2)
+    return _hydrostatic(ctx, "hydrostatic")
 
 
 def case_hydrostatic_3d(ctx: Context) -> Section:
     """The 3-D hydrostatic box (cases/hydrostatic_3d.opts)."""
-    return _hydrostatic(ctx, "hydrostatic_3d", 3)
+    return _hydrostatic(ctx, "hydrostatic_3d")
 
 
 def case_baffles_at_rest_3d(ctx: Context) -> Section:
     """Lifted baffles at rest in 3-D (cases/baffles_at_rest_3d.opts)."""
-    return _hydrostatic(ctx, "baffles_at_rest_3d", 3,
+    return _hydrostatic(ctx, "baffles_at_rest_3d",
                         " The tank: two compartments 0.1 m long and 0.02 m wide, the baffle between them lifted 5 mm off "
                         "the floor, with `-fs_walls_visibility all` and `-fs_walls_repulsion 0.5` (docs/walls.md).")
 

@@ -104,7 +104,7 @@ static PetscErrorCode FSProcessSharedClean(PetscInt64 *bytes)
 static PetscErrorCode FSSolverSharedOnce(FSSolver s, PetscReal peak, PetscInt64 *shared, PetscReal *once)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s), node;
-  PetscInt64  mine, v[2], twice = 0;
+  PetscInt64  mine, v[2];
   PetscMPIInt noderank;
 
   PetscFunctionBegin;
@@ -114,10 +114,11 @@ static PetscErrorCode FSSolverSharedOnce(FSSolver s, PetscReal peak, PetscInt64 
   PetscCallMPI(MPI_Allreduce(&mine, &v[0], 1, MPIU_INT64, MPI_SUM, node));
   PetscCallMPI(MPI_Allreduce(&mine, &v[1], 1, MPIU_INT64, MPI_MAX, node));
   PetscCallMPI(MPI_Comm_free(&node));
-  if (!noderank) twice = v[0] - v[1];
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &twice, 1, MPIU_INT64, MPI_SUM, comm));
-  PetscCallMPI(MPI_Allreduce(&mine, shared, 1, MPIU_INT64, MPI_SUM, comm));
-  *once = peak - (PetscReal)twice;
+  v[0] = noderank ? 0 : v[0] - v[1]; /* the node's shared pages counted more than once, on its first rank */
+  v[1] = mine;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v, 2, MPIU_INT64, MPI_SUM, comm));
+  *shared = v[1];
+  *once   = peak - (PetscReal)v[0];
   PetscFunctionReturn(0);
 }
 
@@ -140,7 +141,7 @@ PetscErrorCode FSSolverWriteMemory(FSSolver s, FSJSON js, PetscReal peak)
   const FSHalo         *hl   = &pw->halo;
   const PetscInt        dim  = s->opt.dim;
   PetscInt64            b[FS_MEM_N + 1];
-  PetscInt64            sum  = 0, shared;
+  PetscInt64            sum = 0, shared = 0;
   PetscReal             once = peak;
 
   PetscFunctionBegin;

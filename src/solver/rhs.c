@@ -577,16 +577,11 @@ PetscErrorCode FSSolverRHS(TS ts, PetscReal t, Vec U, Vec F, void *ctx)
   (void)ts;
   s->state.rhs_time  = t;
   s->state.evaluated = PETSC_FALSE; /* the work arrays now hold this stage's evaluation */
-  if (U == F) { /* in place (FSTSRK4LeanSetInPlace): the state is read into the records before a rate is written */
-    PetscCall(VecGetArray(F, &f));
-    PetscCall(FSSolverEvaluateRates(s, f, f, PETSC_TRUE));
-    PetscCall(VecRestoreArray(F, &f));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(VecGetArrayRead(U, &u));
   PetscCall(VecGetArray(F, &f));
+  if (U != F) PetscCall(VecGetArrayRead(U, &u));
+  else u = f; /* in place (FSTSRK4LeanSetInPlace): the state is read into the records before a rate is written */
   PetscCall(FSSolverEvaluateRates(s, u, f, PETSC_TRUE));
-  PetscCall(VecRestoreArrayRead(U, &u));
+  if (U != F) PetscCall(VecRestoreArrayRead(U, &u));
   PetscCall(VecRestoreArray(F, &f));
   PetscFunctionReturn(0);
 }

@@ -46,7 +46,7 @@ PetscErrorCode FSSolverGetStepStart(FSSolver s, Vec *U0)
 
 /*
    FSSolverGetFreeStage - a vector of U's layout the outputs' evaluation may write its rates into (they
-   are not kept): rk4lean's rate vector, or TSRK's last stage when there is one besides the first
+   are not kept): rk4lean's sum (or rate) vector, or TSRK's last stage when there is one besides the first
    (FSSolverGetStepStart's); the next step writes either before it reads it. Else NULL. *later (may be
    NULL) says whether the integrator has such a vector once it is set up (rk4lean and TSRK; a one-stage
    TSRK is counted in), so that a vector made for the outputs before the first step need not be kept.

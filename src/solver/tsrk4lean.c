@@ -1,29 +1,28 @@
 /*
-   The TS type "rk4lean": the classical fourth-order Runge-Kutta method kept in four (or three) vectors of the
-   state's size (the state, one stage, one rate and the running sum of the update) where TSRK keeps
-   nine (the state, four stages and four rates). A step of h from (t, U):
+   The TS type "rk4lean": the classical fourth-order Runge-Kutta method kept in three or four vectors
+   of the state's size where TSRK keeps nine (the state, four stages and four rates). A step of h
+   from (t, U), with the state U, one stage Y, one rate k and the running sum S of the update:
      k1 = F(t, U),             S = U + h/6 k1,  Y = U + h/2 k1
      k2 = F(t + h/2, Y),       S += h/3 k2,     Y = U + h/2 k2
      k3 = F(t + h/2, Y),       S += h/3 k3,     Y = U + h k3
-     k4 = F(t + h, Y),         Y = U,           U = S + h/6 k4
+     k4 = F(t + h, Y),         S += h/6 k4,     Y = U,  U = S
    The same method as -ts_type rk -ts_rk_type 4, summed in another order (the results agree to
    round-off). When the right-hand side function may write its rate over its state (it reads all of
-   the state before it writes: FSTSRK4LeanSetInPlace) the rate k_i takes the stage's place and three
-   vectors do (U, Y and S); the last lines become S += h/6 k4, Y = U, U = S. After a step, Y holds
-   the state at its start (the solver's checks read it) and the rate vector (S in place) is free until
-   the next step (the solver's output evaluations write into it). No error estimate: the step is the
-   one set with TSSetTimeStep(), as the solver's stable step is.
+   the state before it writes: FSTSRK4LeanSetInPlace) each rate k_i goes over the stage Y it is
+   evaluated at and three vectors do (U, Y, S); else k has a vector of its own. After a step, Y holds
+   the state at its start (the solver's checks read it) and S (or k) is free until the next step (the
+   solver's output evaluations write into it). No error estimate: the step is the one set with
+   TSSetTimeStep(), as the solver's stable step is.
 */
 #include "solver/solverimpl.h"
 #include <petsc/private/tsimpl.h>
 
 typedef struct {
   Vec       Y;       /* the stage's state (in place: then its rate); after a step, the state at its start */
-  Vec       K;       /* the rate at the stage (NULL in place) */
+  Vec       K;       /* the rate at the stage; not allocated in place (then the rate goes over Y) */
   Vec       S;       /* U + h sum_j b_j k_j, summed so far */
   PetscBool allowed; /* the right-hand side may write its rate over its state (FSTSRK4LeanSetInPlace) */
-  PetscBool use;     /* -ts_rk4lean_in_place: then do so */
-  PetscBool inplace; /* both, fixed at the set-up: three vectors */
+  PetscBool use;     /* -ts_rk4lean_in_place: then do so (both: three vectors, from the set-up) */
   PetscBool started; /* Y holds the state at the start of the last step */
 } TS_RK4Lean;
 
@@ -60,24 +59,17 @@ static PetscErrorCode TSStep_RK4Lean(TS ts)
   rk->started = PETSC_FALSE;
   for (PetscInt i = 0; i < 4; i++) {
     Vec X = i ? rk->Y : U;
-    Vec R = rk->inplace ? rk->Y : rk->K; /* the rate: over the stage's state in place (from U into Y first) */
+    Vec R = rk->K ? rk->K : rk->Y; /* the rate: in place over the stage's state (from U into Y first) */
     PetscCall(TSPreStage(ts, t + c[i] * h));
     PetscCall(TSPostStage(ts, t + c[i] * h, i, &X)); /* the stage's state is final: before it is evaluated, as TSRK */
     PetscCall(TSRK4LeanRHS(ts, t + c[i] * h, X, R));
     if (i == 0) PetscCall(VecWAXPY(rk->S, b[0], R, U));
-    else if (i < 3 || rk->inplace) PetscCall(VecAXPY(rk->S, b[i], R));
-    if (i < 3) {
-      if (rk->inplace) PetscCall(VecAYPX(rk->Y, a[i], U)); /* Y = U + a_i k_i, k_i in Y */
-      else PetscCall(VecWAXPY(rk->Y, a[i], R, U));
-    }
+    else PetscCall(VecAXPY(rk->S, b[i], R));
+    if (i < 3 && R == rk->Y) PetscCall(VecAYPX(rk->Y, a[i], U)); /* Y = U + a_i k_i, k_i in Y */
+    else if (i < 3) PetscCall(VecWAXPY(rk->Y, a[i], R, U));
   }
-  if (rk->inplace) { /* S = U + sum b_i k_i: the new state; Y the old, S free */
-    PetscCall(VecCopy(U, rk->Y));
-    PetscCall(VecCopy(rk->S, U));
-  } else {
-    PetscCall(VecCopy(U, rk->Y));
-    PetscCall(VecWAXPY(U, b[3], rk->K, rk->S));
-  }
+  PetscCall(VecCopy(U, rk->Y)); /* S = U + sum b_i k_i is the new state; Y keeps the old, S (or K) is free */
+  PetscCall(VecCopy(rk->S, U));
   rk->started = PETSC_TRUE;
   ts->ptime += h;
   PetscFunctionReturn(0);
@@ -89,8 +81,7 @@ static PetscErrorCode TSSetUp_RK4Lean(TS ts)
 
   PetscFunctionBegin;
   PetscCall(VecDuplicate(ts->vec_sol, &rk->Y));
-  rk->inplace = (PetscBool)(rk->allowed && rk->use);
-  if (!rk->inplace) PetscCall(VecDuplicate(ts->vec_sol, &rk->K));
+  if (!(rk->allowed && rk->use)) PetscCall(VecDuplicate(ts->vec_sol, &rk->K));
   PetscCall(VecDuplicate(ts->vec_sol, &rk->S));
   rk->started = PETSC_FALSE;
   PetscFunctionReturn(0);
@@ -137,7 +128,7 @@ static PetscErrorCode TSView_RK4Lean(TS ts, PetscViewer viewer)
 
   PetscFunctionBegin;
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
-  if (ascii && rk->inplace)
+  if (ascii && rk->allowed && rk->use) /* what the set-up does (did) */
     PetscCall(PetscViewerASCIIPrintf(
         viewer, "  classical RK4 (4 stages, order 4) in 3 vectors: state, stage (its rate over it), sum\n"));
   else if (ascii)
@@ -209,7 +200,7 @@ PetscErrorCode FSTSRK4LeanGetWork(TS ts, Vec *start, Vec *free)
   if (is && ts->setupcalled) {
     TS_RK4Lean *rk = (TS_RK4Lean *)ts->data;
     if (start && rk->started) *start = rk->Y;
-    if (free) *free = rk->inplace ? rk->S : rk->K;
+    if (free) *free = rk->K ? rk->K : rk->S;
   }
   PetscFunctionReturn(0);
 }
