@@ -872,6 +872,7 @@ SEED_RUNS = {
     "baffled_msd": ("coupled_baffled", "msd"),
     "solid_modal": ("beam_free_decay_modal", None),
     "rectangular_modal": ("coupled_rectangular", "modal"),
+    "baffled_modal": ("coupled_baffled", "modal"),
 }
 
 
