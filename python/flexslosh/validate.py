@@ -865,7 +865,7 @@ def case_energy(ctx: Context) -> Section:
     return sec
 
 
-#: The seed experiment's runs: label -> (case file, structure, note).
+#: The seed experiment's runs: label -> (case file, structure; None: the solid mass, the case file's own beam).
 SEED_RUNS = {
     "solid_msd": ("beam_free_decay_msd", None),
     "rectangular_msd": ("coupled_rectangular", "msd"),
