@@ -197,7 +197,9 @@ struct _p_FSTerm {
   PetscReal max_viscosity;  /* largest kinematic viscosity the term applies (time-step limit), set in prepare */
   PetscReal dt_coefficient; /* the term's own limit dt <= c h^2/max_viscosity (0: -fs_cfl_viscous's) */
   PetscReal dt_coefficient_rk4; /* dt_coefficient's default with RK4 (set up by FSSolverSetFromOptions; 0: none) */
-  void     *data;               /* implementation data */
+  PetscBool split; /* advanced after each step by super-time-stepping (src/solver/split.c), not in the integrator's
+                      stages: for a term whose only rate is drho, a diffusion in rho (term delta's -fs_delta_split) */
+  void *data;      /* implementation data */
 };
 
 typedef PetscErrorCode (*FSTermCreateFn)(FSTerm);

@@ -218,6 +218,36 @@ PetscErrorCode FSSolverEnergyAddJump(FSSolver s, const PetscReal de[2])
   PetscFunctionReturn(0);
 }
 
+/* FSSolverCompressibilityEnergy - e(rho) of the run's equation of state (per unit mass). Not collective. */
+PetscReal FSSolverCompressibilityEnergy(FSSolver s, PetscReal rho)
+{
+  return FSCompressibilityEnergy(rho, s->opt.rho0, s->opt.c0, s->opt.background_pressure);
+}
+
+/* FSSolverEnergyAddTermWork - adds this rank's share dw of the work of term t done between steps (its split
+   stages, FSSolverSplitStep) to the term's dissipated energy, summed over the ranks. Collective. */
+PetscErrorCode FSSolverEnergyAddTermWork(FSSolver s, FSTerm t, PetscReal dw)
+{
+  PetscReal   sum;
+  PetscMPIInt rank;
+  PetscInt    q = 0;
+
+  PetscFunctionBegin;
+  PetscCheck(t->has_power, PetscObjectComm((PetscObject)s), PETSC_ERR_PLIB, "term %s has no power to book", t->name);
+  for (PetscInt k = 0; k < s->terms.nterms && s->terms.term[k] != t; k++)
+    if (s->terms.term[k]->has_power) q++;
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
+  PetscCallMPI(MPI_Reduce(&dw, &sum, 1, MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
+  if (s->pw.decomp.size > 1) s->mon.par.uncounted++; /* PETSc's counters miss MPI_Reduce */
+  if (!rank) {
+    PetscScalar *u;
+    PetscCall(VecGetArray(s->state.U, &u));
+    u[s->pw.nowned * s->state.ustride + s->state.gdiss + q] += sum;
+    PetscCall(VecRestoreArray(s->state.U, &u));
+  }
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverEnergyInitial - records the liquid's and the whole system's energies of the current state as
    the budget's initial values (in the energy block of the state; at the start of a run, not on restart).

@@ -494,6 +494,12 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSJSONWriteInt(js, "migrations", s->mon.nmigrations));
   PetscCall(FSJSONWriteInt(js, "neighbour_rebuilds", s->mon.nrebuilds));
   PetscCall(FSJSONWriteInt(js, "rebalances", s->mon.nrebalances));
+  if (s->state.split_stages) { /* the split terms' RKL2 stages (FSSolverSplitStep) */
+    PetscCall(FSJSONBeginObject(js, "split_stages"));
+    PetscCall(FSJSONWriteInt(js, "total", s->state.split_stages));
+    PetscCall(FSJSONWriteInt(js, "max", s->state.split_max_stages));
+    PetscCall(FSJSONEndObject(js));
+  }
   PetscCall(FSJSONBeginObject(js, "dt_limit_steps")); /* how many steps each time-step limit set */
   for (PetscInt l = 0; l < FS_DT_TERM + s->terms.nterms; l++) {
     const char *name;

@@ -8,25 +8,6 @@
 */
 #include "solver/solverimpl.h"
 
-/* Fills the neighbourhood scratch of particle i: its neighbours j (picked from the candidates), x_j - x_i,
-   r^2, grad_i W and, when ri2 is given, 1/r^2. Returns their number. */
-FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscInt dim, PetscInt i, PetscInt *j,
-                                                 PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
-{
-  const FSKernel *kern = &s->pw.kernel;
-  const PetscInt  n    = FSNeighboursPick(&s->pw.nbrs, dim, i, s->pw.rec, s->pw.stride, kern->support2, j, dx, r2);
-
-  /* F(r) in a loop of its own, which the compiler vectorizes (the same value as the first pass's) */
-  for (PetscInt k = 0; k < n; k++) {
-    const PetscReal F = FSKernelF(kern, PetscSqrtReal(r2[k]));
-    for (PetscInt a = 0; a < dim; a++) gw[dim * k + a] = -F * dx[dim * k + a];
-  }
-  /* the inverses in a loop of their own, which the compiler vectorizes */
-  if (ri2)
-    for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
-  return n;
-}
-
 /* Inverse of the dim x dim matrix M (row-major); falls back to the identity when M is nearly
    singular (a particle with too few neighbours, e.g. isolated spray), as is usual for L_i. */
 static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscReal Minv[])
@@ -125,7 +106,7 @@ FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
   return np;
 }
 
-static PetscErrorCode FSSolverFirstPass(FSSolver s)
+PetscErrorCode FSSolverFirstPass(FSSolver s)
 {
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
@@ -239,7 +220,7 @@ static PetscErrorCode FSSolverWallPass(FSSolver s, const FSParticles *P, PetscRe
 }
 
 /* the volumes and pressures of particles k0 .. k1-1 (owned, then ghosts), shared by the passes and the terms */
-static void FSSolverVolumesAndPressures(FSSolver s, PetscInt k0, PetscInt k1)
+void FSSolverVolumesAndPressures(FSSolver s, PetscInt k0, PetscInt k1)
 {
   const PetscInt dim = s->opt.dim, S = s->pw.stride;
 
@@ -255,7 +236,7 @@ static void FSSolverVolumesAndPressures(FSSolver s, PetscInt k0, PetscInt k1)
    state u, the neighbourhood scratch, and the volumes and pressures of the owned particles, which the passes and
    the terms share; the ghosts' records on their way from the halo (FSSolverGatherRecordsEnd).
 */
-static PetscErrorCode FSSolverGatherRecordsBegin(FSSolver s, const PetscReal *u)
+PetscErrorCode FSSolverGatherRecordsBegin(FSSolver s, const PetscReal *u)
 {
   const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
   const PetscInt maxn = s->pw.nbrs.maxcand; /* the scratch holds one particle's neighbours: its candidates bound them */
@@ -277,7 +258,7 @@ static PetscErrorCode FSSolverGatherRecordsBegin(FSSolver s, const PetscReal *u)
 
 /* FSSolverGatherRecordsEnd - the ghosts' records arrived (FSSolverGatherRecordsBegin), and their volumes and
    pressures */
-static PetscErrorCode FSSolverGatherRecordsEnd(FSSolver s)
+PetscErrorCode FSSolverGatherRecordsEnd(FSSolver s)
 {
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));
@@ -320,7 +301,7 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
     /* renormalized terms (boundary integrals) first: their sum is divided by gamma_i */
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
-      if (!term->renormalized) continue;
+      if (!term->renormalized || term->split) continue;
       if (term->ops.interact) term->ops.interact(term, P, &nb, &rate);
       if (term->ops.source) term->ops.source(term, P, i, &rate);
     }
@@ -334,7 +315,7 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
     }
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
-      if (term->renormalized) continue;
+      if (term->renormalized || term->split) continue; /* split: FSSolverSplitStep */
       if (term->ops.interact) term->ops.interact(term, P, &nb, &rate);
       if (term->ops.source) term->ops.source(term, P, i, &rate);
     }
@@ -481,8 +462,10 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     s->state.nu_src[0] = s->opt.nu;
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       const FSTerm term      = s->terms.term[t];
-      s->state.nu_src[1 + t] = term->dt_coefficient > 0 ? term->max_viscosity * (s->opt.cfl_visc / term->dt_coefficient)
-                                                        : term->max_viscosity;
+      s->state.nu_src[1 + t] = term->split ? 0 /* its own stages resolve it (FSSolverSplitStep) */
+                               : term->dt_coefficient > 0
+                                   ? term->max_viscosity * (s->opt.cfl_visc / term->dt_coefficient)
+                                   : term->max_viscosity;
     }
   }
 

@@ -154,6 +154,8 @@ typedef struct {
   PetscReal relax_power; /* power of the start-up relaxation of the last right-hand side, this rank's share */
   PetscReal
       structure_energy[3]; /* coupled: the structure's energies at the stage's state (rank 0; FSSolverCouplingRates) */
+  PetscInt64 split_stages; /* the split terms' RKL2 stages since the run (re)started (FSSolverSplitStep) */
+  PetscInt   split_max_stages; /* the most stages of one step */
 } FSSolverState;
 
 /* Probes and wave gauges (-fs_probes, src/solver/probes.c): the items of the file, their current
@@ -304,6 +306,16 @@ PETSC_INTERN PetscErrorCode FSSolverProbesBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesMonitor(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesDestroy(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetParticles(FSSolver, FSParticles *);
+PETSC_INTERN PetscErrorCode FSSolverGatherRecordsBegin(FSSolver, const PetscReal *u);
+PETSC_INTERN PetscErrorCode FSSolverGatherRecordsEnd(FSSolver);
+PETSC_INTERN void           FSSolverVolumesAndPressures(FSSolver, PetscInt k0, PetscInt k1);
+PETSC_INTERN PetscErrorCode FSSolverFirstPass(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverSplitStep(FSSolver, PetscReal dt);
+PETSC_INTERN void           FSRKL2Coefficients(PetscInt s, PetscInt j, PetscReal *mu, PetscReal *nu, PetscReal *mut,
+                                               PetscReal *gt);
+PETSC_INTERN PetscInt       FSRKL2Stages(PetscReal z);
+PETSC_INTERN PetscErrorCode FSSolverEnergyAddTermWork(FSSolver, FSTerm, PetscReal);
+PETSC_INTERN PetscReal      FSSolverCompressibilityEnergy(FSSolver, PetscReal rho);
 PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool count);
 PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
 
@@ -355,3 +367,22 @@ PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const
 PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureSummary(FSSolver, FSJSON);
+
+/* Fills the neighbourhood scratch of particle i: its neighbours j (picked from the candidates), x_j - x_i,
+   r^2, grad_i W and, when ri2 is given, 1/r^2. Returns their number. */
+FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscInt dim, PetscInt i, PetscInt *j,
+                                                 PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
+{
+  const FSKernel *kern = &s->pw.kernel;
+  const PetscInt  n    = FSNeighboursPick(&s->pw.nbrs, dim, i, s->pw.rec, s->pw.stride, kern->support2, j, dx, r2);
+
+  /* F(r) in a loop of its own, which the compiler vectorizes (the same value as the first pass's) */
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal F = FSKernelF(kern, PetscSqrtReal(r2[k]));
+    for (PetscInt a = 0; a < dim; a++) gw[dim * k + a] = -F * dx[dim * k + a];
+  }
+  /* the inverses in a loop of their own, which the compiler vectorizes */
+  if (ri2)
+    for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
+  return n;
+}

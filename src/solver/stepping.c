@@ -539,6 +539,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   s->mon.particle_steps += s->pw.nglobal_particles;
   s->mon.steps_taken++;
   PetscCall(FSSolverCheckState(s));
+  PetscCall(FSSolverSplitStep(s, dt)); /* the split terms' diffusion over the step (-fs_delta_split) */
   PetscCall(FSSolverUnpackState(s));
   PetscCall(FSSolverBoundaryBounce(s, ejump, &bounced)); /* with the bounces' energy changes, for the energy budget */
   PetscCall(FSSolverRebuildNeeded(s, &rebuild, &sort));

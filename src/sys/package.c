@@ -6,7 +6,7 @@ static PetscBool FSPackageInitialized = PETSC_FALSE;
 
 PetscLogEvent FS_Structure, FS_Coupling;
 PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls, FS_Migrate, FS_Output,
-    FS_RHS;
+    FS_RHS, FS_Split;
 
 static PetscErrorCode FSFinalizePackageCallback(void)
 {
@@ -31,6 +31,7 @@ PetscErrorCode FSInitializePackage(void)
   PetscCall(PetscLogEventRegister("FSHalo", FSSOLVER_CLASSID, &FS_Halo));
   PetscCall(PetscLogEventRegister("FSFirstPass", FSSOLVER_CLASSID, &FS_FirstPass));
   PetscCall(PetscLogEventRegister("FSPairPass", FSSOLVER_CLASSID, &FS_PairPass));
+  PetscCall(PetscLogEventRegister("FSSplit", FSSOLVER_CLASSID, &FS_Split));
   PetscCall(PetscLogEventRegister("FSWallPass", FSSOLVER_CLASSID, &FS_WallPass));
   PetscCall(PetscLogEventRegister("FSWalls", FSSOLVER_CLASSID, &FS_Walls));
   PetscCall(PetscLogEventRegister("FSMigrate", FSSOLVER_CLASSID, &FS_Migrate));

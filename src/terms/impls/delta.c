@@ -9,7 +9,8 @@
    -fs_delta_min (a floor under the LES delta_i: delta_LES vanishes in a liquid at rest, where it then leaves
    odd-even density modes undamped), -fs_delta_hydrostatic (the density difference corrected by the hydrostatic
    one, rho0 g . (x_j - x_i) / c0^2, instead of the renormalized gradients; Antuono et al. 2012, Fourtakas
-   et al. 2019).
+   et al. 2019), -fs_delta_split (advance the term after each step by RKL2 super-time-stepping instead of in the
+   integrator's stages, so that its diffusivity does not limit the step: src/solver/split.c).
 */
 #include <flexslosh.h>
 
@@ -117,6 +118,10 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
                              "Correct the density difference by the hydrostatic one rho0 g.(x_j - x_i)/c0^2 instead of "
                              "the renormalized gradients",
                              "", ctx->hydrostatic, &ctx->hydrostatic, NULL));
+  PetscCall(PetscOptionsBool("-fs_delta_split",
+                             "Advance the density diffusion after each step by RKL2 super-time-stepping, not in the "
+                             "integrator's stages: its diffusivity then does not limit the time step",
+                             "FSSolverSplitStep", t->split, &t->split, NULL));
   PetscOptionsHeadEnd();
   PetscCheck(ctx->dmax == 0 || ctx->dmax >= ctx->dmin, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_delta_max %g is below -fs_delta_min %g: expected a cap above the floor", (double)ctx->dmax,
@@ -136,6 +141,8 @@ static PetscErrorCode View(FSTerm t, PetscViewer v)
   PetscCall(
       PetscViewerASCIIPrintf(v, "delta: density differences corrected by the %s\n",
                              ctx->hydrostatic ? "hydrostatic density difference" : "renormalized density gradients"));
+  if (t->split)
+    PetscCall(PetscViewerASCIIPrintf(v, "delta: advanced after each step by RKL2 super-time-stepping (split)\n"));
   PetscFunctionReturn(0);
 }
 
