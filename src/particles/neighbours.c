@@ -21,9 +21,9 @@
 PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n, const PetscReal rec[],
                                       PetscInt stride, PetscReal cellsize)
 {
-  PetscReal lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL},
-            hi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
-  PetscInt ncells = 1;
+  PetscReal lo[3]   = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL},
+            hi[3]   = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
+  PetscInt64 ncells = 1; /* a product of three counts up to 1e8: past PetscInt before the check below */
 
   PetscFunctionBegin;
   nb->dim      = dim;
@@ -48,11 +48,11 @@ PetscErrorCode FSNeighboursBuildCells(FSNeighbours *nb, PetscInt dim, PetscInt n
     ncells *= nb->nc[d];
   }
   PetscCheck(ncells < 400000000, PETSC_COMM_SELF, PETSC_ERR_MEM,
-             "Cell list of %" PetscInt_FMT " cells is too large: particles are spread too thinly", ncells);
-  nb->ncells = ncells;
+             "Cell list of %" PetscInt64_FMT " cells is too large: particles are spread too thinly", ncells);
+  nb->ncells = (PetscInt)ncells;
   if (ncells + 1 > nb->ccap) {
     PetscCall(PetscFree(nb->cellstart));
-    nb->ccap = PetscMax(ncells + 1, 2 * nb->ccap);
+    nb->ccap = (PetscInt)PetscMax(ncells + 1, 2 * (PetscInt64)nb->ccap);
     PetscCall(PetscMalloc1(nb->ccap, &nb->cellstart));
   }
   if (n > nb->ncap) {

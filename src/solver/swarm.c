@@ -243,8 +243,14 @@ PetscErrorCode FSSolverEnsureWork(FSSolver s, PetscInt n)
   PetscFunctionBegin;
   if (n <= s->pw.reccap) PetscFunctionReturn(0);
   {
-    PetscInt   cap = PetscMax(n, (PetscInt)(1.25 * s->pw.reccap));
-    PetscReal *rec, *aux, *vol, *p;
+    const PetscInt64 most = PETSC_MAX_INT / s->pw.stride - 1; /* the records are indexed p * stride in PetscInt */
+    PetscInt         cap;
+    PetscReal       *rec, *aux, *vol, *p;
+    PetscCheck(n <= most, PETSC_COMM_SELF, PETSC_ERR_SUP,
+               "%" PetscInt_FMT " particles with their ghosts on one rank are more than an index can count in their "
+               "records (%" PetscInt_FMT " reals each): use more ranks or a coarser -fs_dx",
+               n, s->pw.stride);
+    cap = (PetscInt)PetscMax(n, PetscMin(most, (PetscInt64)(1.25 * s->pw.reccap)));
     PetscCall(PetscCalloc4(cap * s->pw.stride, &rec, cap * s->pw.auxstride, &aux, cap, &vol, cap, &p));
     if (s->pw.rec) PetscCall(PetscArraycpy(rec, s->pw.rec, s->pw.reccap * s->pw.stride));
     PetscCall(PetscFree4(s->pw.rec, s->pw.aux, s->pw.vol, s->pw.pressure));

@@ -78,14 +78,3 @@ PetscErrorCode FSFileReadAll(FILE *fp, char **text, size_t *size)
   *size  = n;
   PetscFunctionReturn(0);
 }
-
-/*
-   FSMemoryTotal - the machine's physical memory in bytes (0 if unknown): the bound of the size checks
-   that stop a set-up whose arrays could never fit (a tank given in millimetres as metres) before it
-   allocates them, instead of swapping until the out-of-memory killer ends it.
-*/
-double FSMemoryTotal(void)
-{
-  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGE_SIZE);
-  return pages > 0 && page > 0 ? (double)pages * (double)page : 0;
-}

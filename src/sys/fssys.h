@@ -25,9 +25,18 @@ PETSC_INTERN PetscErrorCode FSRegistryNames(FSRegistry *, char[], size_t);
 PETSC_INTERN PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm, const char[], const char[], FILE **, PetscBool *,
                                                   const char **);
 
-/* the machine's physical memory in bytes, 0 if unknown (src/sys/files.c) */
+/* the whole of a file read into a string (src/sys/files.c) */
 PETSC_INTERN PetscErrorCode FSFileReadAll(FILE *, char **, size_t *);
+
+/* the size checks (src/sys/sizes.c): the memory this process may use in bytes (0 if unknown), a lattice's points,
+   and whether (and the check that) a count of particles fits in an index and the memory */
+#define FS_PARTICLE_BYTES 1024.0 /* a particle's memory at the least (a run takes 1.7 kB measured) */
+#define FS_PARTICLE_REALS 16     /* the reals per particle of a rank's widest array: its record, and room for ghosts */
+typedef enum { FS_SIZE_FITS, FS_SIZE_INDEX, FS_SIZE_MEMORY } FSSizeVerdict;
 PETSC_INTERN double         FSMemoryTotal(void);
+PETSC_INTERN double         FSLatticeCount(PetscInt, const PetscReal[], PetscReal);
+PETSC_INTERN FSSizeVerdict  FSParticleCountFits(double, PetscMPIInt, double, double *);
+PETSC_INTERN PetscErrorCode FSCheckParticleCount(MPI_Comm, PetscReal, double, const char[]);
 
 /* fault injection for the tests (src/sys/fault.c): FLEXSLOSH_FAULT=alloc|leak:RANK:STEP */
 PETSC_INTERN PetscErrorCode FSDebugFault(MPI_Comm, const char[], PetscInt, PetscBool *);

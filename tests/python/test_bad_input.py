@@ -1,9 +1,13 @@
 """Bad input gives a clean error that names the option and the value; blow-ups are detected."""
+import os
 import re
+import resource
+import subprocess
+import time
 
 import pytest
 
-from conftest import TG, assert_no_crash, petsc_error_message
+from conftest import MPI_ENV, REPO_ROOT, TG, assert_no_crash, flexslosh_bin, petsc_error_message
 
 # (arguments, regular expressions the PETSc error message must match)
 BAD = {
@@ -95,3 +99,38 @@ def test_blow_up_threshold_option(run, tmp_path):
     assert_no_crash(proc)
     msg = petsc_error_message(proc.stdout)
     assert re.search(r"above -fs_max_density_variation 0\.001 at step 0, time 0\b", msg), msg
+
+
+# ---- a -fs_dx that makes more particles than an index counts or the memory holds: a clean error before any
+# allocation (not a 32-bit overflow corrupting the heap, not minutes of allocating), under a 4 GB address-space limit
+# (ulimit -v) that the memory check honours, so that the verdict does not depend on the machine's memory
+
+TOO_FINE = {
+    # 4100 x 1024 x 1024 points: past 2^31 (the lattice's buffer size overflowed: "malloc(): corrupted top size")
+    "index": (["-fs_case", "tank", "-fs_dim", "3", "-fs_tank_length", "4.1", "-fs_tank_height", "2.048", "-fs_fill", "0.5",
+               "-fs_tank_width", "1.024", "-fs_dx", "0.001", "-ts_max_steps", "1"],
+              [r"-fs_dx 0\.001\b", r"4\.3e\+09 particles", r"more than an index can count", r"coarser -fs_dx"]),
+    # 2333 x 100 x 167 points, 39 GB at 1 kB a particle (it allocated for 43 s, then failed in DMSwarm)
+    "memory": (["-options_file", "cases/coupled_rectangular_3d.opts", "-fs_dx", "0.0003"],
+               [r"-fs_dx 0\.0003\b", r"3\.9e\+07 particles", r"\d GB", r"coarser -fs_dx or more ranks"]),
+}
+
+
+def _limit_memory():
+    resource.setrlimit(resource.RLIMIT_AS, (4000000 * 1024, 4000000 * 1024))
+
+
+@pytest.mark.parametrize("name", list(TOO_FINE))
+def test_too_fine_dx_is_a_clean_error(tmp_path, name):
+    args, patterns = TOO_FINE[name]
+    start = time.monotonic()
+    proc = subprocess.run([str(flexslosh_bin()), "-fs_progress", "0", "-fs_output_dir", str(tmp_path / "out")] + args,
+                          cwd=REPO_ROOT, env=dict(os.environ, **MPI_ENV), stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                          text=True, timeout=120, preexec_fn=_limit_memory)
+    elapsed = time.monotonic() - start
+    assert_no_crash(proc)
+    assert "corrupted" not in proc.stdout and "Out of memory" not in proc.stdout, proc.stdout[-3000:]
+    msg = petsc_error_message(proc.stdout)
+    for pat in patterns:
+        assert re.search(pat, msg), f"{pat!r} not in the error message:\n{msg}"
+    assert elapsed < 10, f"the error took {elapsed:.1f} s: the check must come before the allocations"

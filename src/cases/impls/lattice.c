@@ -2,6 +2,7 @@
    (so ids do not depend on the number of ranks). Used by the periodic cases. */
 #include <flexslosh.h>
 #include "lattice.h"
+#include "sys/fssys.h"
 
 /*
    FSLatticeCreate - the particles of this rank's chunk of the lattice (i + 1/2) dx in [lo, hi].
@@ -15,13 +16,20 @@ PetscErrorCode FSLatticeCreate(FSSolver s, const PetscReal lo[], const PetscReal
   PetscInt    dim, nc[3] = {1, 1, 1};
   PetscInt64  total = 1, first, last;
   PetscMPIInt rank, size;
-  PetscReal   dx;
+  PetscReal   dx, len[3];
+  char        region[128];
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetDimension(s, &dim));
   PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
+  for (PetscInt d = 0; d < dim; d++) len[d] = hi[d] - lo[d];
+  if (dim == 3)
+    PetscCall(PetscSNPrintf(region, sizeof(region), "The periodic box %g x %g x %g", (double)len[0], (double)len[1],
+                            (double)len[2]));
+  else PetscCall(PetscSNPrintf(region, sizeof(region), "The periodic box %g x %g", (double)len[0], (double)len[1]));
+  PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), dx, FSLatticeCount(dim, len, dx), region));
   for (PetscInt d = 0; d < dim; d++) {
     nc[d] = (PetscInt)PetscFloorReal((hi[d] - lo[d]) / dx + 0.5);
     PetscCheck(nc[d] >= 1, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
@@ -34,8 +42,6 @@ PetscErrorCode FSLatticeCreate(FSSolver s, const PetscReal lo[], const PetscReal
                (double)dx, (double)(hi[d] - lo[d]), d);
     total *= nc[d];
   }
-  PetscCheck(total < PETSC_MAX_INT, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
-             "-fs_dx %g gives %" PetscInt64_FMT " particles, too many", (double)dx, total);
   first = total * rank / size;
   last  = total * (rank + 1) / size;
   *n    = (PetscInt)(last - first);

@@ -53,33 +53,19 @@ PetscErrorCode FSCaseSetDomainAround(FSSolver s, PetscInt dim, const PetscReal l
   PetscFunctionReturn(0);
 }
 
-/*
-   The lattice's points in [x0, x1] x [y0, ysurf], counted in doubles before anything is allocated: a
-   region whose points overflow an index or whose particles could never fit in this machine's memory (at
-   1 kB a particle, below what a run takes: 1.7 kB measured) is an error naming the region, the walls
-   and -fs_dx (a tank in millimetres read as metres, a huge coordinate, a tiny -fs_dx), not a run that
-   swaps until the out-of-memory killer ends it.
-*/
+/* the lattice's points in [x0, x1] x [y0, ysurf] checked before anything is allocated (FSCheckParticleCount) */
 static PetscErrorCode LatticeSizeCheck(FSSolver s, const FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0,
                                        PetscReal ysurf, const char what[])
 {
-  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  PetscReal   dx;
-  PetscMPIInt size;
-  double      rx, ry, points, mem = FSMemoryTotal();
+  const PetscReal len[2] = {x1 - x0, ysurf - y0};
+  PetscReal       dx;
+  char            region[256 + FS_WALLS_WHERE_LEN];
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  rx     = PetscMax((x1 - x0) / dx + 0.5, 1);
-  ry     = PetscMax((ysurf - y0) / dx + 0.5, 1);
-  points = rx * ry;
-  PetscCheck(
-      points < PETSC_MAX_INT && (!mem || points / size * 1024 < mem), comm, PETSC_ERR_ARG_OUTOFRANGE,
-      "%s: the liquid region %g x %g (walls: %s) at -fs_dx %g needs up to %.3g particles, more than %s: check the "
-      "coordinates (in metres) and -fs_dx",
-      what, (double)(x1 - x0), (double)(ysurf - y0), w->npoly ? w->where[0] : "none", (double)dx, points,
-      points < PETSC_MAX_INT ? "the memory of this machine holds" : "an index can count");
+  PetscCall(PetscSNPrintf(region, sizeof(region), "%s: the liquid region %g x %g (walls: %s)", what, (double)len[0],
+                          (double)len[1], w->npoly ? w->where[0] : "none"));
+  PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), dx, FSLatticeCount(2, len, dx), region));
   PetscFunctionReturn(0);
 }
 
@@ -113,7 +99,8 @@ static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0,
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   PetscReal  *x, *u, *rho, *m, g[3], gmag, dx, rho0, c0;
-  PetscInt    nx, ny, n = 0, r0, r1, cap;
+  PetscInt    nx, ny, n = 0, r0, r1;
+  PetscInt64  cap;
   PetscReal   hy, *cross;
   PetscMPIInt rank, size;
 
@@ -129,10 +116,17 @@ static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0,
   PetscCheck(nx >= 1 && ny >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "%s: -fs_dx %g leaves no particle in the liquid region %g x %g", what, (double)dx, (double)(x1 - x0),
              (double)(ysurf - y0));
-  hy  = (ysurf - y0) / ny;
-  r0  = ny * rank / size;
-  r1  = ny * (rank + 1) / size;
-  cap = (r1 - r0) * (nx + w->nvert + 1) + 1; /* each interval holds at most its length / dx + 1/2 points */
+  hy = (ysurf - y0) / ny;
+  r0 = ny * rank / size;
+  r1 = ny * (rank + 1) / size;
+  /* a row's intervals hold at most their length / dx + 1/2 points each, and there are fewer of them than nvert
+     (the crossings) (and at most 2 nx + 1: each is at least dx / 2 long) */
+  cap = (PetscInt64)(r1 - r0) * (nx + 1 + PetscMin(w->nvert, nx + 1)) + 1;
+  PetscCheck(2 * cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "%s: -fs_dx %g: this rank's %" PetscInt64_FMT
+             " places for particles are more than an index can count: use "
+             "more ranks or a coarser -fs_dx",
+             what, (double)dx, cap);
   PetscCall(PetscMalloc5(2 * cap, &x, 2 * cap, &u, cap, &rho, cap, &m, w->nvert + 2, &cross));
   for (PetscInt b = r0; b < r1; b++) {
     const PetscReal yr = y0 + (b + 0.5) * hy;

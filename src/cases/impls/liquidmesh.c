@@ -3,6 +3,7 @@
 #include <flexslosh.h>
 #include "boundary/fsboundary.h"
 #include "liquid.h"
+#include "sys/fssys.h"
 
 /* the crossings of the line {y = yr, z = zr} with the mesh's triangles, sorted along x. The line is moved
    by a tiny irrational offset first so that it never passes exactly through an edge or a vertex (the
@@ -67,18 +68,36 @@ static PetscErrorCode MeshGive(FSSolver s, FSMesh *m)
   PetscFunctionReturn(0);
 }
 
+/* the lattice's points in lo..hi checked before anything is allocated (FSCheckParticleCount) */
+static PetscErrorCode MeshSizeCheck(FSSolver s, const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
+                                    const char what[])
+{
+  const PetscReal len[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+  PetscReal       dx;
+  char            region[256 + PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
+  PetscCall(PetscSNPrintf(region, sizeof(region), "%s: the liquid region %g x %g x %g (walls: %s)", what,
+                          (double)len[0], (double)len[1], (double)len[2], m->nwalls ? m->source[0] : "none"));
+  PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), dx, FSLatticeCount(3, len, dx), region));
+  PetscFunctionReturn(0);
+}
+
 /* this rank's rows of the lattice in the liquid region of m inside lo..hi (hi[1] the surface), added to the solver */
 static PetscErrorCode MeshLattice(FSSolver s, const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
                                   const char what[], FSCaseVelocityFn velocity, void *ctx)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   PetscReal  *x, *u, *rho, *mass, g[3], gmag, dx, rho0, c0, hy, hz, *cross;
-  PetscInt    ny, nz, n = 0, r0, r1, cap, nxmax;
+  PetscInt    ny, nz, n = 0, r0, r1, nxmax;
+  PetscInt64  cap;
   PetscMPIInt rank, size;
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, &dx, NULL, &rho0, &c0, NULL));
+  PetscCall(MeshSizeCheck(s, m, lo, hi, what)); /* before the counts are converted to PetscInt */
   gmag  = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
   ny    = (PetscInt)((hi[1] - lo[1]) / dx + 0.5);
   nz    = (PetscInt)((hi[2] - lo[2]) / dx + 0.5);
@@ -90,9 +109,16 @@ static PetscErrorCode MeshLattice(FSSolver s, const FSMesh *m, const PetscReal l
   hz = (hi[2] - lo[2]) / nz;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  r0  = (PetscInt)((PetscInt64)ny * nz * rank / size);
-  r1  = (PetscInt)((PetscInt64)ny * nz * (rank + 1) / size);
-  cap = (r1 - r0) * (nxmax + m->ntri) + 1;
+  r0 = (PetscInt)((PetscInt64)ny * nz * rank / size);
+  r1 = (PetscInt)((PetscInt64)ny * nz * (rank + 1) / size);
+  /* a row's intervals hold at most their length / dx + 1/2 points each, and there are fewer of them than ntri
+     (the crossings) (and at most 2 nxmax: each is at least dx / 2 long) */
+  cap = (PetscInt64)(r1 - r0) * (nxmax + PetscMin(m->ntri, nxmax)) + 1;
+  PetscCheck(3 * cap < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "%s: -fs_dx %g: this rank's %" PetscInt64_FMT
+             " places for particles are more than an index can count: use "
+             "more ranks or a coarser -fs_dx",
+             what, (double)dx, cap);
   PetscCall(PetscMalloc5(3 * cap, &x, 3 * cap, &u, cap, &rho, cap, &mass, m->ntri + 2, &cross));
   for (PetscInt row = r0; row < r1; row++) {
     const PetscReal yr = lo[1] + (row % ny + 0.5) * hy, zr = lo[2] + (row / ny + 0.5) * hz;
