@@ -67,6 +67,19 @@ static PetscErrorCode MeshGive(FSSolver s, FSMesh *m)
   PetscFunctionReturn(0);
 }
 
+/* the exact volume of the liquid of m in the box lo..hi and the integral over it of the hydrostatic density
+   rho0 (1 + |g| (hi[1] - y) / c0^2), the mass it should have (FSMeshLiquidBelow at hi[1] less that at lo[1]) */
+static void MeshExactMass(const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3], PetscReal rho0,
+                          PetscReal g_c02, PetscReal *vol, PetscReal *mass)
+{
+  PetscReal v1, q1, v0, q0;
+
+  FSMeshLiquidBelow(m, lo, hi, hi[1], &v1, &q1);
+  FSMeshLiquidBelow(m, lo, hi, lo[1], &v0, &q0);
+  *vol  = v1 - v0;
+  *mass = rho0 * (*vol + g_c02 * (q1 - q0 - (hi[1] - lo[1]) * v0));
+}
+
 /* this rank's rows of the lattice in the liquid region of m inside lo..hi (hi[1] the surface), added to the solver */
 static PetscErrorCode MeshLattice(FSSolver s, const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
                                   const char what[], FSCaseVelocityFn velocity, void *ctx)
@@ -120,6 +133,11 @@ static PetscErrorCode MeshLattice(FSSolver s, const FSMesh *m, const PetscReal l
         n++;
       }
     }
+  }
+  { /* the masses fitted to the exact volume */
+    PetscReal vol, exact;
+    MeshExactMass(m, lo, hi, rho0, gmag / (c0 * c0), &vol, &exact);
+    PetscCall(FSCaseFitLiquidMass(s, vol, exact, n, mass));
   }
   PetscCall(FSSolverAddParticles(s, n, x, u, rho, mass));
   PetscCall(PetscFree5(x, u, rho, mass, cross));
