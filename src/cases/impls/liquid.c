@@ -14,7 +14,8 @@ closest to dx that divides the depth, so the surface is at ysurf. Each row is cu
 spacing from the walls on both sides of every compartment (a lattice that left a gap at one wall would start the liquid
 sloshing). Points closer to a wall than half a spacing (the underside of a baffle, other shapes) are left out. The rows
 of the lattice are split over the ranks, so ids do not depend on the number of ranks. The walls are moved into the
-solver. what names the liquid region in the error messages.
+solver. what names the liquid region in the error messages. Where the lattice does not fit the region, the masses are
+scaled so that the liquid weighs the integral of rho over its exact area (FSCaseFitLiquidMass()).
 
    Collective
 

@@ -37,7 +37,9 @@ static PetscErrorCode RowCrossings(const FSMesh *m, PetscReal yr, PetscReal zr, 
    lattice that fits the region: rows along x at heights lo[1] + (j + 1/2) dx_y and depths
    lo[2] + (k + 1/2) dx_z, dx_y and dx_z the spacings closest to dx that divide the box, and along
    each row, each interval of liquid between walls with its own spacing dx_x closest to dx (the liquid
-   ends half a spacing from the walls). Points closer to a wall than half a spacing are left out.
+   ends half a spacing from the walls). Points closer to a wall than half a spacing are left out. The masses
+   rho dx_x dx_y dx_z are scaled to the liquid's exact volume where the lattice does not fit it
+   (FSCaseFitLiquidMass()).
    The rows are split over the ranks, so ids do not depend on the number of ranks. The mesh is moved
    into the solver; what names the liquid region in the error messages.
 
