@@ -234,6 +234,9 @@ PETSC_EXTERN PetscErrorCode FSSolverSetDomain(FSSolver, const PetscReal lo[], co
                                               const PetscBool periodic[]);
 PETSC_EXTERN PetscErrorCode FSSolverAddParticles(FSSolver, PetscInt n, const PetscReal x[], const PetscReal u[],
                                                  const PetscReal rho[], const PetscReal m[]);
+PETSC_EXTERN PetscErrorCode FSSolverAddLiquidVolume(FSSolver, PetscReal volume, PetscReal mass, PetscReal lattice_mass);
+PETSC_EXTERN PetscErrorCode FSSolverGetLiquidVolume(FSSolver, PetscReal *volume, PetscReal *mass,
+                                                    PetscReal *lattice_mass);
 PETSC_EXTERN PetscErrorCode FSSolverGetParameters(FSSolver, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0,
                                                   PetscReal *nu);
 PETSC_EXTERN PetscErrorCode FSSolverSetDefaultPhysics(FSSolver, PetscReal rho0, PetscReal c0, PetscReal nu,

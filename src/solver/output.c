@@ -482,6 +482,11 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(FSJSONWriteReal(js, "last_dt", dt));
   PetscCall(FSJSONWriteReal(js, "dx", s->opt.dx));
   PetscCall(FSJSONWriteReal(js, "h", s->opt.h));
+  if (s->liquid[0] > 0) { /* the liquid's exact volume and mass, and how far the lattice's mass was from it */
+    PetscCall(FSJSONWriteReal(js, "liquid_volume", s->liquid[0]));
+    PetscCall(FSJSONWriteReal(js, "liquid_mass", s->liquid[1]));
+    PetscCall(FSJSONWriteReal(js, "lattice_mass_ratio", s->liquid[2] / s->liquid[1]));
+  }
   PetscCall(FSJSONWriteReal(js, "wall_time", wall));
   PetscCall(FSJSONWriteReal(js, "particle_steps_per_second", wall > 0 ? (PetscReal)s->mon.particle_steps / wall : 0));
   PetscCall(FSJSONWriteInt(js, "rhs_evaluations", s->mon.nrhs));

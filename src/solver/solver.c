@@ -769,6 +769,12 @@ PetscErrorCode FSSolverView(FSSolver s, PetscViewer viewer)
   PetscCall(PetscViewerASCIIPrintf(viewer, ", periodic (%d, %d, %d), ranks grid %d x %d x %d\n", s->pw.periodic[0],
                                    s->pw.periodic[1], s->pw.periodic[2], s->pw.decomp.np[0], s->pw.decomp.np[1],
                                    s->pw.decomp.np[2]));
+  if (s->liquid[0] > 0)
+    PetscCall(PetscViewerASCIIPrintf(
+        viewer,
+        "liquid: volume %.10g (exact, from the walls), mass %.10g; the lattice's mass %.10g "
+        "(%.6f of it)\n",
+        (double)s->liquid[0], (double)s->liquid[1], (double)s->liquid[2], (double)(s->liquid[2] / s->liquid[1])));
   PetscCall(PetscViewerASCIIPrintf(viewer, "time step: CFL %g, viscous %g, force %g\n", (double)s->opt.cfl,
                                    (double)s->opt.cfl_visc, (double)s->opt.cfl_force));
   PetscCall(PetscViewerASCIIPrintf(viewer, "terms (%" PetscInt_FMT "):\n", s->terms.nterms));

@@ -249,6 +249,7 @@ struct _p_FSSolver {
   TS              ts;
   FSSolverState   state;
   FSMonitorData   mon;
+  PetscReal liquid[3]; /* the cases' liquid: its exact volume and mass, the lattice's mass (FSSolverAddLiquidVolume) */
 };
 
 /* solver pieces, one file each */

@@ -14,7 +14,8 @@ closest to dx that divides the depth, so the surface is at ysurf. Each row is cu
 spacing from the walls on both sides of every compartment (a lattice that left a gap at one wall would start the liquid
 sloshing). Points closer to a wall than half a spacing (the underside of a baffle, other shapes) are left out. The rows
 of the lattice are split over the ranks, so ids do not depend on the number of ranks. The walls are moved into the
-solver. what names the liquid region in the error messages.
+solver. what names the liquid region in the error messages. Where the lattice does not fit the region, the masses are
+scaled so that the liquid weighs the integral of rho over its exact area (FSCaseFitLiquidMass()).
 
    Collective
 
@@ -93,6 +94,43 @@ static PetscErrorCode PolygonGive(FSSolver s, FSWalls *w)
   PetscFunctionReturn(0);
 }
 
+/*
+   FSCaseFitLiquidMass - sets the masses m[0..n-1] of this rank's particles of one body of liquid so that their sum
+   over the ranks is mass, the integral of the initial density over the body's exact volume; records the body
+   (FSSolverAddLiquidVolume). Where the lattice's mass already equals mass to round-off (1e-9 relative: a body on a
+   lattice that fits it, a box along the axes), the lattice's masses are kept bit for bit; elsewhere (walls not along
+   the axes, points left out near a wall) every mass is scaled by the same factor, the density kept hydrostatic.
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseFitLiquidMass(FSSolver s, PetscReal volume, PetscReal mass, PetscInt n, PetscReal m[])
+{
+  PetscReal sum = 0;
+
+  PetscFunctionBegin;
+  for (PetscInt i = 0; i < n; i++) sum += m[i];
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPIU_REAL, MPIU_SUM, PetscObjectComm((PetscObject)s)));
+  if (sum > 0 && PetscAbsReal(sum - mass) > 1e-9 * mass)
+    for (PetscInt i = 0; i < n; i++) m[i] *= mass / sum;
+  PetscCall(FSSolverAddLiquidVolume(s, volume, mass, sum));
+  PetscFunctionReturn(0);
+}
+
+/* the exact area of the liquid of w in [x0, x1] x [y0, ysurf] and the integral over it of the hydrostatic density
+   rho0 (1 + |g| (ysurf - y) / c0^2), the mass it should have (FSWallsLiquidBelow at ysurf less that at y0) */
+static void PolygonExactMass(const FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf,
+                             PetscReal rho0, PetscReal g_c02, PetscReal *area, PetscReal *mass)
+{
+  PetscReal a1, q1, a0, q0;
+
+  FSWallsLiquidBelow(w, x0, x1, ysurf, &a1, &q1);
+  FSWallsLiquidBelow(w, x0, x1, y0, &a0, &q0);
+  *area = a1 - a0;
+  *mass = rho0 * (*area + g_c02 * (q1 - q0 - (ysurf - y0) * a0));
+}
+
 /* this rank's rows of the lattice in the liquid region of w inside [x0, x1] x [y0, ysurf], added to the solver */
 static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0,
                                      PetscReal ysurf, const char what[], FSCaseVelocityFn velocity, void *ctx)
@@ -162,6 +200,11 @@ static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0,
         n++;
       }
     }
+  }
+  { /* the masses fitted to the exact area */
+    PetscReal area, mass;
+    PolygonExactMass(w, x0, x1, y0, ysurf, rho0, gmag / (c0 * c0), &area, &mass);
+    PetscCall(FSCaseFitLiquidMass(s, area, mass, n, m));
   }
   PetscCall(FSSolverAddParticles(s, n, x, u, rho, m));
   PetscCall(PetscFree5(x, u, rho, m, cross));

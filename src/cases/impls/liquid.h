@@ -29,5 +29,8 @@ PETSC_INTERN PetscErrorCode FSCaseFillLiquidMeshBoxes(FSSolver, FSMesh *, PetscI
                                                       const char what[]);
 PETSC_INTERN PetscBool      FSSegmentEntersBox(const PetscReal p[], const PetscReal q[], const PetscReal lo[],
                                                const PetscReal hi[], PetscInt dim, PetscReal eps);
+/* the masses of this rank's particles of one body of liquid scaled so that they sum to mass over the ranks (unless
+   they do to round-off already), and the body recorded with its exact volume */
+PETSC_INTERN PetscErrorCode FSCaseFitLiquidMass(FSSolver, PetscReal volume, PetscReal mass, PetscInt n, PetscReal m[]);
 /* the domain: the walls' box with a margin of 4h */
 PETSC_INTERN PetscErrorCode FSCaseSetDomainAround(FSSolver, PetscInt dim, const PetscReal lo[], const PetscReal hi[]);

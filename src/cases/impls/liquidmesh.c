@@ -38,7 +38,9 @@ static PetscErrorCode RowCrossings(const FSMesh *m, PetscReal yr, PetscReal zr, 
    lattice that fits the region: rows along x at heights lo[1] + (j + 1/2) dx_y and depths
    lo[2] + (k + 1/2) dx_z, dx_y and dx_z the spacings closest to dx that divide the box, and along
    each row, each interval of liquid between walls with its own spacing dx_x closest to dx (the liquid
-   ends half a spacing from the walls). Points closer to a wall than half a spacing are left out.
+   ends half a spacing from the walls). Points closer to a wall than half a spacing are left out. The masses
+   rho dx_x dx_y dx_z are scaled to the liquid's exact volume where the lattice does not fit it
+   (FSCaseFitLiquidMass()).
    The rows are split over the ranks, so ids do not depend on the number of ranks. The mesh is moved
    into the solver; what names the liquid region in the error messages.
 
@@ -82,6 +84,19 @@ static PetscErrorCode MeshSizeCheck(FSSolver s, const FSMesh *m, const PetscReal
                           (double)len[0], (double)len[1], (double)len[2], m->nwalls ? m->source[0] : "none"));
   PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), dx, FSLatticeCount(3, len, dx), region));
   PetscFunctionReturn(0);
+}
+
+/* the exact volume of the liquid of m in the box lo..hi and the integral over it of the hydrostatic density
+   rho0 (1 + |g| (hi[1] - y) / c0^2), the mass it should have (FSMeshLiquidBelow at hi[1] less that at lo[1]) */
+static void MeshExactMass(const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3], PetscReal rho0,
+                          PetscReal g_c02, PetscReal *vol, PetscReal *mass)
+{
+  PetscReal v1, q1, v0, q0;
+
+  FSMeshLiquidBelow(m, lo, hi, hi[1], &v1, &q1);
+  FSMeshLiquidBelow(m, lo, hi, lo[1], &v0, &q0);
+  *vol  = v1 - v0;
+  *mass = rho0 * (*vol + g_c02 * (q1 - q0 - (hi[1] - lo[1]) * v0));
 }
 
 /* this rank's rows of the lattice in the liquid region of m inside lo..hi (hi[1] the surface), added to the solver */
@@ -146,6 +161,11 @@ static PetscErrorCode MeshLattice(FSSolver s, const FSMesh *m, const PetscReal l
         n++;
       }
     }
+  }
+  { /* the masses fitted to the exact volume */
+    PetscReal vol, exact;
+    MeshExactMass(m, lo, hi, rho0, gmag / (c0 * c0), &vol, &exact);
+    PetscCall(FSCaseFitLiquidMass(s, vol, exact, n, mass));
   }
   PetscCall(FSSolverAddParticles(s, n, x, u, rho, mass));
   PetscCall(PetscFree5(x, u, rho, mass, cross));

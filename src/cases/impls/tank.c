@@ -18,7 +18,8 @@
    The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5), or the boxes given by
    -fs_liquid_box xmin,xmax,ymin,ymax[,zmin,zmax][,...] (each box hydrostatic below its own top; a box
    outside the tank, crossed by a wall or overlapping another is an error), on a lattice of spacing
-   dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2. -fs_fill 0 is an empty
+   dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2 and masses that sum to its
+   integral over the liquid's exact volume (docs/walls.md). -fs_fill 0 is an empty
    tank: no particles and no walls, the structure alone (with -fs_beam_payload_mass all ballast), the
    0 % point of a fill sweep.
    Defaults: rho0 = 1000, c0 = 20 m/s and h/dx = 2 (seed), nu = 1e-6, g = 9.81 down, dx = H/30.

@@ -142,6 +142,33 @@ static PetscErrorCode BoxMesh(MPI_Comm comm, PetscReal L, PetscReal H, PetscReal
   PetscFunctionReturn(0);
 }
 
+/* FSMeshLiquidBelow against the volumes and moments by hand: the box tank whole and in a column, and the baffled
+   tank with free-standing baffles (obstacles) */
+static PetscErrorCode TestLiquidBelow(MPI_Comm comm)
+{
+  FSMesh          m;
+  const PetscReal all[2][3] = {{-1, 0, -1}, {1, 0, 1}}, col[2][3] = {{0.1, 0, 0.02}, {0.3, 0, 0.05}};
+  PetscReal       v, q, area2d, perimeter;
+
+  PetscFunctionBegin;
+  PetscCall(BoxMesh(comm, 0.7, 0.06, 0.1, &m));
+  FSMeshLiquidBelow(&m, all[0], all[1], 0.03, &v, &q);
+  TCHECK(Rel(v, 0.7 * 0.1 * 0.03) < 1e-14 && Rel(q, 0.7 * 0.1 * 0.03 * 0.015) < 1e-14, "box below 0.03: %g, %g",
+         (double)v, (double)q);
+  FSMeshLiquidBelow(&m, col[0], col[1], 0.03, &v, &q);
+  TCHECK(Rel(v, 0.2 * 0.03 * 0.03) < 1e-14 && Rel(q, 0.2 * 0.03 * 0.03 * 0.015) < 1e-14, "box's column: %g, %g",
+         (double)v, (double)q);
+  PetscCall(FSMeshDestroy(&m));
+  PetscCall(BaffledMesh(comm, 0.01, 0.04, 0.1, &m, &area2d, &perimeter));
+  PetscCall(FSMeshCheck(&m, comm));
+  FSMeshLiquidBelow(&m, all[0], all[1], 0.03, &v, &q);
+  TCHECK(Rel(v, 0.1 * (0.73 * 0.03 - 6 * 0.005 * 0.02)) < 1e-14 &&
+             Rel(q, 0.1 * (0.73 * 0.03 * 0.015 - 6 * 0.005 * 0.02 * 0.01)) < 1e-14,
+         "baffled tank below 0.03: %g, %g", (double)v, (double)q);
+  PetscCall(FSMeshDestroy(&m));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TestExtrude(MPI_Comm comm)
 {
   const PetscReal L = 0.7, H = 0.06, W = 0.1;
@@ -950,6 +977,7 @@ int main(int argc, char **argv)
   }
   PetscCallMPI(MPI_Bcast(dir, sizeof(dir), MPI_CHAR, 0, comm));
   PetscCall(TestExtrude(comm));
+  PetscCall(TestLiquidBelow(comm));
   PetscCall(TestRefine(comm));
   PetscCall(TestSolidAngle());
   PetscCall(TestDistance());

@@ -122,6 +122,42 @@ static PetscErrorCode TestBaffles(void)
   PetscFunctionReturn(0);
 }
 
+/* FSWallsLiquidBelow against the areas and moments by hand: the baffled tank with free-standing baffles (an
+   obstacle polygon each), whole and in a strip, below and above the baffles' tops, and a trapezoid whose side walls
+   lean outwards */
+static PetscErrorCode TestLiquidBelow(void)
+{
+  FSWalls         w;
+  const PetscReal trap[8] = {0, 0, 1, 0, 1.2, 1, -0.2, 1};
+  PetscReal       a, q;
+
+  PetscFunctionBegin;
+  PetscCall(FSWallsCreate(&w));
+  PetscCall(FSWallsBaffledTank(&w, PETSC_COMM_SELF, 7, 0.1, 0.005, 0.06, 0.01, 0.04));
+  PetscCall(FSWallsCheck(&w, PETSC_COMM_SELF));
+  FSWallsLiquidBelow(&w, 0, 0.73, 0.03, &a, &q);
+  CHECK(PetscAbsReal(a - (0.73 * 0.03 - 6 * 0.005 * 0.02)) < 1e-15 &&
+            PetscAbsReal(q - (0.73 * 0.03 * 0.015 - 6 * 0.005 * 0.02 * 0.01)) < 1e-15,
+        "baffled tank below 0.03: area %g, moment %g", (double)a, (double)q);
+  FSWallsLiquidBelow(&w, 0, 0.73, 0.055, &a, &q);
+  CHECK(PetscAbsReal(a - (0.73 * 0.055 - 6 * 0.005 * 0.04)) < 1e-15 &&
+            PetscAbsReal(q - (0.73 * 0.055 * 0.0275 - 6 * 0.005 * 0.04 * 0.025)) < 1e-15,
+        "baffled tank below 0.055: area %g, moment %g", (double)a, (double)q);
+  FSWallsLiquidBelow(&w, 0.05, 0.2, 0.03, &a, &q);
+  CHECK(PetscAbsReal(a - (0.15 * 0.03 - 0.005 * 0.02)) < 1e-15, "baffled tank in a strip: area %g", (double)a);
+  PetscCall(FSWallsDestroy(&w));
+  PetscCall(FSWallsCreate(&w));
+  PetscCall(FSWallsAddPolygon(&w, PETSC_COMM_SELF, "tank", 4, trap, "a trapezoid"));
+  PetscCall(FSWallsCheck(&w, PETSC_COMM_SELF));
+  FSWallsLiquidBelow(&w, -1, 2, 0.5, &a, &q); /* the width is 1 + 0.4 y */
+  CHECK(PetscAbsReal(a - 0.55) < 1e-15 && PetscAbsReal(q - (0.125 + 0.4 * (0.0625 - 0.125 / 3))) < 1e-15,
+        "trapezoid below 0.5: area %g, moment %g", (double)a, (double)q);
+  FSWallsLiquidBelow(&w, 0.5, 2, 0.5, &a, &q); /* its right half: 0.5 + 0.2 y */
+  CHECK(PetscAbsReal(a - 0.275) < 1e-15, "trapezoid's right half below 0.5: area %g", (double)a);
+  PetscCall(FSWallsDestroy(&w));
+  PetscFunctionReturn(0);
+}
+
 /*
    The parallel test: the 4-compartment baffled tank (free-standing baffles 5 mm thick, a 1 cm gap below
    them; walls "floor", "right", "left", "tank" (the lid) and "baffles", the floor and the baffles no-slip)
@@ -665,6 +701,7 @@ int main(int argc, char **argv)
     PetscCall(TestReference(0.5));
     PetscCall(TestGradient());
     PetscCall(TestBaffles());
+    PetscCall(TestLiquidBelow());
     PetscCall(TestErrors(dir));
     PetscCall(FSTestRemoveTree(dir));
   }

@@ -541,3 +541,42 @@ PetscBool FSWallsInLiquid(const FSWalls *w, const PetscReal x[], PetscReal margi
     if (InPolygon(w, p, x)) return PETSC_FALSE;
   return (PetscBool)(margin <= 0 || FSWallsDistance(w, x) >= margin);
 }
+
+/*
+   FSWallsLiquidBelow - the area of the liquid region of w (inside the container, outside the obstacles) in the
+   strip x0 <= x <= x1 below the level t, and its moment about the level, the integral of t - y over it: exact for
+   any polygons.
+
+   Not collective
+
+   Notes:
+   The divergence theorem with F = (0, y - t) (div F = 1) for the area and F = (0, -(y - t)^2 / 2) (div F = t - y)
+   for the moment: F vanishes on the line y = t and F . n on the strip's sides, so both are integrals over the
+   walls' edges clipped to the strip below t alone, the normal n pointing out of the liquid (for the edge p0 -> p1,
+   n ds = (dy, -dx): n_y ds = -dx).
+*/
+void FSWallsLiquidBelow(const FSWalls *w, PetscReal x0, PetscReal x1, PetscReal t, PetscReal *area, PetscReal *moment)
+{
+  *area   = 0;
+  *moment = 0;
+  for (PetscInt q = 0; q < w->npoly; q++)
+    for (PetscInt e = w->pstart[q]; e < w->pstart[q + 1]; e++) {
+      const PetscInt   f = e + 1 < w->pstart[q + 1] ? e + 1 : w->pstart[q];
+      const PetscReal *p = &w->vert[2 * e], d[2] = {w->vert[2 * f] - p[0], w->vert[2 * f + 1] - p[1]};
+      /* the edge p + s d, s in [s0, s1], clipped to x >= x0, x <= x1 and y <= t (Liang-Barsky) */
+      const PetscReal dir[3] = {-d[0], d[0], d[1]}, room[3] = {p[0] - x0, x1 - p[0], t - p[1]};
+      PetscReal       s0 = 0, s1 = 1, a, b, dxe;
+      for (PetscInt k = 0; k < 3 && s0 < s1; k++) {
+        if (dir[k] == 0) {
+          if (room[k] < 0) s1 = s0;
+        } else if (dir[k] > 0) s1 = PetscMin(s1, room[k] / dir[k]);
+        else s0 = PetscMax(s0, room[k] / dir[k]);
+      }
+      if (s0 >= s1) continue;
+      a   = p[1] + s0 * d[1] - t; /* y - t at the clipped ends */
+      b   = p[1] + s1 * d[1] - t;
+      dxe = (s1 - s0) * d[0];
+      *area -= dxe * 0.5 * (a + b);
+      *moment += 0.5 * dxe * (a * a + a * b + b * b) / 3;
+    }
+}

@@ -63,6 +63,9 @@ PETSC_INTERN PetscErrorCode FSWallsCheck(FSWalls *, MPI_Comm);
 PETSC_INTERN PetscErrorCode FSWallsDiscretize(FSWalls *, PetscReal dx);
 PETSC_INTERN PetscBool      FSWallsInLiquid(const FSWalls *, const PetscReal x[], PetscReal margin);
 PETSC_INTERN PetscReal      FSWallsDistance(const FSWalls *, const PetscReal x[]);
+/* the area of the liquid region in the strip x0..x1 below the level t, and the integral of t - y over it */
+PETSC_INTERN void FSWallsLiquidBelow(const FSWalls *, PetscReal x0, PetscReal x1, PetscReal t, PetscReal *area,
+                                     PetscReal *moment);
 
 /* Shepard factor from the walls alone (docs/boundary-integrals.md): gamma(x) and its gradient
    from the segments within the kernel support that face x. */

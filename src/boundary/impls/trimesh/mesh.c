@@ -1192,3 +1192,60 @@ PetscErrorCode FSMeshRefine(FSMesh *m, PetscReal hmax)
   PetscCall(PetscFree(split));
   PetscFunctionReturn(0);
 }
+
+/*
+   FSMeshLiquidBelow - the volume of the liquid region of the checked mesh m in the column lo[0] <= x <= hi[0],
+   lo[2] <= z <= hi[2] (lo[1], hi[1] unused) below the level y = t, and its moment about the level, the integral
+   of t - y over it: exact for any closed meshes.
+
+   Not collective
+
+   Notes:
+   The divergence theorem with F = (0, y - t, 0) (div F = 1) for the volume and F = (0, -(y - t)^2 / 2, 0)
+   (div F = t - y) for the moment: F vanishes on the plane y = t and F . n on the column's sides, so both are
+   integrals over the triangles clipped to the column below t alone (no cap), their normals pointing out of the
+   liquid (FSMeshCheck turns the obstacles so).
+
+.seealso: FSMeshCheck(), FSWallsLiquidBelow()
+*/
+void FSMeshLiquidBelow(const FSMesh *m, const PetscReal lo[], const PetscReal hi[], PetscReal t, PetscReal *vol,
+                       PetscReal *moment)
+{
+  *vol    = 0;
+  *moment = 0;
+  for (PetscInt tr = 0; tr < m->ntri; tr++) {
+    PetscReal p[2][10][3]; /* the polygon, clipped by one plane after the other (3 + 5 vertices at most) */
+    PetscInt  np = 3, cur = 0;
+    for (PetscInt k = 0; k < 3; k++)
+      for (PetscInt d = 0; d < 3; d++) p[0][k][d] = m->vert[3 * m->tri[3 * tr + k] + d];
+    /* the half-spaces x >= lo[0], x <= hi[0], z >= lo[2], z <= hi[2], y <= t: f(v) = sign (v[axis] - level) >= 0 */
+    for (PetscInt c = 0; c < 5 && np > 0; c++) {
+      const PetscInt  axis = c < 2 ? 0 : c < 4 ? 2 : 1;
+      const PetscReal sg = c % 2 || c == 4 ? -1 : 1, level = c == 4 ? t : c % 2 ? hi[axis] : lo[axis];
+      PetscInt        nq = 0;
+      for (PetscInt k = 0; k < np; k++) {
+        const PetscReal *a = p[cur][k], *b = p[cur][(k + 1) % np];
+        const PetscReal  fa = sg * (a[axis] - level), fb = sg * (b[axis] - level);
+        if (fa >= 0) {
+          for (PetscInt d = 0; d < 3; d++) p[1 - cur][nq][d] = a[d];
+          nq++;
+        }
+        if ((fa >= 0) != (fb >= 0)) {
+          const PetscReal s = fa / (fa - fb);
+          for (PetscInt d = 0; d < 3; d++) p[1 - cur][nq][d] = a[d] + s * (b[d] - a[d]);
+          p[1 - cur][nq++][axis] = level;
+        }
+      }
+      np  = nq;
+      cur = 1 - cur;
+    }
+    /* the fan of triangles of the clipped polygon: n_y dA is the y component of half the cross product */
+    for (PetscInt k = 1; k + 1 < np; k++) {
+      const PetscReal *a = p[cur][0], *b = p[cur][k], *c = p[cur][k + 1];
+      const PetscReal  ay = 0.5 * ((b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]));
+      const PetscReal  ya = a[1] - t, yb = b[1] - t, yc = c[1] - t;
+      *vol += ay * (ya + yb + yc) / 3;
+      *moment -= 0.5 * ay * (ya * ya + yb * yb + yc * yc + ya * yb + yb * yc + yc * ya) / 6;
+    }
+  }
+}

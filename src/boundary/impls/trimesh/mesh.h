@@ -79,6 +79,10 @@ PETSC_INTERN PetscErrorCode FSMeshRefine(FSMesh *, PetscReal hmax);
 PETSC_INTERN PetscBool FSMeshInLiquid(const FSMesh *, const PetscReal x[], PetscReal margin);
 /* distance from x to the nearest triangle of the input mesh */
 PETSC_INTERN PetscReal FSMeshDistance(const FSMesh *, const PetscReal x[]);
+/* the volume of the liquid region in the column lo..hi (x and z) below the level y = t, and the integral of
+   t - y over it */
+PETSC_INTERN void FSMeshLiquidBelow(const FSMesh *, const PetscReal lo[], const PetscReal hi[], PetscReal t,
+                                    PetscReal *vol, PetscReal *moment);
 
 /* geometry of one triangle given by its three vertices */
 /* squared distance from x to the triangle */
