@@ -21,6 +21,9 @@
                      gradient sum and the wall integral; in 3-D that restoring is weak for one particle of the
                      first row (docs/walls.md), and f_ik > 1 adds to it without changing a first row at rest
                      (which sits beyond the default d0). Faces turned away (d_ik <= 0) keep f_ik = 1.
+                     With -fs_walls_tension false an element pushes but never pulls: its share
+                     (f_ik p_i + p_k) W_ik s_k is taken as 0 where it is negative, so that a liquid in tension
+                     leaves the wall (as air entering under it lets a real liquid do) instead of hanging on it.
    wall_viscosity:   on no-slip walls (-fs_walls_noslip), the part of the laminar viscous sum
                      (viscosity.c, K nu rho0/rho_i sum_j Pi_ij grad W_ij V_j) that the support behind the
                      wall would give, filled with the velocity that is linear along the wall's normal,
@@ -77,6 +80,7 @@ FS_ALWAYS_INLINE PetscReal PlaneDistance(PetscInt D, const FSWallView *B, const 
 /* wall_pressure's options: the repulsion near contact (f_ik above) */
 typedef struct {
   PetscReal kappa, distance; /* distance in units of dx */
+  PetscBool tension;         /* -fs_walls_tension: the elements pull on a liquid in tension (the seed's form) */
 } WallPressure;
 
 FS_ALWAYS_INLINE void PressureD(PetscInt D, FSTerm t, const FSParticles *P, const FSWallView *B,
@@ -95,7 +99,8 @@ FS_ALWAYS_INLINE void PressureD(PetscInt D, FSTerm t, const FSParticles *P, cons
       const PetscReal dist = PlaneDistance(D, B, e, ri);
       if (dist > 0 && dist < d0) fi += kd * (d0 - dist); /* not through a face turned away */
     }
-    const PetscReal f = (fi * pi + B->pressure[k]) * nb->W[q] * e[A];
+    PetscReal f = (fi * pi + B->pressure[k]) * nb->W[q] * e[A];
+    if (!ctx->tension && f < 0) f = 0; /* a wall that pushes only */
     for (PetscInt d = 0; d < D; d++) acc[d] += f * e[N + d];
   }
   for (PetscInt d = 0; d < D; d++) {
@@ -282,6 +287,10 @@ static PetscErrorCode PressureSetFromOptions(FSTerm t, PetscOptionItems *PetscOp
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_walls_repulsion_distance",
                           "Distance d0 from an element's plane (in dx) within which -fs_walls_repulsion acts", "",
                           &ctx->distance, NULL, 0, 1, FS_RANGE_OPEN_LOWER));
+  PetscCall(PetscOptionsBool("-fs_walls_tension",
+                             "The walls pull on a liquid in tension (false: they push only, and a liquid whose "
+                             "pressure falls below zero leaves them)",
+                             "", ctx->tension, &ctx->tension, NULL));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }
@@ -294,6 +303,7 @@ static PetscErrorCode PressureView(FSTerm t, PetscViewer v)
   if (ctx->kappa > 0)
     PetscCall(PetscViewerASCIIPrintf(v, "wall_pressure: repulsion %g within %g dx of a wall\n", (double)ctx->kappa,
                                      (double)ctx->distance));
+  if (!ctx->tension) PetscCall(PetscViewerASCIIPrintf(v, "wall_pressure: the walls push only (no tension)\n"));
   PetscFunctionReturn(0);
 }
 
@@ -312,6 +322,7 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_WallPressure(FSTerm t)
   PetscCall(PetscNew(&ctx));
   ctx->kappa            = 0;
   ctx->distance         = 0.45;
+  ctx->tension          = PETSC_TRUE;
   t->data               = ctx;
   t->renormalized       = PETSC_TRUE;
   t->has_power          = PETSC_TRUE;
