@@ -277,10 +277,7 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
                                        PetscInt64 *npairs)
 {
   const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride;
-  PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * s->pw.scratchcap, *gw = r2 + s->pw.scratchcap,
-            *ri2 = gw + dim * s->pw.scratchcap;
-  PetscInt  *js  = s->pw.scratchj;
-  PetscInt64 np  = 0;
+  PetscInt64     np = 0;
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_PairPass, 0, 0, 0, 0));
@@ -289,15 +286,8 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
     FSNeighbourhood nb;
     FSCommProgress(k); /* the ghosts' first-pass fields and gamma, and the walls' sums, travel meanwhile */
     FSRate rate = {0, {0, 0, 0}, {0, 0, 0}};
-    nb.i        = i;
-    nb.n        = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, js, dx, r2, gw, ri2)
-                           : FSFillNeighbourhoodDim(s, 3, i, js, dx, r2, gw, ri2);
-    nb.j        = js;
+    FSSolverNeighbourhood(s, i, &nb);
     np += nb.n;
-    nb.dx    = dx;
-    nb.r2    = r2;
-    nb.rinv2 = ri2;
-    nb.gradW = gw;
     /* renormalized terms (boundary integrals) first: their sum is divided by gamma_i */
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];

@@ -387,3 +387,19 @@ FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscIn
     for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
   return n;
 }
+
+/* The neighbourhood of owned particle i in the solver's scratch (FSFillNeighbourhoodDim), for the terms' pair sums */
+FS_ALWAYS_INLINE void FSSolverNeighbourhood(const FSSolver s, PetscInt i, FSNeighbourhood *nb)
+{
+  const PetscInt dim = s->opt.dim, cap = s->pw.scratchcap;
+  PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * cap, *gw = r2 + cap, *ri2 = gw + dim * cap;
+
+  nb->i     = i;
+  nb->n     = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, s->pw.scratchj, dx, r2, gw, ri2)
+                       : FSFillNeighbourhoodDim(s, 3, i, s->pw.scratchj, dx, r2, gw, ri2);
+  nb->j     = s->pw.scratchj;
+  nb->dx    = dx;
+  nb->r2    = r2;
+  nb->rinv2 = ri2;
+  nb->gradW = gw;
+}

@@ -54,22 +54,10 @@ PetscInt FSRKL2Stages(PetscReal z)
 /* the split terms' drho/dt of the owned particles at the records' densities, into L */
 static void FSSplitRates(FSSolver s, const FSParticles *P, PetscReal *L)
 {
-  const PetscInt dim = s->opt.dim;
-  PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * s->pw.scratchcap, *gw = r2 + s->pw.scratchcap,
-            *ri2 = gw + dim * s->pw.scratchcap;
-  PetscInt *js   = s->pw.scratchj;
-
   for (PetscInt i = 0; i < s->pw.nowned; i++) {
     FSNeighbourhood nb;
     FSRate          rate = {0, {0, 0, 0}, {0, 0, 0}};
-    nb.i                 = i;
-    nb.n                 = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, js, dx, r2, gw, ri2)
-                                    : FSFillNeighbourhoodDim(s, 3, i, js, dx, r2, gw, ri2);
-    nb.j                 = js;
-    nb.dx                = dx;
-    nb.r2                = r2;
-    nb.rinv2             = ri2;
-    nb.gradW             = gw;
+    FSSolverNeighbourhood(s, i, &nb);
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
       if (term->split) term->ops.interact(term, P, &nb, &rate);
