@@ -140,9 +140,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.pair_visits    = 0;
   PetscCall(FSParallelStatsBegin(s));
   /* snapshots at multiples of the interval, also after a restart */
-  s->mon.next_output        = s->opt.output_interval > 0
-                                  ? (PetscFloorReal(t / s->opt.output_interval + 1e-9) + 1) * s->opt.output_interval
-                                  : PETSC_MAX_REAL;
+  s->mon.next_output        = FSNextOutputTime(t, s->opt.output_interval);
   s->mon.last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
   if (!s->opt.restart[0])
     PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
@@ -215,7 +213,7 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
   PetscCall(FSSolverProbesMonitor(s));
   if (s->opt.write_output && s->opt.output_interval > 0 && t >= s->mon.next_output - 1e-9 * s->opt.output_interval) {
     PetscCall(FSSolverWriteSnapshot(s));
-    while (s->mon.next_output <= t + 1e-9 * s->opt.output_interval) s->mon.next_output += s->opt.output_interval;
+    s->mon.next_output = FSNextOutputTime(t, s->opt.output_interval);
   }
   if (s->opt.write_output && s->opt.checkpoint_interval > 0 && step % s->opt.checkpoint_interval == 0)
     PetscCall(FSSolverWriteCheckpoint(s));

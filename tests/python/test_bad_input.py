@@ -29,6 +29,9 @@ BAD = {
     "delta_max_negative": (["-fs_delta_max", "-1"], [r"-fs_delta_max -1\b", "non-negative"]),
     "delta_max_below_min": (["-fs_delta_min", "0.2", "-fs_delta_max", "0.1"], [r"-fs_delta_max 0.1\b", r"below -fs_delta_min 0.2\b"]),
     "gravity_nan": (["-fs_gravity", "0,nan"], ["-fs_gravity", "component 1", "finite"]),
+    # snapshots 1e-20 s apart in a run to 1 s: the next snapshot's time was counted up to, forever (issue 34)
+    "output_interval_tiny": (["-fs_output_interval", "1e-20"],
+                             [r"-fs_output_interval 1e-20\b", r"at least 1e-12 of the final time -ts_max_time 1\b"]),
 }
 
 # the same for the wall cases' options (a coarse tank)
@@ -54,7 +57,8 @@ def test_bad_wall_option(run, tmp_path, name):
 @pytest.mark.parametrize("name", list(BAD))
 def test_bad_option(run, tmp_path, name):
     args, patterns = BAD[name]
-    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", tmp_path / "out"] + args, check=False)
+    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", tmp_path / "out"] + args, check=False,
+               timeout=60)  # each ends within a second: a bad option never hangs
     assert_no_crash(proc)
     msg = petsc_error_message(proc.stdout)
     assert msg, f"no PETSc error message in:\n{proc.stdout[-3000:]}"
