@@ -467,6 +467,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscCall(FSCaseRegisterAll());
   PetscCall(FSTermRegisterAll());
   PetscCall(FSStructureRegisterAll());
+  PetscCall(FSSolverCheckRanksAgree(s)); /* before any option steers a collective */
   PetscObjectOptionsBegin((PetscObject)s);
   PetscCall(FSSolverOptionsCase(s, PetscOptionsObject, terms, sizeof(terms)));
   PetscCall(FSSolverOptionsPhysics(s, PetscOptionsObject));

@@ -302,6 +302,7 @@ PETSC_INTERN PetscErrorCode FSParallelStatsSummary(FSSolver, FSJSON);
 PETSC_INTERN PetscErrorCode FSSolverWriteMemory(FSSolver, FSJSON, PetscReal peak);
 PETSC_INTERN PetscErrorCode FSSolverSetUpRecord(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCheckSetUp(FSSolver, const char[]);
+PETSC_INTERN PetscErrorCode FSSolverCheckRanksAgree(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesMonitor(FSSolver);

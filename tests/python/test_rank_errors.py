@@ -74,7 +74,34 @@ def test_a_wall_file_one_rank_cannot_open_ends_every_rank(tmp_path):
     assert "Cannot open the wall file" in petsc_error_message(proc.stdout), proc.stdout[-3000:]
 
 
+# ranks given different options (an MPMD launch): one set for rank 0, one for rank 1, and the error's words
+DIFFERENT = {
+    # it hung, or ended in MPI_ERR_TRUNCATE in the first migration (issue 34)
+    "dx": (["-fs_dx", "0.02"], ["-fs_dx", "0.04"], "-fs_dx is 0.02 on rank 0 and 0.04 on rank 1"),
+    # it ran, each rank with its own viscosity
+    "missing": (["-fs_dx", "0.05"], ["-fs_dx", "0.05", "-fs_nu", "0.001"], "-fs_nu is (not set) on rank 0 and 0.001 on rank 1"),
+    # the same value written differently, and the diagnostics of one process: no error
+    "same": (["-fs_dx", "0.05"], ["-fs_dx", "5e-2", "-info", ":sys"], None),
+}
+
+
+@pytest.mark.parametrize("name", list(DIFFERENT))
+def test_ranks_given_different_options_stop_naming_the_option(tmp_path, name):
+    first, second, words = DIFFERENT[name]
+    args = [flexslosh_bin(), "-fs_case", "taylor_green", "-ts_max_steps", "3", "-fs_progress", "0", "-fs_output_dir",
+            tmp_path / "o"]
+    proc = run_timed([mpirun_bin(), "--oversubscribe", "-n", 1] + args + first + [":", "-n", 1] + args + second, tmp_path)
+    if words is None:
+        assert proc.returncode == 0, proc.stdout[-3000:]
+        return
+    assert proc.returncode != 0
+    msg = petsc_error_message(proc.stdout)
+    assert "The ranks were given different options: " + words in msg, proc.stdout[-3000:]
+    assert "Every rank of a run must be given the same options" in msg
+
+
 SCRIPT = """
+import math
 import sys
 import flexslosh
 from flexslosh import Solver
