@@ -92,6 +92,51 @@ static inline PetscReal FSCompressibilityEnergy(PetscReal rho, PetscReal rho0, P
 }
 
 /*
+   The structure's energies at its state s->sy (rank 0; its ops.energy), checked: a value that is not finite
+   is an error naming the step, the time, the energy, the state and the likely cause, raised before the
+   row of energy.csv that would hold it is written.
+*/
+static PetscErrorCode FSSolverStructureEnergy(FSSolver s, PetscReal E[3])
+{
+  static const char *name[] = {"kinetic energy", "elastic energy", "damping power"};
+  FSStructure        st     = s->structure;
+  PetscReal          t, ymax = 0;
+  PetscInt           step, c = 0;
+  PetscBool          finite     = PETSC_TRUE, found;
+  char               state[256] = "", cause[512];
+
+  PetscFunctionBegin;
+  PetscCall((*st->ops.energy)(st, s->sy, E));
+  while (c < 3 && !PetscIsInfOrNanReal(E[c])) c++;
+  if (c == 3) PetscFunctionReturn(0);
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  for (PetscInt k = 0; k < st->ndof; k++) {
+    char v[32];
+    if (PetscIsInfOrNanReal(s->sy[k])) finite = PETSC_FALSE;
+    else ymax = PetscMax(ymax, PetscAbsReal(s->sy[k]));
+    if (k == 6) PetscCall(PetscStrlcat(state, ", ...", sizeof(state)));
+    if (k >= 6) continue;
+    PetscCall(PetscSNPrintf(v, sizeof(v), "%s%g", k ? ", " : "", (double)s->sy[k]));
+    PetscCall(PetscStrlcat(state, v, sizeof(state)));
+  }
+  PetscCall(FSSolverBlowUpCause(s, cause, sizeof(cause), &found));
+  if (!found && finite && ymax > 1e150) /* a square of it overflows */
+    PetscCall(PetscStrncpy(cause,
+                           "a state so large that its energies overflow: check the structure's options and its initial "
+                           "state (e.g. -fs_beam_preload)",
+                           sizeof(cause)));
+  else if (!found && finite)
+    PetscCall(PetscStrncpy(
+        cause, "the model's energy routine, which gives a value that is not finite for a finite state", sizeof(cause)));
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FP,
+          "The run blew up: the structure's energy is not finite: structure %s's %s is %s at step %" PetscInt_FMT
+          ", time %g (state: %s). Likely cause: %s",
+          st->name, name[c], PetscIsNanReal(E[c]) ? "NaN" : (E[c] > 0 ? "+Inf" : "-Inf"), step, (double)t, state,
+          cause);
+}
+
+/*
    The energies of the current state: the liquid's (every rank) and the structure's (rank 0):
    liq[FS_E_*], st[0..2] structure kinetic, potential, L_s . (d, theta). Collective.
 */
@@ -139,8 +184,7 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
   st[0] = st[1] = st[2] = 0;
   if (s->structure && s->structure->ndof && s->structure->ops.energy) {
     PetscReal E[3] = {0, 0, 0};
-    PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : (*s->structure->ops.energy)(s->structure, s->sy, E), "energy",
-                                           0, NULL));
+    PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : FSSolverStructureEnergy(s, E), "energy", 0, NULL));
     st[0] = E[0];
     st[1] = E[1];
   }

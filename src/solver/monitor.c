@@ -39,7 +39,7 @@ static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscRe
 
 static PetscErrorCode FSSolverAppendSeries(FSSolver s)
 {
-  PetscReal   vals[FS_MAX_COLUMNS], sums[5], umax = 0, t, dt;
+  PetscReal   vals[FS_MAX_COLUMNS], evals[FS_ENERGY_MAX_COLUMNS], sums[5], umax = 0, t, dt;
   PetscInt    k = 0, step;
   PetscMPIInt rank;
 
@@ -95,12 +95,19 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
     PetscCall(FSSolverStructureValues(s, &vals[k]));
     k += nc;
   }
+  /* energy.csv's row, the energy budget (src/solver/energy.c), first: its check of the structure's energy stops the
+     run before either row of the step is written */
+  if (s->mon.energyseries) PetscCall(FSSolverEnergyValues(s, evals));
   PetscCall(FSTimeSeriesAppend(s->mon.series, step, vals));
-  if (s->mon.energyseries) { /* energy.csv: the energy budget (src/coupling/energy.c) */
-    PetscCall(FSSolverEnergyValues(s, vals));
-    PetscCall(FSTimeSeriesAppend(s->mon.energyseries, step, vals));
-  }
+  if (s->mon.energyseries) PetscCall(FSTimeSeriesAppend(s->mon.energyseries, step, evals));
   PetscFunctionReturn(0);
+}
+
+/* the first multiple of the output interval after t (one within 1e-9 of the interval is t's), computed rather than
+   counted up to, so that no interval loops however small it is against t; none without an interval */
+static PetscReal FSNextOutputTime(PetscReal t, PetscReal interval)
+{
+  return interval > 0 ? (PetscFloorReal(t / interval + 1e-9) + 1) * interval : PETSC_MAX_REAL;
 }
 
 /*
@@ -133,9 +140,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.pair_visits    = 0;
   PetscCall(FSParallelStatsBegin(s));
   /* snapshots at multiples of the interval, also after a restart */
-  s->mon.next_output        = s->opt.output_interval > 0
-                                  ? (PetscFloorReal(t / s->opt.output_interval + 1e-9) + 1) * s->opt.output_interval
-                                  : PETSC_MAX_REAL;
+  s->mon.next_output        = FSNextOutputTime(t, s->opt.output_interval);
   s->mon.last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
   if (!s->opt.restart[0])
     PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
@@ -208,7 +213,7 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
   PetscCall(FSSolverProbesMonitor(s));
   if (s->opt.write_output && s->opt.output_interval > 0 && t >= s->mon.next_output - 1e-9 * s->opt.output_interval) {
     PetscCall(FSSolverWriteSnapshot(s));
-    while (s->mon.next_output <= t + 1e-9 * s->opt.output_interval) s->mon.next_output += s->opt.output_interval;
+    s->mon.next_output = FSNextOutputTime(t, s->opt.output_interval);
   }
   if (s->opt.write_output && s->opt.checkpoint_interval > 0 && step % s->opt.checkpoint_interval == 0)
     PetscCall(FSSolverWriteCheckpoint(s));

@@ -61,6 +61,14 @@ static const char *const FSSetUpCovered[] = {
     "fs_c0",        "fs_nu",   "fs_gravity", "fs_background_pressure", "fs_terms",
     "fs_structure", "ts_type", "ts_rk_type", "fs_tank_file",           "fs_tank_stl"};
 
+/* options that may differ between the ranks of one run: each process's own diagnostics (PETSc's profiles and
+   memory reports, -log_view, -memory_view, are collective: not these), and the files every rank reads, whose paths
+   may be a node's own (where they are read, a file some rank cannot open is an error) */
+static const char *const FSRankLocal[] = {"info*",       "history",      "malloc_debug",   "malloc_dump",
+                                          "malloc_test", "on_error_*",   "error_output_*", "no_signal_handler",
+                                          "fp_trap",     "objects_dump", "options_left",   "check_pointer_intensity",
+                                          "dll_append",  "fs_tank_file", "fs_tank_stl",    "fs_motion_*_file"};
+
 typedef struct {
   char  *text;
   size_t len, cap;
@@ -161,8 +169,22 @@ static PetscBool FSAllowedByUser(const char allow[], const char name[])
 
 static PetscErrorCode FSTextBcast(MPI_Comm, FSText *);
 
-/* the options of the database that define the run: "-name value" items of PetscOptionsGetAll() */
-static PetscErrorCode FSSetUpRecordOptions(FSText *t)
+/* whether an option is left out of the record of what defines the run: it may change on restart, or an item of
+   its own compares it */
+static PetscBool FSSkipForRestart(const char name[])
+{
+  return (PetscBool)(FSMatchAny(FSSetUpAllowedByDefault, PETSC_STATIC_ARRAY_LENGTH(FSSetUpAllowedByDefault), name) ||
+                     FSMatchAny(FSSetUpCovered, PETSC_STATIC_ARRAY_LENGTH(FSSetUpCovered), name));
+}
+
+/* whether an option is left out of the comparison between the ranks (FSRankLocal) */
+static PetscBool FSSkipForRanks(const char name[])
+{
+  return FSMatchAny(FSRankLocal, PETSC_STATIC_ARRAY_LENGTH(FSRankLocal), name);
+}
+
+/* the options of the database as "-name=value" items of PetscOptionsGetAll(), but those skip() leaves out */
+static PetscErrorCode FSRecordOptions(FSText *t, PetscBool (*skip)(const char[]))
 {
   char  *all, *tok, *save = NULL, name[256] = "";
   FSText value = {NULL, 0, 0};
@@ -172,9 +194,7 @@ static PetscErrorCode FSSetUpRecordOptions(FSText *t)
   for (tok = strtok_r(all, " ", &save);; tok = strtok_r(NULL, " ", &save)) {
     PetscBool isname = (PetscBool)(tok && tok[0] == '-' && (isalpha((unsigned char)tok[1]) || tok[1] == '_'));
     if ((isname || !tok) && name[0]) { /* the item before is complete */
-      if (!FSMatchAny(FSSetUpAllowedByDefault, PETSC_STATIC_ARRAY_LENGTH(FSSetUpAllowedByDefault), name) &&
-          !FSMatchAny(FSSetUpCovered, PETSC_STATIC_ARRAY_LENGTH(FSSetUpCovered), name))
-        PetscCall(FSTextItem(t, name, value.text ? value.text : ""));
+      if (!skip(name)) PetscCall(FSTextItem(t, name, value.text ? value.text : ""));
       name[0]   = 0;
       value.len = 0;
       if (value.text) value.text[0] = 0;
@@ -242,7 +262,7 @@ PetscErrorCode FSSolverSetUpRecord(FSSolver s)
       PetscCall(FSTextItem(&t, "-ts_rk_type", rk ? rk : ""));
     }
   }
-  PetscCall(FSSetUpRecordOptions(&t));
+  PetscCall(FSRecordOptions(&t, FSSkipForRestart));
   PetscCall(FSTextBcast(comm, &t)); /* rank 0's record */
   s->mon.setup = t.text;
   PetscFunctionReturn(0);
@@ -403,4 +423,134 @@ PetscErrorCode FSSolverCheckSetUp(FSSolver s, const char record[])
           " item(s) differ (the checkpoint's value -> this run's):\n%sRestart with the set-up that wrote it, or let "
           "these change with -fs_restart_allow_changes %s",
           s->opt.restart, ndiff, diff.text, list.text);
+}
+
+/* FNV-1a: a 64-bit hash of a text */
+static uint64_t FSTextHash(const char *text, size_t len)
+{
+  uint64_t h = 14695981039346656037ULL;
+
+  for (size_t k = 0; k < len; k++) {
+    h ^= (unsigned char)text[k];
+    h *= 1099511628211ULL;
+  }
+  return h;
+}
+
+/* the first item of record a that b lacks or (unless absent) holds with another value (NULL: none), and the number
+   of such items */
+static const char *FSRecordFirstDifference(const char a[], const char b[], PetscBool absent, PetscInt *ndiff)
+{
+  const char *first = NULL;
+
+  *ndiff = 0;
+  for (const char *l = a; l && *l; l = strchr(l, '\n') ? strchr(l, '\n') + 1 : NULL) {
+    size_t      nn = strcspn(l, "="), nb = 0;
+    const char *vb;
+    char        name[256];
+
+    if (l[nn] != '=' || nn >= sizeof(name)) continue;
+    memcpy(name, l, nn);
+    name[nn] = 0;
+    vb       = FSRecordFind(b, name, &nb);
+    if (vb && (absent || FSValuesEqual(l + nn + 1, strcspn(l + nn + 1, "\n"), vb, nb))) continue;
+    if (!first) first = l;
+    (*ndiff)++;
+  }
+  return first;
+}
+
+/* the value of the item at line l of a record, and the same item's in record b ("(not set)" where absent) */
+static void FSRecordItemValues(const char *l, const char b[], char name[256], char va[128], char vb[128])
+{
+  size_t      nn = PetscMin(strcspn(l, "="), 255), na = strcspn(l + nn + 1, "\n"), nb = 0;
+  const char *v;
+
+  memcpy(name, l, nn);
+  name[nn] = 0;
+  snprintf(va, 128, "%.*s", (int)PetscMin(na, 100), l + nn + 1);
+  v = FSRecordFind(b, name, &nb);
+  if (v) snprintf(vb, 128, "%.*s", (int)PetscMin(nb, 100), v);
+  else snprintf(vb, 128, "(not set)");
+}
+
+/*
+   FSSolverCheckRanksAgree - stops the run when its ranks were given different options (the command lines of an
+   MPMD launch, options files or PETSC_OPTIONS that differ between the ranks), which would otherwise leave them in
+   different collectives (a hang, or an MPI error far from the cause). Every rank hashes its options database
+   (PetscOptionsGetAll(), without each process's own diagnostics and the paths of the files every rank reads,
+   FSRankLocal); one MPI_Allreduce of the hash's largest and smallest value compares them. Only when they differ
+   rank 0 gathers the ranks' options and names the first option that differs, with both values.
+
+   Collective
+
+   Input Parameter:
+.  s - the solver, before it reads its options (FSSolverSetFromOptions())
+
+   Notes:
+   Values that differ as text but not as numbers or truth values (0.02 and 2e-2) are the same.
+
+.seealso: FSSolverSetFromOptions(), FSSolverCheckSetUp()
+*/
+PetscErrorCode FSSolverCheckRanksAgree(FSSolver s)
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  FSText      t    = {NULL, 0, 0};
+  PetscMPIInt size, rank, len, *lens = NULL, *displs = NULL;
+  uint64_t    h[2];
+  char       *all = NULL, verdict[1024] = "";
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (size == 1) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(FSRecordOptions(&t, FSSkipForRanks));
+  PetscCall(FSTextAppend(&t, "", 0)); /* a text, also without options */
+  h[0] = FSTextHash(t.text, t.len);
+  h[1] = ~h[0];
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, h, 2, MPI_UINT64_T, MPI_MAX, comm));
+  if (h[0] == ~h[1]) { /* the largest hash is the smallest: every rank's is the same */
+    PetscCall(PetscFree(t.text));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscMPIIntCast(t.len + 1, &len));
+  if (!rank) PetscCall(PetscMalloc2(size, &lens, size + 1, &displs));
+  PetscCallMPI(MPI_Gather(&len, 1, MPI_INT, lens, 1, MPI_INT, 0, comm));
+  if (!rank) {
+    displs[0] = 0;
+    for (PetscMPIInt r = 0; r < size; r++) displs[r + 1] = displs[r] + lens[r];
+    PetscCall(PetscMalloc1(displs[size], &all));
+  }
+  PetscCallMPI(MPI_Gatherv(t.text, len, MPI_CHAR, all, lens, displs, MPI_CHAR, 0, comm));
+  if (!rank) { /* the first rank whose options differ from rank 0's, and the first of them */
+    PetscInt nranks = 0, ndiff = 0;
+    char     first[768] = "";
+    for (PetscMPIInt r = 1; r < size; r++) {
+      const char *rec = all + displs[r], *l0, *l1;
+      PetscInt    n0, n1;
+      char        name[256], va[128], vb[128];
+      l0 = FSRecordFirstDifference(t.text, rec, PETSC_FALSE, &n0); /* rank 0's items that rank r lacks or differ */
+      l1 = FSRecordFirstDifference(rec, t.text, PETSC_TRUE, &n1);  /* rank r's items that rank 0 lacks */
+      if (!l0 && !l1) continue;                                    /* the same values, written differently */
+      if (!nranks++) {
+        if (l0) FSRecordItemValues(l0, rec, name, va, vb);
+        else FSRecordItemValues(l1, t.text, name, vb, va);
+        PetscCall(PetscSNPrintf(first, sizeof(first), "%s is %s on rank 0 and %s on rank %d", name, va, vb, r));
+        ndiff = n0 + n1;
+      }
+    }
+    if (nranks)
+      PetscCall(PetscSNPrintf(verdict, sizeof(verdict),
+                              "The ranks were given different options: %s (%" PetscInt_FMT
+                              " difference(s) with that rank; %" PetscInt_FMT
+                              " rank(s) differ from rank 0). Every rank of a run must be given the same options: "
+                              "check the command lines of an MPMD launch, the options files and PETSC_OPTIONS",
+                              first, ndiff, nranks));
+    PetscCall(PetscFree(all));
+    PetscCall(PetscFree2(lens, displs));
+  }
+  PetscCall(PetscFree(t.text));
+  PetscCallMPI(MPI_Bcast(verdict, (PetscMPIInt)sizeof(verdict), MPI_CHAR, 0, comm)); /* rank 0's, on every rank */
+  PetscCheck(!verdict[0], comm, PETSC_ERR_ARG_INCOMP, "%s", verdict);
+  PetscFunctionReturn(0);
 }

@@ -467,6 +467,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscCall(FSCaseRegisterAll());
   PetscCall(FSTermRegisterAll());
   PetscCall(FSStructureRegisterAll());
+  PetscCall(FSSolverCheckRanksAgree(s)); /* before any option steers a collective */
   PetscObjectOptionsBegin((PetscObject)s);
   PetscCall(FSSolverOptionsCase(s, PetscOptionsObject, terms, sizeof(terms)));
   PetscCall(FSSolverOptionsPhysics(s, PetscOptionsObject));
@@ -525,6 +526,15 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       FSTerm term = s->terms.term[t];
       if (term->dt_coefficient == 0) term->dt_coefficient = term->dt_coefficient_rk4;
     }
+  }
+  { /* the snapshots' times are multiples of the interval: more than 1e12 of them, the run's time cannot tell apart */
+    PetscReal tmax;
+    PetscCall(TSGetMaxTime(s->ts, &tmax));
+    PetscCheck(s->opt.output_interval == 0 || s->opt.output_interval >= 1e-12 * PetscAbsReal(tmax), comm,
+               PETSC_ERR_ARG_OUTOFRANGE,
+               "-fs_output_interval %g is too small for the run's time: expected 0 (the first and last snapshots only) "
+               "or at least 1e-12 of the final time -ts_max_time %g, that is %g",
+               (double)s->opt.output_interval, (double)tmax, (double)(1e-12 * PetscAbsReal(tmax)));
   }
   PetscFunctionReturn(0);
 }

@@ -274,6 +274,7 @@ PETSC_INTERN PetscErrorCode FSSolverMonitorBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverBlowUpCause(FSSolver, char[], size_t, PetscBool *);
 PETSC_INTERN PetscErrorCode FSSolverGetStepStart(FSSolver, Vec *);
 PETSC_INTERN PetscErrorCode FSSolverGetFreeStage(FSSolver, Vec *, PetscBool *later);
 #define FSTSRK4LEAN "rk4lean" /* classical RK4 in three vectors (tsrk4lean.c): the default integrator */
@@ -302,6 +303,7 @@ PETSC_INTERN PetscErrorCode FSParallelStatsSummary(FSSolver, FSJSON);
 PETSC_INTERN PetscErrorCode FSSolverWriteMemory(FSSolver, FSJSON, PetscReal peak);
 PETSC_INTERN PetscErrorCode FSSolverSetUpRecord(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCheckSetUp(FSSolver, const char[]);
+PETSC_INTERN PetscErrorCode FSSolverCheckRanksAgree(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesMonitor(FSSolver);
@@ -356,6 +358,7 @@ PETSC_INTERN PetscErrorCode FSSolverEnergyAddJump(FSSolver, const PetscReal[2]);
 PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverCouplingRates(FSSolver, PetscReal *f);
 PETSC_INTERN PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverGlobalDofName(FSSolver, PetscInt, char[], size_t);
 PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast, const PetscReal *u, PetscReal *f,
                                                    PetscErrorCode *rank0err);
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);

@@ -404,9 +404,60 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 }
 
 /*
-   FSSolverCheckState - stops the run on NaN, on a density blow-up (|rho/rho0 - 1| above
-   -fs_max_density_variation) and on particles that moved further since the lists were built than the
-   halo skin allows (half the skin), naming the step, time, particle and place.
+   FSSolverBlowUpCause - the likely cause of a value of the state or of the energies that is no longer
+   finite, for the messages: a time step too long for the structure (more than -fs_structure_cfl times its
+   shortest period: a -ts_dt given without particles, or an adaptive integrator's step), else the advice
+   for the particles or the structure.
+
+   Not collective
+
+   Input Parameters:
++  s   - the solver, after a step (or at the start of the run)
+-  len - the size of cause
+
+   Output Parameters:
++  cause - the text, e.g. "the time step 0.5 (-ts_dt) is 3.02 times the structure's shortest period ..."
+-  found - (may be NULL) whether the time step is the cause found (else cause is the general advice)
+
+.seealso: FSSolverCheckState()
+*/
+PetscErrorCode FSSolverBlowUpCause(FSSolver s, char cause[], size_t len, PetscBool *found)
+{
+  PetscReal t, tprev, dt, T = s->structure ? s->structure->min_period : 0;
+  PetscBool given;
+
+  PetscFunctionBegin;
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetPrevTime(s->ts, &tprev));
+  dt = t - tprev; /* the step just taken; before the first, the one proposed */
+  if (!(dt > 0)) PetscCall(TSGetTimeStep(s->ts, &dt));
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-ts_dt", &given));
+  if (found) *found = (PetscBool)(T > 0 && dt > s->opt.structure_cfl * T * (1 + 1e-9));
+  if (T > 0 && dt > s->opt.structure_cfl * T * (1 + 1e-9))
+    PetscCall(
+        PetscSNPrintf(cause, len,
+                      "the time step %g%s is %.3g times the structure's shortest period %g s, too long for it "
+                      "(an explicit integrator resolves it with steps of a small fraction of it: "
+                      "-fs_structure_cfl %g)%s",
+                      (double)dt, given ? " (-ts_dt)" : "", (double)(dt / T), (double)T, (double)s->opt.structure_cfl,
+                      given ? ": reduce -ts_dt, or leave it out to take -fs_structure_cfl times the period" : ""));
+  else if (s->pw.nglobal_particles > 0)
+    PetscCall(PetscSNPrintf(cause, len, "reduce -fs_cfl, or check the set-up (the structure's options, the loads)"));
+  else PetscCall(PetscSNPrintf(cause, len, "check the structure's model and options, or reduce the time step"));
+  PetscFunctionReturn(0);
+}
+
+/* what a value that is not finite is, for the messages */
+static const char *FSNonFiniteName(PetscReal v) { return PetscIsNanReal(v) ? "NaN" : (v > 0 ? "+Inf" : "-Inf"); }
+
+/*
+   FSSolverCheckState - stops the run on NaN or Inf in the state: in a particle, in the global DOFs
+   (the structure's DOFs, the dissipated energies, the energy block) or in the loads the structure
+   receives; on a density blow-up (|rho/rho0 - 1| above -fs_max_density_variation) and on particles
+   that moved further since the lists were built than the halo skin allows (half the skin). The
+   message names the step, the time, the particle and place or the quantity, and the likely cause.
+   Called after each step before its outputs (and at the start of the run), so that no row, snapshot
+   or checkpoint of a state that is not finite is written.
 
    Collective
 */
@@ -417,7 +468,7 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   const PetscScalar *u, *u0;
   Vec                U0;
   PetscInt          *id, bad = -1, kind = 0, step;
-  PetscReal          worst = 0, move = 0, t, glob[3], *xb;
+  PetscReal          worst = 0, move = 0, t, glob[5], *xb;
   PetscMPIInt        rank;
 
   PetscFunctionBegin;
@@ -449,7 +500,15 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   glob[0] = kind;
   glob[1] = worst;
   glob[2] = PetscSqrtReal(move);
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, glob, 3, MPIU_REAL, MPI_MAX, comm));
+  glob[3] = glob[4] = -1; /* rank 0: the first global DOF and the first load component that is not finite */
+  if (!rank) {
+    const PetscReal *L[2] = {s->loads.force, s->loads.moment};
+    for (PetscInt g = 0; g < s->state.nglobaldofs && glob[3] < 0; g++)
+      if (PetscIsInfOrNanReal(u[s->pw.nowned * US + g])) glob[3] = g;
+    for (PetscInt c = 0; c < 6 && glob[4] < 0; c++)
+      if (PetscIsInfOrNanReal(L[c / 3][c % 3])) glob[4] = c;
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, glob, 5, MPIU_REAL, MPI_MAX, comm));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
   if (bad >= 0) {
@@ -461,6 +520,30 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
                           (double)u0[bad * US], (double)u0[bad * US + 1], dim == 3 ? (double)u0[bad * US + 2] : 0.0,
                           (double)u[bad * US + 2 * dim], (double)s->opt.rho0));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
+  }
+  if (glob[0] != 1 && (glob[3] >= 0 || glob[4] >= 0)) { /* the quantity, its value and the likely cause */
+    static const char *load[] = {"force_x", "force_y", "force_z", "moment_x", "moment_y", "moment_z"};
+    const PetscInt     g      = (PetscInt)glob[3];
+    char               what[128], value[96] = "", cause[512];
+    PetscReal          v[2] = {0, 0};
+    if (g >= 0) {
+      PetscCall(FSSolverGlobalDofName(s, g, what, sizeof(what)));
+      if (!rank) { /* its value, and the value it had at the start of the step */
+        v[0] = u[s->pw.nowned * US + g];
+        v[1] = u0[s->pw.nowned * US + g];
+      }
+    } else {
+      PetscCall(PetscSNPrintf(what, sizeof(what), "the structure's load %s", load[(PetscInt)glob[4]]));
+      if (!rank) v[0] = glob[4] < 3 ? s->loads.force[(PetscInt)glob[4]] : s->loads.moment[(PetscInt)glob[4] - 3];
+    }
+    PetscCallMPI(MPI_Bcast(v, 2, MPIU_REAL, 0, comm));
+    if (g >= 0 && U0 != s->state.U)
+      PetscCall(PetscSNPrintf(value, sizeof(value), " (it was %g at the start of the step)", (double)v[1]));
+    PetscCall(FSSolverBlowUpCause(s, cause, sizeof(cause), NULL));
+    PetscCall(VecRestoreArrayRead(U0, &u0));
+    PetscCall(VecRestoreArrayRead(s->state.U, &u));
+    SETERRQ(comm, PETSC_ERR_FP, "The run blew up: %s is %s at step %" PetscInt_FMT ", time %g%s. Likely cause: %s",
+            what, FSNonFiniteName(v[0]), step, (double)t, value, cause);
   }
   PetscCall(VecRestoreArrayRead(U0, &u0));
   PetscCall(VecRestoreArrayRead(s->state.U, &u));

@@ -71,6 +71,47 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
 }
 
 /*
+   FSSolverGlobalDofName - what global DOF g of the state holds, in words, for the messages of the state's
+   checks: "the structure msd's DOF 0 (of 2)", "the dissipated energy of term delta (dissipated_delta)",
+   "the energy block's work_struct_damping".
+
+   Not collective
+
+   Input Parameters:
++  s   - the solver, set up
+.  g   - the global DOF (0 .. s->state.nglobaldofs - 1)
+-  len - the size of name
+
+   Output Parameter:
+.  name - the text
+
+.seealso: FSSolverSetUpGlobalBlocks(), FSSolverCheckState()
+*/
+PetscErrorCode FSSolverGlobalDofName(FSSolver s, PetscInt g, char name[], size_t len)
+{
+  static const char *energy[] = {"work_ext",          "work_relax",  "work_struct_damping",
+                                 "work_coupling",     "work_motion", "work_bounce",
+                                 "work_bounce_total", "E_liquid(0)", "E_total(0)"};
+
+  PetscFunctionBegin;
+  PetscCheck(PETSC_STATIC_ARRAY_LENGTH(energy) == FS_ENERGY_NDOF, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "The energy block's names do not match FS_ENERGY_NDOF");
+  if (g >= s->state.gstruct && g < s->state.gdiss)
+    PetscCall(PetscSNPrintf(name, len, "the structure %s's DOF %" PetscInt_FMT " (of %" PetscInt_FMT ")",
+                            s->structure->name, g - s->state.gstruct, s->state.gdiss - s->state.gstruct));
+  else if (g >= s->state.gdiss && g < s->state.gdiss + s->state.ndiss) {
+    PetscInt q = g - s->state.gdiss, t = 0; /* the q-th term with a power */
+    for (; t < s->terms.nterms; t++)
+      if (s->terms.term[t]->has_power && q-- == 0) break;
+    PetscCall(PetscSNPrintf(name, len, "the dissipated energy of term %s (dissipated_%s)", s->terms.term[t]->name,
+                            s->terms.term[t]->name));
+  } else if (g >= s->state.genergy && g < s->state.genergy + FS_ENERGY_NDOF)
+    PetscCall(PetscSNPrintf(name, len, "the energy block's %s", energy[g - s->state.genergy]));
+  else PetscCall(PetscSNPrintf(name, len, "global DOF %" PetscInt_FMT, g));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverStructureResultRank0 - a structure routine ran on rank 0 alone, returned ierr there and
    computed buf[0..n) (n <= FS_RANK0_MAX): one broadcast gives every rank buf and the error code, so
    that a failure (a Python structure's exception, a failed solve) stops the run everywhere instead of

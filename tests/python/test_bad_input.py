@@ -5,6 +5,8 @@ import resource
 import subprocess
 import time
 
+import h5py
+import numpy as np
 import pytest
 
 from conftest import MPI_ENV, REPO_ROOT, TG, assert_no_crash, flexslosh_bin, petsc_error_message
@@ -27,6 +29,9 @@ BAD = {
     "delta_max_negative": (["-fs_delta_max", "-1"], [r"-fs_delta_max -1\b", "non-negative"]),
     "delta_max_below_min": (["-fs_delta_min", "0.2", "-fs_delta_max", "0.1"], [r"-fs_delta_max 0.1\b", r"below -fs_delta_min 0.2\b"]),
     "gravity_nan": (["-fs_gravity", "0,nan"], ["-fs_gravity", "component 1", "finite"]),
+    # snapshots 1e-20 s apart in a run to 1 s: the next snapshot's time was counted up to, forever (issue 34)
+    "output_interval_tiny": (["-fs_output_interval", "1e-20"],
+                             [r"-fs_output_interval 1e-20\b", r"at least 1e-12 of the final time -ts_max_time 1\b"]),
 }
 
 # the same for the wall cases' options (a coarse tank)
@@ -52,7 +57,8 @@ def test_bad_wall_option(run, tmp_path, name):
 @pytest.mark.parametrize("name", list(BAD))
 def test_bad_option(run, tmp_path, name):
     args, patterns = BAD[name]
-    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", tmp_path / "out"] + args, check=False)
+    proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "2", "-fs_output_dir", tmp_path / "out"] + args, check=False,
+               timeout=60)  # each ends within a second: a bad option never hangs
     assert_no_crash(proc)
     msg = petsc_error_message(proc.stdout)
     assert msg, f"no PETSc error message in:\n{proc.stdout[-3000:]}"
@@ -90,6 +96,49 @@ def test_blow_up_is_detected(run, tmp_path, nranks):
     # the run stopped there: the time series ends before the blow-up step
     ts = (tmp_path / "out" / "timeseries.csv").read_text().strip().splitlines()
     assert int(ts[-1].split(",")[0]) == step - 1
+
+
+# ---- the global DOFs of the state (the structure's DOFs, the dissipated energies, the energy block) and the
+# structure's energy are checked too (issue 34): the dry msd beam (shortest period 0.166 s) at -ts_dt 0.5, three
+# times its period, blows up; it ran to the end before, 919 of its 1001 rows NaN or Inf
+
+BEAM = ["-options_file", REPO_ROOT / "cases" / "beam_free_decay_msd.opts", "-ts_dt", "0.5", "-ts_max_time", "500",
+        "-fs_output_interval", "0", "-fs_checkpoint_interval", "10"]
+NONFINITE = {
+    # the damping power c v^2 overflows first: the energy block's integral of it
+    "damping_work": ([], r"the energy block's work_struct_damping is -Inf at step 42, time 21\b"),
+    # undamped, a row every 1000 steps: the structure's DOF itself
+    "structure_dof": (["-fs_beam_damping", "0", "-fs_series_interval", "1000"],
+                      r"the structure msd's DOF 0 \(of 2\) is NaN at step 83, time 41\.5\b"),
+    # undamped, a row every step: the structure's energy, checked before energy.csv's row is written
+    "structure_energy": (["-fs_beam_damping", "0"],
+                         r"the structure's energy is not finite: structure msd's kinetic energy is \+Inf at step 42, "
+                         r"time 21\b"),
+}
+
+
+@pytest.mark.parametrize("name", list(NONFINITE))
+def test_structure_blow_up_is_detected(run, tmp_path, name):
+    args, pattern = NONFINITE[name]
+    out = tmp_path / "out"
+    proc = run(BEAM + args + ["-fs_output_dir", out], check=False, timeout=60)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert re.search(r"The run blew up: " + pattern, msg), msg
+    assert re.search(r"Likely cause: the time step 0\.5 \(-ts_dt\) is 3\.02 times the structure's shortest period "
+                     r"0\.1656\d* s.*reduce -ts_dt", msg), msg
+    step = int(re.search(r"at step (\d+)", pattern).group(1))
+    interval = 1000 if "-fs_series_interval" in args else 1
+    # nothing of that step written: every row finite up to the one before it, the checkpoints before it whole
+    for csv in ("timeseries.csv", "energy.csv"):
+        rows = np.loadtxt(out / csv, delimiter=",", skiprows=1, ndmin=2)
+        assert np.isfinite(rows).all(), csv
+        assert rows[-1, 0] == (step - 1) // interval * interval, csv
+    last = sorted(out.glob("checkpoint_*.h5"))[-1]
+    assert last.name == f"checkpoint_{(step - 1) // 10 * 10:06d}.h5"
+    with h5py.File(last, "r") as h5:
+        assert np.isfinite(h5["header/global"][...]).all()
+    assert not list(out.glob("*.tmp")) and not (out / "summary.json").exists()
 
 
 def test_blow_up_threshold_option(run, tmp_path):

@@ -7,6 +7,7 @@ import re
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from conftest import MPI_ENV, REPO_ROOT, build_dir, flexslosh_bin, mpirun_bin, petsc_error_message
@@ -73,7 +74,34 @@ def test_a_wall_file_one_rank_cannot_open_ends_every_rank(tmp_path):
     assert "Cannot open the wall file" in petsc_error_message(proc.stdout), proc.stdout[-3000:]
 
 
+# ranks given different options (an MPMD launch): one set for rank 0, one for rank 1, and the error's words
+DIFFERENT = {
+    # it hung, or ended in MPI_ERR_TRUNCATE in the first migration (issue 34)
+    "dx": (["-fs_dx", "0.02"], ["-fs_dx", "0.04"], "-fs_dx is 0.02 on rank 0 and 0.04 on rank 1"),
+    # it ran, each rank with its own viscosity
+    "missing": (["-fs_dx", "0.05"], ["-fs_dx", "0.05", "-fs_nu", "0.001"], "-fs_nu is (not set) on rank 0 and 0.001 on rank 1"),
+    # the same value written differently, and the diagnostics of one process: no error
+    "same": (["-fs_dx", "0.05"], ["-fs_dx", "5e-2", "-info", ":sys"], None),
+}
+
+
+@pytest.mark.parametrize("name", list(DIFFERENT))
+def test_ranks_given_different_options_stop_naming_the_option(tmp_path, name):
+    first, second, words = DIFFERENT[name]
+    args = [flexslosh_bin(), "-fs_case", "taylor_green", "-ts_max_steps", "3", "-fs_progress", "0", "-fs_output_dir",
+            tmp_path / "o"]
+    proc = run_timed([mpirun_bin(), "--oversubscribe", "-n", 1] + args + first + [":", "-n", 1] + args + second, tmp_path)
+    if words is None:
+        assert proc.returncode == 0, proc.stdout[-3000:]
+        return
+    assert proc.returncode != 0
+    msg = petsc_error_message(proc.stdout)
+    assert "The ranks were given different options: " + words in msg, proc.stdout[-3000:]
+    assert "Every rank of a run must be given the same options" in msg
+
+
 SCRIPT = """
+import math
 import sys
 import flexslosh
 from flexslosh import Solver
@@ -88,15 +116,27 @@ class Breaking(flexslosh.structure.MassSpringDamper):
         return super().rhs(t, y, loads)
 
 
+class NaNEnergy(flexslosh.structure.MassSpringDamper):
+    calls = 0
+
+    def energy(self, y):
+        self.calls += 1  # the kinetic energy NaN from the 50th call (rank 0), about the 10th step
+        e = super().energy(y)
+        return (math.nan if self.calls >= 50 else e[0], e[1], e[2])
+
+
 flexslosh.register_structure("pybreak", Breaking)
+flexslosh.register_structure("pynan", NaNEnergy)
 options = {"fs_output": False, "fs_progress": False, "fs_dx": 0.01, "ts_max_steps": 200}
 if sys.argv[1] == "structure":
     options["fs_structure"] = "pybreak"
+if sys.argv[1] == "energy":  # energy.csv's values are checked, its structure's energy with them
+    options.update(fs_structure="pynan", fs_output=True, fs_output_dir=sys.argv[3])
 try:
     with Solver(options, options_file=sys.argv[2]) as s:
         s.run()
 except FlexsloshError as e:
-    if sys.argv[1] != "structure":
+    if sys.argv[1] not in ("structure", "energy"):
         raise  # uncaught on this rank only: flexslosh ends every rank
     print(f"rank {MPI.COMM_WORLD.Get_rank()} caught: {str(e).splitlines()[0]}", flush=True)
 """
@@ -106,7 +146,7 @@ def run_script(tmp_path, nranks, mode, fault=None):
     script = tmp_path / "script.py"
     script.write_text(SCRIPT)
     return run_timed([mpirun_bin(), "--oversubscribe", "-n", nranks, sys.executable, script, mode,
-                      REPO_ROOT / "cases" / "coupled_rectangular.opts"], tmp_path, fault)
+                      REPO_ROOT / "cases" / "coupled_rectangular.opts", tmp_path / "o"], tmp_path, fault)
 
 
 def test_a_python_structure_failing_on_rank_0_reaches_every_rank(tmp_path):
@@ -114,6 +154,20 @@ def test_a_python_structure_failing_on_rank_0_reaches_every_rank(tmp_path):
     assert proc.returncode == 0, proc.stdout[-3000:]
     for r in range(3):
         assert f"rank {r} caught: FSSolverSolve: Structure pybreak" in proc.stdout and "the spring broke" in proc.stdout
+
+
+@pytest.mark.parametrize("nranks", [1, 2])
+def test_a_python_structure_energy_not_finite_stops_every_rank(tmp_path, nranks):
+    # issue 34: energy.csv took the NaN and the run went on; now the run stops before the row is written
+    proc = run_script(tmp_path, nranks, "energy")
+    assert proc.returncode == 0, proc.stdout[-3000:]
+    for r in range(nranks):
+        m = re.search(rf"rank {r} caught: FSSolverSolve: .*The run blew up: the structure's energy is not finite: structure "
+                      r"pynan's kinetic energy is NaN at step (\d+), time [0-9.e-]+ \(state: [-0-9.e, ]+\)\. "
+                      r"Likely cause: the model's energy routine", proc.stdout)
+        assert m, proc.stdout[-3000:]
+    energy = np.loadtxt(tmp_path / "o" / "energy.csv", delimiter=",", skiprows=1, ndmin=2)
+    assert np.isfinite(energy).all() and energy[-1, 0] == int(m.group(1)) - 1
 
 
 @pytest.mark.parametrize("nranks", [2, 3])
