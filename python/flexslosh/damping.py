@@ -15,7 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Peaks", "CycleDamping", "Envelope", "find_peaks", "damping_per_cycle", "fit_envelope", "write_damping_csv"]
+__all__ = ["Peaks", "CycleDamping", "Envelope", "find_peaks", "damping_per_cycle", "fit_envelope", "write_damping_csv",
+           "SEED_BANDS", "band_damping", "Convergence", "convergence"]
 
 
 @dataclass
@@ -234,3 +235,53 @@ def write_damping_csv(path: str, cycles: CycleDamping) -> None:
     tmp = f"{path}.tmp"
     np.savetxt(tmp, cycles.as_array(), delimiter=",", header="time,amplitude,period,delta,zeta", comments="", fmt="%.10g")
     os.replace(tmp, path)
+
+
+#: The amplitude bands (m, from the largest) over which the seed's damping per cycle is averaged
+#: (docs/seed-experiment.md): the first slams, the sloshing, the decay towards the structure's own damping.
+SEED_BANDS: tuple[tuple[float, float], ...] = ((0.040, 0.025), (0.025, 0.015), (0.015, 0.010), (0.010, 0.006),
+                                               (0.006, 0.004), (0.004, 0.0025))
+
+
+def band_damping(cycles: CycleDamping, bands: tuple[tuple[float, float], ...] = SEED_BANDS) -> np.ndarray:
+    """The mean damping ratio of the cycles whose amplitude lies in each band (hi >= A > lo); NaN for an empty band."""
+    out = np.full(len(bands), np.nan)
+    for k, (hi, lo) in enumerate(bands):
+        m = (cycles.amplitude <= hi) & (cycles.amplitude > lo)
+        if np.any(m):
+            out[k] = float(np.mean(cycles.zeta[m]))
+    return out
+
+
+@dataclass
+class Convergence:
+    """A quantity at three resolutions refined by a constant ratio r (coarse, medium, fine), per component.
+
+    Attributes:
+        order: the observed order p = ln(|f1 - f2| / |f2 - f3|) / ln r (NaN where the changes do not shrink
+            monotonically: the sequence is then not in its asymptotic range).
+        extrapolated: Richardson's estimate f3 + (f3 - f2) / (r^p - 1) (NaN with the order).
+        uncertainty: 1.25 |f3 - f2| / (r^p - 1), Roache's grid convergence index with its safety factor
+            (NaN with the order).
+        change: |f3 - f2|, the change between the two finest.
+    """
+
+    order: np.ndarray
+    extrapolated: np.ndarray
+    uncertainty: np.ndarray
+    change: np.ndarray
+
+
+def convergence(f1: np.ndarray, f2: np.ndarray, f3: np.ndarray, ratio: float = 2.0) -> Convergence:
+    """The observed order of convergence, Richardson's extrapolation and its uncertainty from values at three
+    resolutions (each refined by ``ratio``), component by component; see :class:`Convergence`."""
+    f1, f2, f3 = (np.atleast_1d(np.asarray(f, dtype=float)) for f in (f1, f2, f3))
+    d21, d32 = f2 - f1, f3 - f2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        monotone = (d21 * d32 > 0) & (np.abs(d32) < np.abs(d21))
+        p = np.where(monotone, np.log(np.abs(d21 / d32)) / np.log(ratio), np.nan)
+        denom = ratio**p - 1
+        ext = np.where(monotone, f3 + d32 / denom, np.nan)
+        unc = np.where(monotone, 1.25 * np.abs(d32) / denom, np.nan)
+    return Convergence(p, ext, unc, np.abs(d32))
+

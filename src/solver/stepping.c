@@ -621,8 +621,8 @@ PetscErrorCode FSSolverStep(FSSolver s)
              "The time integrator failed at step %" PetscInt_FMT ": %s", step, TSConvergedReasons[reason]);
   s->mon.particle_steps += s->pw.nglobal_particles;
   s->mon.steps_taken++;
+  PetscCall(FSSolverSplitStep(s, dt)); /* the split terms' diffusion over the step (-fs_delta_split), then the checks */
   PetscCall(FSSolverCheckState(s));
-  PetscCall(FSSolverSplitStep(s, dt)); /* the split terms' diffusion over the step (-fs_delta_split) */
   PetscCall(FSSolverUnpackState(s));
   PetscCall(FSSolverBoundaryBounce(s, ejump, &bounced)); /* with the bounces' energy changes, for the energy budget */
   PetscCall(FSSolverRebuildNeeded(s, &rebuild, &sort));

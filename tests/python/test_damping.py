@@ -79,3 +79,26 @@ def test_nonuniform_steps():
     c = damping_per_cycle(t, y)
     assert len(c.zeta) == 6  # peaks at 0, 1/6, ..., 1 s; the lobe cut by the end at 1.2 s is dropped
     assert np.allclose(c.zeta[1:], 0.015, rtol=2e-3)
+
+
+def test_convergence_recovers_order_and_limit():
+    # f(dx) = f0 + C dx^p at dx = 4, 2, 1 (ratio 2): the observed order p and Richardson's limit f0 exactly;
+    # changes that grow, or change sign, are outside the asymptotic range: NaN
+    from flexslosh.damping import convergence
+    f0, C, p = np.array([3.0, 2.0]), np.array([0.5, -0.2]), np.array([2.0, 1.0])
+    f = [f0 + C * dx**p for dx in (4.0, 2.0, 1.0)]
+    c = convergence(*f)
+    assert np.allclose(c.order, p) and np.allclose(c.extrapolated, f0)
+    assert np.allclose(c.change, np.abs(f[2] - f[1]))
+    assert np.allclose(c.uncertainty, 1.25 * np.abs(f[2] - f0))
+    bad = convergence([1.0, 1.0], [2.0, 0.5], [4.0, 0.7])
+    assert np.all(np.isnan(bad.order)) and np.all(np.isnan(bad.extrapolated))
+
+
+def test_band_damping():
+    from flexslosh.damping import SEED_BANDS, CycleDamping, band_damping
+    a = np.array([0.039, 0.030, 0.020, 0.012, 0.011, 0.003])
+    z = np.array([0.02, 0.04, 0.05, 0.03, 0.01, 0.02])
+    c = CycleDamping(np.arange(6.0), a, np.ones(6), z, z)
+    b = band_damping(c, SEED_BANDS)
+    assert np.allclose(b[[0, 1, 2, 5]], [0.03, 0.05, 0.02, 0.02]) and np.all(np.isnan(b[[3, 4]]))

@@ -116,3 +116,22 @@ def test_reuse(tmp_path, capsys):
     assert validate.main(common + ["--reuse"]) == 0
     assert capsys.readouterr().out.count(": reused (") == len(records) - 1
     assert json.loads(records[0].read_text())["command"] != changed["command"]
+
+
+def test_an_interrupted_run_continues_from_its_checkpoint(tmp_path, capsys):
+    # Context.run(checkpoints=N): a run whose folder holds its start record and checkpoints but no finish record
+    # (interrupted) continues from its newest checkpoint, and ends as the uninterrupted run did (bitwise: same ranks)
+    ctx = validate.Context(exe=build_dir() / "flexslosh", work=tmp_path, out=tmp_path)
+    args = ["-options_file", REPO_ROOT / "cases" / "taylor_green.opts", "-fs_dx", 0.05, "-ts_max_steps", 25,
+            "-fs_output_interval", 0]
+    ctx.run("tg", "a", args, [], checkpoints=10)
+    folder = tmp_path / "tg" / "a"
+    whole = (folder / "timeseries.csv").read_text()
+    assert sorted(p.name for p in folder.glob("checkpoint_*.h5")) == ["checkpoint_000010.h5", "checkpoint_000020.h5"]
+    (folder / "validate_run.json").unlink()  # interrupted after step 20's checkpoint was lost, at step 15 or so
+    (folder / "checkpoint_000020.h5").unlink()
+    runs = []
+    ctx.run("tg", "a", args, runs, checkpoints=10)
+    assert "continuing from checkpoint_000010.h5" in capsys.readouterr().out
+    assert (folder / "timeseries.csv").read_text() == whole
+    assert json.loads((folder / "validate_run.json").read_text())["wall"] >= runs[0].wall > 0
