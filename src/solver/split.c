@@ -99,7 +99,7 @@ PetscErrorCode FSSolverSplitStep(FSSolver s, PetscReal dt)
   PetscFunctionBegin;
   for (PetscInt t = 0; t < s->terms.nterms; t++)
     if (s->terms.term[t]->split) split = s->terms.term[t];
-  if (!split || dt <= 0) PetscFunctionReturn(0);
+  if (!split || dt <= 0 || s->pw.nglobal_particles == 0) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(FS_Split, 0, 0, 0, 0));
   s->state.evaluated = PETSC_FALSE; /* the work arrays will hold the split stages, not an evaluation at U */
   PetscCall(VecGetArray(s->state.U, &u));
