@@ -112,7 +112,7 @@ static PetscReal FSNextOutputTime(PetscReal t, PetscReal interval)
 
 /*
    FSSolverMonitorBegin - opens the output (directory, walls.h5 + walls.xdmf, time series, snapshots) and records the
-   initial state. Called by FSSolverSolve, or by the first FSSolverStep.
+   initial state. Called by FSSolverSolve, or by the first FSSolverStep before its step.
 */
 PetscErrorCode FSSolverMonitorBegin(FSSolver s)
 {

@@ -566,7 +566,8 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
 /*
    FSSolverStep - advances the run by one time step of the stable size (or less, to land on the
    final time), then, when the lists must be rebuilt (FSSolverRebuildNeeded), migrates, reorders and
-   repacks the particles and rebuilds the lists; else repacks them in place.
+   repacks the particles and rebuilds the lists; else repacks them in place. The first step of a run opens its
+   output with the state before it (FSSolverMonitorBegin: step 0), as FSSolverSolve does.
 
    Collective
 */
@@ -583,6 +584,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscFunctionBegin;
   s->state.evaluated = PETSC_FALSE; /* the step changes the state */
   PetscCall(FSSolverSetUp(s));
+  if (!s->mon.monitoring) PetscCall(FSSolverMonitorBegin(s)); /* the output's step 0 is the state before this step */
   FSParallelStatsStepBegin(s);
   PetscCall(PetscLogEventBegin(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverComputeStableDt(s, &dt));

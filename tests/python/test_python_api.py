@@ -363,3 +363,26 @@ def test_energy_before_the_first_step():
             final.append(s.energy())
     assert final[0] == final[1]
     assert abs(final[0]["residual_liquid"]) < 0.01 * abs(final[0]["work_ext"])  # the release's jolt, RK4's error
+
+
+def test_stepping_from_python_writes_what_the_binary_writes(tmp_path):
+    """Solver.run(callback=...) and step() open the output before their first step, as the binary does: the
+    coupled tank's timeseries.csv and energy.csv byte for byte the binary's (step 0's row, each step once, the
+    energy budget's reference at step 0) and the snapshots at the same times."""
+    opts = ["-options_file", REPO_ROOT / "cases" / "coupled_rectangular.opts", "-ts_max_time", 0.012,
+            "-fs_output_interval", 0.005]
+    from conftest import run_flexslosh
+    run_flexslosh(opts + ["-fs_output_dir", tmp_path / "binary"])
+    with Solver(dict(fs_progress=False, ts_max_time=0.012, fs_output_interval=0.005, fs_output_dir=str(tmp_path / "callback")),
+                options_file=str(REPO_ROOT / "cases" / "coupled_rectangular.opts")) as s:
+        s.run(callback=lambda s: None)
+    with Solver(dict(fs_progress=False, ts_max_time=0.012, fs_output_interval=0.005, fs_output_dir=str(tmp_path / "steps")),
+                options_file=str(REPO_ROOT / "cases" / "coupled_rectangular.opts")) as s:
+        s.step(3)
+        s.run()
+    for name in ("callback", "steps"):
+        for csv in ("timeseries.csv", "energy.csv"):
+            assert (tmp_path / name / csv).read_bytes() == (tmp_path / "binary" / csv).read_bytes(), (name, csv)
+        times = [read_snapshot(f).attrs["time"] for f in snapshot_files(tmp_path / name)]
+        assert times == [read_snapshot(f).attrs["time"] for f in snapshot_files(tmp_path / "binary")]
+        assert times[0] == 0
