@@ -841,6 +841,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSNeighboursDestroy(&s->pw.nbrs));
   PetscCall(PetscFree4(s->pw.rec, s->pw.aux, s->pw.vol, s->pw.pressure));
   PetscCall(PetscFree2(s->pw.scratch, s->pw.scratchj));
+  PetscCall(PetscFree(s->pw.split));
   PetscCall(PetscFree(s->pw.passorder));
   PetscCall(PetscFree(s->mon.setup));
   PetscCall(PetscHeaderDestroy(solver));

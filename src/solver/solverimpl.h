@@ -104,6 +104,8 @@ typedef struct {
       *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
   PetscReal *gammav, *invgammav; /* with no-slip walls: gamma plus the share behind them, and its inverse */
   PetscInt   gammacap;
+  PetscReal *split;        /* the split step's work (FSSolverSplitStep): 6 arrays of splitcap */
+  PetscInt   splitcap;     /* the particles (owned and ghosts) it has room for */
   PetscReal  moved;        /* the largest displacement of a particle since the last build of the lists (all ranks) */
   PetscInt   sort_step;    /* the step of the last ordering by cell */
   PetscInt   balance_step; /* the step at which the cuts were last balanced on the particles */

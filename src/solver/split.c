@@ -6,8 +6,9 @@
    sqrt(dt lambda), the steps of an explicit method as dt lambda.
    Within the split step the particles do not move; the diffusion's coefficients (delta_i from the strain
    rates, the renormalized density gradients of the correction) are taken at the state after the step and held
-   over its stages, which keeps the operator a linear, symmetric (in the volume-weighted product) diffusion with
-   real eigenvalues in [-lambda, 0], as RKL2 needs; lambda is bounded by Gershgorin's theorem with the largest
+   over its stages (the volumes follow the stages' densities), which keeps the operator, to the order of
+   |rho/rho0 - 1|, a linear, symmetric (in the volume-weighted product) diffusion with real eigenvalues in
+   [-lambda, 0], as RKL2 needs; lambda is bounded by Gershgorin's theorem with the largest
    diffusivity kappa: lambda <= FS_SPLIT_GERSHGORIN kappa / h^2 (docs/performance.md, "The density diffusion
    split off"). The change of the compressibility energy the stages make is booked as the term's work, so the
    energy budget closes as with the term in the stages.
@@ -92,18 +93,24 @@ PetscErrorCode FSSolverSplitStep(FSSolver s, PetscReal dt)
   const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
   FSTerm         split = NULL;
   FSParticles    P;
-  PetscReal      kappa = 0, de = 0, *Y0, *Y1, *Y2, *M0, *L, *rho, power[FS_MAX_TERMS];
+  PetscReal      kappa = 0, de = 0, *Y0, *Y1, *Y2, *M0, *L, *rho;
   PetscScalar   *u;
   PetscInt       nstages, ng;
 
   PetscFunctionBegin;
-  for (PetscInt t = 0; t < s->terms.nterms; t++)
-    if (s->terms.term[t]->split) split = s->terms.term[t];
+  for (PetscInt t = 0; t < s->terms.nterms; t++) {
+    if (!s->terms.term[t]->split) continue;
+    PetscCheck(!split, PetscObjectComm((PetscObject)s), PETSC_ERR_SUP,
+               "Terms %s and %s are both split: the split step books its energy to one term", split->name,
+               s->terms.term[t]->name);
+    split = s->terms.term[t];
+  }
   if (!split || dt <= 0 || s->pw.nglobal_particles == 0) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(FS_Split, 0, 0, 0, 0));
   s->state.evaluated = PETSC_FALSE; /* the work arrays will hold the split stages, not an evaluation at U */
   PetscCall(VecGetArray(s->state.U, &u));
-  /* the state's records, the first pass's fields (density gradients, strain rates) and the terms' coefficients */
+  /* the state's records, the first pass's fields (density gradients, strain rates) and the term's coefficients (its
+     prepare; the power its pair sums add up is the next right-hand side's to reset) */
   PetscCall(FSSolverGatherRecordsBegin(s, u));
   PetscCall(FSSolverGatherRecordsEnd(s));
   PetscCall(FSSolverFirstPass(s));
@@ -111,21 +118,25 @@ PetscErrorCode FSSolverSplitStep(FSSolver s, PetscReal dt)
   PetscCall(FSHaloRefreshAux(&s->pw.halo, s->pw.aux));
   PetscCall(PetscLogEventEnd(FS_Halo, 0, 0, 0, 0));
   PetscCall(FSSolverGetParticles(s, &P));
-  for (PetscInt t = 0; t < s->terms.nterms; t++) {
-    FSTerm term = s->terms.term[t];
-    power[t]    = term->power; /* the last right-hand side's, which the split stages leave as they were */
-    if (term->split) {
-      if (term->ops.prepare) PetscCall((*term->ops.prepare)(term, &P));
-      kappa = PetscMax(kappa, term->max_viscosity);
-    }
-  }
+  if (split->ops.prepare) PetscCall((*split->ops.prepare)(split, &P));
+  kappa = split->max_viscosity;
   PetscCall(MPIU_Allreduce(MPI_IN_PLACE, &kappa, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
   nstages = FSRKL2Stages(dt * FS_SPLIT_GERSHGORIN * kappa / (s->opt.h * s->opt.h));
   s->state.split_stages += nstages;
   s->state.split_max_stages = PetscMax(s->state.split_max_stages, nstages);
 
   ng = s->pw.halo.nghost;
-  PetscCall(PetscMalloc6(n, &Y0, n, &Y1, n, &Y2, n, &M0, n, &L, n + ng, &rho));
+  if (n + ng > s->pw.splitcap) { /* kept between steps, grown as the particles are */
+    PetscCall(PetscFree(s->pw.split));
+    s->pw.splitcap = PetscMax(n + ng, (PetscInt)(1.25 * s->pw.splitcap));
+    PetscCall(PetscMalloc1(6 * (PetscInt64)s->pw.splitcap, &s->pw.split));
+  }
+  Y0  = s->pw.split;
+  Y1  = Y0 + s->pw.splitcap;
+  Y2  = Y1 + s->pw.splitcap;
+  M0  = Y2 + s->pw.splitcap;
+  L   = M0 + s->pw.splitcap;
+  rho = L + s->pw.splitcap;
   for (PetscInt i = 0; i < n; i++) Y0[i] = s->pw.rec[i * S + 2 * dim];
   FSSplitRates(s, &P, M0);
   { /* Y1 (then Y_{j-1}) in Y1, Y_{j-2} in Y2 */
@@ -152,9 +163,7 @@ PetscErrorCode FSSolverSplitStep(FSSolver s, PetscReal dt)
     de += m * (FSSolverCompressibilityEnergy(s, Y1[i]) - FSSolverCompressibilityEnergy(s, Y0[i]));
     u[i * US + 2 * dim] = Y1[i];
   }
-  PetscCall(PetscFree6(Y0, Y1, Y2, M0, L, rho));
   PetscCall(VecRestoreArray(s->state.U, &u));
-  for (PetscInt t = 0; t < s->terms.nterms; t++) s->terms.term[t]->power = power[t];
   PetscCall(FSSolverEnergyAddTermWork(s, split, de));
   PetscCall(PetscLogEventEnd(FS_Split, 0, 0, 0, 0));
   PetscFunctionReturn(0);
