@@ -263,10 +263,12 @@ class Context:
 
 
 def _commit() -> str:
-    """The repository's commit (short hash, "+dirty" with uncommitted changes), or "unknown"."""
+    """The repository's commit (short hash, "+dirty" with uncommitted changes), or "unknown". The report's own folder
+    (docs/validation, which each case rewrites) does not count: else every case after the first is stamped dirty."""
     try:
         head = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--untracked-files=no"], capture_output=True, text=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--untracked-files=no", "--", ".",
+                                ":(exclude)docs/validation"], capture_output=True, text=True).stdout.strip()
         return head + ("+dirty" if dirty else "")
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
