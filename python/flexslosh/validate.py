@@ -36,6 +36,7 @@ from typing import Any, Callable, Optional, Sequence
 import numpy as np
 
 from .damping import SEED_BANDS, band_damping, convergence, damping_per_cycle
+from .figures import snapshots as snapshot_figure
 from .output import Run, read_csv, read_run, read_snapshot
 from .waves import exact_viscous_mode, fit_decaying_oscillation, fit_decaying_wave
 
@@ -61,6 +62,8 @@ RESOLUTIONS: dict[str, list[float]] = {
     "energy": [0.05],
     "seed": [0.005],
     "seed_convergence": [0.005, 0.0025, 0.00125],
+    "seed_slams": [0.002, 0.001, 0.0007],
+    "seed_slams_finest": [0.00035],
 }
 
 #: The coarse resolutions of ``--quick`` (and its shorter final times, in each case function).
@@ -80,6 +83,8 @@ QUICK: dict[str, list[float]] = {
     "energy": [0.1],
     "seed": [0.01],
     "seed_convergence": [0.01, 0.00707, 0.005],
+    "seed_slams": [0.01, 0.005],
+    "seed_slams_finest": [0.0035],
 }
 
 
@@ -1045,6 +1050,106 @@ def case_seed_convergence(ctx: Context, which: Optional[Sequence[str]] = None) -
     return sec
 
 
+#: The seed's tanks through the release and the first slams: label -> (case file, structure, extra options).
+SEED_SLAMS_RUNS = {
+    "rectangular_msd": ("coupled_rectangular", "msd", []),
+    "rectangular_modal": ("coupled_rectangular", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40]),
+    "baffled_msd": ("coupled_baffled", "msd", []),
+    "baffled_modal": ("coupled_baffled", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40]),
+}
+#: The instants of the seed's Figs. 6-7 drawn here (the seed does not give its own): the release, the first
+#: slams and the first return.
+SEED_SLAM_INSTANTS = (0.05, 0.1, 0.2, 0.3, 0.5)
+
+
+def case_seed_slams(ctx: Context, which: Optional[Sequence[str]] = None) -> Section:
+    """The seed's tanks through the first 0.5 s (the release and the first slams) at the seed's c0 = 20 m/s and
+    h/dx = 2, down to its L/dx = 2000: no blow-up, the energy budget closed, the steps against the acoustic limit's,
+    the largest compression against the slam's Mach number, and the turbulent viscosity at five instants (Figs. 6-7)."""
+    which = list(which or (["rectangular_msd"] if ctx.quick else SEED_SLAMS_RUNS))
+    dxs = sorted(ctx.dxs("seed_slams"), reverse=True)
+    finest = ctx.dxs("seed_slams_finest")
+    tmax = 0.1 if ctx.quick else 0.5
+    c0 = 20.0
+    sec = Section("seed_slams", TITLES["seed_slams"],
+                  f"The seed's tanks (rectangular and baffled, msd and modal beam) released from a 0.04 m tip deflection, to "
+                  f"t = {tmax:g} s at dx = {', '.join(f'{1e3 * d:g}' for d in dxs)} mm, and the rectangular tank on the msd beam "
+                  f"at dx = {', '.join(f'{1e3 * d:g}' for d in finest)} mm (L/dx = {0.7 / finest[0]:.0f}), all with the seed's "
+                  "c0 = 20 m/s and h/dx = 2 and the case files' numerics with "
+                  f"`{' '.join(str(a) for a in SEED_CONVERGENCE_NUMERICS)}`. Checked per run: it reaches the final time (no "
+                  "blow-up, no particle lost), the energy budget's residual (largest abs(residual_total) over the beam's "
+                  "initial elastic energy) below 1e-3, the steps per simulated second at most 1.5 times the acoustic limit's "
+                  "alone (h / (c0 + |u|max) at CFL 1, with the run's mean largest speed). Reported: the largest "
+                  "abs(rho/rho0 - 1) and the largest speed's Mach number.",
+                  "Calderon-Sanchez et al. (the seed paper), Figs. 6-7: the turbulent kinetic energy on a log scale at five "
+                  "instants, rectangular tank at L/dx = 2000, baffled at L_i/dx = 360, c0 = 20 m/s, h/dx = 2; no tabulated "
+                  "values, so no data file. docs/performance.md, \"What stops the seed's tank at dx = 1 mm\".")
+    plan = [(label, dx) for dx in dxs for label in which] + [("rectangular_msd", dx) for dx in finest if "rectangular_msd" in which]
+    rows = ["| run | dx (mm) | particles | steps / s | x acoustic | max abs(rho/rho0 - 1) | max Mach | residual / E_beam | wall (s) |",
+            "|---|---|---|---|---|---|---|---|---|"]
+    runs: dict[tuple[str, float], Run] = {}
+    fig, axs = _figure(13, 4.2, ncols=3)
+    for label, dx in plan:
+        case, structure, extra = SEED_SLAMS_RUNS[label]
+        args = ["-options_file", _case(case), "-fs_dx", dx, "-fs_structure", structure, "-ts_max_time", tmax,
+                "-fs_output_interval", 0.05] + SEED_CONVERGENCE_NUMERICS + extra
+        name = f"{label}, dx {1e3 * dx:g} mm"
+        try:
+            r = ctx.run("seed_slams", f"{label}_{_label(dx)}", args, sec.runs, checkpoints=2000)
+        except RuntimeError as err:
+            sec.checks.append(Check(f"{name}: reaches t = {tmax:g} s (the run failed)", math.inf, tmax, kind="max"))
+            sec.notes.append(f"{name} failed: " + str(err).splitlines()[-1][:400])
+            continue
+        runs[(label, dx)] = r
+        t = r.column("time")
+        e = r.energy
+        residual = float(np.max(np.abs(e["residual_total"]))) / float(e["E_struct_elastic"][0])
+        umax = r.column("max_velocity")
+        acoustic = float(t[-1]) * (c0 + float(np.mean(umax))) / (2 * dx)
+        steps = float(r.summary.get("steps", len(t) - 1))
+        comp, mach = float(np.max(r.column("max_density_variation"))), float(np.max(umax)) / c0
+        rows.append(f"| {label.replace('_', ', ')} | {1e3 * dx:g} | {r.particles:,} | {steps / t[-1]:,.0f} | "
+                    f"{steps / acoustic:.2f} | {comp:.3f} | {mach:.2f} | {residual:.1e} | {sec.runs[-1].wall:,.0f} |")
+        sec.checks += [Check(f"{name}: reaches t = {tmax:g} s", float(t[-1]), tmax * (1 - 1e-9), kind="min", fmt="{:.4g}"),
+                       Check(f"{name}: max abs(residual_total) / initial elastic energy", residual, 1e-3, fmt="{:.1e}"),
+                       Check(f"{name}: steps / acoustic limit's", steps / acoustic, 1.5, fmt="{:.2f}")]
+        axs[0].loglog([mach], [comp], "o" if "rect" in label else "s", ms=4 + 2 * np.log2(max(dxs) / dx),
+                      color=f"C{list(SEED_SLAMS_RUNS).index(label)}", label=name)
+        if label == "rectangular_msd":
+            axs[1].plot(t, 1e3 * r.column("tip_displacement"), lw=1, label=f"dx {1e3 * dx:g} mm")
+            axs[2].plot(e["time"], e["E_liquid_abs"] if "E_liquid_abs" in e else e["E_liquid"], lw=1, label=f"E_liquid, dx {1e3 * dx:g} mm")
+            axs[2].plot(e["time"], -np.asarray(e["work_delta"]) - np.asarray(e["work_alpha"]), "--", lw=1,
+                        label=f"dissipated (delta + alpha), dx {1e3 * dx:g} mm")
+    sec.notes.append("\n".join(rows))
+    m = np.logspace(-1.3, 0.3, 20)
+    axs[0].loglog(m, m**2, "k:", lw=1, label="Ma^2")
+    axs[0].set_xlabel("largest speed / c0")
+    axs[0].set_ylabel("max abs(rho/rho0 - 1)")
+    axs[1].set_xlabel("t (s)")
+    axs[1].set_ylabel("tip displacement (mm)")
+    axs[2].set_xlabel("t (s)")
+    axs[2].set_ylabel("energy (J per m of width)")
+    for ax in axs:
+        ax.legend(fontsize=6)
+    sec.figure = _save(fig, ctx, "seed_slams")
+    sec.caption = ("Left: the largest compression against the largest speed's Mach number (marker size: finer dx). Middle and "
+                   "right: the rectangular tank on the msd beam, tip displacement and the liquid's energy, at each dx")
+    for label, fig_no in (("rectangular_msd", 6), ("baffled_msd", 7)):
+        done = [dx for (lb, dx) in runs if lb == label]
+        if done:
+            dx = min(done)
+            png = snapshot_figure(runs[(label, dx)], ctx.out / f"seed_slams_fig{fig_no}.png", "turbulent_viscosity", times=SEED_SLAM_INSTANTS)
+            sec.notes.append(f"The seed's Fig. {fig_no} ({label.replace('_', ', ')}, dx = {1e3 * dx:g} mm): the Smagorinsky "
+                             f"viscosity on a log scale at t = {', '.join(f'{t:g}' for t in SEED_SLAM_INSTANTS)} s: "
+                             f"![Fig. {fig_no}]({png.name})")
+    sec.notes.append("The runs write a checkpoint every 2,000 steps; an interrupted run continues from its newest "
+                     "(`make validate CASES=seed_slams` again).")
+    missing = [k for k in SEED_SLAMS_RUNS if k not in which]
+    if missing:
+        sec.notes.append("Not run in this report: " + ", ".join(missing) + " (`make validate CASES=seed_slams` runs all).")
+    return sec
+
+
 #: The cases in the report's order: key -> (function, the command that runs it alone).
 CASES: dict[str, Callable[[Context], Section]] = {
     "taylor_green": case_taylor_green,
@@ -1062,6 +1167,7 @@ CASES: dict[str, Callable[[Context], Section]] = {
     "energy": case_energy,
     "seed": case_seed,
     "seed_convergence": case_seed_convergence,
+    "seed_slams": case_seed_slams,
 }
 
 TITLES = {
@@ -1080,6 +1186,7 @@ TITLES = {
     "energy": "Energy budget residuals (seed Eqs. 31-40)",
     "seed": "The seed's experiment: damping per cycle against amplitude",
     "seed_convergence": "The seed's experiment: the damping per cycle converging with resolution",
+    "seed_slams": "The seed's tanks through the first slams, down to L/dx = 2000",
 }
 
 
