@@ -3,7 +3,8 @@
 ``Solver`` wraps one FSSolver. PETSc is initialized through petsc4py, and libflexslosh is loaded into
 the same process through the binding _flexslosh_cffi (a cffi extension module compiled against
 include/flexslosh.h, built by CMake beside libflexslosh.so; python/ffi_build.py), so the C library and
-petsc4py share one PETSc: the same options database, the same objects. ``Solver.ts`` is the solver's
+petsc4py share one PETSc: the same objects. Each solver has its own options database, PETSc's default
+during its calls (``Solver.options``). ``Solver.ts`` is the solver's
 own TS and ``Solver.swarm`` its DMSwarm, as petsc4py objects::
 
     from flexslosh import Solver
@@ -620,13 +621,15 @@ class Solver:
     @property
     def ts(self):
         """The solver's TS as a petsc4py PETSc.TS (the same object: its time, step number, dt and options
-        are the run's). Valid while the solver lives."""
+        are the run's). Valid while the solver lives: afterwards its methods raise RuntimeError."""
         return self._wrapped("_ts", "FSSolverGetTS", "TS")
 
     @property
     def swarm(self):
         """The particles' DMSwarm as a petsc4py PETSc.DMSwarm (fields position, velocity, density, mass, id;
-        local sizes change at every step). Sets the solver up."""
+        local sizes change at every step), whose getField arrays are read-only (the swarm mirrors the TS's
+        state: see _wrapper_classes). Sets the solver up. Valid while the solver lives: afterwards its
+        methods raise RuntimeError."""
         self.set_up()
         return self._wrapped("_swarm", "FSSolverGetSwarm", "DM")
 
