@@ -140,7 +140,10 @@ class _Core:
             cycle = options_file_cycle(list(argv or []) + os.environ.get("PETSC_OPTIONS", "").split())
             if cycle:
                 raise ValueError(cycle)
-            petsc4py.init(list(argv) if argv is not None else [sys.argv[0] if sys.argv and sys.argv[0] else "flexslosh"])
+            # the program's name: "-c" of python -c would read as an option (kept in every solver's database
+            # and in its checkpoints' record of the set-up)
+            name = sys.argv[0] if sys.argv and sys.argv[0] and not sys.argv[0].startswith("-") else "flexslosh"
+            petsc4py.init(list(argv) if argv is not None else [name])
         from petsc4py import PETSc
 
         path, binding = library_path(), binding_path()

@@ -96,7 +96,8 @@ print("RESULT " + json.dumps(result))
 
 def test_ctrl_c_stops_run_at_a_step_with_consistent_output(tmp_path):
     """SIGINT during run() (no callback) raises KeyboardInterrupt after the step in progress, not at the end of
-    the run; the output is the binary's run to that step, byte for byte in the CSVs, with a checkpoint of it."""
+    the run; the output is the binary's run to that step, byte for byte in the CSVs, with a checkpoint of that
+    step from which the binary goes on as the uninterrupted run."""
     env = dict(os.environ, **MPI_ENV, FLEXSLOSH_BUILD=str(build_dir()))
     env["PYTHONPATH"] = os.pathsep.join([str(REPO_ROOT / "python"), env.get("PYTHONPATH", "")])
     proc = subprocess.run([sys.executable, "-c", INTERRUPTED, str(tmp_path / "py")], env=env, stdout=subprocess.PIPE,
@@ -106,8 +107,15 @@ def test_ctrl_c_stops_run_at_a_step_with_consistent_output(tmp_path):
     assert result["interrupted"] and not result["finished"], result
     assert result["delay"] < 1.0, result  # one step of this run is about 0.05 s
     step = result["step"]
-    assert (tmp_path / "py" / f"checkpoint_{step:06d}.h5").is_file()
-    run_flexslosh(["-fs_case", "taylor_green", "-fs_dx", 0.02, "-ts_max_steps", step, "-fs_output_interval", 0,
-                   "-fs_output_dir", tmp_path / "binary"])
+    checkpoint = tmp_path / "py" / f"checkpoint_{step:06d}.h5"
+    assert checkpoint.is_file()
+    # the binary's run 3 steps further: the interrupted run's files are its first rows, byte for byte (every
+    # step has its row); and a restart from the checkpoint ends as it does
+    tg = ["-fs_case", "taylor_green", "-fs_dx", 0.02, "-ts_max_steps", step + 3, "-fs_output_interval", 0]
+    run_flexslosh(tg + ["-fs_output_dir", tmp_path / "binary"])
     for csv in ("timeseries.csv", "energy.csv"):
-        assert (tmp_path / "py" / csv).read_bytes() == (tmp_path / "binary" / csv).read_bytes(), csv
+        py, binary = ((tmp_path / d / csv).read_bytes().splitlines(keepends=True) for d in ("py", "binary"))
+        assert len(py) == step + 2 and py == binary[:step + 2], csv  # the header, steps 0..step
+    run_flexslosh(tg + ["-fs_restart", checkpoint, "-fs_output_dir", tmp_path / "restart"])
+    rows = (tmp_path / "restart" / "timeseries.csv").read_bytes().splitlines()
+    assert rows[-3:] == (tmp_path / "binary" / "timeseries.csv").read_bytes().splitlines()[-3:]
