@@ -79,6 +79,7 @@ PETSC_EXTERN PetscErrorCode FSSolverGetEnergy(FSSolver, PetscInt *, const char *
 PETSC_EXTERN PetscErrorCode FSSolverGetLiquidMass(FSSolver, PetscReal *);
 #define FS_PROBE_MAX_VALUES 4 /* values of one probe (pressure, velocity) or gauge (elevation) */
 PETSC_EXTERN PetscErrorCode FSSolverGetProbes(FSSolver, PetscInt *, const char *[], PetscInt[], PetscReal[]);
+PETSC_EXTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 
 /* ---------- terms ---------- */
 /* What a term needs the core to compute in the first pass over neighbour pairs. */

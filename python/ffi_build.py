@@ -49,8 +49,9 @@ PetscErrorCode FSStructureGetSolver(FSStructure, FSSolver *);
 PetscErrorCode FSStructureAddColumn(FSStructure, const char[]);
 PetscErrorCode FSStructureCallbacksSetError(const char[]);
 PetscErrorCode FSStructureRegisterCallbacks(const char[], const char[], const FSStructureCallbacks *, void *);
+PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PetscErrorCode PetscErrorMessage(int, const char *[], char **);
-PetscErrorCode PetscPopErrorHandler(void);
+PetscErrorCode PetscOptionsDestroy(PetscOptions *);
 """
 
 # The helpers of PREAMBLE: what cffi cannot declare portably (MPI_Comm by value, a function pointer
@@ -58,12 +59,16 @@ PetscErrorCode PetscPopErrorHandler(void);
 HELPER_FUNCTIONS = """
 PetscErrorCode fs_py_load_plugins(const MPI_Comm *);
 PetscErrorCode fs_py_solver_create(const MPI_Comm *, FSSolver *);
-PetscErrorCode fs_py_options_insert_file(const MPI_Comm *, const char[], PetscBool);
+PetscErrorCode fs_py_options_insert_file(const MPI_Comm *, PetscOptions, const char[], PetscBool);
 PetscErrorCode fs_py_options_left(const MPI_Comm *, PetscInt, char *[]);
-PetscErrorCode fs_py_push_error_handler(void);
+PetscErrorCode fs_py_options_copy_default(PetscOptions *);
+int fs_py_depth(void);
+int fs_py_enter(PetscOptions);
+void fs_py_leave(int);
+int fs_py_entered(PetscOptions);
 const FSStructureCallbacks *fs_py_structure_callbacks(void);
-int fs_py_wrap_ts(TS, void *);
-int fs_py_wrap_dm(DM, void *);
+int fs_py_wrap_ts(TS, void *, void *);
+int fs_py_wrap_dm(DM, void *, void *);
 int fs_py_gil_held(void);
 """
 
@@ -89,6 +94,7 @@ typedef ... *TS;
 typedef ... *DM;
 typedef ... *FSSolver;
 typedef ... *FSStructure;
+typedef ... *PetscOptions;
 typedef struct { PetscReal force[3], moment[3]; ...; } FSLoads;
 typedef struct { PetscReal disp[3], vel[3], acc[3]; PetscReal angle, rate, angacc; ...; } FSTankMotion;
 typedef struct { ...; } FSStructureCallbacks;
@@ -106,45 +112,134 @@ PREAMBLE = r"""
    (mpi4py's MPI._addressof(comm)) and C reads it with its own type. */
 static PetscErrorCode fs_py_load_plugins(const MPI_Comm *comm) { return FSLoadPlugins(*comm); }
 static PetscErrorCode fs_py_solver_create(const MPI_Comm *comm, FSSolver *s) { return FSSolverCreate(*comm, s); }
-static PetscErrorCode fs_py_options_insert_file(const MPI_Comm *comm, const char file[], PetscBool require)
+static PetscErrorCode fs_py_options_insert_file(const MPI_Comm *comm, PetscOptions options, const char file[],
+                                                PetscBool require)
 {
-  return PetscOptionsInsertFile(*comm, NULL, file, require);
+  return PetscOptionsInsertFile(*comm, options, file, require);
 }
 static PetscErrorCode fs_py_options_left(const MPI_Comm *comm, PetscInt n, char *names[])
 {
   return FSOptionsLeft(*comm, n, (const char *const *)names);
 }
-static PetscErrorCode fs_py_push_error_handler(void) { return PetscPushErrorHandler(FSErrorHandler, NULL); }
 
-/* The petsc4py object of a PETSc object: PyPetscTS_New / PyPetscDM_New (petsc4py's C API; the wrapper
-   takes its own reference to the PETSc object). cffi has no PyObject * type to return it as, so the
-   caller hands in a Python list by its address (id(list), CPython's object address; the caller keeps
-   the list alive during the call) and the new object is appended to it; on failure the Python
-   exception is appended instead and -1 returned, so that no exception is left pending here. */
-static int fs_py_wrap(PyObject *(*make)(void *), void *obj, void *out)
+/* A solver's own options database: a new one holding what the default database (the command line given
+   to petsc4py.init, PETSC_OPTIONS, flexslosh.set_options) holds now, as "-name value" items; PETSc keeps
+   no -options_file or -prefix_push items (it reads them as it inserts), so the copy reads as the original. */
+static PetscErrorCode fs_py_options_copy_default(PetscOptions *options)
+{
+  char *all;
+
+  PetscFunctionBegin;
+  *options = NULL;
+  PetscCall(PetscOptionsGetAll(NULL, &all));
+  PetscCall(PetscOptionsCreate(options)); /* the caller destroys it, also after an error below */
+  PetscCall(PetscOptionsInsertString(*options, all));
+  PetscCall(PetscFree(all));
+  PetscFunctionReturn(0);
+}
+
+/* -- the calls' context: a solver's options and the error handler -------------------------------------
+   Each call into the C core for a solver runs with that solver's options database pushed as PETSc's
+   default (PetscOptionsPush: every PetscOptionsGet...(NULL, ...) of the core and of PETSc reads it) and
+   FSErrorHandler pushed. fs_py_enter(options) pushes both and records them; fs_py_leave(depth) pops what
+   was recorded above depth (fs_py_depth() before the call), so a KeyboardInterrupt raised anywhere
+   between Python's two calls leaves nothing pushed. A database already in force (a callback of the
+   solver's own call calling the solver again) is not pushed again; one deeper in the stack (solver A's
+   callback calling B, calling back into A) is refused (-1): PETSc's stack of databases is a linked list
+   through the databases themselves, which a second push of the same one would tie into a loop. */
+#define FS_PY_MAX_DEPTH 64
+static struct {
+  PetscOptions options; /* the database in force (NULL: the one below, or PETSc's own) */
+  PetscBool    pushed;  /* whether this entry pushed it */
+} fs_py_stack[FS_PY_MAX_DEPTH];
+static int fs_py_ndepth = 0;
+
+static int fs_py_depth(void) { return fs_py_ndepth; }
+
+static PetscOptions fs_py_current(void)
+{
+  for (int k = fs_py_ndepth - 1; k >= 0; k--)
+    if (fs_py_stack[k].options) return fs_py_stack[k].options;
+  return NULL;
+}
+
+/* whether options is pushed by a call in progress */
+static int fs_py_entered(PetscOptions options)
+{
+  for (int k = 0; k < fs_py_ndepth; k++)
+    if (options && fs_py_stack[k].options == options) return 1;
+  return 0;
+}
+
+static int fs_py_enter(PetscOptions options)
+{
+  PetscBool push = (PetscBool)(options && options != fs_py_current());
+  if (fs_py_ndepth == FS_PY_MAX_DEPTH || (push && fs_py_entered(options))) return -1;
+  if (push && PetscOptionsPush(options)) return -2;
+  if (PetscPushErrorHandler(FSErrorHandler, NULL)) {
+    if (push) (void)PetscOptionsPop();
+    return -2;
+  }
+  fs_py_stack[fs_py_ndepth].options = options;
+  fs_py_stack[fs_py_ndepth].pushed  = push;
+  fs_py_ndepth++;
+  return 0;
+}
+
+static void fs_py_leave(int depth)
+{
+  while (fs_py_ndepth > depth && fs_py_ndepth > 0) {
+    fs_py_ndepth--;
+    (void)PetscPopErrorHandler();
+    if (fs_py_stack[fs_py_ndepth].pushed) (void)PetscOptionsPop();
+  }
+}
+
+/* The petsc4py object of a PETSc object, an instance of type: a subclass of petsc4py's PETSc.TS or
+   PETSc.DMSwarm (flexslosh.solver's, which check that the solver still lives). It is made as
+   PyPetscTS_New / PyPetscDM_New make theirs (petsc4py's C API): the new, empty object gets the handle
+   and its own reference to the PETSc object, so the Python object and the C core each destroy theirs.
+   cffi has no PyObject * type to return it as, so the caller hands in a Python list by its address
+   (id(list), CPython's object address; the caller keeps the list alive during the call) and the new
+   object is appended to it; on failure the Python exception is appended instead and -1 returned, so
+   that no exception is left pending here. */
+static int fs_py_wrap(PetscObject obj, PyTypeObject *(*base)(void), void *type, void *out)
 {
   PyGILState_STATE gil = PyGILState_Ensure(); /* held anyway (see below); cheap and safe either way */
   PyObject *list = (PyObject *)out, *res = NULL;
-  int ok = -1;
+  int       ok   = -1;
   if (!PyList_Check(list)) PyErr_SetString(PyExc_TypeError, "fs_py_wrap: a list is needed");
-  else if (import_petsc4py() == 0 && (res = make(obj)) != NULL) ok = PyList_Append(list, res);
+  else if (import_petsc4py() == 0) {
+    if (!PyType_Check((PyObject *)type) || !PyType_IsSubtype((PyTypeObject *)type, base()))
+      PyErr_SetString(PyExc_TypeError, "fs_py_wrap: the type must be a subclass of the object's petsc4py class");
+    else if ((res = PyObject_CallNoArgs((PyObject *)type)) != NULL) {
+      PetscObject *slot = ((PyPetscObjectObject *)res)->obj; /* the handle's place: &self.ts, &self.dm */
+      if (!slot || *slot) PyErr_SetString(PyExc_RuntimeError, "fs_py_wrap: the new petsc4py object is not empty");
+      else if (PetscObjectReference(obj))
+        PyErr_SetString(PyExc_RuntimeError, "fs_py_wrap: PetscObjectReference failed");
+      else {
+        *slot = obj;
+        ok    = PyList_Append(list, res);
+      }
+    }
+  }
   Py_XDECREF(res);
   if (ok) {
-    PyObject *type, *value, *tb;
-    PyErr_Fetch(&type, &value, &tb);
-    PyErr_NormalizeException(&type, &value, &tb);
+    PyObject *etype, *value, *tb;
+    PyErr_Fetch(&etype, &value, &tb);
+    PyErr_NormalizeException(&etype, &value, &tb);
     if (value && tb) PyException_SetTraceback(value, tb);
     if (value) PyList_Append(list, value);
-    Py_XDECREF(type); Py_XDECREF(value); Py_XDECREF(tb);
+    Py_XDECREF(etype); Py_XDECREF(value); Py_XDECREF(tb);
     ok = -1;
   }
   PyGILState_Release(gil);
   return ok;
 }
-static PyObject *fs_py_new_ts(void *ts) { return PyPetscTS_New((TS)ts); }
-static PyObject *fs_py_new_dm(void *dm) { return PyPetscDM_New((DM)dm); }
-static int fs_py_wrap_ts(TS ts, void *out) { return fs_py_wrap(fs_py_new_ts, ts, out); }
-static int fs_py_wrap_dm(DM dm, void *out) { return fs_py_wrap(fs_py_new_dm, dm, out); }
+static PyTypeObject *fs_py_ts_type(void) { return &PyPetscTS_Type; }
+static PyTypeObject *fs_py_dm_type(void) { return &PyPetscDM_Type; }
+static int fs_py_wrap_ts(TS ts, void *type, void *out) { return fs_py_wrap((PetscObject)ts, fs_py_ts_type, type, out); }
+static int fs_py_wrap_dm(DM dm, void *type, void *out) { return fs_py_wrap((PetscObject)dm, fs_py_dm_type, type, out); }
 
 /* The Python structure model: the extern "Python" callbacks (defined by cffi below, declared here as
    cffi's documentation says) in the table the C registry calls; each initializer is checked against

@@ -3,7 +3,8 @@
 ``Solver`` wraps one FSSolver. PETSc is initialized through petsc4py, and libflexslosh is loaded into
 the same process through the binding _flexslosh_cffi (a cffi extension module compiled against
 include/flexslosh.h, built by CMake beside libflexslosh.so; python/ffi_build.py), so the C library and
-petsc4py share one PETSc: the same options database, the same objects. ``Solver.ts`` is the solver's
+petsc4py share one PETSc: the same objects. Each solver has its own options database, PETSc's default
+during its calls (``Solver.options``). ``Solver.ts`` is the solver's
 own TS and ``Solver.swarm`` its DMSwarm, as petsc4py objects::
 
     from flexslosh import Solver
@@ -20,20 +21,24 @@ prints its usual error report too. The library and the binding are found in $FLE
 from __future__ import annotations
 
 import atexit
+import contextlib
 import importlib.machinery
 import importlib.util
 import os
+import signal
 import sys
+import threading
 import weakref
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
 import numpy as np
 
-__all__ = ["Solver", "FlexsloshError", "initialize", "library_path", "binding_path", "set_options"]
+__all__ = ["Solver", "SolverOptions", "FlexsloshError", "initialize", "library_path", "binding_path", "set_options"]
 
 _MISSING = object()
 _BINDING = "_flexslosh_cffi"  # the module python/ffi_build.py generates
+_DESTROYED = "Solver has been destroyed"
 
 
 class FlexsloshError(RuntimeError):
@@ -125,7 +130,8 @@ class _Core:
     # the functions that take an MPI_Comm, called through a helper of the binding that reads the
     # communicator from its address (errors keep the C function's name)
     _VIA_HELPER = {"FSLoadPlugins": "fs_py_load_plugins", "FSSolverCreate": "fs_py_solver_create",
-                   "PetscOptionsInsertFile": "fs_py_options_insert_file", "FSOptionsLeft": "fs_py_options_left"}
+                   "PetscOptionsInsertFile": "fs_py_options_insert_file", "FSOptionsLeft": "fs_py_options_left",
+                   "PetscOptionsCreate": "fs_py_options_copy_default"}
 
     def __init__(self, argv):
         import petsc4py
@@ -134,7 +140,10 @@ class _Core:
             cycle = options_file_cycle(list(argv or []) + os.environ.get("PETSC_OPTIONS", "").split())
             if cycle:
                 raise ValueError(cycle)
-            petsc4py.init(list(argv) if argv is not None else [sys.argv[0] if sys.argv and sys.argv[0] else "flexslosh"])
+            # the program's name: "-c" of python -c would read as an option (kept in every solver's database
+            # and in its checkpoints' record of the set-up)
+            name = sys.argv[0] if sys.argv and sys.argv[0] and not sys.argv[0].startswith("-") else "flexslosh"
+            petsc4py.init(list(argv) if argv is not None else [name])
         from petsc4py import PETSc
 
         path, binding = library_path(), binding_path()
@@ -157,6 +166,7 @@ class _Core:
             raise RuntimeError(f"{path} does not see the PETSc petsc4py initialized: it must be built against the same PETSc "
                                f"({PETSc.__file__})")
         self.real = np.dtype(f"f{ffi.sizeof('PetscReal')}")  # PetscReal, as numpy sees it
+        self.TS, self.Swarm = _wrapper_classes(PETSc)
         self.call("FSInitializePackage")
 
     def message(self, ierr: int) -> str:
@@ -169,19 +179,35 @@ class _Core:
                 return s.decode(errors="replace").strip()
         return "unknown error"
 
-    def call(self, name: str, *args) -> None:
-        """Calls a C function returning a PetscErrorCode under FSErrorHandler (PETSc's error report, printed
-        by rank 0 of the error's communicator, every error of the session in full; petsc4py's own handler
-        prints nothing); a non-zero code raises FlexsloshError on every rank that got it."""
+    @contextlib.contextmanager
+    def entered(self, options=None):
+        """The context of a call into the C core: ``options`` (a solver's PetscOptions, or None) pushed as
+        PETSc's default database, so that every option the core and PETSc read comes from it, and
+        FSErrorHandler pushed (PETSc's error report, printed by rank 0 of the error's communicator, every
+        error of the session in full; petsc4py's own handler prints nothing). Both are popped again on the
+        way out, whatever interrupts it (the binding records what it pushed: ffi_build.py)."""
         lib = self.lib
-        fn = getattr(lib, self._VIA_HELPER.get(name, name))
-        lib.fs_py_push_error_handler()
+        options = options if options is not None else self.ffi.NULL
+        depth = lib.fs_py_depth()
         try:
-            ierr = fn(*args)
+            rc = lib.fs_py_enter(options)
+            if rc == -1:
+                raise RuntimeError("a Solver was called back from inside another solver's call while its own call is "
+                                   "in progress (A -> B -> A): PETSc cannot stack its options database twice")
+            if rc:
+                raise RuntimeError("could not push the solver's options database and error handler")
+            yield
         finally:
-            lib.PetscPopErrorHandler()
+            lib.fs_py_leave(depth)
+
+    def call(self, name: str, *args, options=None, label: str | None = None) -> None:
+        """Calls a C function returning a PetscErrorCode in the context of ``entered(options)``; a non-zero
+        code raises FlexsloshError on every rank that got it, naming the function (or ``label``)."""
+        fn = getattr(self.lib, self._VIA_HELPER.get(name, name))
+        with self.entered(options):
+            ierr = fn(*args)
         if ierr:
-            raise FlexsloshError(ierr, self.message(ierr), name)
+            raise FlexsloshError(ierr, self.message(ierr), label or name)
 
     def comm(self, comm):
         """(mpi4py communicator, MPI_Comm * for the helpers) of comm: None (PETSC_COMM_WORLD), mpi4py or
@@ -205,14 +231,56 @@ class _Core:
         return np.frombuffer(self.ffi.buffer(ptr, n * self.real.itemsize), dtype=self.real).copy()
 
     def wrap(self, kind: str, obj):
-        """The petsc4py object of a C PETSc object (kind "TS" or "DM"), made by petsc4py's C API
-        (PyPetscTS_New, PyPetscDM_New), which takes its own reference: the Python object and the C core
-        each destroy theirs. The binding appends it to the list it is given (see ffi_build.py)."""
+        """The petsc4py object of a C PETSc object (kind "TS" or "DM"), an instance of the package's
+        subclass of PETSc.TS or PETSc.DMSwarm (``_wrapper_classes``), made as petsc4py's C API makes its
+        own (PyPetscTS_New): the wrapper takes its own reference, so the Python object and the C core each
+        destroy theirs. The binding appends it to the list it is given (see ffi_build.py)."""
         out: list = []
-        make = {"TS": self.lib.fs_py_wrap_ts, "DM": self.lib.fs_py_wrap_dm}[kind]
-        if make(obj, self.ffi.cast("void *", id(out))):
+        make, cls = {"TS": (self.lib.fs_py_wrap_ts, self.TS), "DM": (self.lib.fs_py_wrap_dm, self.Swarm)}[kind]
+        if make(obj, self.ffi.cast("void *", id(cls)), self.ffi.cast("void *", id(out))):
             raise out[0] if out else RuntimeError(f"could not wrap the {kind} for petsc4py")
         return out[0]
+
+
+def _wrapper_classes(PETSc):
+    """The classes of a solver's TS and DMSwarm as petsc4py objects: PETSc.TS and PETSc.DMSwarm whose
+    methods raise RuntimeError once the object is destroyed (by Solver.destroy or its own destroy), where
+    petsc4py would hand PETSc the null handle (a segmentation fault in an optimized PETSc), and whose
+    swarm fields are read-only arrays."""
+
+    def guarded(base, what: str):
+        allowed = frozenset({"handle", "destroy"})
+        handle = PETSc.Object.handle
+
+        def __getattribute__(self, name: str):
+            if not name.startswith("__") and name not in allowed and not handle.__get__(self):
+                raise RuntimeError(f"{_DESTROYED} (or this {what} was destroyed): the {what} of a flexslosh Solver "
+                                   f"lives as long as the Solver; take solver.{what.lower()} from a live one")
+            return base.__getattribute__(self, name)
+
+        return __getattribute__
+
+    class SolverTS(PETSc.TS):
+        """The TS of a flexslosh Solver (petsc4py PETSc.TS): valid while the Solver lives; afterwards every
+        method raises RuntimeError."""
+        __getattribute__ = guarded(PETSc.TS, "TS")
+
+    class SolverSwarm(PETSc.DMSwarm):
+        """The particles' DMSwarm of a flexslosh Solver (petsc4py PETSc.DMSwarm): valid while the Solver lives
+        (afterwards every method raises RuntimeError); its fields are read-only (``getField``)."""
+        __getattribute__ = guarded(PETSc.DMSwarm, "Swarm")
+
+        def getField(self, name: str) -> np.ndarray:
+            """The field's values of this rank's particles as a read-only array over the swarm's memory; give
+            the field back with restoreField(name). The swarm mirrors the solver's state, which lives in the
+            TS's vector and is copied into the swarm after every step: a write here could not reach the
+            particles (it would be overwritten at the next step, and the neighbour lists, the ghosts and the
+            energy budget would not know of it), so writing raises ValueError instead of being lost."""
+            values = PETSc.DMSwarm.getField(self, name)
+            values.flags.writeable = False
+            return values
+
+    return SolverTS, SolverSwarm
 
 
 _core: _Core | None = None
@@ -256,8 +324,13 @@ def _option_value(value) -> str:
 def set_options(options: Mapping[str, Any]) -> None:
     """Puts options into PETSc's (global, prefix-free) options database, as on the command line: keys
     with or without the leading '-'; True sets a flag, False gives 0, sequences are comma separated,
-    None removes the option."""
-    opts = initialize().PETSc.Options()
+    None removes the option. Every Solver created afterwards starts from a copy of that database (the
+    solvers alive keep theirs)."""
+    _set_into(initialize().PETSc.Options(), options)
+
+
+def _set_into(opts, options: Mapping[str, Any]) -> None:
+    """set_options into the petsc4py database opts."""
     for key, value in options.items():
         name = key if key.startswith("-") else "-" + key
         if value is None:
@@ -266,26 +339,121 @@ def set_options(options: Mapping[str, Any]) -> None:
             opts.setValue(name, _option_value(value))
 
 
+class SolverOptions:
+    """A Solver's own options database, with the methods of petsc4py's ``PETSc.Options`` (getString,
+    getReal, getInt, getBool, getAll, hasName, setValue, delValue, insertString, view, ...), each called
+    with that database in force (``PETSc.Options()`` then stands for it, as it does for a Python structure
+    model's options during the solver's calls). Raises RuntimeError once the solver is destroyed."""
+
+    def __init__(self, solver: "Solver"):
+        self._solver = weakref.ref(solver)
+        self._petsc = solver._core.PETSc.Options()  # no database of its own: PETSc's default, the solver's in a call
+
+    def _database(self):
+        solver = self._solver()
+        if solver is None or not solver._opts[0]:
+            raise RuntimeError(f"{_DESTROYED}: its options database went with it")
+        return solver
+
+    def __getattr__(self, name: str):
+        if name in ("create", "destroy", "clear"):
+            raise AttributeError(f"SolverOptions.{name}: the database lives and dies with its Solver")
+        attr = getattr(self._petsc, name)
+        if not callable(attr):
+            return attr
+
+        def method(*args, **kwargs):
+            solver = self._database()
+            with solver._core.entered(solver._opts[0]):
+                return attr(*args, **kwargs)
+
+        method.__doc__ = attr.__doc__
+        method.__name__ = name
+        return method
+
+    def __repr__(self) -> str:
+        return f"<SolverOptions of {self._solver()!r}>"
+
+
+class _Interrupts:
+    """Ctrl-C (SIGINT) held back during a run loop and delivered between two steps: the C core's calls keep
+    the GIL and do not look at Python's signals, so a KeyboardInterrupt raised by Python's own handler waits
+    for the call to end, which for FSSolverSolve is the run's. Inside ``with _Interrupts(comm) as i`` a
+    SIGINT only sets a flag; ``i.pending()`` says whether one came (on a communicator of several ranks,
+    whether one came to any rank: collective, so that every rank stops after the same step) and
+    ``i.deliver()`` restores the previous handler and calls it (Python's default raises KeyboardInterrupt;
+    a rank the signal did not reach raises KeyboardInterrupt itself). Outside the main thread (where Python
+    receives no signals) or with SIGINT ignored, nothing changes."""
+
+    def __init__(self, comm):
+        self.comm, self.flag, self.frame, self.previous = comm, False, None, None
+        self.installed = False
+
+    def _handler(self, signum, frame):
+        self.flag, self.frame = True, frame
+
+    def __enter__(self) -> "_Interrupts":
+        if threading.current_thread() is threading.main_thread():
+            previous = signal.getsignal(signal.SIGINT)
+            if previous not in (signal.SIG_IGN, None):
+                self.previous = previous
+                signal.signal(signal.SIGINT, self._handler)
+                self.installed = True
+        return self
+
+    def _restore(self) -> None:
+        if self.installed:
+            signal.signal(signal.SIGINT, self.previous)
+            self.installed = False
+
+    def pending(self) -> bool:
+        if self.comm is not None and self.comm.Get_size() > 1:
+            from mpi4py import MPI
+
+            return bool(self.comm.allreduce(int(self.flag), op=MPI.MAX))
+        return self.flag
+
+    def deliver(self) -> None:
+        self._restore()
+        if not self.flag:
+            raise KeyboardInterrupt("interrupted on another rank")
+        self.flag = False
+        if self.previous is signal.SIG_DFL:
+            signal.raise_signal(signal.SIGINT)
+        elif callable(self.previous):
+            self.previous(signal.SIGINT, self.frame)
+
+    def __exit__(self, etype, value, tb) -> None:
+        if etype is None and self.pending():
+            self.deliver()  # came during the last step or the end of the run: the run is complete
+        self._restore()
+
+
 class Solver:
     """One flexslosh run (an FSSolver), driven from Python.
 
     Args:
-        options: options for PETSc's database, e.g. {"fs_case": "tank", "fs_dx": 0.01, "ts_max_time":
-            0.1} (see ``set_options``); they win over the options file. The options this solver set are
-            taken out of the database again when it is destroyed (values others changed meanwhile stay).
+        options: options of this solver, e.g. {"fs_case": "tank", "fs_dx": 0.01, "ts_max_time": 0.1} (keys
+            and values as in ``set_options``); they win over the options file.
         options_file: a PETSc options file (as ``-options_file``), inserted first.
         comm: the run's communicator: None (PETSC_COMM_WORLD), an mpi4py communicator or a PETSc.Comm.
 
-    The solver reads its options at creation (FSSolverSetFromOptions); ``set_up`` builds the case
-    (``step`` and ``run`` do it when needed). Field getters are collective: every rank of comm calls
-    them. A ``Solver`` is a context manager; ``destroy`` frees the C objects.
+    Each solver has its own options database (``options``): a copy of PETSc's default database as it is
+    when the solver is created (the script's command line given to petsc4py, PETSC_OPTIONS,
+    ``set_options``), then the options file, then ``options``. It is PETSc's default database during every
+    call into the C core for this solver, so the core and PETSc read it as the binary reads the command
+    line, and no solver sees another's options. The solver reads its options at creation
+    (FSSolverSetFromOptions); ``set_up`` builds the case (``step`` and ``run`` do it when needed). Field
+    getters are collective: every rank of comm calls them. A ``Solver`` is a context manager; ``destroy``
+    frees the C objects and the database, after which every use raises RuntimeError.
     """
 
     def __init__(self, options: Mapping[str, Any] | None = None, options_file: str | os.PathLike | None = None, comm=None):
         core = initialize()
         self._core, self._h = core, core.ffi.new("FSSolver *")  # NULL until created
+        self._opts = core.ffi.new("PetscOptions *")  # the solver's database; NULL until created
         self._ts = self._swarm = None
-        self._set: dict[str, tuple[Any, Any]] = {}
+        self._mine: list[str] = []  # the options the file and the dict set: checked for use by destroy
         self._created = False  # read its options: those it set and never used are reported by destroy
         self.comm, self._ccomm = core.comm(comm)
         if options_file is not None and not Path(options_file).is_file():
@@ -294,22 +462,21 @@ class Solver:
             cycle = options_file_cycle(["-options_file", os.fspath(options_file)])
             if cycle:
                 raise ValueError(cycle)
-        before = core.PETSc.Options().getAll()
+        core.call("PetscOptionsCreate", self._opts)  # a copy of PETSc's default database
+        _live.add(self)
         try:
+            opts = self.options
+            before = opts.getAll()
             if options_file is not None:
-                core.call("PetscOptionsInsertFile", self._ccomm, os.fsencode(options_file), True)
+                core.call("PetscOptionsInsertFile", self._ccomm, self._opts[0], os.fsencode(options_file), True)
             if options:
-                set_options(options)
-        finally:
-            after = core.PETSc.Options().getAll()
-            for k in set(before) | set(after):
-                if before.get(k, _MISSING) != after.get(k, _MISSING):
-                    self._set[k] = (before.get(k, _MISSING), after.get(k, _MISSING))
-        try:
-            core.call("FSLoadPlugins", self._ccomm)  # a -dll_append among the options: its terms and structures
-            core.call("FSSolverCreate", self._ccomm, self._h)
-            _live.add(self)
-            core.call("FSSolverSetFromOptions", self._h[0])
+                with core.entered(self._opts[0]):
+                    _set_into(core.PETSc.Options(), options)
+            after = opts.getAll()
+            self._mine = [k for k in after if before.get(k, _MISSING) != after[k]]
+            core.call("FSLoadPlugins", self._ccomm, options=self._opts[0])  # a -dll_append: its terms and structures
+            core.call("FSSolverCreate", self._ccomm, self._h, options=self._opts[0])
+            self._call("FSSolverSetFromOptions")
             self._created = True
         except BaseException:
             self.destroy()
@@ -317,10 +484,10 @@ class Solver:
 
     # ------------------------------------------------------------------ life cycle
 
-    def _call(self, name: str, *args) -> None:
+    def _call(self, name: str, *args, label: str | None = None) -> None:
         if not self._h[0]:
-            raise RuntimeError("the solver was destroyed")
-        self._core.call(name, self._h[0], *args)
+            raise RuntimeError(_DESTROYED)
+        self._core.call(name, self._h[0], *args, options=self._opts[0], label=label)
 
     def set_up(self) -> "Solver":
         """Builds the case, the decomposition and the TS (FSSolverSetUp; idempotent)."""
@@ -348,34 +515,63 @@ class Solver:
         return self
 
     def run(self, until: float | None = None, callback: Callable[["Solver"], Any] | None = None) -> "Solver":
-        """Runs to -ts_max_time / -ts_max_steps (FSSolverSolve), or to the time ``until`` (the last step
-        shortened to land on it; -ts_max_time is restored after), writing the output as the executable
-        does (the last snapshot and summary.json at the end). callback(solver), if given, is called after
-        every step."""
+        """Runs to -ts_max_time / -ts_max_steps, or to the time ``until`` (the last step shortened to land on
+        it; -ts_max_time is restored after), writing the output as the executable does (FSSolverSolve's
+        steps, then the last snapshot and summary.json). callback(solver), if given, is called after every
+        step.
+
+        Ctrl-C (SIGINT) stops the run after the step in progress (the steps are taken one call at a time):
+        the output files then hold every step taken, as the binary's run to that step writes them, and a
+        run with checkpoints (-fs_checkpoint_interval) writes one of that step (FSSolverWriteCheckpoint,
+        for -fs_restart); then KeyboardInterrupt is raised. The solver stays usable: ``run()`` again goes
+        on from there and its output continues the same files. An error raises FlexsloshError naming
+        FSSolverSolve, whose steps these are."""
         ts = self.ts
         tmax = ts.getMaxTime()
         if until is not None:
             ts.setMaxTime(until)
         try:
-            if callback is not None:
+            with _Interrupts(self.comm) as interrupts:
                 self.set_up()
-                while not self.finished:
-                    self._call("FSSolverStep")
-                    callback(self)
-            self._call("FSSolverSolve")  # after the loop: no step left, only the end of the output
+                while not self._stops_at_set_up():
+                    if interrupts.pending():
+                        self._write_interrupted()
+                        interrupts.deliver()
+                    if self.finished:
+                        break
+                    self._call("FSSolverStep", label="FSSolverSolve")  # its errors as FSSolverSolve's
+                    if callback is not None:
+                        callback(self)
+                self._call("FSSolverSolve")  # after the loop: no step left, only the end of the output
         finally:
-            if until is not None:
+            if until is not None and self._h[0]:
                 ts.setMaxTime(tmax)
         return self
 
+    def _stops_at_set_up(self) -> bool:
+        """-fs_geometry_view: FSSolverSolve takes no step."""
+        return bool(self.options.getBool("fs_geometry_view", False))
+
+    def _write_interrupted(self) -> None:
+        """What an interrupted run leaves: the output files are written after every step (each row flushed);
+        with -fs_checkpoint_interval, a checkpoint of the current step unless the run has just written one."""
+        opts = self.options
+        every = opts.getInt("fs_checkpoint_interval", 0)
+        if every > 0 and opts.getBool("fs_output", True) and self.step_number % every:
+            self._call("FSSolverWriteCheckpoint")
+
     def destroy(self) -> None:
-        """Frees the C solver and the petsc4py wrappers of its TS and swarm, warns about the options this
-        solver set that were never used (a misspelt name; ``fs_options_left: False`` silences it), and takes
-        its options out of the database. Idempotent; also called at exit, before PETSc is finalized."""
+        """Frees the C solver and the petsc4py wrappers of its TS and swarm (their methods raise
+        RuntimeError afterwards), warns about the options this solver's file and dict set that were never
+        used (a misspelt name; ``fs_options_left: False`` silences it) and frees its options database.
+        Idempotent; also called at exit, before PETSc is finalized. Not from inside the solver's own call
+        (a callback of its run)."""
         core = self._core
+        if self._opts[0] and core.lib.fs_py_entered(self._opts[0]):
+            raise RuntimeError("a Solver cannot be destroyed inside its own call (from a callback of its run)")
         _live.discard(self)
         if core.PETSc.Sys.isFinalized():
-            self._h[0] = core.ffi.NULL
+            self._h[0] = self._opts[0] = core.ffi.NULL
             return
         try:
             if self._h[0]:
@@ -383,21 +579,16 @@ class Solver:
                     if obj is not None:
                         obj.destroy()  # drops the Python side's reference only
                 self._ts = self._swarm = None
-                core.call("FSSolverDestroy", self._h)
+                core.call("FSSolverDestroy", self._h, options=self._opts[0])
                 if self._created:  # a misspelt option among this solver's: a warning (FSOptionsLeft)
-                    names = [core.ffi.new("char[]", k.encode()) for k, (_, new) in self._set.items() if new is not _MISSING]
-                    core.call("FSOptionsLeft", self._ccomm, len(names), core.ffi.new("char *[]", names))
+                    names = [core.ffi.new("char[]", k.encode()) for k in self._mine]
+                    core.call("FSOptionsLeft", self._ccomm, len(names), core.ffi.new("char *[]", names),
+                              options=self._opts[0])
         finally:
             self._h[0] = core.ffi.NULL
-            opts, now = core.PETSc.Options(), core.PETSc.Options().getAll()
-            for k, (old, new) in self._set.items():
-                if now.get(k, _MISSING) != new:
-                    continue  # changed since: not ours any more
-                if old is _MISSING:
-                    opts.delValue("-" + k)
-                else:
-                    opts.setValue("-" + k, "" if old is None else old)
-            self._set = {}
+            if self._opts[0]:
+                core.call("PetscOptionsDestroy", self._opts)
+                self._opts[0] = core.ffi.NULL
 
     def __enter__(self) -> "Solver":
         return self
@@ -433,20 +624,25 @@ class Solver:
     @property
     def ts(self):
         """The solver's TS as a petsc4py PETSc.TS (the same object: its time, step number, dt and options
-        are the run's). Valid while the solver lives."""
+        are the run's). Valid while the solver lives: afterwards its methods raise RuntimeError."""
         return self._wrapped("_ts", "FSSolverGetTS", "TS")
 
     @property
     def swarm(self):
         """The particles' DMSwarm as a petsc4py PETSc.DMSwarm (fields position, velocity, density, mass, id;
-        local sizes change at every step). Sets the solver up."""
+        local sizes change at every step), whose getField arrays are read-only (the swarm mirrors the TS's
+        state: see _wrapper_classes). Sets the solver up. Valid while the solver lives: afterwards its
+        methods raise RuntimeError."""
         self.set_up()
         return self._wrapped("_swarm", "FSSolverGetSwarm", "DM")
 
     @property
-    def options(self):
-        """PETSc's options database (petsc4py PETSc.Options, no prefix)."""
-        return self._core.PETSc.Options()
+    def options(self) -> SolverOptions:
+        """This solver's own options database (``SolverOptions``: petsc4py PETSc.Options's methods, no
+        prefix), where its options file and dict went and from which the C core reads."""
+        if not self._opts[0]:
+            raise RuntimeError(_DESTROYED)
+        return SolverOptions(self)
 
     def _new(self, ctype: str, *init):
         return self._core.ffi.new(ctype, *init)

@@ -288,6 +288,13 @@ PetscErrorCode FSSolverRestoreField(FSSolver s, const char name[], PetscInt *n, 
    limit that set the last step, and the number of structure DOFs (to refuse a restart with another
    structure), and the record of the run's set-up (FSSolverSetUpRecord()). A run started with
    -fs_restart on that file continues exactly as the uninterrupted run.
+
+   Collective
+
+   Notes:
+   The run writes one every -fs_checkpoint_interval steps (FSSolverMonitor()); a driver may write one
+   at any step of a run whose output is open (after its first step), as the Python package does when
+   a run is interrupted (KeyboardInterrupt).
 */
 PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 {
@@ -300,6 +307,8 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   PetscMPIInt        rank;
 
   PetscFunctionBegin;
+  PetscCheck(s->mon.monitoring, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
+             "FSSolverWriteCheckpoint(): the run's output is not open: take a step first");
   PetscCall(PetscLogEventBegin(FS_Output, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(PetscMemzero(&hdr, sizeof(hdr)));

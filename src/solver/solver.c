@@ -623,6 +623,17 @@ PetscErrorCode FSSolverGetTS(FSSolver s, TS *ts)
   PetscFunctionReturn(0);
 }
 
+/*
+   FSSolverGetSwarm - the particles' DMSwarm (fields FS_FIELD_POSITION, ..., this rank's owned particles).
+
+   Not collective
+
+   Notes:
+   The swarm mirrors the state between steps: the state lives in the TS's vector and is copied into the
+   swarm after every step (and the particles migrate and are reordered), so read its fields; a value
+   written into them would be overwritten by the next step, unseen by the neighbour lists, the ghosts
+   and the energy budget. (The Python package hands its fields out read-only.)
+*/
 PetscErrorCode FSSolverGetSwarm(FSSolver s, DM *sw)
 {
   PetscFunctionBegin;

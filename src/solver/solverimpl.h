@@ -294,7 +294,6 @@ PETSC_INTERN PetscErrorCode FSSolverBalanceWork(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetWorkSum(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverPartitionWalls(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverAtEnd(FSSolver, PetscBool *);

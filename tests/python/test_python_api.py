@@ -138,8 +138,8 @@ def test_options_dict_file_and_restore(tmp_path):
         assert s.set_up().local_size == 100
     with Solver({"-fs_dx": 0.05, "fs_progress": False}, options_file=f) as s:  # the dict wins over the file
         assert s.set_up().local_size == 400
-        assert opts.getString("fs_dx") == "0.05" and opts.getBool("fs_progress") is False
-    assert not opts.hasName("fs_dx") and not opts.hasName("fs_case")  # taken out again
+        assert s.options.getString("fs_dx") == "0.05" and s.options.getBool("fs_progress") is False
+        assert not opts.hasName("fs_dx") and not opts.hasName("fs_case")  # the solver's own database, not PETSc's
     with Solver(dict(M.TG, fs_terms=["continuity", "pressure"])) as s:  # a list as a comma-separated value
         s.step()
         assert s.energy()["work_alpha"] == 0 and s.field("turbulent_viscosity").max() == 0
@@ -366,7 +366,7 @@ def test_energy_before_the_first_step():
 
 
 def test_stepping_from_python_writes_what_the_binary_writes(tmp_path):
-    """Solver.run(callback=...) and step() open the output before their first step, as the binary does: the
+    """Solver.run(callback=...), run() and step() open the output before their first step, as the binary does: the
     coupled tank's timeseries.csv and energy.csv byte for byte the binary's (step 0's row, each step once, the
     energy budget's reference at step 0) and the snapshots at the same times."""
     opts = ["-options_file", REPO_ROOT / "cases" / "coupled_rectangular.opts", "-ts_max_time", 0.012,
@@ -380,7 +380,10 @@ def test_stepping_from_python_writes_what_the_binary_writes(tmp_path):
                 options_file=str(REPO_ROOT / "cases" / "coupled_rectangular.opts")) as s:
         s.step(3)
         s.run()
-    for name in ("callback", "steps"):
+    with Solver(dict(fs_progress=False, ts_max_time=0.012, fs_output_interval=0.005, fs_output_dir=str(tmp_path / "run")),
+                options_file=str(REPO_ROOT / "cases" / "coupled_rectangular.opts")) as s:
+        s.run()  # the steps one call at a time (Ctrl-C between them), the same output
+    for name in ("callback", "steps", "run"):
         for csv in ("timeseries.csv", "energy.csv"):
             assert (tmp_path / name / csv).read_bytes() == (tmp_path / "binary" / csv).read_bytes(), (name, csv)
         times = [read_snapshot(f).attrs["time"] for f in snapshot_files(tmp_path / name)]
