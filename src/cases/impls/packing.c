@@ -127,20 +127,6 @@ static PetscErrorCode GridDestroy(Grid *gr)
   PetscFunctionReturn(0);
 }
 
-/* the element's unit normal, a point of its plane and the squared distance from x to it */
-static inline PetscReal ElementDistance2(const FSPackRegion *g, const PetscReal el[], const PetscReal x[],
-                                         const PetscReal **n, const PetscReal **p)
-{
-  if (g->dim == 2) {
-    *n = el + FS_SEG_NORMAL;
-    *p = el + FS_SEG_P0;
-    return FSSegmentDistance2(el, x);
-  }
-  *n = el + FS_TRI_NORMAL;
-  *p = el + FS_TRI_P0;
-  return FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
-}
-
 /* e_i of the particle i (packing.c's header) */
 static void ParticleSum(const FSPackRegion *g, const Grid *pg, const Grid *eg, const FSKernel *k, PetscReal V,
                         const PetscReal X[], PetscInt i, PetscReal e[])
@@ -187,18 +173,22 @@ static void ParticleSum(const FSPackRegion *g, const Grid *pg, const Grid *eg, c
   }
 }
 
-/* x kept at least dmin from the planes of the elements whose nearest point to it lies inside them (a wall it faces,
-   not one around a corner) within dx/2 */
+/* x kept at least dmin inside the box (the fill level) and from the planes of the elements whose nearest point to it
+   lies inside them (a wall it faces, not one around a corner) within dx/2 */
 static void KeepFromWalls(const FSPackRegion *g, const Grid *eg, PetscReal dmin, PetscReal reach, PetscReal x[])
 {
-  const PetscInt cell = CellOf(eg, x);
+  PetscInt cell;
+  for (PetscInt d = 0; d < g->dim; d++) x[d] = PetscMax(g->lo[d] + dmin, PetscMin(g->hi[d] - dmin, x[d])); /* the box */
+  cell = CellOf(eg, x);
   for (PetscInt q = eg->start[cell]; q < eg->start[cell + 1]; q++) {
-    const PetscReal *el = &g->el[eg->item[q] * g->stride], *n, *p;
-    const PetscReal  d2 = ElementDistance2(g, el, x, &n, &p);
-    PetscReal        s  = 0;
-    if (d2 >= reach * reach) continue;
+    const PetscReal *el = &g->el[eg->item[q] * g->stride], *n = el + (g->dim == 2 ? FS_SEG_NORMAL : FS_TRI_NORMAL);
+    const PetscReal *p = el; /* the first corner: FS_SEG_P0, FS_TRI_P0 */
+    PetscReal        s = 0, d2;
     for (PetscInt d = 0; d < g->dim; d++) s += (p[d] - x[d]) * n[d]; /* > 0: x on the liquid side */
-    if (s < dmin && s > -dmin && PetscAbsReal(d2 - s * s) <= 1e-6 * reach * reach)
+    if (s >= dmin || s <= -dmin) continue;
+    d2 = g->dim == 2 ? FSSegmentDistance2(el, x)
+                     : FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
+    if (d2 < reach * reach && PetscAbsReal(d2 - s * s) <= 1e-6 * reach * reach)
       for (PetscInt d = 0; d < g->dim; d++) x[d] -= (dmin - s) * n[d];
   }
 }
@@ -336,6 +326,8 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
     PetscFunctionReturn(0);
   }
   V = volume / N;
+  PetscCall(PetscInfo(s, "%s: region of %" PetscInt_FMT " elements, %" PetscInt_FMT " of them the box's faces\n", what,
+                      g->nel, g->nlid));
   PetscCall(PetscMalloc3(dim * N, &X, dim * N, &Xn, N, &cellof));
   PetscCallMPI(MPI_Allgatherv(x, counts[rank], MPIU_REAL, X, counts, displs, MPIU_REAL, comm));
   par[0] = dx;
@@ -348,7 +340,7 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
   }
   if (!found) {
     const PetscReal cap = 0.1 * dx, dmin = 0.25 * dx;
-    PetscCall(GridSetUp(&eg, g, 2 * h));
+    PetscCall(GridSetUp(&eg, g, h));
     PetscCall(GridFillElements(&eg, g, 2 * h));
     PetscCall(GridSetUp(&pg, g, 2 * h));
     PetscCall(PetscMalloc1(N, &pg.item));

@@ -158,7 +158,7 @@ static PetscInt ClipPolygon(PetscInt nv, const PetscReal v[], PetscInt d, PetscR
 /*
    FSPackRegionFromMesh - the closed region of the liquid of the checked 3-D mesh m in the box lo..hi: m's elements
    (refined to edges of at most h) clipped to the box, and the box's faces inside the liquid tiled with squares of
-   at most dx/2, two triangles each (those whose middle is in the liquid), their normals out of the box.
+   at most dx, two triangles each (those whose middle is in the liquid), their normals out of the box.
 
    Not collective
 */
@@ -194,8 +194,8 @@ PetscErrorCode FSPackRegionFromMesh(FSPackRegion *g, FSMesh *m, const PetscReal 
   for (PetscInt d = 0; d < 3; d++)
     for (PetscInt side = 0; side < 2; side++) {
       const PetscInt  o1 = (d + 1) % 3, o2 = (d + 2) % 3;
-      const PetscInt  n1   = (PetscInt)PetscCeilReal((hi[o1] - lo[o1]) / (dx / 2));
-      const PetscInt  n2   = (PetscInt)PetscCeilReal((hi[o2] - lo[o2]) / (dx / 2));
+      const PetscInt  n1   = (PetscInt)PetscCeilReal((hi[o1] - lo[o1]) / dx);
+      const PetscInt  n2   = (PetscInt)PetscCeilReal((hi[o2] - lo[o2]) / dx);
       const PetscReal at   = side ? hi[d] : lo[d];
       PetscReal       n[3] = {0, 0, 0};
       if (FaceOnBounds(lo, hi, m->lo, m->hi, d, side, eps)) continue;
