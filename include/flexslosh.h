@@ -238,6 +238,17 @@ PETSC_EXTERN PetscErrorCode FSSolverAddParticles(FSSolver, PetscInt n, const Pet
 PETSC_EXTERN PetscErrorCode FSSolverAddLiquidVolume(FSSolver, PetscReal volume, PetscReal mass, PetscReal lattice_mass);
 PETSC_EXTERN PetscErrorCode FSSolverGetLiquidVolume(FSSolver, PetscReal *volume, PetscReal *mass,
                                                     PetscReal *lattice_mass);
+/* How the cases place a body of liquid's particles (-fs_fill_packing, docs/walls.md): on a lattice cut by the walls, or
+   relaxed against the walls and the fill level from that lattice; auto relaxes where the lattice does not fit the
+   walls (its masses would need fitting to the exact volume) and keeps it where it does. */
+typedef enum { FS_FILL_PACKING_AUTO, FS_FILL_PACKING_LATTICE, FS_FILL_PACKING_RELAXED } FSFillPackingType;
+typedef struct {
+  FSFillPackingType type;
+  PetscInt          iterations;                /* -fs_fill_packing_iterations */
+  PetscReal         step;                      /* -fs_fill_packing_step: each move, -step h^2 e_i */
+  char              cache[PETSC_MAX_PATH_LEN]; /* -fs_fill_packing_cache: a folder of packings, "" none */
+} FSFillPacking;
+PETSC_EXTERN PetscErrorCode FSSolverGetFillPacking(FSSolver, FSFillPacking *);
 PETSC_EXTERN PetscErrorCode FSSolverGetParameters(FSSolver, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0,
                                                   PetscReal *nu);
 PETSC_EXTERN PetscErrorCode FSSolverSetDefaultPhysics(FSSolver, PetscReal rho0, PetscReal c0, PetscReal nu,

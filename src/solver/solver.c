@@ -55,6 +55,9 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->mon.probes.step           = -1;
   s->opt.final_time            = 1.0;
   s->opt.structure_cfl         = 0.02;
+  s->opt.packing.type          = FS_FILL_PACKING_AUTO;
+  s->opt.packing.iterations    = 200;
+  s->opt.packing.step          = 0.3;
   PetscCall(PetscStrncpy(s->opt.structname, "none", sizeof(s->opt.structname)));
   PetscCall(FSCouplingCreate(comm, &s->coupling));
   s->pw.halo.rectype = MPI_DATATYPE_NULL;
@@ -244,6 +247,34 @@ static PetscErrorCode FSSolverOptionsCase(FSSolver s, PetscOptionItems *PetscOpt
   PetscFunctionReturn(0);
 }
 
+/* FSSolverOptionsPacking - how the cases place the liquid's particles (FSSolverGetFillPacking). */
+static PetscErrorCode FSSolverOptionsPacking(FSSolver s, PetscOptionItems *PetscOptionsObject)
+{
+  static const char *const packnames[] = {"auto", "lattice", "relaxed"};
+  FSFillPacking           *p           = &s->opt.packing;
+  PetscInt                 type        = (PetscInt)p->type;
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsEList("-fs_fill_packing",
+                              "How the liquid's particles are placed: lattice (rows cut by the walls), relaxed (that "
+                              "lattice relaxed against the walls and the fill level) or auto (relaxed where the "
+                              "lattice does not fit the walls, the lattice where it does)",
+                              "FSSolverGetFillPacking", packnames, 3, packnames[type], &type, NULL));
+  p->type = (FSFillPackingType)type;
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_fill_packing_iterations",
+                         "Iterations of the relaxed packing (-fs_fill_packing relaxed)", "FSSolverGetFillPacking",
+                         &p->iterations, NULL, 1, 1000000));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_fill_packing_step",
+                          "Step of the relaxed packing: each iteration moves a particle by -step h^2 e_i (e_i: the "
+                          "particles' kernel-gradient sum and the walls' integral, zero when evenly spread)",
+                          "FSSolverGetFillPacking", &p->step, NULL, 0, 10, FS_RANGE_OPEN_LOWER));
+  PetscCall(PetscOptionsString("-fs_fill_packing_cache",
+                               "Folder where relaxed packings are kept and found again, each file named by a hash of "
+                               "the geometry, the spacing and the settings (empty: none)",
+                               "FSSolverGetFillPacking", p->cache, p->cache, sizeof(p->cache), NULL));
+  PetscFunctionReturn(0);
+}
+
 /* FSSolverOptionsPhysics - the spacing, the smoothing length, the liquid and the body force. */
 static PetscErrorCode FSSolverOptionsPhysics(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
@@ -283,6 +314,7 @@ static PetscErrorCode FSSolverOptionsPhysics(FSSolver s, PetscOptionItems *Petsc
                           "Constant added to the equation of state p = c0^2 (rho - rho0) + p_b",
                           "FSSolverSetFromOptions", &s->opt.background_pressure, NULL, PETSC_NINFINITY, PETSC_INFINITY,
                           FS_RANGE_CLOSED));
+  PetscCall(FSSolverOptionsPacking(s, PetscOptionsObject));
   PetscFunctionReturn(0);
 }
 
@@ -566,6 +598,30 @@ PetscErrorCode FSSolverSetDomain(FSSolver s, const PetscReal lo[], const PetscRe
                "Empty domain in direction %" PetscInt_FMT ": [%g, %g]", d, (double)s->pw.lo[d], (double)s->pw.hi[d]);
   }
   s->pw.domain_set = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetFillPacking - how the cases place the liquid's particles: -fs_fill_packing (auto, lattice or relaxed)
+   and the relaxation's settings.
+
+   Not collective
+
+   Output Parameter:
+.  p - the settings
+
+   Options Database Keys:
++  -fs_fill_packing <auto>            - auto, lattice or relaxed (docs/walls.md)
+.  -fs_fill_packing_iterations <200>  - iterations of the relaxation
+.  -fs_fill_packing_step <0.3>          - each iteration moves a particle by -step h^2 e_i
+-  -fs_fill_packing_cache <dir>       - a folder where relaxed packings are kept and reused
+
+   Level: intermediate
+*/
+PetscErrorCode FSSolverGetFillPacking(FSSolver s, FSFillPacking *p)
+{
+  PetscFunctionBegin;
+  *p = s->opt.packing;
   PetscFunctionReturn(0);
 }
 

@@ -38,34 +38,35 @@ typedef struct {
 
 /* The run's options (-fs_*), read by FSSolverSetFromOptions() and the cases' defaults. */
 typedef struct {
-  char      casename[64];
-  char      default_terms[1024]; /* the case's default for -fs_terms */
-  char      outdir[PETSC_MAX_PATH_LEN];
-  char      restart[PETSC_MAX_PATH_LEN];
-  char      allow_changes[1024]; /* -fs_restart_allow_changes: items of the set-up a restart may change */
-  PetscInt  dim;
-  PetscReal dx, h_over_dx, h, rho0, c0, nu, gravity[3], background_pressure;
-  PetscReal cfl, cfl_visc, cfl_force, relax_time;
-  PetscBool cfl_set;   /* -fs_cfl given (else chosen by integrator) */
-  PetscReal halo_skin; /* extra halo width, in units of h */
-  PetscReal max_density_variation;
-  PetscReal final_time;
-  PetscReal output_interval;
-  PetscInt  checkpoint_interval;
-  PetscBool progress, write_output;
-  PetscReal progress_interval;
-  PetscInt  series_interval; /* -fs_series_interval: steps between the time series' rows */
-  PetscBool terms_view;
-  PetscBool geometry_view; /* -fs_geometry_view: write the set-up's picture and walls, then stop */
-  PetscInt  sort_interval;
-  PetscReal rebalance_threshold; /* -fs_rebalance_threshold: move the cuts when a rank owns this times the mean */
-  PetscInt  rebalance_interval;  /* -fs_rebalance_interval: steps at least between two moves of the cuts */
-  PetscInt  balance;             /* -fs_balance: what the cuts balance (FSBalance) */
-  PetscInt  rebuild;             /* -fs_neighbour_rebuild: FS_REBUILD_AUTO or FS_REBUILD_ALWAYS */
-  PetscInt  candidates;          /* -fs_neighbour_candidates: 0 auto, 1 indices, 2 bits (FSNeighboursForm) */
-  char      structname[64];
-  PetscBool structure_view;
-  PetscReal structure_cfl; /* dt = structure_cfl * shortest period, when there are no particles */
+  char          casename[64];
+  char          default_terms[1024]; /* the case's default for -fs_terms */
+  char          outdir[PETSC_MAX_PATH_LEN];
+  char          restart[PETSC_MAX_PATH_LEN];
+  char          allow_changes[1024]; /* -fs_restart_allow_changes: items of the set-up a restart may change */
+  PetscInt      dim;
+  PetscReal     dx, h_over_dx, h, rho0, c0, nu, gravity[3], background_pressure;
+  PetscReal     cfl, cfl_visc, cfl_force, relax_time;
+  PetscBool     cfl_set;   /* -fs_cfl given (else chosen by integrator) */
+  PetscReal     halo_skin; /* extra halo width, in units of h */
+  PetscReal     max_density_variation;
+  PetscReal     final_time;
+  PetscReal     output_interval;
+  PetscInt      checkpoint_interval;
+  PetscBool     progress, write_output;
+  PetscReal     progress_interval;
+  PetscInt      series_interval; /* -fs_series_interval: steps between the time series' rows */
+  PetscBool     terms_view;
+  PetscBool     geometry_view; /* -fs_geometry_view: write the set-up's picture and walls, then stop */
+  PetscInt      sort_interval;
+  PetscReal     rebalance_threshold; /* -fs_rebalance_threshold: move the cuts when a rank owns this times the mean */
+  PetscInt      rebalance_interval;  /* -fs_rebalance_interval: steps at least between two moves of the cuts */
+  PetscInt      balance;             /* -fs_balance: what the cuts balance (FSBalance) */
+  PetscInt      rebuild;             /* -fs_neighbour_rebuild: FS_REBUILD_AUTO or FS_REBUILD_ALWAYS */
+  PetscInt      candidates;          /* -fs_neighbour_candidates: 0 auto, 1 indices, 2 bits (FSNeighboursForm) */
+  char          structname[64];
+  PetscBool     structure_view;
+  PetscReal     structure_cfl; /* dt = structure_cfl * shortest period, when there are no particles */
+  FSFillPacking packing;       /* -fs_fill_packing*: how the cases place the liquid's particles */
 } FSSolverOptions;
 
 /* When the particles' lists are rebuilt (-fs_neighbour_rebuild, src/solver/rebuild.c) */

@@ -44,4 +44,4 @@ PETSC_INTERN PetscErrorCode FSDebugFault(MPI_Comm, const char[], PetscInt, Petsc
 /* log events */
 PETSC_EXTERN PetscLogEvent FS_Structure, FS_Coupling;
 PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls,
-    FS_Migrate, FS_Output, FS_RHS, FS_Split;
+    FS_Migrate, FS_Output, FS_RHS, FS_Split, FS_FillPacking;

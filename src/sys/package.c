@@ -6,7 +6,7 @@ static PetscBool FSPackageInitialized = PETSC_FALSE;
 
 PetscLogEvent FS_Structure, FS_Coupling;
 PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls, FS_Migrate, FS_Output,
-    FS_RHS, FS_Split;
+    FS_RHS, FS_Split, FS_FillPacking;
 
 static PetscErrorCode FSFinalizePackageCallback(void)
 {
@@ -38,6 +38,7 @@ PetscErrorCode FSInitializePackage(void)
   PetscCall(PetscLogEventRegister("FSOutput", FSSOLVER_CLASSID, &FS_Output));
   PetscCall(PetscLogEventRegister("FSStructure", FSSOLVER_CLASSID, &FS_Structure));
   PetscCall(PetscLogEventRegister("FSCoupling", FSSOLVER_CLASSID, &FS_Coupling));
+  PetscCall(PetscLogEventRegister("FSFillPacking", FSSOLVER_CLASSID, &FS_FillPacking));
   PetscCall(FSTermRegisterAll());
   PetscCall(FSStructureRegisterAll());
   PetscCall(FSCaseRegisterAll());

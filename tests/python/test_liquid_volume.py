@@ -2,7 +2,8 @@
 leaves out points near the walls, and the masses are fitted so that the liquid weighs the integral of its
 hydrostatic density over the exact volume below the fill level; where the lattice fits (walls along the axes) its
 masses are kept. The exact masses are computed here independently, from the shapes' cross-sections. Set-up only
-(-ts_max_steps 0): the step-0 snapshot and time series."""
+(-ts_max_steps 0): the step-0 snapshot and time series. The lattice's fit is checked with -fs_fill_packing lattice
+(auto relaxes these tanks: test_packing.py)."""
 import math
 
 import numpy as np
@@ -127,7 +128,8 @@ def test_3d_liquid_weighs_its_exact_volume(tmp_path, shape, nranks):
     stl = tmp_path / "tank.stl"
     stl.write_text(ascii_stl(tris))
     mass, summary, snap = setup_run(tmp_path, ["-fs_case", "tank", "-fs_dim", 3, "-fs_tank_shape", "stl", "-fs_tank_stl",
-                                               stl, "-fs_dx", DX, "-fs_output_interval", 0], nranks)
+                                               stl, "-fs_dx", DX, "-fs_output_interval", 0, "-fs_fill_packing", "lattice"],
+                                    nranks)
     assert mass == pytest.approx(exact, rel=1e-9)
     assert summary["lattice_mass_ratio"] < 0.99  # the lattice does not fit: the fit was needed
     assert summary["liquid_mass"] == pytest.approx(exact, rel=1e-9)
@@ -162,7 +164,7 @@ def test_2d_liquid_weighs_its_exact_area(tmp_path, lean, nranks):
     walls.write_text(f"wall tank\n0 0\n0.7 0\n{0.7 + lean} 0.06\n{-lean} 0.06\nend\n")
     exact = column_mass(lambda y: 0.7 + 2 * lean * y / 0.06, 0.03)
     mass, summary, snap = setup_run(tmp_path, ["-fs_case", "tank", "-fs_tank_shape", "file", "-fs_tank_file", walls,
-                                               "-fs_output_interval", 0], nranks)
+                                               "-fs_output_interval", 0, "-fs_fill_packing", "lattice"], nranks)
     assert mass == pytest.approx(exact, rel=1e-9)
     if not lean:
         assert mass == pytest.approx(snap["density"].sum() * 0.002**2, rel=1e-13)

@@ -130,6 +130,8 @@ NAMES = {
     "-fs_neighbour_rebuild": (["nosuch"], None),
     "-fs_neighbour_candidates": (["nosuch"], None),
     "-fs_balance": (["nosuch"], None),
+    "-fs_fill_packing": (["nosuch"], None),
+    "-fs_fill_packing_cache": None,  # a folder, made where a packing is written: test_packing.py
     "-fs_coupling_loads": (["-fs_structure", "msd", "-fs_coupling_loads", "nosuch"], "nosuch"),
     "-fs_walls_noslip": (["nosuch"], None),
     "-fs_tank_file": (["-fs_tank_shape", "file", "-fs_tank_file", "/nonexistent.walls"], "/nonexistent.walls"),

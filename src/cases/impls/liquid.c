@@ -3,6 +3,7 @@
 #include <flexslosh.h>
 #include "boundary/fsboundary.h"
 #include "liquid.h"
+#include "packing.h"
 #include "sys/fssys.h"
 
 /*
@@ -118,6 +119,57 @@ PetscErrorCode FSCaseFitLiquidMass(FSSolver s, PetscReal volume, PetscReal mass,
   PetscFunctionReturn(0);
 }
 
+/*
+   FSCaseLatticeFits - whether a body of liquid is relaxed (FSCasePackRelax) rather than left on its lattice: with
+   -fs_fill_packing auto, where the lattice's masses m (n on this rank) do not sum over the ranks to the exact mass
+   to round-off (1e-9: the walls not along the axes, the rule of FSCaseFitLiquidMass()); with relaxed always, with
+   lattice never.
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseLatticeFits(FSSolver s, FSFillPackingType type, PetscReal mass, PetscInt n, const PetscReal m[],
+                                 PetscBool *relax)
+{
+  PetscReal sum = 0;
+
+  PetscFunctionBegin;
+  *relax = (PetscBool)(type == FS_FILL_PACKING_RELAXED);
+  if (type != FS_FILL_PACKING_AUTO) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < n; i++) sum += m[i];
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &sum, 1, MPIU_REAL, MPIU_SUM, PetscObjectComm((PetscObject)s)));
+  *relax = (PetscBool)(PetscAbsReal(sum - mass) > 1e-9 * mass);
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCaseRelaxedDensities - the hydrostatic densities rho0 (1 + |g| (ysurf - y) / c0^2) of n relaxed particles x (dim
+   reals each) and their masses rho V / N, the body's volume V shared evenly by its N particles (over the ranks).
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseRelaxedDensities(FSSolver s, PetscInt dim, PetscReal ysurf, PetscReal volume, PetscInt n,
+                                      const PetscReal x[], PetscReal rho[], PetscReal m[])
+{
+  PetscReal g[3], gmag = 0, rho0, c0;
+  PetscInt  N = n;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetGravity(s, g));
+  PetscCall(FSSolverGetParameters(s, NULL, NULL, &rho0, &c0, NULL));
+  for (PetscInt d = 0; d < dim; d++) gmag += g[d] * g[d];
+  gmag = PetscSqrtReal(gmag);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &N, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)s)));
+  for (PetscInt i = 0; i < n; i++) {
+    rho[i] = rho0 + rho0 * gmag * (ysurf - x[dim * i + 1]) / (c0 * c0);
+    m[i]   = rho[i] * volume / N;
+  }
+  PetscFunctionReturn(0);
+}
+
 /* the exact area of the liquid of w in [x0, x1] x [y0, ysurf] and the integral over it of the hydrostatic density
    rho0 (1 + |g| (ysurf - y) / c0^2), the mass it should have (FSWallsLiquidBelow at ysurf less that at y0) */
 static void PolygonExactMass(const FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0, PetscReal ysurf,
@@ -131,12 +183,15 @@ static void PolygonExactMass(const FSWalls *w, PetscReal x0, PetscReal x1, Petsc
   *mass = rho0 * (*area + g_c02 * (q1 - q0 - (ysurf - y0) * a0));
 }
 
-/* this rank's rows of the lattice in the liquid region of w inside [x0, x1] x [y0, ysurf], added to the solver */
-static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0,
-                                     PetscReal ysurf, const char what[], FSCaseVelocityFn velocity, void *ctx)
+/* this rank's rows of the lattice in the liquid region of w inside [x0, x1] x [y0, ysurf], points closer to a wall
+   than margin times the spacing left out: positions, hydrostatic densities and masses rho hx hy (x, rho, m
+   allocated here) */
+static PetscErrorCode PolygonLatticePoints(FSSolver s, const FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0,
+                                           PetscReal ysurf, const char what[], PetscReal margin, PetscInt *np,
+                                           PetscReal **xp, PetscReal **rhop, PetscReal **mp)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  PetscReal  *x, *u, *rho, *m, g[3], gmag, dx, rho0, c0;
+  PetscReal  *x, *rho, *m, g[3], gmag, dx, rho0, c0;
   PetscInt    nx, ny, n = 0, r0, r1;
   PetscInt64  cap;
   PetscReal   hy, *cross;
@@ -165,7 +220,8 @@ static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0,
              " places for particles are more than an index can count: use "
              "more ranks or a coarser -fs_dx",
              what, (double)dx, cap);
-  PetscCall(PetscMalloc5(2 * cap, &x, 2 * cap, &u, cap, &rho, cap, &m, w->nvert + 2, &cross));
+  PetscCall(PetscMalloc3(2 * cap, &x, cap, &rho, cap, &m));
+  PetscCall(PetscMalloc1(w->nvert + 2, &cross));
   for (PetscInt b = r0; b < r1; b++) {
     const PetscReal yr = y0 + (b + 0.5) * hy;
     PetscInt        nc = 0;
@@ -189,25 +245,61 @@ static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0,
       hx = (e - a) / na;
       for (PetscInt i = 0; i < na; i++) {
         const PetscReal p[2] = {a + (i + 0.5) * hx, yr};
-        if (!FSWallsInLiquid(w, p, 0.499 * PetscMin(hx, hy))) continue;
+        if (!FSWallsInLiquid(w, p, margin * PetscMin(hx, hy))) continue;
         x[2 * n]     = p[0];
         x[2 * n + 1] = p[1];
-        u[2 * n]     = 0;
-        u[2 * n + 1] = 0;
-        if (velocity) PetscCall((*velocity)(p, &u[2 * n], ctx));
-        rho[n] = rho0 + rho0 * gmag * (ysurf - p[1]) / (c0 * c0);
-        m[n]   = rho[n] * hx * hy;
+        rho[n]       = rho0 + rho0 * gmag * (ysurf - p[1]) / (c0 * c0);
+        m[n]         = rho[n] * hx * hy;
         n++;
       }
     }
   }
-  { /* the masses fitted to the exact area */
-    PetscReal area, mass;
-    PolygonExactMass(w, x0, x1, y0, ysurf, rho0, gmag / (c0 * c0), &area, &mass);
-    PetscCall(FSCaseFitLiquidMass(s, area, mass, n, m));
+  PetscCall(PetscFree(cross));
+  *np   = n;
+  *xp   = x;
+  *rhop = rho;
+  *mp   = m;
+  PetscFunctionReturn(0);
+}
+
+/* this rank's particles of the liquid region of w inside [x0, x1] x [y0, ysurf], added to the solver: the lattice,
+   or where -fs_fill_packing asks for it the lattice relaxed in the region (FSCasePackRelax); hydrostatic, their
+   masses fitted to the exact area */
+static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0,
+                                     PetscReal ysurf, const char what[], FSCaseVelocityFn velocity, void *ctx)
+{
+  PetscReal    *x, *u, *rho, *m, g[3], gmag, rho0, c0, area, mass;
+  PetscInt      n;
+  FSFillPacking pk;
+  PetscBool     relax;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetGravity(s, g));
+  PetscCall(FSSolverGetParameters(s, NULL, NULL, &rho0, &c0, NULL));
+  PetscCall(FSSolverGetFillPacking(s, &pk));
+  gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1]);
+  PolygonExactMass(w, x0, x1, y0, ysurf, rho0, gmag / (c0 * c0), &area, &mass);
+  PetscCall(PolygonLatticePoints(s, w, x0, x1, y0, ysurf, what, 0.499, &n, &x, &rho, &m));
+  PetscCall(FSCaseLatticeFits(s, pk.type, mass, n, m, &relax));
+  if (relax) { /* from the lattice of every point inside, relaxed */
+    FSPackRegion    region;
+    PetscReal       dx;
+    const PetscReal lo[2] = {x0, y0}, hi[2] = {x1, ysurf};
+    PetscCall(PetscFree3(x, rho, m));
+    PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
+    PetscCall(PolygonLatticePoints(s, w, x0, x1, y0, ysurf, what, 0, &n, &x, &rho, &m));
+    PetscCall(FSPackRegionFromWalls(&region, w, lo, hi, dx));
+    PetscCall(FSCasePackRelax(s, &region, area, n, x, what));
+    PetscCall(FSPackRegionDestroy(&region));
+    PetscCall(FSCaseRelaxedDensities(s, 2, ysurf, area, n, x, rho, m));
   }
+  PetscCall(PetscCalloc1(2 * n, &u));
+  if (velocity)
+    for (PetscInt i = 0; i < n; i++) PetscCall((*velocity)(&x[2 * i], &u[2 * i], ctx));
+  PetscCall(FSCaseFitLiquidMass(s, area, mass, n, m));
   PetscCall(FSSolverAddParticles(s, n, x, u, rho, m));
-  PetscCall(PetscFree5(x, u, rho, m, cross));
+  PetscCall(PetscFree3(x, rho, m));
+  PetscCall(PetscFree(u));
   PetscFunctionReturn(0);
 }
 

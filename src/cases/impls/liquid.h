@@ -32,5 +32,11 @@ PETSC_INTERN PetscBool      FSSegmentEntersBox(const PetscReal p[], const PetscR
 /* the masses of this rank's particles of one body of liquid scaled so that they sum to mass over the ranks (unless
    they do to round-off already), and the body recorded with its exact volume */
 PETSC_INTERN PetscErrorCode FSCaseFitLiquidMass(FSSolver, PetscReal volume, PetscReal mass, PetscInt n, PetscReal m[]);
+/* with -fs_fill_packing: is a body of liquid relaxed rather than left on its lattice (masses m)? */
+PETSC_INTERN PetscErrorCode FSCaseLatticeFits(FSSolver, FSFillPackingType, PetscReal mass, PetscInt n,
+                                              const PetscReal m[], PetscBool *relax);
+/* the hydrostatic densities of relaxed particles and their masses, the volume shared evenly */
+PETSC_INTERN PetscErrorCode FSCaseRelaxedDensities(FSSolver, PetscInt dim, PetscReal ysurf, PetscReal volume,
+                                                   PetscInt n, const PetscReal x[], PetscReal rho[], PetscReal m[]);
 /* the domain: the walls' box with a margin of 4h */
 PETSC_INTERN PetscErrorCode FSCaseSetDomainAround(FSSolver, PetscInt dim, const PetscReal lo[], const PetscReal hi[]);

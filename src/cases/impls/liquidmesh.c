@@ -3,6 +3,7 @@
 #include <flexslosh.h>
 #include "boundary/fsboundary.h"
 #include "liquid.h"
+#include "packing.h"
 #include "sys/fssys.h"
 
 /* the crossings of the line {y = yr, z = zr} with the mesh's triangles, sorted along x. The line is moved
@@ -99,12 +100,14 @@ static void MeshExactMass(const FSMesh *m, const PetscReal lo[3], const PetscRea
   *mass = rho0 * (*vol + g_c02 * (q1 - q0 - (hi[1] - lo[1]) * v0));
 }
 
-/* this rank's rows of the lattice in the liquid region of m inside lo..hi (hi[1] the surface), added to the solver */
-static PetscErrorCode MeshLattice(FSSolver s, const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
-                                  const char what[], FSCaseVelocityFn velocity, void *ctx)
+/* this rank's rows of the lattice in the liquid region of m inside lo..hi (hi[1] the surface), points closer to a
+   wall than margin times the spacing left out: positions, hydrostatic densities and masses (allocated here) */
+static PetscErrorCode MeshLatticePoints(FSSolver s, const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
+                                        const char what[], PetscReal margin, PetscInt *np, PetscReal **xp,
+                                        PetscReal **rhop, PetscReal **mp)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
-  PetscReal  *x, *u, *rho, *mass, g[3], gmag, dx, rho0, c0, hy, hz, *cross;
+  PetscReal  *x, *rho, *mass, g[3], gmag, dx, rho0, c0, hy, hz, *cross;
   PetscInt    ny, nz, n = 0, r0, r1, nxmax;
   PetscInt64  cap;
   PetscMPIInt rank, size;
@@ -134,7 +137,8 @@ static PetscErrorCode MeshLattice(FSSolver s, const FSMesh *m, const PetscReal l
              " places for particles are more than an index can count: use "
              "more ranks or a coarser -fs_dx",
              what, (double)dx, cap);
-  PetscCall(PetscMalloc5(3 * cap, &x, 3 * cap, &u, cap, &rho, cap, &mass, m->ntri + 2, &cross));
+  PetscCall(PetscMalloc3(3 * cap, &x, cap, &rho, cap, &mass));
+  PetscCall(PetscMalloc1(m->ntri + 2, &cross));
   for (PetscInt row = r0; row < r1; row++) {
     const PetscReal yr = lo[1] + (row % ny + 0.5) * hy, zr = lo[2] + (row / ny + 0.5) * hz;
     PetscInt        nc;
@@ -150,25 +154,60 @@ static PetscErrorCode MeshLattice(FSSolver s, const FSMesh *m, const PetscReal l
       hx = (e - a) / na;
       for (PetscInt i = 0; i < na; i++) {
         const PetscReal p[3] = {a + (i + 0.5) * hx, yr, zr};
-        if (!FSMeshInLiquid(m, p, 0.499 * PetscMin(hx, PetscMin(hy, hz)))) continue;
-        for (PetscInt d = 0; d < 3; d++) {
-          x[3 * n + d] = p[d];
-          u[3 * n + d] = 0;
-        }
-        if (velocity) PetscCall((*velocity)(p, &u[3 * n], ctx));
+        if (!FSMeshInLiquid(m, p, margin * PetscMin(hx, PetscMin(hy, hz)))) continue;
+        for (PetscInt d = 0; d < 3; d++) x[3 * n + d] = p[d];
         rho[n]  = rho0 + rho0 * gmag * (hi[1] - p[1]) / (c0 * c0);
         mass[n] = rho[n] * hx * hy * hz;
         n++;
       }
     }
   }
-  { /* the masses fitted to the exact volume */
-    PetscReal vol, exact;
-    MeshExactMass(m, lo, hi, rho0, gmag / (c0 * c0), &vol, &exact);
-    PetscCall(FSCaseFitLiquidMass(s, vol, exact, n, mass));
+  PetscCall(PetscFree(cross));
+  *np   = n;
+  *xp   = x;
+  *rhop = rho;
+  *mp   = mass;
+  PetscFunctionReturn(0);
+}
+
+/* this rank's particles of the liquid region of m inside lo..hi (hi[1] the surface), added to the solver: the
+   lattice, or where -fs_fill_packing asks for it the lattice relaxed in the region (FSCasePackRelax); hydrostatic,
+   their masses fitted to the exact volume. m's elements are refined for the relaxation (the boundary refines them
+   again). */
+static PetscErrorCode MeshLattice(FSSolver s, FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
+                                  const char what[], FSCaseVelocityFn velocity, void *ctx)
+{
+  PetscReal    *x, *u, *rho, *mass, g[3], gmag, rho0, c0, vol, exact;
+  PetscInt      n;
+  FSFillPacking pk;
+  PetscBool     relax;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetGravity(s, g));
+  PetscCall(FSSolverGetParameters(s, NULL, NULL, &rho0, &c0, NULL));
+  PetscCall(FSSolverGetFillPacking(s, &pk));
+  gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  MeshExactMass(m, lo, hi, rho0, gmag / (c0 * c0), &vol, &exact);
+  PetscCall(MeshLatticePoints(s, m, lo, hi, what, 0.499, &n, &x, &rho, &mass));
+  PetscCall(FSCaseLatticeFits(s, pk.type, exact, n, mass, &relax));
+  if (relax) { /* from the lattice of every point inside, relaxed */
+    FSPackRegion region;
+    PetscReal    dx, h;
+    PetscCall(PetscFree3(x, rho, mass));
+    PetscCall(FSSolverGetParameters(s, &dx, &h, NULL, NULL, NULL));
+    PetscCall(MeshLatticePoints(s, m, lo, hi, what, 0, &n, &x, &rho, &mass));
+    PetscCall(FSPackRegionFromMesh(&region, m, lo, hi, dx, h));
+    PetscCall(FSCasePackRelax(s, &region, vol, n, x, what));
+    PetscCall(FSPackRegionDestroy(&region));
+    PetscCall(FSCaseRelaxedDensities(s, 3, hi[1], vol, n, x, rho, mass));
   }
+  PetscCall(PetscCalloc1(3 * n, &u));
+  if (velocity)
+    for (PetscInt i = 0; i < n; i++) PetscCall((*velocity)(&x[3 * i], &u[3 * i], ctx));
+  PetscCall(FSCaseFitLiquidMass(s, vol, exact, n, mass));
   PetscCall(FSSolverAddParticles(s, n, x, u, rho, mass));
-  PetscCall(PetscFree5(x, u, rho, mass, cross));
+  PetscCall(PetscFree3(x, rho, mass));
+  PetscCall(PetscFree(u));
   PetscFunctionReturn(0);
 }
 

@@ -1,0 +1,382 @@
+/*
+   The relaxed packing (-fs_fill_packing relaxed): the particles of a body of liquid moved, from the lattice, until
+   they are evenly spread in the closed region of their walls and fill level (packregion.c).
+
+   A particle i is evenly surrounded when
+
+     e_i = sum_j V_j grad_i W_ij + sum_k n_k int_k W dS = 0,
+
+   the particles' kernel-gradient sum and the walls' boundary integral (n_k out of the liquid), zero for a
+   continuum: the sum that the pressure gradient's boundary-integral form (p_i + p_j) multiplies with a particle's
+   own pressure (docs/walls.md), so that a packing with e_i = 0 is at rest under a uniform pressure in the solver's
+   own discretization. This is the background-pressure relaxation of SPHinXsys (Zhu, Zhang & Hu 2021), with the
+   boundary integrals in place of its level set's kernel integral: each iteration moves a particle by -step h^2 e_i
+   (at most dx/10), keeping it at least dx/4 from the walls and the fill level. The fill level is a wall during the
+   relaxation (a lid), so that the free surface stays flat at the fill level; the lid is dropped after it.
+
+   The work is split over the ranks by particle, every rank holding all positions (gathered after each iteration):
+   each particle's sums run over the same neighbours in the same order on any number of ranks, so that the
+   packing is the same bit for bit.
+*/
+#include <stdio.h>
+#include <sys/stat.h>
+#include "packing.h"
+#include "particles/fsparticles.h"
+#include "sys/fssys.h"
+
+/* a grid of cells of side `cell` over lo..lo + nc cell: for each cell its items (CSR) */
+typedef struct {
+  PetscInt  dim, nc[3], ncell;
+  PetscReal lo[3], cell;
+  PetscInt *start, *item;
+} Grid;
+
+static inline PetscInt CellCoord(const Grid *gr, const PetscReal x[], PetscInt d)
+{
+  const PetscInt c = (PetscInt)PetscFloorReal((x[d] - gr->lo[d]) / gr->cell);
+  return PetscMax(0, PetscMin(gr->nc[d] - 1, c));
+}
+
+static inline PetscInt CellOf(const Grid *gr, const PetscReal x[])
+{
+  PetscInt c = 0;
+  for (PetscInt d = gr->dim - 1; d >= 0; d--) c = c * gr->nc[d] + CellCoord(gr, x, d);
+  return c;
+}
+
+static PetscErrorCode GridSetUp(Grid *gr, const FSPackRegion *g, PetscReal cell)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscMemzero(gr, sizeof(*gr)));
+  gr->dim   = g->dim;
+  gr->cell  = cell;
+  gr->ncell = 1;
+  for (PetscInt d = 0; d < 3; d++) gr->nc[d] = 1;
+  for (PetscInt d = 0; d < g->dim; d++) {
+    gr->lo[d] = g->lo[d] - cell;
+    gr->nc[d] = (PetscInt)PetscCeilReal((g->hi[d] - g->lo[d]) / cell) + 2;
+    gr->ncell *= gr->nc[d];
+  }
+  PetscCall(PetscCalloc1(gr->ncell + 1, &gr->start));
+  PetscFunctionReturn(0);
+}
+
+/* the particles x (N) into the grid's cells, in the order of their indices within a cell */
+static PetscErrorCode GridFillPoints(Grid *gr, PetscInt N, const PetscReal x[], PetscInt *cellof)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscArrayzero(gr->start, gr->ncell + 1));
+  for (PetscInt i = 0; i < N; i++) {
+    cellof[i] = CellOf(gr, &x[gr->dim * i]);
+    gr->start[cellof[i] + 1]++;
+  }
+  for (PetscInt c = 0; c < gr->ncell; c++) gr->start[c + 1] += gr->start[c];
+  for (PetscInt i = 0; i < N; i++) gr->item[gr->start[cellof[i]]++] = i;
+  for (PetscInt c = gr->ncell; c > 0; c--) gr->start[c] = gr->start[c - 1];
+  gr->start[0] = 0;
+  PetscFunctionReturn(0);
+}
+
+/* each element into every cell within R of its corners' box: the candidates of a point in that cell */
+static PetscErrorCode GridFillElements(Grid *gr, const FSPackRegion *g, PetscReal R)
+{
+  const PetscInt nv = g->dim == 2 ? 2 : 3;
+  PetscInt       pass, total = 0;
+
+  PetscFunctionBegin;
+  for (pass = 0; pass < 2; pass++) {
+    if (pass == 1) {
+      for (PetscInt c = 0; c < gr->ncell; c++) gr->start[c + 1] += gr->start[c];
+      total = gr->start[gr->ncell];
+      PetscCall(PetscMalloc1(total + 1, &gr->item));
+    }
+    for (PetscInt k = 0; k < g->nel; k++) {
+      const PetscReal *el = &g->el[k * g->stride];
+      PetscReal        blo[3], bhi[3];
+      PetscInt         c0[3] = {0, 0, 0}, c1[3] = {0, 0, 0};
+      for (PetscInt d = 0; d < g->dim; d++) {
+        blo[d] = bhi[d] = el[d];
+        for (PetscInt v = 1; v < nv; v++) {
+          blo[d] = PetscMin(blo[d], el[v * g->dim + d]);
+          bhi[d] = PetscMax(bhi[d], el[v * g->dim + d]);
+        }
+        blo[d] -= R;
+        bhi[d] += R;
+        c0[d] = CellCoord(gr, blo, d);
+        c1[d] = CellCoord(gr, bhi, d);
+      }
+      for (PetscInt c = c0[2]; c <= c1[2]; c++)
+        for (PetscInt b = c0[1]; b <= c1[1]; b++)
+          for (PetscInt a = c0[0]; a <= c1[0]; a++) {
+            const PetscInt cell = (c * gr->nc[1] + b) * gr->nc[0] + a;
+            if (pass == 0) gr->start[cell + 1]++;
+            else gr->item[gr->start[cell]++] = k;
+          }
+    }
+  }
+  for (PetscInt c = gr->ncell; c > 0; c--) gr->start[c] = gr->start[c - 1];
+  gr->start[0] = 0;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode GridDestroy(Grid *gr)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscFree(gr->start));
+  PetscCall(PetscFree(gr->item));
+  PetscFunctionReturn(0);
+}
+
+/* e_i of the particle i (packing.c's header) */
+static void ParticleSum(const FSPackRegion *g, const Grid *pg, const Grid *eg, const FSKernel *k, PetscReal V,
+                        const PetscReal X[], PetscInt i, PetscReal e[])
+{
+  const PetscInt   dim  = g->dim;
+  const PetscReal *xi   = &X[dim * i];
+  PetscInt         c[3] = {0, 0, 0}, lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+
+  for (PetscInt d = 0; d < 3; d++) e[d] = 0;
+  for (PetscInt d = 0; d < dim; d++) {
+    c[d]  = CellCoord(pg, xi, d);
+    lo[d] = PetscMax(0, c[d] - 1);
+    hi[d] = PetscMin(pg->nc[d] - 1, c[d] + 1);
+  }
+  for (PetscInt cz = lo[2]; cz <= hi[2]; cz++)
+    for (PetscInt cy = lo[1]; cy <= hi[1]; cy++)
+      for (PetscInt cx = lo[0]; cx <= hi[0]; cx++) {
+        const PetscInt cell = (cz * pg->nc[1] + cy) * pg->nc[0] + cx;
+        for (PetscInt q = pg->start[cell]; q < pg->start[cell + 1]; q++) {
+          const PetscInt   j  = pg->item[q];
+          const PetscReal *xj = &X[dim * j];
+          PetscReal        r2 = 0, f;
+          if (j == i) continue;
+          for (PetscInt d = 0; d < dim; d++) r2 += (xi[d] - xj[d]) * (xi[d] - xj[d]);
+          if (r2 >= k->support2) continue;
+          f = V * FSKernelF(k, PetscSqrtReal(r2));
+          for (PetscInt d = 0; d < dim; d++) e[d] += f * (xi[d] - xj[d]);
+        }
+      }
+  {
+    const PetscInt cell = CellOf(eg, xi);
+    for (PetscInt q = eg->start[cell]; q < eg->start[cell + 1]; q++) {
+      const PetscReal *el = &g->el[eg->item[q] * g->stride], *n;
+      PetscReal        gk, wint;
+      if (dim == 2) {
+        FSSegmentIntegrals(k->h, xi, el, PETSC_FALSE, &gk, &wint);
+        n = el + FS_SEG_NORMAL;
+      } else {
+        FSTriangleIntegrals(k->h, xi, el, PETSC_FALSE, &gk, &wint);
+        n = el + FS_TRI_NORMAL;
+      }
+      for (PetscInt d = 0; d < dim; d++) e[d] += wint * n[d];
+    }
+  }
+}
+
+/* x kept at least dmin inside the box (the fill level) and from the planes of the elements whose nearest point to it
+   lies inside them (a wall it faces, not one around a corner) within dx/2 */
+static void KeepFromWalls(const FSPackRegion *g, const Grid *eg, PetscReal dmin, PetscReal reach, PetscReal x[])
+{
+  PetscInt cell;
+  for (PetscInt d = 0; d < g->dim; d++) x[d] = PetscMax(g->lo[d] + dmin, PetscMin(g->hi[d] - dmin, x[d])); /* the box */
+  cell = CellOf(eg, x);
+  for (PetscInt q = eg->start[cell]; q < eg->start[cell + 1]; q++) {
+    const PetscReal *el = &g->el[eg->item[q] * g->stride], *n = el + (g->dim == 2 ? FS_SEG_NORMAL : FS_TRI_NORMAL);
+    const PetscReal *p = el; /* the first corner: FS_SEG_P0, FS_TRI_P0 */
+    PetscReal        s = 0, d2;
+    for (PetscInt d = 0; d < g->dim; d++) s += (p[d] - x[d]) * n[d]; /* > 0: x on the liquid side */
+    if (s >= dmin || s <= -dmin) continue;
+    d2 = g->dim == 2 ? FSSegmentDistance2(el, x)
+                     : FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
+    if (d2 < reach * reach && PetscAbsReal(d2 - s * s) <= 1e-6 * reach * reach)
+      for (PetscInt d = 0; d < g->dim; d++) x[d] -= (dmin - s) * n[d];
+  }
+}
+
+/* FNV-1a over bytes, continued from h */
+static PetscInt64 Hash(PetscInt64 h, const void *data, size_t len)
+{
+  const unsigned char *b = (const unsigned char *)data;
+  uint64_t             u = (uint64_t)h;
+  for (size_t i = 0; i < len; i++) {
+    u ^= b[i];
+    u *= 1099511628211ULL;
+  }
+  return (PetscInt64)u;
+}
+
+/* the cache's file for this packing: <folder>/packing-<hash>.bin, the hash of the region, the start, the volume,
+   the spacing and the settings */
+static PetscErrorCode CachePath(const FSFillPacking *opt, const FSPackRegion *g, PetscInt N, const PetscReal X[],
+                                const PetscReal par[4], char path[], size_t len)
+{
+  PetscInt64 h = (PetscInt64)1469598103934665603ULL;
+
+  PetscFunctionBegin;
+  h = Hash(h, &g->dim, sizeof(g->dim));
+  h = Hash(h, &N, sizeof(N));
+  h = Hash(h, par, 4 * sizeof(PetscReal));
+  h = Hash(h, &opt->iterations, sizeof(opt->iterations));
+  h = Hash(h, &opt->step, sizeof(opt->step));
+  h = Hash(h, g->el, sizeof(PetscReal) * g->nel * g->stride);
+  h = Hash(h, X, sizeof(PetscReal) * g->dim * N);
+  PetscCall(PetscSNPrintf(path, len, "%s/packing-%016llx.bin", opt->cache, (unsigned long long)h));
+  PetscFunctionReturn(0);
+}
+
+#define FS_PACKING_MAGIC "flexslosh relaxed packing 1\n"
+
+/* rank 0 reads the packing X (N points) from path if it is there and whole; *found on every rank */
+static PetscErrorCode CacheRead(MPI_Comm comm, const char path[], PetscInt dim, PetscInt N, PetscReal X[],
+                                PetscBool *found)
+{
+  PetscMPIInt rank, ok = 0;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    FILE *f = fopen(path, "rb");
+    if (f) {
+      char     magic[sizeof(FS_PACKING_MAGIC)] = "";
+      PetscInt hdr[2];
+      ok = fread(magic, 1, sizeof(FS_PACKING_MAGIC) - 1, f) == sizeof(FS_PACKING_MAGIC) - 1 &&
+           !strcmp(magic, FS_PACKING_MAGIC) && fread(hdr, sizeof(PetscInt), 2, f) == 2 && hdr[0] == dim &&
+           hdr[1] == N && fread(X, sizeof(PetscReal), (size_t)dim * N, f) == (size_t)dim * N;
+      fclose(f);
+    }
+  }
+  PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, comm));
+  if (ok) PetscCallMPI(MPI_Bcast(X, (PetscMPIInt)(dim * N), MPIU_REAL, 0, comm));
+  *found = ok ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+/* rank 0 writes the packing X to path (through a temporary file, renamed: a reader never sees half of it) */
+static PetscErrorCode CacheWrite(MPI_Comm comm, const char folder[], const char path[], PetscInt dim, PetscInt N,
+                                 const PetscReal X[])
+{
+  PetscMPIInt rank;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank == 0) {
+    char     tmp[PETSC_MAX_PATH_LEN + 16];
+    FILE    *f;
+    PetscInt hdr[2] = {dim, N};
+    (void)mkdir(folder, 0777);
+    PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
+    f = fopen(tmp, "wb");
+    PetscCheck(f, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN,
+               "-fs_fill_packing_cache %s: cannot write %s: expected a folder that can be written", folder, tmp);
+    PetscCheck(fwrite(FS_PACKING_MAGIC, 1, sizeof(FS_PACKING_MAGIC) - 1, f) == sizeof(FS_PACKING_MAGIC) - 1 &&
+                   fwrite(hdr, sizeof(PetscInt), 2, f) == 2 &&
+                   fwrite(X, sizeof(PetscReal), (size_t)dim * N, f) == (size_t)dim * N && fclose(f) == 0,
+               PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "-fs_fill_packing_cache %s: writing %s failed", folder, tmp);
+    PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
+               "-fs_fill_packing_cache %s: cannot rename %s to %s", folder, tmp, path);
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCasePackRelax - relaxes the points x of one body of liquid (n on this rank, dim reals each; the ranks' points
+   one after the other make the body) in its closed region g, whose exact volume is volume (every point standing
+   for volume / N): -fs_fill_packing_iterations moves of -step h^2 e_i (packing.c's header). With
+   -fs_fill_packing_cache the packing is read from the cache's folder when it is there, else written to it.
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volume, PetscInt n, PetscReal x[],
+                               const char what[])
+{
+  MPI_Comm       comm = PetscObjectComm((PetscObject)s);
+  const PetscInt dim  = g->dim;
+  FSFillPacking  opt;
+  FSKernel       k;
+  Grid           pg, eg;
+  PetscMPIInt    size, rank, *counts, *displs;
+  PetscInt       N = 0, i0 = 0, *cellof;
+  PetscReal      dx, h, V, *X, *Xn, res[2][2] = {{0, 0}, {0, 0}}, resmax[2] = {0, 0}, par[4];
+  char           path[PETSC_MAX_PATH_LEN + 64] = "";
+  PetscBool      found                         = PETSC_FALSE;
+
+  PetscFunctionBegin;
+  PetscCall(PetscLogEventBegin(FS_FillPacking, 0, 0, 0, 0));
+  PetscCall(FSSolverGetFillPacking(s, &opt));
+  PetscCall(FSSolverGetParameters(s, &dx, &h, NULL, NULL, NULL));
+  PetscCall(FSKernelSetUp(&k, dim, h));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(PetscMalloc2(size, &counts, size, &displs));
+  {
+    PetscMPIInt mine;
+    PetscCall(PetscMPIIntCast(dim * n, &mine));
+    PetscCallMPI(MPI_Allgather(&mine, 1, MPI_INT, counts, 1, MPI_INT, comm));
+  }
+  for (PetscMPIInt r = 0; r < size; r++) {
+    displs[r] = (PetscMPIInt)(dim * N);
+    if (r == rank) i0 = N;
+    N += counts[r] / dim;
+  }
+  if (N == 0) {
+    PetscCall(PetscFree2(counts, displs));
+    PetscCall(PetscLogEventEnd(FS_FillPacking, 0, 0, 0, 0));
+    PetscFunctionReturn(0);
+  }
+  V = volume / N;
+  PetscCall(PetscInfo(s, "%s: region of %" PetscInt_FMT " elements, %" PetscInt_FMT " of them the box's faces\n", what,
+                      g->nel, g->nlid));
+  PetscCall(PetscMalloc3(dim * N, &X, dim * N, &Xn, N, &cellof));
+  PetscCallMPI(MPI_Allgatherv(x, counts[rank], MPIU_REAL, X, counts, displs, MPIU_REAL, comm));
+  par[0] = dx;
+  par[1] = h;
+  par[2] = volume;
+  par[3] = (PetscReal)g->nlid;
+  if (opt.cache[0]) {
+    PetscCall(CachePath(&opt, g, N, X, par, path, sizeof(path)));
+    PetscCall(CacheRead(comm, path, dim, N, X, &found));
+  }
+  if (!found) {
+    const PetscReal cap = 0.1 * dx, dmin = 0.25 * dx;
+    PetscCall(GridSetUp(&eg, g, h));
+    PetscCall(GridFillElements(&eg, g, 2 * h));
+    PetscCall(GridSetUp(&pg, g, 2 * h));
+    PetscCall(PetscMalloc1(N, &pg.item));
+    for (PetscInt i = 0; i < N; i++) KeepFromWalls(g, &eg, dmin, 0.5 * dx, &X[dim * i]); /* the lattice's points */
+    for (PetscInt it = 0; it < opt.iterations; it++) {
+      const PetscBool first = (PetscBool)(it == 0), last = (PetscBool)(it == opt.iterations - 1);
+      PetscCall(GridFillPoints(&pg, N, X, cellof));
+      for (PetscInt i = i0; i < i0 + n; i++) {
+        PetscReal e[3], e2 = 0, move = 0, *xn = &Xn[dim * i];
+        ParticleSum(g, &pg, &eg, &k, V, X, i, e);
+        for (PetscInt d = 0; d < dim; d++) e2 += e[d] * e[d];
+        if (first || last) { /* |e_i| dx: its largest and its mean square */
+          resmax[last] = PetscMax(resmax[last], PetscSqrtReal(e2) * dx);
+          res[last][1] += e2 * dx * dx;
+        }
+        move = opt.step * h * h * PetscSqrtReal(e2);
+        for (PetscInt d = 0; d < dim; d++)
+          xn[d] = X[dim * i + d] - opt.step * h * h * e[d] * (move > cap ? cap / move : 1);
+        KeepFromWalls(g, &eg, dmin, 0.5 * dx, xn);
+      }
+      PetscCallMPI(MPI_Allgatherv(&Xn[dim * i0], counts[rank], MPIU_REAL, X, counts, displs, MPIU_REAL, comm));
+    }
+    PetscCall(GridDestroy(&pg));
+    PetscCall(GridDestroy(&eg));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, resmax, 2, MPIU_REAL, MPIU_MAX, comm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, res, 4, MPIU_REAL, MPIU_SUM, comm));
+    PetscCall(PetscInfo(s,
+                        "%s: %" PetscInt_FMT " particles relaxed in %" PetscInt_FMT
+                        " iterations: |e_i| dx largest %g -> %g, rms %g -> %g\n",
+                        what, N, opt.iterations, (double)resmax[0], (double)resmax[1],
+                        (double)PetscSqrtReal(res[0][1] / N), (double)PetscSqrtReal(res[1][1] / N)));
+    if (opt.cache[0]) PetscCall(CacheWrite(comm, opt.cache, path, dim, N, X));
+  } else PetscCall(PetscInfo(s, "%s: %" PetscInt_FMT " particles' packing read from %s\n", what, N, path));
+  PetscCall(PetscArraycpy(x, &X[dim * i0], dim * n));
+  PetscCall(PetscFree3(X, Xn, cellof));
+  PetscCall(PetscFree2(counts, displs));
+  PetscCall(PetscLogEventEnd(FS_FillPacking, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
