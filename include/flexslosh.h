@@ -119,6 +119,15 @@ typedef struct {
   const PetscReal *dx, *r2, *rinv2, *gradW;
 } FSNeighbourhood;
 
+/* The Wendland C2 kernel W(r) of the core (support 2h), for terms that need kernel values and not only the
+   gradients of FSNeighbourhood. */
+static inline PetscReal FSWendland(PetscInt dim, PetscReal h, PetscReal r)
+{
+  const PetscReal q = r / h, a = 1.0 - 0.5 * q,
+                  norm = dim == 2 ? 7.0 / (4.0 * PETSC_PI * h * h) : 21.0 / (16.0 * PETSC_PI * h * h * h);
+  return q >= 2 ? 0 : norm * a * a * a * a * (2 * q + 1);
+}
+
 /* ---------- walls, as the wall terms see them ---------- */
 /*
    The boundary's wall elements (segments in 2-D, triangles in 3-D), each a row of `stride` reals in

@@ -16,23 +16,16 @@ typedef struct {
   PetscInt  n;
 } Shifting;
 
-static inline PetscReal Wendland(PetscInt dim, PetscReal h, PetscReal r)
-{
-  const PetscReal q = r / h, a = 1.0 - 0.5 * q,
-                  norm = dim == 2 ? 7.0 / (4.0 * PETSC_PI * h * h) : 21.0 / (16.0 * PETSC_PI * h * h * h);
-  return q >= 2 ? 0 : norm * a * a * a * a * (2 * q + 1);
-}
-
 static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate)
 {
   const Shifting *ctx = (const Shifting *)t->data;
   const PetscInt  dim = P->dim;
-  const PetscReal W0 = Wendland(dim, P->h, P->dx), U = PetscMax(P->umax, ctx->umin);
+  const PetscReal W0 = FSWendland(dim, P->h, P->dx), U = PetscMax(P->umax, ctx->umin);
   const PetscReal coef   = -ctx->C * 4.0 * P->h * U;
   PetscReal       acc[3] = {0, 0, 0}, mag = 0;
   for (PetscInt k = 0; k < nb->n; k++) {
     const PetscReal *g = &nb->gradW[k * dim];
-    const PetscReal  w = Wendland(dim, P->h, PetscSqrtReal(nb->r2[k])) / W0, w2 = w * w;
+    const PetscReal  w = FSWendland(dim, P->h, PetscSqrtReal(nb->r2[k])) / W0, w2 = w * w;
     const PetscReal  f = (1.0 + ctx->R * w2 * w2) * P->vol[nb->j[k]];
     for (PetscInt d = 0; d < dim; d++) acc[d] += f * g[d];
   }

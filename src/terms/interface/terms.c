@@ -13,6 +13,7 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_Viscosity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_LESViscosity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_Gravity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_Shifting(FSTerm);
+PETSC_EXTERN PetscErrorCode FSTermCreate_TensileControl(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallPressure(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallViscosity(FSTerm);
@@ -143,5 +144,8 @@ PetscErrorCode FSTermRegisterAll(void)
                            FSTermCreate_WallViscosity));
   PetscCall(FSTermRegister("shifting", "particle shifting of delta+-SPH (Sun et al. 2017), keeps the particles regular",
                            FSTermCreate_Shifting));
+  PetscCall(FSTermRegister("tensile_control",
+                           "tensile instability control of delta+-SPH (Sun et al. 2017): (p_j - p_i) where p_i < 0",
+                           FSTermCreate_TensileControl));
   PetscFunctionReturn(0);
 }
