@@ -85,8 +85,18 @@ PETSC_EXTERN PetscErrorCode FSJSONDestroy(FSJSON *);
 /* ---------------- helpers ---------------- */
 PETSC_EXTERN PetscErrorCode FSMakeDirectory(MPI_Comm, const char path[], const char option[]);
 
+/* Creating output files (src/io/fsutil.c): never through a link, never into a file already there; each returns 0 or
+   an errno value and acts on the calling rank only. */
+typedef struct {
+  unsigned long long dev, ino;
+} FSFileId; /* the file a writer created, checked before it is renamed into place */
+PETSC_INTERN int FSFileCreate_Private(const char path[], FILE **fp, FSFileId *id);
+PETSC_INTERN int FSFileReplace_Private(const char from[], const char to[], const FSFileId *id);
+PETSC_INTERN int FSFileOpenAppend_Private(const char path[], FILE **fp);
+
 /* Internal to the output writers (rank 0 acts, the outcome is broadcast over the communicator). */
-PETSC_INTERN PetscErrorCode FSRenameFile_Private(MPI_Comm, const char from[], const char to[]);
+PETSC_INTERN PetscErrorCode FSFileCreateShared_Private(MPI_Comm, const char path[], FSFileId *id);
+PETSC_INTERN PetscErrorCode FSRenameFile_Private(MPI_Comm, const char from[], const char to[], const FSFileId *id);
 PETSC_INTERN PetscErrorCode FSTestFile_Private(MPI_Comm, const char path[], PetscBool *exists);
 PETSC_INTERN PetscErrorCode FSWriteCheck_Private(PetscErrorCode, int syserr, const char file[]);
 PETSC_INTERN PetscErrorCode FSCheckFields_Private(MPI_Comm, const char file[], PetscInt dim, PetscInt nlocal,
