@@ -85,6 +85,12 @@ PETSC_EXTERN PetscErrorCode FSJSONDestroy(FSJSON *);
 /* ---------------- helpers ---------------- */
 PETSC_EXTERN PetscErrorCode FSMakeDirectory(MPI_Comm, const char path[], const char option[]);
 
+/* one run per output directory (src/io/fsutil.c): a lock, and a new run's removal of an earlier run's results */
+typedef struct _n_FSOutputLock *FSOutputLock;
+PETSC_EXTERN PetscErrorCode     FSOutputDirLock(MPI_Comm, const char dir[], const char option[], FSOutputLock *);
+PETSC_EXTERN PetscErrorCode     FSOutputDirUnlock(FSOutputLock *);
+PETSC_EXTERN PetscErrorCode     FSOutputDirClear(MPI_Comm, const char dir[]);
+
 /* Creating output files (src/io/fsutil.c): never through a link, never into a file already there; each returns 0 or
    an errno value and acts on the calling rank only. */
 typedef struct {
