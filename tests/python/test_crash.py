@@ -261,28 +261,41 @@ def test_one_run_per_directory_and_no_stale_results(tmp_path):
 # ---- output files go where they are meant to (issue 34 item 7): a link or a file planted under an output's name or
 # its temporary name is replaced, never written through (O_EXCL | O_NOFOLLOW, the HDF5 files created so by rank 0)
 
-def test_links_and_files_planted_in_the_output_directory_are_not_written_through(tmp_path):
-    out, victims = tmp_path / "o", tmp_path / "victims"
-    out.mkdir()
-    victims.mkdir()
-    planted = {"summary.json.tmp": "symlink", "snapshot_000000.h5.tmp": "symlink", "timeseries.csv": "symlink",
-               "checkpoint_000020.h5.tmp": "symlink", "walls.h5.tmp": "symlink", "particles.xdmf.tmp": "symlink",
-               "energy.csv": "hard link", "snapshots.csv.tmp": "hard link", "walls.xdmf.tmp": "hard link"}
-    for k, (name, how) in enumerate(planted.items()):
-        victim = victims / f"v{k}"
-        victim.write_text(f"precious {k}\n")
+def plant(out, victims, names):
+    """a symbolic link (or, for the names marked "hard", a hard link) to a file of its own in victims under each name"""
+    for name in names:
+        how, name = ("hard", name[5:]) if name.startswith("hard:") else ("symlink", name)
+        victim = victims / name.replace("/", "_")
+        victim.write_text(f"precious {name}\n")
+        (out / name).unlink(missing_ok=True)
         if how == "symlink":
             (out / name).symlink_to(victim)
         else:
             os.link(victim, out / name)
+
+
+def test_links_and_files_planted_in_the_output_directory_are_not_written_through(tmp_path):
+    out, victims = tmp_path / "o", tmp_path / "victims"
+    out.mkdir()
+    victims.mkdir()
+    # a new run: under the outputs' names (a new run removes them first, FSOutputDirClear)
+    plant(out, victims, ["summary.json.tmp", "snapshot_000000.h5.tmp", "timeseries.csv", "checkpoint_000020.h5.tmp",
+                         "walls.h5.tmp", "particles.xdmf.tmp", "hard:energy.csv", "hard:snapshots.csv.tmp"])
     run_flexslosh(BASE + ["-ts_max_steps", 20, "-fs_checkpoint_interval", 20, "-fs_output_dir", out], nranks=NRANKS,
                   cwd=tmp_path, timeout=120)
-    for k in range(len(planted)):
-        assert (victims / f"v{k}").read_text() == f"precious {k}\n", list(planted)[k]
-    assert not list(out.glob("*.tmp"))
-    for name in ("timeseries.csv", "energy.csv"):  # the header and steps 0 to 20
-        assert len(check_csv(out / name)) == 22, name
+    # a restart, which keeps the directory's files: under the temporary names of what it writes (each created anew)
+    plant(out, victims, [f"snapshot_{n:06d}.h5.tmp" for n in range(8)] +
+          ["summary.json.tmp", "checkpoint_000040.h5.tmp", "walls.h5.tmp", "walls.xdmf.tmp", "particles.xdmf.tmp",
+           "timeseries.csv.tmp", "hard:energy.csv.tmp", "hard:snapshots.csv.tmp"])
+    run_flexslosh(BASE + ["-ts_max_steps", 40, "-fs_checkpoint_interval", 20, "-fs_output_dir", out, "-fs_restart",
+                          out / "checkpoint_000020.h5"], nranks=NRANKS, cwd=tmp_path, timeout=120)
+    for victim in victims.iterdir():
+        assert victim.read_text() == f"precious {victim.name}\n", victim.name
+    unused = {f for f in out.glob("snapshot_*.h5.tmp") if f.is_symlink()}  # planted for snapshots not written
+    assert unused and set(out.glob("*.tmp")) == unused
+    for name in ("timeseries.csv", "energy.csv"):  # the header and steps 0 to 40
+        assert len(check_csv(out / name)) == 42, name
     assert len(check_csv(out / "snapshots.csv")) == 1 + len(list(out.glob("snapshot_*.h5")))
-    for f in out.iterdir():
+    for f in set(out.iterdir()) - unused:
         assert f.is_file() and not f.is_symlink() and f.stat().st_nlink == 1, f.name
-    assert (out / "checkpoint_000020.h5").exists() and (out / "walls.h5").exists()
+    assert (out / "checkpoint_000040.h5").exists() and (out / "walls.h5").exists()
