@@ -9,6 +9,7 @@ static const char help[] = "flexslosh: liquid sloshing in tanks on flexible stru
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 /*
    -options_file FILE makes PETSc read FILE while it initializes, and an -options_file inside FILE
@@ -16,8 +17,10 @@ static const char help[] = "flexslosh: liquid sloshing in tanks on flexible stru
    stack overflows (a segmentation fault inside PetscInitialize, PETSc 3.18). Before PetscInitialize,
    OptionsFileCycle() follows the files as PETSc reads them ('#' starts a comment; a line holds an
    option and its value, so "-options_file FILE" is one line) and writes the chain of a cycle,
-   or of nesting deeper than FS_OPTIONS_FILE_DEPTH, to msg. A file that cannot be opened or is not a
-   regular file is left to PETSc, which reports it.
+   or of nesting deeper than FS_OPTIONS_FILE_DEPTH, to msg. It also refuses, by name, an options file that is a pipe,
+   a socket or a device (`-options_file <(cat case.opts)`, `-options_file /dev/stdin`): PETSc 3.18 opens an options
+   file twice, and the second read of a pipe finds it empty, so that its options were lost without a word and the
+   run went on as the default case. A file that cannot be opened, or a directory, is left to PETSc, which reports it.
 */
 #define FS_OPTIONS_FILE_DEPTH 16
 
@@ -27,13 +30,29 @@ static int OptionsWordsCycle(const char *text, char real[][PATH_MAX], const char
 static int OptionsFileCycle(const char *path, char real[][PATH_MAX], const char *given[], int depth, char msg[],
                             size_t len)
 {
-  FILE *fp;
-  char *text;
-  long  size;
-  int   cycle = -1;
+  FILE       *fp;
+  char       *text;
+  long        size;
+  int         cycle = -1;
+  struct stat sb;
 
-  if (!realpath(path, real[depth])) return 0;
   given[depth] = path;
+  if (!stat(path, &sb) && !S_ISREG(sb.st_mode) && !S_ISDIR(sb.st_mode)) {
+    size_t n = (size_t)snprintf(msg, len, "-options_file %s is %s, not a regular file", path,
+                                S_ISFIFO(sb.st_mode)   ? "a pipe"
+                                : S_ISSOCK(sb.st_mode) ? "a socket"
+                                : S_ISCHR(sb.st_mode)  ? "a character device"
+                                                       : "a device");
+    for (int d = 0; d < depth && n < len; d++)
+      n += (size_t)snprintf(msg + n, len - n, "%s-options_file %s", d ? " -> " : " (in ", given[d]);
+    if (depth && n < len) n += (size_t)snprintf(msg + n, len - n, ")");
+    if (n < len)
+      (void)snprintf(msg + n, len - n,
+                     ": PETSc reads an options file twice and would find the second read of it empty, losing its "
+                     "options; write them to a file and give its name");
+    return 1;
+  }
+  if (!realpath(path, real[depth])) return 0;
   for (int d = 0; d < depth && cycle < 0; d++)
     if (!strcmp(real[d], real[depth])) cycle = d;
   if (cycle >= 0 || depth + 1 >= FS_OPTIONS_FILE_DEPTH) {

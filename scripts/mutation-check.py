@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Mutation check: break a line of the physics on purpose, rebuild, run the tests that should notice, restore.
+"""Mutation check: break a line of the physics (or of the output's safeguards) on purpose, rebuild, run the tests that should notice, restore.
 
 Each mutation in MUTATIONS replaces one exact piece of a source line (it must occur exactly once) with a
 plausible mistake, rebuilds the build directory, runs its candidate tests (ctest names, pytest node ids:
@@ -119,6 +119,24 @@ MUTATIONS = [
              "coef = ctx->C * ctx->C * L / (P->c0 * P->h)",
              ctest=["terms_match_inline"],
              pytest=["test_time_step.py", "test_standing_wave.py"]),
+    # the output's safeguards (issue 34): one run per directory, no stale results, no writes through links,
+    # every rank able to write, options files read whole
+    Mutation("output_lock", "the output directory's lock is never refused (two runs write into one directory)",
+             "src/io/fsutil.c", "flock(f, LOCK_EX | LOCK_NB) != 0", "flock(f, LOCK_EX | LOCK_NB) != 0 && 0",
+             pytest=["test_crash.py::test_one_run_per_directory_and_no_stale_results"]),
+    Mutation("output_clear", "a new run keeps what an earlier run left in its directory",
+             "src/solver/monitor.c", "if (!s->opt.restart[0]) PetscCall(FSOutputDirClear(",
+             "if (0) PetscCall(FSOutputDirClear(",
+             pytest=["test_crash.py::test_one_run_per_directory_and_no_stale_results"]),
+    Mutation("output_entry_kept", "an output file is created without first removing what is under its name",
+             "src/io/fsutil.c", "if (lstat(path, &sb) == 0) {", "if (lstat(path, &sb) == 0 && 0) {",
+             pytest=["test_crash.py::test_links_and_files_planted_in_the_output_directory_are_not_written_through"]),
+    Mutation("output_probe", "only rank 0 checks that the output directory is writable",
+             "src/io/fsutil.c", "err     = FSProbeDirectory(path, rank);", "err     = rank ? 0 : FSProbeDirectory(path, rank);",
+             pytest=["test_rank_errors.py::test_an_output_dir_one_rank_cannot_write_ends_every_rank"]),
+    Mutation("options_file_pipe", "an options file that is a pipe is left to PETSc",
+             "app/flexslosh.c", "!S_ISREG(sb.st_mode) && !S_ISDIR(sb.st_mode)", "0 && !S_ISDIR(sb.st_mode)",
+             pytest=["test_bad_input.py::test_options_file_from_a_pipe_is_refused"]),
 ]
 
 

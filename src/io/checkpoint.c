@@ -47,10 +47,10 @@ static PetscErrorCode FSCheckpointWriteArray(PetscViewer viewer, MPI_Comm comm, 
   PetscFunctionReturn(0);
 }
 
-/* The HDF5 file of a checkpoint, written to tmp (collective) */
-static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], const FSCheckpointHeader *hdr, double t,
-                                            double dt, PetscInt N, PetscInt nlocal, PetscInt nfields,
-                                            const FSOutputField fields[])
+/* The HDF5 file of a checkpoint, written to tmp, created first as id (collective) */
+static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], FSFileId *id,
+                                            const FSCheckpointHeader *hdr, double t, double dt, PetscInt N,
+                                            PetscInt nlocal, PetscInt nfields, const FSOutputField fields[])
 {
   PetscViewer viewer;
   PetscMPIInt rank, size;
@@ -61,6 +61,7 @@ static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], con
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
   nranks = size;
+  PetscCall(FSFileCreateShared_Private(comm, tmp, id)); /* HDF5 would follow a link under the name */
   PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
   /* particle fields */
   PetscCall(PetscViewerHDF5WriteGroup(viewer, "/particles"));
@@ -119,6 +120,7 @@ PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheck
   double         t, dt;
   int            syserr;
   PetscErrorCode ierr;
+  FSFileId       id;
 
   PetscFunctionBegin;
   PetscCheck(path && hdr, comm, PETSC_ERR_ARG_NULL, "FSCheckpointWrite: path and header are required");
@@ -135,12 +137,12 @@ PetscErrorCode FSCheckpointWrite(MPI_Comm comm, const char path[], const FSCheck
   /* a failed write (a full disk) is an error naming the file; the checkpoints written before stay as they are */
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   errno  = 0;
-  ierr   = FSCheckpointWriteHDF5(comm, tmp, hdr, t, dt, N, nlocal, nfields, fields);
+  ierr   = FSCheckpointWriteHDF5(comm, tmp, &id, hdr, t, dt, N, nlocal, nfields, fields);
   syserr = errno;
   PetscCall(PetscPopErrorHandler());
   PetscCall(FSWriteCheck_Private(ierr, syserr, path));
   PetscCallMPI(MPI_Barrier(comm)); /* every rank has closed the file before it is renamed */
-  PetscCall(FSRenameFile_Private(comm, tmp, path));
+  PetscCall(FSRenameFile_Private(comm, tmp, path, &id));
   PetscFunctionReturn(0);
 }
 

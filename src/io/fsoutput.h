@@ -85,8 +85,24 @@ PETSC_EXTERN PetscErrorCode FSJSONDestroy(FSJSON *);
 /* ---------------- helpers ---------------- */
 PETSC_EXTERN PetscErrorCode FSMakeDirectory(MPI_Comm, const char path[], const char option[]);
 
+/* one run per output directory (src/io/fsutil.c): a lock, and a new run's removal of an earlier run's results */
+typedef struct _n_FSOutputLock *FSOutputLock;
+PETSC_EXTERN PetscErrorCode     FSOutputDirLock(MPI_Comm, const char dir[], const char option[], FSOutputLock *);
+PETSC_EXTERN PetscErrorCode     FSOutputDirUnlock(FSOutputLock *);
+PETSC_EXTERN PetscErrorCode     FSOutputDirClear(MPI_Comm, const char dir[]);
+
+/* Creating output files (src/io/fsutil.c): never through a link, never into a file already there; each returns 0 or
+   an errno value and acts on the calling rank only. */
+typedef struct {
+  unsigned long long dev, ino;
+} FSFileId; /* the file a writer created, checked before it is renamed into place */
+PETSC_INTERN int FSFileCreate_Private(const char path[], FILE **fp, FSFileId *id);
+PETSC_INTERN int FSFileReplace_Private(const char from[], const char to[], const FSFileId *id);
+PETSC_INTERN int FSFileOpenAppend_Private(const char path[], FILE **fp);
+
 /* Internal to the output writers (rank 0 acts, the outcome is broadcast over the communicator). */
-PETSC_INTERN PetscErrorCode FSRenameFile_Private(MPI_Comm, const char from[], const char to[]);
+PETSC_INTERN PetscErrorCode FSFileCreateShared_Private(MPI_Comm, const char path[], FSFileId *id);
+PETSC_INTERN PetscErrorCode FSRenameFile_Private(MPI_Comm, const char from[], const char to[], const FSFileId *id);
 PETSC_INTERN PetscErrorCode FSTestFile_Private(MPI_Comm, const char path[], PetscBool *exists);
 PETSC_INTERN PetscErrorCode FSWriteCheck_Private(PetscErrorCode, int syserr, const char file[]);
 PETSC_INTERN PetscErrorCode FSCheckFields_Private(MPI_Comm, const char file[], PetscInt dim, PetscInt nlocal,

@@ -21,6 +21,7 @@ struct _n_FSJSON {
   FILE               *fp;                       /* rank 0 only: "<path>.tmp", open from create to destroy */
   char                path[PETSC_MAX_PATH_LEN]; /* final name */
   char                tmp[PETSC_MAX_PATH_LEN];  /* "<path>.tmp" */
+  FSFileId            id;                       /* rank 0: the file created under tmp */
   PetscInt            depth;                    /* number of open objects (1 = only the root) */
   struct json_object *open[FS_JSON_MAX_DEPTH];  /* rank 0 only: open[0] is the document, open[depth-1] the innermost */
 };
@@ -132,9 +133,8 @@ PetscErrorCode FSJSONCreate(MPI_Comm comm, const char path[], FSJSON *js)
   PetscCall(PetscStrcpy(w->path, path));
   PetscCall(PetscSNPrintf(w->tmp, sizeof(w->tmp), "%s.tmp", path));
   if (w->rank == 0) {
-    w->fp = fopen(w->tmp, "w");
-    if (!w->fp) err = errno ? errno : EIO;
-    else if (!(w->open[0] = json_object_new_object())) err = ENOMEM;
+    err = FSFileCreate_Private(w->tmp, &w->fp, &w->id); /* not through a link under the name */
+    if (!err && !(w->open[0] = json_object_new_object())) err = ENOMEM;
   }
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
   if (err) {
@@ -344,7 +344,7 @@ PetscErrorCode FSJSONDestroy(FSJSON *js)
     else if (fputs(text, w->fp) == EOF || fputc('\n', w->fp) == EOF || ferror(w->fp)) err = errno ? errno : EIO;
     if (fclose(w->fp) != 0 && !err) err = errno ? errno : EIO;
     w->fp = NULL;
-    if (!err && rename(w->tmp, w->path) != 0) err = errno ? errno : EIO;
+    if (!err) err = FSFileReplace_Private(w->tmp, w->path, &w->id);
     (void)json_object_put(w->open[0]); /* frees the whole document */
   }
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, w->comm));

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <png.h>
 #include "fsimage.h"
+#include "fsoutput.h"
 
 /* the palette of numbered things (fsimage.h) */
 const unsigned char FSImagePalette[FS_IMAGE_NPALETTE][3] = {
@@ -184,17 +185,18 @@ static int FSPNGEncode(const FSImage *img, FSPNGSink *sink)
 static void FSImageWritePNGFile(const FSImage *img, const char tmp[], const char path[], char msg[], size_t len)
 {
   FSPNGSink sink;
+  FSFileId  id;
+  int       err;
 
   msg[0]      = '\0';
   sink.msg[0] = '\0';
-  sink.fp     = fopen(tmp, "wb");
-  if (!sink.fp) {
-    (void)snprintf(msg, len, "%s", strerror(errno ? errno : EIO));
+  if ((err = FSFileCreate_Private(tmp, &sink.fp, &id))) { /* not through a link under the name */
+    (void)snprintf(msg, len, "%s", strerror(err));
     return;
   }
   if (FSPNGEncode(img, &sink)) (void)snprintf(msg, len, "%s", sink.msg[0] ? sink.msg : "libpng failed");
   if (fclose(sink.fp) != 0 && !msg[0]) (void)snprintf(msg, len, "%s", strerror(errno ? errno : EIO));
-  if (!msg[0] && rename(tmp, path) != 0) (void)snprintf(msg, len, "%s", strerror(errno ? errno : EIO));
+  if (!msg[0] && (err = FSFileReplace_Private(tmp, path, &id))) (void)snprintf(msg, len, "%s", strerror(err));
   if (msg[0]) (void)remove(tmp);
 }
 

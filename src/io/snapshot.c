@@ -264,18 +264,13 @@ static PetscErrorCode FSSnapshotWriterLoadIndex(FSSnapshotWriter w, const char i
   PetscFunctionReturn(0);
 }
 
-/* Rank 0: writes the index CSV to "<index>.tmp"; returns an errno value in *ioerr */
-static PetscErrorCode FSSnapshotWriterWriteIndex(FSSnapshotWriter w, const char tmp[], int *ioerr)
+/* Rank 0: writes the index CSV to "<index>.tmp" (created as id); returns an errno value in *ioerr */
+static PetscErrorCode FSSnapshotWriterWriteIndex(FSSnapshotWriter w, const char tmp[], FSFileId *id, int *ioerr)
 {
   FILE *fp;
 
   PetscFunctionBegin;
-  *ioerr = 0;
-  fp     = fopen(tmp, "w");
-  if (!fp) {
-    *ioerr = errno ? errno : EIO;
-    PetscFunctionReturn(0);
-  }
+  if ((*ioerr = FSFileCreate_Private(tmp, &fp, id))) PetscFunctionReturn(0);
   if (fprintf(fp, "%s\n", FS_SNAPSHOT_HEADER) < 0) *ioerr = errno ? errno : EIO;
   for (PetscInt i = 0; i < w->count && !*ioerr; i++) {
     const FSSnapshotEntry *e = &w->entries[i];
@@ -291,7 +286,7 @@ static PetscErrorCode FSSnapshotWriterWriteIndex(FSSnapshotWriter w, const char 
 }
 
 /*
-   Rank 0: writes the XDMF file to tmp; returns an errno value in *ioerr.
+   Rank 0: writes the XDMF file to tmp (created as id); returns an errno value in *ioerr.
 
    Each snapshot is a Uniform grid with Polyvertex topology of N nodes and no connectivity
    DataItem (readers number the points 0..N-1), Geometry XY or XYZ from /particles/position, and
@@ -306,18 +301,13 @@ static PetscErrorCode FSSnapshotWriterWriteIndex(FSSnapshotWriter w, const char 
    datasets must keep their natural (N, 2) shape for the solver and Python tools. To glyph a 2-D
    vector in a reader that keeps 2 components, use a Calculator (v_X*iHat + v_Y*jHat).
 */
-static PetscErrorCode FSSnapshotWriterWriteXDMF(FSSnapshotWriter w, const char tmp[], int *ioerr)
+static PetscErrorCode FSSnapshotWriterWriteXDMF(FSSnapshotWriter w, const char tmp[], FSFileId *id, int *ioerr)
 {
   FILE *fp;
   int   st = 0;
 
   PetscFunctionBegin;
-  *ioerr = 0;
-  fp     = fopen(tmp, "w");
-  if (!fp) {
-    *ioerr = errno ? errno : EIO;
-    PetscFunctionReturn(0);
-  }
+  if ((*ioerr = FSFileCreate_Private(tmp, &fp, id))) PetscFunctionReturn(0);
   st |= fprintf(fp, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n") < 0;
   st |= fprintf(fp, "    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n") < 0;
   for (PetscInt i = 0; i < w->count && !st; i++) {
@@ -362,20 +352,21 @@ static PetscErrorCode FSSnapshotWriterWriteXDMF(FSSnapshotWriter w, const char t
 /* Rank 0: rewrites snapshots.csv and particles.xdmf (tmp + rename); *ioerr errno, *which 0 csv / 1 xdmf */
 static PetscErrorCode FSSnapshotWriterFlushIndex(FSSnapshotWriter w, int *ioerr, int *which)
 {
-  char path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
+  char     path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
+  FSFileId id;
 
   PetscFunctionBegin;
   *which = 0;
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s", w->dir, FS_SNAPSHOT_INDEX));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-  PetscCall(FSSnapshotWriterWriteIndex(w, tmp, ioerr));
-  if (!*ioerr && rename(tmp, path) != 0) *ioerr = errno ? errno : EIO;
+  PetscCall(FSSnapshotWriterWriteIndex(w, tmp, &id, ioerr));
+  if (!*ioerr) *ioerr = FSFileReplace_Private(tmp, path, &id);
   if (*ioerr) PetscFunctionReturn(0);
   *which = 1;
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/%s", w->dir, FS_SNAPSHOT_XDMF));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-  PetscCall(FSSnapshotWriterWriteXDMF(w, tmp, ioerr));
-  if (!*ioerr && rename(tmp, path) != 0) *ioerr = errno ? errno : EIO;
+  PetscCall(FSSnapshotWriterWriteXDMF(w, tmp, &id, ioerr));
+  if (!*ioerr) *ioerr = FSFileReplace_Private(tmp, path, &id);
   PetscFunctionReturn(0);
 }
 
@@ -446,13 +437,15 @@ PetscErrorCode FSSnapshotWriterCreate(MPI_Comm comm, const char dir[], PetscReal
   PetscFunctionReturn(0);
 }
 
-/* The HDF5 file of one snapshot, written to tmp (collective) */
-static PetscErrorCode FSSnapshotWriteHDF5(MPI_Comm comm, const char tmp[], double t, PetscInt step, PetscInt dim,
-                                          PetscInt N, PetscInt nlocal, PetscInt nfields, const FSOutputField fields[])
+/* The HDF5 file of one snapshot, written to tmp, created first as id (collective) */
+static PetscErrorCode FSSnapshotWriteHDF5(MPI_Comm comm, const char tmp[], FSFileId *id, double t, PetscInt step,
+                                          PetscInt dim, PetscInt N, PetscInt nlocal, PetscInt nfields,
+                                          const FSOutputField fields[])
 {
   PetscViewer viewer;
 
   PetscFunctionBegin;
+  PetscCall(FSFileCreateShared_Private(comm, tmp, id)); /* HDF5 would follow a link under the name */
   PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
   PetscCall(PetscViewerHDF5WriteGroup(viewer, "/particles"));
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/particles"));
@@ -495,6 +488,7 @@ PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter w, PetscReal time, PetscIn
   double         t      = (double)time;
   int            st[2]  = {0, 0}, syserr;
   PetscErrorCode ierr;
+  FSFileId       id;
 
   PetscFunctionBegin;
   PetscCheck(w, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Null FSSnapshotWriter");
@@ -519,12 +513,12 @@ PetscErrorCode FSSnapshotWriterWrite(FSSnapshotWriter w, PetscReal time, PetscIn
   /* a failed write (a full disk) is an error naming the file; the files written before stay as they are */
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   errno  = 0;
-  ierr   = FSSnapshotWriteHDF5(w->comm, tmp, t, step, dim, N, nlocal, nfields, fields);
+  ierr   = FSSnapshotWriteHDF5(w->comm, tmp, &id, t, step, dim, N, nlocal, nfields, fields);
   syserr = errno;
   PetscCall(PetscPopErrorHandler());
   PetscCall(FSWriteCheck_Private(ierr, syserr, file));
   PetscCallMPI(MPI_Barrier(w->comm)); /* every rank has closed the file before it is renamed */
-  PetscCall(FSRenameFile_Private(w->comm, tmp, file));
+  PetscCall(FSRenameFile_Private(w->comm, tmp, file, &id));
 
   if (w->rank == 0) {
     FSSnapshotEntry *e;

@@ -58,12 +58,13 @@ static PetscErrorCode FSTimeSeriesBuildHeader(MPI_Comm comm, const char path[], 
 static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[], PetscInt restart_step, int *ioerr,
                                            PetscBool *badheader, PetscBool *kept)
 {
-  char    tmp[PETSC_MAX_PATH_LEN];
-  FILE   *in, *out;
-  char   *line = NULL;
-  size_t  cap  = 0;
-  ssize_t n;
-  long    lineno = 0;
+  char     tmp[PETSC_MAX_PATH_LEN];
+  FILE    *in, *out;
+  FSFileId id;
+  char    *line = NULL;
+  size_t   cap  = 0;
+  ssize_t  n;
+  long     lineno = 0;
 
   PetscFunctionBegin;
   *ioerr     = 0;
@@ -75,9 +76,7 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
     *ioerr = errno ? errno : EIO;
     PetscFunctionReturn(0);
   }
-  out = fopen(tmp, "w");
-  if (!out) {
-    *ioerr = errno ? errno : EIO;
+  if ((*ioerr = FSFileCreate_Private(tmp, &out, &id))) {
     (void)fclose(in);
     PetscFunctionReturn(0);
   }
@@ -109,15 +108,15 @@ static PetscErrorCode FSTimeSeriesTruncate(const char path[], const char header[
   if (fclose(out) != 0 && !*ioerr) *ioerr = errno ? errno : EIO;
   if (lineno == 0 && !*ioerr && !*badheader) {
     /* empty file: start again with just the header */
-    out = fopen(tmp, "w");
-    if (!out || fprintf(out, "%s\n", header) < 0) *ioerr = errno ? errno : EIO;
+    if ((*ioerr = FSFileCreate_Private(tmp, &out, &id)) == 0 && fprintf(out, "%s\n", header) < 0)
+      *ioerr = errno ? errno : EIO;
     if (out && fclose(out) != 0 && !*ioerr) *ioerr = errno ? errno : EIO;
   }
   if (*ioerr || *badheader) {
     (void)remove(tmp);
     PetscFunctionReturn(0);
   }
-  if (rename(tmp, path) != 0) *ioerr = errno ? errno : EIO;
+  *ioerr = FSFileReplace_Private(tmp, path, &id);
   PetscFunctionReturn(0);
 }
 
@@ -170,14 +169,10 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
       PetscCall(FSTimeSeriesTruncate(path, header, restart_step, &st[0], &bad, &kept));
       st[1] = bad ? 1 : 0;
       st[2] = kept ? 1 : 0;
-      if (!st[0] && !bad) {
-        w->fp = fopen(path, "a");
-        if (!w->fp) st[0] = errno ? errno : EIO;
-      }
-    } else {
-      w->fp = fopen(path, "w");
-      if (!w->fp) st[0] = errno ? errno : EIO;
-      else if (fprintf(w->fp, "%s\n", header) < 0 || fflush(w->fp) != 0) st[0] = errno ? errno : EIO;
+      if (!st[0] && !bad) st[0] = FSFileOpenAppend_Private(path, &w->fp);
+    } else { /* a new file, not written through a link (FSFileCreate_Private()) */
+      st[0] = FSFileCreate_Private(path, &w->fp, NULL);
+      if (!st[0] && (fprintf(w->fp, "%s\n", header) < 0 || fflush(w->fp) != 0)) st[0] = errno ? errno : EIO;
     }
     if (!st[0] && !st[1] && w->fp) { /* unbuffered: a row goes out whole or is cut off again (FSTimeSeriesAppend) */
       struct stat sb;

@@ -111,6 +111,26 @@ static PetscReal FSNextOutputTime(PetscReal t, PetscReal interval)
 }
 
 /*
+   FSSolverOpenOutputDir - the output directory, once: made, checked writable on every rank (FSMakeDirectory()),
+   locked for this run (FSOutputDirLock(): another run writing there is an error naming it), and for a new run (not a
+   restart, which continues what the directory holds) cleared of what an earlier run wrote there (FSOutputDirClear()),
+   so that it holds this run's results only. The lock is given back by FSSolverDestroy().
+
+   Collective
+*/
+PetscErrorCode FSSolverOpenOutputDir(FSSolver s)
+{
+  MPI_Comm comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  if (s->mon.lock) PetscFunctionReturn(0);
+  PetscCall(FSMakeDirectory(comm, s->opt.outdir, "-fs_output_dir"));
+  PetscCall(FSOutputDirLock(comm, s->opt.outdir, "-fs_output_dir", &s->mon.lock));
+  if (!s->opt.restart[0]) PetscCall(FSOutputDirClear(comm, s->opt.outdir));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverMonitorBegin - opens the output (directory, walls.h5 + walls.xdmf, time series, snapshots) and records the
    initial state. Called by FSSolverSolve, or by the first FSSolverStep before its step.
 */
@@ -145,7 +165,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   if (!s->opt.restart[0])
     PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
   if (!s->opt.write_output) PetscFunctionReturn(0);
-  PetscCall(FSMakeDirectory(comm, s->opt.outdir, "-fs_output_dir"));
+  PetscCall(FSSolverOpenOutputDir(s));
   /* the walls beside the snapshots, for ParaView and the movie (the geometry view has written them) */
   if (s->boundary && !s->opt.geometry_view) PetscCall(FSBoundaryWriteGeometry(s->boundary, s->opt.outdir, PETSC_FALSE));
   names[k++] = "time";

@@ -412,8 +412,9 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                          "each row takes about a dozen reductions over the ranks",
                          "FSSolverMonitor", &s->opt.series_interval, NULL, 1, PETSC_MAX_INT));
   PetscCall(PetscOptionsBool("-fs_geometry_view",
-                             "Write the walls and particles to <output_dir>/geometry.png and walls.xdmf (+ the step-0 "
-                             "snapshot), then stop without time stepping",
+                             "Write the walls and particles to <output_dir>/geometry/ (geometry.png, walls.xdmf, the "
+                             "step-0 snapshot; a run's results in <output_dir> are not touched), then stop without "
+                             "time stepping",
                              "FSSolverGeometryView", s->opt.geometry_view, &s->opt.geometry_view, NULL));
   { /* read at the end of the run by FSOptionsLeft(); here for -help */
     PetscBool warn = PETSC_TRUE;
@@ -485,8 +486,8 @@ output/<case>) .  -fs_output_interval <t>         - simulated time between parti
 .  -fs_probes <file>               - pressure probes and wave gauges, sampled into probes.csv (docs/running.md)
 .  -fs_probe_interval <1>          - steps between the samples of the probes and gauges
 .  -fs_series_interval <1>         - steps between the rows of timeseries.csv and energy.csv (and the last step's)
-.  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) and
-stop after set-up
+.  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) to
+<output_dir>/geometry/ and stop after set-up
 .  -fs_options_left <true>         - at the end, warn about the options given but never used
 -  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
 */
@@ -713,7 +714,7 @@ PetscErrorCode FSSolverGetTime(FSSolver s, PetscReal *t, PetscInt *step)
 
    Options Database Key:
 .  -fs_geometry_view - then write the set-up's picture and walls (FSSolverGeometryView()) and the
-                       particles at step 0 to the output directory
+                       particles at step 0 to <output directory>/geometry (the run's results are not touched)
 */
 PetscErrorCode FSSolverSetUp(FSSolver s)
 {
@@ -803,7 +804,12 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   }
   PetscCall(FSSolverProbesSetUp(s));
   s->setupcalled = PETSC_TRUE;
-  if (s->opt.geometry_view) {
+  if (s->opt.geometry_view) { /* into a folder of its own: a run's results in the output directory stay as they are */
+    size_t len;
+    PetscCall(PetscStrlen(s->opt.outdir, &len));
+    PetscCheck(len + 10 < sizeof(s->opt.outdir), comm, PETSC_ERR_ARG_SIZ, "-fs_output_dir %s: too long", s->opt.outdir);
+    PetscCall(PetscStrcat(s->opt.outdir, "/geometry"));
+    PetscCall(FSSolverOpenOutputDir(s));
     PetscCall(FSSolverGeometryView(s, s->opt.outdir));
     PetscCall(FSSolverMonitorBegin(s)); /* the particles at step 0: snapshot_000000.h5 in particles.xdmf */
     if (s->opt.write_output && !s->opt.restart[0] && s->pw.nglobal_particles)
@@ -894,6 +900,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSTimeSeriesDestroy(&s->mon.series));
   PetscCall(FSTimeSeriesDestroy(&s->mon.energyseries));
   PetscCall(FSSolverProbesDestroy(s));
+  PetscCall(FSOutputDirUnlock(&s->mon.lock)); /* the output is closed: another run may write there */
   PetscCall(TSDestroy(&s->ts));
   PetscCall(VecDestroy(&s->state.U));
   PetscCall(VecDestroy(&s->state.Uprev));

@@ -223,6 +223,7 @@ typedef struct {
   PetscInt         nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
   PetscInt         nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
   PetscBool        monitoring;
+  FSOutputLock     lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
   PetscReal        t0, last_snapshot_time;
   FSProbeSet       probes; /* -fs_probes */
   char            *setup;  /* the record of what defines the run, for the checkpoints (setuprecord.c) */
@@ -274,6 +275,7 @@ PETSC_INTERN PetscErrorCode FSSolverViscosityBound(FSSolver, PetscReal *, PetscI
 PETSC_INTERN PetscErrorCode FSSolverDtLimitName(FSSolver, PetscInt, const char **);
 PETSC_INTERN PetscErrorCode FSSolverMonitor(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorBegin(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverOpenOutputDir(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);

@@ -67,6 +67,33 @@ def test_bad_option(run, tmp_path, name):
     assert not (tmp_path / "out" / "summary.json").exists()
 
 
+@pytest.mark.parametrize("nested", [False, True])
+def test_options_file_from_a_pipe_is_refused(tmp_path, nested):
+    """-options_file <(cat case.opts): PETSc reads an options file twice and found the pipe empty the second time, so
+    the run went on as the default case (taylor_green) with exit 0; directly or through another file, it is refused by
+    name (docs/running.md, "Running")."""
+    r, w = os.pipe()
+    os.write(w, (REPO_ROOT / "cases" / "coupled_rectangular.opts").read_bytes())
+    os.close(w)
+    pipe = f"/dev/fd/{r}"
+    given = pipe
+    if nested:
+        (tmp_path / "outer.opts").write_text(f"-options_file {pipe}\n")
+        given = tmp_path / "outer.opts"
+    try:
+        proc = subprocess.run([str(flexslosh_bin()), "-options_file", str(given), "-ts_max_steps", "2", "-fs_progress", "0",
+                               "-fs_output_dir", str(tmp_path / "out")], cwd=tmp_path, pass_fds=(r,), stdout=subprocess.PIPE,
+                              stderr=subprocess.STDOUT, text=True, timeout=60)
+    finally:
+        os.close(r)
+    assert_no_crash(proc)
+    assert proc.returncode != 0, proc.stdout[-2000:]
+    msg = petsc_error_message(proc.stdout)
+    assert f"-options_file {pipe} is a pipe, not a regular file" in msg, proc.stdout[-2000:]
+    assert (f"(in -options_file {given})" in msg) == nested, msg
+    assert not (tmp_path / "out").exists()
+
+
 def test_unwritable_output_dir(run, tmp_path):
     afile = tmp_path / "afile"
     afile.write_text("not a directory\n")

@@ -3,6 +3,7 @@ files and, restarted from its newest checkpoint, gives the uninterrupted run's r
 bit for bit; a full disk (a file-size limit, or a tiny tmpfs where one can be mounted) stops the run with
 an error naming the file, and what was written before stays valid. docs/running.md, "What survives a crash"."""
 import csv
+import json
 import os
 import re
 import signal
@@ -212,3 +213,89 @@ def test_a_full_filesystem_names_the_file(reference, tiny_disk, tmp_path):
     for name in ("timeseries.csv", "energy.csv"):
         rows = (out / name).read_text().splitlines()
         assert rows == (reference / name).read_text().splitlines()[:len(rows)], name
+
+
+# ---- one run per output directory (issue 34 item 4): a lock, and a new run's directory holds its own results only
+
+TG_SMALL = ["-fs_case", "taylor_green", "-fs_dx", "0.04", "-fs_progress", "0"]
+
+
+def test_one_run_per_directory_and_no_stale_results(tmp_path):
+    out = tmp_path / "o"
+    first = subprocess.Popen([str(flexslosh_bin())] + TG_SMALL + ["-ts_max_steps", "1000000", "-fs_output_interval", "0.01",
+                                                                    "-fs_checkpoint_interval", "20", "-fs_output_dir", str(out)],
+                             cwd=tmp_path, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 60
+        while not (out / "checkpoint_000040.h5").exists():  # running, with snapshots and checkpoints written
+            assert first.poll() is None and time.monotonic() < deadline, "the first run did not reach step 40"
+            time.sleep(0.02)
+        # a second run into the same directory: both wrote there (torn rows, an orphan snapshot) and ended with 0
+        second = run_flexslosh(TG_SMALL + ["-ts_max_steps", 3, "-fs_output_dir", out], cwd=tmp_path, check=False, timeout=60)
+        assert first.poll() is None, "the first run ended: the test did not overlap them"
+        assert_no_crash(second)
+        msg = petsc_error_message(second.stdout)
+        assert second.returncode != 0 and f'Output directory "{out}" (option -fs_output_dir) is in use by another run ' \
+            f"(flexslosh, pid {first.pid} on host " in msg, msg
+        assert (out / "flexslosh.lock").read_text().startswith(f"flexslosh, pid {first.pid} on host ")
+    finally:
+        first.kill()  # as a crash would: its lock file stays, its lock ends with it
+        first.wait(timeout=30)
+    check_output_dir(out)
+    assert len(list(out.glob("snapshot_*.h5"))) > 3 and (out / "flexslosh.lock").exists()
+    # a new run there (not a restart): the killed run's lock is free, and its results (the higher-numbered snapshots,
+    # the checkpoints; summary.json when a run ended) are removed, what is not a run's file is kept
+    (out / "notes.txt").write_text("mine\n")
+    (out / "figures").mkdir()
+    (out / "summary.json").write_text('{"dx": 1}\n')
+    third = run_flexslosh(TG_SMALL + ["-ts_max_steps", 3, "-fs_output_interval", 0, "-fs_output_dir", out], cwd=tmp_path,
+                          timeout=60)
+    assert f"Output directory {out}: removed the earlier run's results (" in third.stdout, third.stdout
+    assert sorted(f.name for f in out.iterdir()) == ["energy.csv", "figures", "notes.txt", "particles.xdmf",
+                                                     "snapshot_000000.h5", "snapshot_000001.h5", "snapshots.csv",
+                                                     "summary.json", "timeseries.csv"]
+    assert json.loads((out / "summary.json").read_text())["steps"] == 3
+    assert len(check_csv(out / "timeseries.csv")) == 5
+
+
+# ---- output files go where they are meant to (issue 34 item 7): a link or a file planted under an output's name or
+# its temporary name is replaced, never written through (O_EXCL | O_NOFOLLOW, the HDF5 files created so by rank 0)
+
+def plant(out, victims, names):
+    """a symbolic link (or, for the names marked "hard", a hard link) to a file of its own in victims under each name"""
+    for name in names:
+        how, name = ("hard", name[5:]) if name.startswith("hard:") else ("symlink", name)
+        victim = victims / name.replace("/", "_")
+        victim.write_text(f"precious {name}\n")
+        (out / name).unlink(missing_ok=True)
+        if how == "symlink":
+            (out / name).symlink_to(victim)
+        else:
+            os.link(victim, out / name)
+
+
+def test_links_and_files_planted_in_the_output_directory_are_not_written_through(tmp_path):
+    out, victims = tmp_path / "o", tmp_path / "victims"
+    out.mkdir()
+    victims.mkdir()
+    # a new run: under the outputs' names (a new run removes them first, FSOutputDirClear)
+    plant(out, victims, ["summary.json.tmp", "snapshot_000000.h5.tmp", "timeseries.csv", "checkpoint_000020.h5.tmp",
+                         "walls.h5.tmp", "particles.xdmf.tmp", "hard:energy.csv", "hard:snapshots.csv.tmp"])
+    run_flexslosh(BASE + ["-ts_max_steps", 20, "-fs_checkpoint_interval", 20, "-fs_output_dir", out], nranks=NRANKS,
+                  cwd=tmp_path, timeout=120)
+    # a restart, which keeps the directory's files: under the temporary names of what it writes (each created anew)
+    plant(out, victims, [f"snapshot_{n:06d}.h5.tmp" for n in range(8)] +
+          ["summary.json.tmp", "checkpoint_000040.h5.tmp", "walls.h5.tmp", "walls.xdmf.tmp", "particles.xdmf.tmp",
+           "timeseries.csv.tmp", "hard:energy.csv.tmp", "hard:snapshots.csv.tmp"])
+    run_flexslosh(BASE + ["-ts_max_steps", 40, "-fs_checkpoint_interval", 20, "-fs_output_dir", out, "-fs_restart",
+                          out / "checkpoint_000020.h5"], nranks=NRANKS, cwd=tmp_path, timeout=120)
+    for victim in victims.iterdir():
+        assert victim.read_text() == f"precious {victim.name}\n", victim.name
+    unused = {f for f in out.glob("snapshot_*.h5.tmp") if f.is_symlink()}  # planted for snapshots not written
+    assert unused and set(out.glob("*.tmp")) == unused
+    for name in ("timeseries.csv", "energy.csv"):  # the header and steps 0 to 40
+        assert len(check_csv(out / name)) == 42, name
+    assert len(check_csv(out / "snapshots.csv")) == 1 + len(list(out.glob("snapshot_*.h5")))
+    for f in set(out.iterdir()) - unused:
+        assert f.is_file() and not f.is_symlink() and f.stat().st_nlink == 1, f.name
+    assert (out / "checkpoint_000040.h5").exists() and (out / "walls.h5").exists()

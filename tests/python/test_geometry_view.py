@@ -1,5 +1,6 @@
 """-fs_geometry_view: the set-up as files (geometry.png, walls.h5 + walls.xdmf, the step-0 snapshot),
-written at set-up, after which the run stops. The PNG is read with matplotlib, independently of the
+written at set-up into <output_dir>/geometry (a run's results in <output_dir> stay as they are), after
+which the run stops. The PNG is read with matplotlib, independently of the
 writer (libpng). In 3-D the picture holds three views (front, top below it, side to its right) and
 the walls' files hold the input triangles."""
 import math
@@ -51,7 +52,7 @@ def expected_segments(dx):
 def baffled(tmp_path_factory):
     out = tmp_path_factory.mktemp("geometry") / "o"
     proc = run_flexslosh(BAFFLED + ["-fs_output_dir", out], cwd=out.parent, timeout=120)
-    return out, proc
+    return out / "geometry", proc
 
 
 def test_png_is_valid_and_shows_the_set_up(baffled):
@@ -135,7 +136,7 @@ def test_two_ranks_give_the_same_png(baffled, tmp_path):
     out1, _ = baffled
     out2 = tmp_path / "o2"
     run_flexslosh(BAFFLED + ["-fs_output_dir", out2], nranks=2, cwd=tmp_path, timeout=120)
-    assert (out2 / "geometry.png").read_bytes() == (out1 / "geometry.png").read_bytes()
+    assert (out2 / "geometry" / "geometry.png").read_bytes() == (out1 / "geometry.png").read_bytes()
 
 
 def test_case_without_walls(tmp_path):
@@ -143,6 +144,7 @@ def test_case_without_walls(tmp_path):
     out = tmp_path / "o"
     proc = run_flexslosh(["-fs_case", "taylor_green", "-fs_dx", 0.02, "-fs_geometry_view", "-fs_output_dir", out], cwd=tmp_path, timeout=120)
     assert "no walls" in proc.stdout
+    out = out / "geometry"
     width, height, px = read_png(out / "geometry.png")
     assert width == height == SIZE
     assert mask(px, PARTICLE).sum() > 2500 and (mask(px, WHITE) | mask(px, PARTICLE)).all()
@@ -163,10 +165,24 @@ def test_single_wall_name(tmp_path):
     h5py = pytest.importorskip("h5py")
     out = tmp_path / "o"
     run_flexslosh(["-fs_case", "tank", "-fs_dx", 0.006, "-fs_geometry_view", "-fs_output_dir", out], cwd=tmp_path, timeout=120)
-    with h5py.File(out / "walls.h5", "r") as f:
+    with h5py.File(out / "geometry" / "walls.h5", "r") as f:
         names = f["walls"].attrs["names"]
     assert (names.decode() if isinstance(names, bytes) else names) == "tank"
-    assert 'Value="tank"' in (out / "walls.xdmf").read_text()
+    assert 'Value="tank"' in (out / "geometry" / "walls.xdmf").read_text()
+
+
+def test_a_runs_results_are_not_touched(tmp_path):
+    """The geometry view in the output directory of a finished run (the default output/<case> is the same for
+    both) truncated its CSVs and rewrote its snapshot 0 and summary: it now writes into <output_dir>/geometry only."""
+    out = tmp_path / "o"
+    run_flexslosh(["-fs_case", "tank", "-fs_dx", 0.02, "-ts_max_steps", 3, "-fs_output_dir", out], cwd=tmp_path, timeout=120)
+    before = {f.name: f.read_bytes() for f in out.iterdir()}
+    assert {"timeseries.csv", "summary.json", "snapshot_000000.h5", "walls.h5"} <= set(before)
+    proc = run_flexslosh(["-fs_case", "tank", "-fs_dx", 0.01, "-fs_geometry_view", "-fs_output_dir", out], cwd=tmp_path,
+                         timeout=120)
+    assert f"{out}/geometry/geometry.png" in proc.stdout, proc.stdout
+    assert {f.name: f.read_bytes() for f in out.iterdir() if f.name != "geometry"} == before
+    assert read_summary(out / "geometry")["steps"] == 0 and read_summary(out / "geometry")["dx"] == 0.01
 
 
 # ---------------------------------------------------------------- 3-D: the rectangular tank extruded
@@ -182,7 +198,7 @@ TANK3 = ["-fs_case", "tank", "-fs_dim", 3, "-fs_tank_length", L3, "-fs_tank_heig
 def tank3(tmp_path_factory):
     out = tmp_path_factory.mktemp("geometry3") / "o"
     proc = run_flexslosh(TANK3 + ["-fs_output_dir", out], cwd=out.parent, timeout=120)
-    return out, proc
+    return out / "geometry", proc
 
 
 def runs(flags, min_gap):
@@ -305,7 +321,7 @@ def test_3d_two_ranks_give_the_same_png(tank3, tmp_path):
     out1, _ = tank3
     out2 = tmp_path / "o2"
     run_flexslosh(TANK3 + ["-fs_output_dir", out2], nranks=2, cwd=tmp_path, timeout=120)
-    assert (out2 / "geometry.png").read_bytes() == (out1 / "geometry.png").read_bytes()
+    assert (out2 / "geometry" / "geometry.png").read_bytes() == (out1 / "geometry.png").read_bytes()
 
 
 def test_3d_views_orientation(tmp_path):
@@ -329,7 +345,7 @@ def test_3d_views_orientation(tmp_path):
     out = tmp_path / "o"
     run_flexslosh(["-fs_case", "tank", "-fs_dim", 3, "-fs_tank_shape", "stl", "-fs_tank_stl", stl, "-fs_dx", 0.005,
                    "-fs_geometry_view", "-fs_output_dir", out], cwd=tmp_path, timeout=120)
-    _, _, px = read_png(out / "geometry.png")
+    _, _, px = read_png(out / "geometry" / "geometry.png")
     part, wall = mask(px, PARTICLE), mask(px, WALLS[0])
     v = views(px)
     centre = {}

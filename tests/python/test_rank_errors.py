@@ -74,6 +74,25 @@ def test_a_wall_file_one_rank_cannot_open_ends_every_rank(tmp_path):
     assert "Cannot open the wall file" in petsc_error_message(proc.stdout), proc.stdout[-3000:]
 
 
+def test_an_output_dir_one_rank_cannot_write_ends_every_rank(tmp_path):
+    # the output directory is read-only for rank 1 only (as on a node that mounts it read-only): rank 1 runs in a mount
+    # namespace of its own (unshare, root only: skipped elsewhere) where the directory is a read-only bind mount of
+    # itself. It hung in the first parallel HDF5 open; every rank now creates a file there before any parallel open
+    out = tmp_path / "o"
+    out.mkdir()
+    readonly = f"mount --bind {out} {out} && mount -o remount,bind,ro {out}"
+    if subprocess.run(["unshare", "-m", "--propagation", "private", "sh", "-c", readonly], capture_output=True).returncode:
+        pytest.skip("cannot make a mount namespace here (unshare -m, root only)")
+    args = [flexslosh_bin(), "-fs_case", "taylor_green", "-fs_dx", "0.05", "-ts_max_steps", "3", "-fs_progress", "0",
+            "-fs_output_dir", out]
+    proc = run_timed([mpirun_bin(), "--oversubscribe", "-n", 1] + args + [":", "-n", 1, "unshare", "-m", "--propagation",
+                     "private", "sh", "-c", readonly + ' && exec "$0" "$@"'] + args, tmp_path)
+    assert proc.returncode != 0
+    assert f'Cannot write output directory "{out}" (option -fs_output_dir) on rank 1 of 2: Read-only file system' in \
+        petsc_error_message(proc.stdout), proc.stdout[-3000:]
+    assert not list(out.iterdir())  # nothing written, nothing left
+
+
 # ranks given different options (an MPMD launch): one set for rank 0, one for rank 1, and the error's words
 DIFFERENT = {
     # it hung, or ended in MPI_ERR_TRUNCATE in the first migration (issue 34)

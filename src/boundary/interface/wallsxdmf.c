@@ -43,16 +43,15 @@ PetscErrorCode FSBoundaryJoinWallNames_Private(FSBoundary b, char **names)
   PetscFunctionReturn(0);
 }
 
-/* Rank 0: walls.xdmf to tmp; returns an errno value */
-static int FSWriteWallsXDMF(const char tmp[], const char names[], PetscInt dim, const char topology[], PetscInt nodes,
-                            PetscInt nel, const char measure[])
+/* Rank 0: walls.xdmf to tmp, created as id; returns an errno value */
+static int FSWriteWallsXDMF(const char tmp[], FSFileId *id, const char names[], PetscInt dim, const char topology[],
+                            PetscInt nodes, PetscInt nel, const char measure[])
 {
   const int psize = (int)sizeof(PetscReal);
   FILE     *fp;
   int       st = 0, err = 0;
 
-  fp = fopen(tmp, "w");
-  if (!fp) return errno ? errno : EIO;
+  if ((err = FSFileCreate_Private(tmp, &fp, id))) return err; /* not through a link under the name */
   st |= fprintf(fp, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"walls\" "
                     "GridType=\"Uniform\">\n") < 0;
   st |= fprintf(fp, "      <Information Name=\"walls\" Value=\"%s\"/>\n", names) < 0;
@@ -117,16 +116,17 @@ PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary b, const char dir[], 
   PetscMPIInt rank;
   char        path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], *names;
   int         err = 0;
+  FSFileId    id;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(FSBoundaryJoinWallNames_Private(b, &names));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/walls.xdmf", dir));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-  if (rank == 0) err = FSWriteWallsXDMF(tmp, names, b->dim, topology, nodes, nel, measure);
+  if (rank == 0) err = FSWriteWallsXDMF(tmp, &id, names, b->dim, topology, nodes, nel, measure);
   PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
   PetscCheck(!err, comm, PETSC_ERR_FILE_WRITE, "Cannot write \"%s\": %s", tmp, strerror(err));
-  PetscCall(FSRenameFile_Private(comm, tmp, path));
+  PetscCall(FSRenameFile_Private(comm, tmp, path, &id));
   PetscCall(PetscFree(names));
   if (!b->geometry_verbose) PetscFunctionReturn(0);
   PetscCall(PetscPrintf(comm, "Geometry view: %s/walls.xdmf (+ walls.h5): %s of %" PetscInt_FMT " wall(s) (", dir, what,
@@ -137,16 +137,17 @@ PetscErrorCode FSBoundaryWriteWallsXDMF_Private(FSBoundary b, const char dir[], 
   PetscFunctionReturn(0);
 }
 
-/* The HDF5 file of the walls, written to tmp (collective) */
-static PetscErrorCode FSWriteWallsH5(MPI_Comm comm, const char tmp[], PetscInt dim, PetscInt n, PetscInt nel,
-                                     PetscInt nw, const char names[], const FSOutputField fields[], PetscInt conn[],
-                                     const char countname[])
+/* The HDF5 file of the walls, written to tmp, created first as id (collective) */
+static PetscErrorCode FSWriteWallsH5(MPI_Comm comm, const char tmp[], FSFileId *id, PetscInt dim, PetscInt n,
+                                     PetscInt nel, PetscInt nw, const char names[], const FSOutputField fields[],
+                                     PetscInt conn[], const char countname[])
 {
   const PetscInt nodes = dim;
   IS             is;
   PetscViewer    viewer;
 
   PetscFunctionBegin;
+  PetscCall(FSFileCreateShared_Private(comm, tmp, id)); /* HDF5 would follow a link under the name */
   PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
   PetscCall(PetscViewerHDF5WriteGroup(viewer, "/walls"));
   PetscCall(PetscViewerHDF5PushGroup(viewer, "/walls"));
@@ -185,6 +186,7 @@ PetscErrorCode FSBoundaryWriteWallsH5_Private(FSBoundary b, const char dir[], Pe
   char           path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN], *names;
   int            syserr;
   PetscErrorCode ierr;
+  FSFileId       id;
 
   PetscFunctionBegin;
   PetscCall(FSBoundaryJoinWallNames_Private(b, &names));
@@ -197,12 +199,12 @@ PetscErrorCode FSBoundaryWriteWallsH5_Private(FSBoundary b, const char dir[], Pe
   /* a failed write (a full disk) is an error naming the file */
   PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
   errno  = 0;
-  ierr   = FSWriteWallsH5(comm, tmp, dim, n, nel, nw, names, fields, conn, countname);
+  ierr   = FSWriteWallsH5(comm, tmp, &id, dim, n, nel, nw, names, fields, conn, countname);
   syserr = errno;
   PetscCall(PetscPopErrorHandler());
   PetscCall(FSWriteCheck_Private(ierr, syserr, path));
   PetscCallMPI(MPI_Barrier(comm)); /* every rank has closed the file before it is renamed */
-  PetscCall(FSRenameFile_Private(comm, tmp, path));
+  PetscCall(FSRenameFile_Private(comm, tmp, path, &id));
   PetscCall(PetscFree(names));
   PetscFunctionReturn(0);
 }

@@ -218,12 +218,14 @@ static PetscErrorCode Snapshot(FSStructure st, const char dir[], PetscReal t, Pe
   const PetscInt n = p->nmodes, N = p->fe.N;
   char           path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN + 8];
   FILE          *fp;
+  FSFileId       id;
+  int            err;
 
   PetscFunctionBegin;
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/beam_shape_%06" PetscInt_FMT ".csv", dir, step));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-  fp = fopen(tmp, "w");
-  PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "Cannot write the beam shape to %s", tmp);
+  err = FSFileCreate_Private(tmp, &fp, &id); /* not through a link under the name */
+  PetscCheck(!err, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "Cannot write the beam shape to %s: %s", tmp, strerror(err));
   PetscCheck(fprintf(fp, "# time %.10e step %" PetscInt_FMT "\nx,w,rotation\n%.10e,%.10e,%.10e\n", (double)t, step, 0.0,
                      0.0, 0.0) > 0,
              PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot write %s", tmp);
@@ -237,7 +239,8 @@ static PetscErrorCode Snapshot(FSStructure st, const char dir[], PetscReal t, Pe
                PETSC_ERR_FILE_WRITE, "Cannot write %s", tmp);
   }
   PetscCheck(fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot close %s", tmp);
-  PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot rename %s to %s", tmp, path);
+  err = FSFileReplace_Private(tmp, path, &id);
+  PetscCheck(!err, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot rename %s to %s: %s", tmp, path, strerror(err));
   PetscFunctionReturn(0);
 }
 
