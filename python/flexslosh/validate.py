@@ -973,6 +973,11 @@ def case_seed(ctx: Context, which: Optional[Sequence[str]] = None) -> Section:
     return sec
 
 
+#: The modal beam's time step in the seed studies: its fifth mode (336 Hz, period 3.0 ms) would take dt down to
+#: -fs_structure_cfl's default 0.02 of it, 6e-5 s (2.5 times the acoustic limit's steps at dx = 2 mm); RK4 at 0.05
+#: of it loses 1.3e-4 of the mode's amplitude a period (its share of the release: 3e-5 of the first mode's).
+MODAL_NUMERICS: list[Any] = ["-fs_structure_cfl", 0.05]
+
 #: The seed convergence study's runs: label -> (case file, structure, extra options). The numerics of all: the
 #: density diffusion split off (RKL2) at 0.8 of the acoustic limit (docs/performance.md), the detector of a
 #: blow-up above the slams' compression at dx <= 1 mm, a wider bounce distance against the floor jets.
@@ -980,8 +985,8 @@ SEED_CONVERGENCE_RUNS = {
     "rectangular_msd": ("coupled_rectangular", "msd", []),
     "rectangular_msd_no_tension": ("coupled_rectangular", "msd", ["-fs_walls_tension", "false"]),
     "baffled_msd": ("coupled_baffled", "msd", []),
-    "rectangular_modal": ("coupled_rectangular", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40]),
-    "baffled_modal": ("coupled_baffled", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40]),
+    "rectangular_modal": ("coupled_rectangular", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40] + MODAL_NUMERICS),
+    "baffled_modal": ("coupled_baffled", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40] + MODAL_NUMERICS),
 }
 SEED_CONVERGENCE_NUMERICS = ["-fs_delta_split", "-fs_cfl", 0.8, "-fs_max_density_variation", 0.95,
                              "-fs_walls_bounce_distance", 0.3]
@@ -1053,9 +1058,9 @@ def case_seed_convergence(ctx: Context, which: Optional[Sequence[str]] = None) -
 #: The seed's tanks through the release and the first slams: label -> (case file, structure, extra options).
 SEED_SLAMS_RUNS = {
     "rectangular_msd": ("coupled_rectangular", "msd", []),
-    "rectangular_modal": ("coupled_rectangular", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40]),
+    "rectangular_modal": ("coupled_rectangular", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40] + MODAL_NUMERICS),
     "baffled_msd": ("coupled_baffled", "msd", []),
-    "baffled_modal": ("coupled_baffled", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40]),
+    "baffled_modal": ("coupled_baffled", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40] + MODAL_NUMERICS),
 }
 #: The instants of the seed's Figs. 6-7 drawn here (the seed does not give its own): the release, the first
 #: slams and the first return.
