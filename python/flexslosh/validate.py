@@ -1111,7 +1111,7 @@ def case_seed_slams(ctx: Context, which: Optional[Sequence[str]] = None) -> Sect
         residual = float(np.max(np.abs(e["residual_total"]))) / float(e["E_struct_elastic"][0])
         umax = r.column("max_velocity")
         acoustic = float(t[-1]) * (c0 + float(np.mean(umax))) / (2 * dx)
-        steps = float(r.summary.get("steps", len(t) - 1))
+        steps = float(r.summary.get("final_step", len(t) - 1))  # a continued run's "steps" counts its last part only
         comp, mach = float(np.max(r.column("max_density_variation"))), float(np.max(umax)) / c0
         rows.append(f"| {label.replace('_', ', ')} | {1e3 * dx:g} | {r.particles:,} | {steps / t[-1]:,.0f} | "
                     f"{steps / acoustic:.2f} | {comp:.3f} | {mach:.2f} | {residual:.1e} | {sec.runs[-1].wall:,.0f} |")
