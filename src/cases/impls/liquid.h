@@ -33,8 +33,8 @@ PETSC_INTERN PetscBool      FSSegmentEntersBox(const PetscReal p[], const PetscR
    they do to round-off already), and the body recorded with its exact volume */
 PETSC_INTERN PetscErrorCode FSCaseFitLiquidMass(FSSolver, PetscReal volume, PetscReal mass, PetscInt n, PetscReal m[]);
 /* with -fs_fill_packing: is a body of liquid relaxed rather than left on its lattice (masses m)? */
-PETSC_INTERN PetscErrorCode FSCaseLatticeFits(FSSolver, FSFillPackingType, PetscReal mass, PetscInt n,
-                                              const PetscReal m[], PetscBool *relax);
+PETSC_INTERN PetscErrorCode FSCaseLatticeFits(FSSolver, FSFillPackingType, PetscBool aligned, PetscReal mass,
+                                              PetscInt n, const PetscReal m[], PetscBool *relax);
 /* the hydrostatic densities of relaxed particles and their masses, the volume shared evenly */
 PETSC_INTERN PetscErrorCode FSCaseRelaxedDensities(FSSolver, PetscInt dim, PetscReal ysurf, PetscReal volume,
                                                    PetscInt n, const PetscReal x[], PetscReal rho[], PetscReal m[]);

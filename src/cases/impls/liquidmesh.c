@@ -170,6 +170,21 @@ static PetscErrorCode MeshLatticePoints(FSSolver s, const FSMesh *m, const Petsc
   PetscFunctionReturn(0);
 }
 
+/* whether every input triangle of m faces along x, y or z (its normal's other components zero to round-off) */
+static PetscBool FSMeshAlongAxes(const FSMesh *m)
+{
+  for (PetscInt t = 0; t < m->ntri; t++) {
+    const PetscReal *a = &m->vert[3 * m->tri[3 * t]], *b = &m->vert[3 * m->tri[3 * t + 1]],
+                    *c   = &m->vert[3 * m->tri[3 * t + 2]];
+    const PetscReal u[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, v[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const PetscReal n[3] = {PetscAbsReal(u[1] * v[2] - u[2] * v[1]), PetscAbsReal(u[2] * v[0] - u[0] * v[2]),
+                            PetscAbsReal(u[0] * v[1] - u[1] * v[0])};
+    const PetscReal big  = PetscMax(n[0], PetscMax(n[1], n[2]));
+    if (n[0] + n[1] + n[2] - big > 1e-12 * big) return PETSC_FALSE;
+  }
+  return PETSC_TRUE;
+}
+
 /* this rank's particles of the liquid region of m inside lo..hi (hi[1] the surface), added to the solver: the
    lattice, or where -fs_fill_packing asks for it the lattice relaxed in the region (FSCasePackRelax); hydrostatic,
    their masses fitted to the exact volume. m's elements are refined for the relaxation (the boundary refines them
@@ -189,7 +204,7 @@ static PetscErrorCode MeshLattice(FSSolver s, FSMesh *m, const PetscReal lo[3], 
   gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
   MeshExactMass(m, lo, hi, rho0, gmag / (c0 * c0), &vol, &exact);
   PetscCall(MeshLatticePoints(s, m, lo, hi, what, 0.499, &n, &x, &rho, &mass));
-  PetscCall(FSCaseLatticeFits(s, pk.type, exact, n, mass, &relax));
+  PetscCall(FSCaseLatticeFits(s, pk.type, FSMeshAlongAxes(m), exact, n, mass, &relax));
   if (relax) { /* from the lattice of every point inside, relaxed */
     FSPackRegion region;
     PetscReal    dx, h;
