@@ -144,6 +144,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
   if (!s->opt.restart[0])
     PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
+  PetscCall(FSSolverCheckState(s));      /* before the output is touched: a restart refused leaves it as it was */
   if (!s->opt.write_output) PetscFunctionReturn(0);
   PetscCall(FSMakeDirectory(comm, s->opt.outdir, "-fs_output_dir"));
   /* the walls beside the snapshots, for ParaView and the movie (the geometry view has written them) */
@@ -188,7 +189,6 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/energy.csv", s->opt.outdir));
   PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->opt.restart[0] ? step : -1, &s->mon.energyseries));
   PetscCall(FSSnapshotWriterCreate(comm, s->opt.outdir, s->opt.restart[0] ? t : -1.0, &s->mon.snapshots));
-  PetscCall(FSSolverCheckState(s));
   PetscCall(FSSolverAppendSeries(s)); /* on restart, the series was cut just before this row */
   PetscCall(FSSolverProbesBegin(s));  /* probes.csv, as the series */
   if (!s->opt.restart[0]) PetscCall(FSSolverWriteSnapshot(s));
