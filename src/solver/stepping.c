@@ -85,6 +85,11 @@ PetscErrorCode FSSolverSetUpTS(FSSolver s)
   PetscCall(TSSetRHSFunction(s->ts, NULL, FSSolverRHS, s));
   PetscCall(TSSetMaxTime(s->ts, s->opt.final_time));
   PetscCall(TSSetExactFinalTime(s->ts, TS_EXACTFINALTIME_MATCHSTEP));
+  /* the TS's integer options, checked as flexslosh's own are before PETSc reads them (its parser keeps a value's low
+     32 bits): the number of steps, and the rejected steps and nonlinear solver failures allowed (-1: any) */
+  PetscCall(FSOptionsCheckPetscInt(comm, "-ts_max_steps", 0, PETSC_MAX_INT));
+  PetscCall(FSOptionsCheckPetscInt(comm, "-ts_max_reject", -1, PETSC_MAX_INT));
+  PetscCall(FSOptionsCheckPetscInt(comm, "-ts_max_snes_failures", -1, PETSC_MAX_INT));
   PetscCall(TSSetFromOptions(s->ts));
   PetscCall(FSTSRK4LeanSetInPlace(s->ts, PETSC_TRUE)); /* FSSolverRHS reads all of its state first */
   PetscFunctionReturn(0);

@@ -32,6 +32,9 @@ BAD = {
     # snapshots 1e-20 s apart in a run to 1 s: the next snapshot's time was counted up to, forever (issue 34)
     "output_interval_tiny": (["-fs_output_interval", "1e-20"],
                              [r"-fs_output_interval 1e-20\b", r"at least 1e-12 of the final time -ts_max_time 1\b"]),
+    # PETSc's own integer options are checked as flexslosh's: 2^32 + 1 steps ran one step (PETSc kept the low 32 bits)
+    "max_steps_beyond_int": (["-ts_max_steps", "4294967297"], [r"-ts_max_steps 4294967297 is out of range: expected at least 0"]),
+    "max_steps_not_integer": (["-ts_max_steps", "2.5"], [r"-ts_max_steps 2\.5 is not an integer"]),
 }
 
 # the same for the wall cases' options (a coarse tank)
