@@ -247,6 +247,28 @@ def test_python_structure_columns_energy_and_errors(tmp_path):
         Solver(dict(QUIET, fs_case="beam", fs_structure="pysize")).set_up()
 
 
+def test_python_structure_returning_none_or_words():
+    """What a structure's callback returned, named: None (a forgotten return, reported as "returned 1 values"
+    before, numpy making None one NaN), or something that is not numbers."""
+    class NoReturn(_Oscillator):
+        def rhs(self, t, y, loads):
+            super().rhs(t, y, loads)
+
+    class Words(_Oscillator):
+        def initial_state(self):
+            return "1 0"
+
+    flexslosh.register_structure("pynone", NoReturn)
+    flexslosh.register_structure("pywords", Words)
+    with Solver(dict(QUIET, fs_case="beam", fs_structure="pynone")) as s:
+        with pytest.raises(FlexsloshError, match=r"its rhs callback failed: TypeError: rhs\(\) returned None, expected a "
+                                                 r"sequence of 2 numbers \(a missing return statement\?\)"):
+            s.run()
+    with pytest.raises(FlexsloshError, match=r"TypeError: initial_state\(\) returned str '1 0', expected a sequence of 2 "
+                                             r"numbers"):
+        Solver(dict(QUIET, fs_case="beam", fs_structure="pywords")).set_up()
+
+
 # ------------------------------------------------------------------ sweeps and 2 ranks
 
 
