@@ -462,10 +462,19 @@ static PetscErrorCode FSSolverStartOrigin(FSSolver s, char text[], size_t len)
 }
 
 /* FSSolverStartAdvice - what to do about a state the run cannot start from, for the messages */
-static const char *FSSolverStartAdvice(FSSolver s)
+static PetscErrorCode FSSolverStartAdvice(FSSolver s, PetscBool ckpt, char text[], size_t len)
 {
-  return s->opt.restart[0] ? "the checkpoint holds a state this run cannot start from: restart from an earlier one"
-                           : "check the case's and the structure's options";
+  PetscFunctionBegin;
+  if (ckpt)
+    PetscCall(PetscSNPrintf(text, len,
+                            "the checkpoint holds a state this run cannot start from: restart from an "
+                            "earlier one"));
+  else if (s->structure)
+    PetscCall(PetscSNPrintf(text, len,
+                            "check the options of case %s and of structure %s (-fs_structure), and the files they name",
+                            s->opt.casename, s->structure->name));
+  else PetscCall(PetscSNPrintf(text, len, "check the options of case %s and the files they name", s->opt.casename));
+  PetscFunctionReturn(0);
 }
 
 /*
@@ -487,7 +496,7 @@ PetscErrorCode FSSolverCheckStart(FSSolver s)
   PetscInt        n, *id, kind = 0, worst_p = -1;
   PetscReal      *x, *u, *rho, *m, *xb = NULL, worst = 0, move = 0, glob[3], info[6] = {0, 0, 0, 0, 0, 0};
   PetscMPIInt     rank, owner, gowner;
-  char            origin[PETSC_MAX_PATH_LEN + 64];
+  char            origin[PETSC_MAX_PATH_LEN + 64], advice[512];
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -539,11 +548,12 @@ PetscErrorCode FSSolverCheckStart(FSSolver s)
   if (gowner != PETSC_MPI_INT_MAX) PetscCallMPI(MPI_Bcast(info, 6, MPIU_REAL, gowner, comm));
   if (ckpt) PetscCall(FSSolverStartOrigin(s, origin, sizeof(origin)));
   else PetscCall(PetscSNPrintf(origin, sizeof(origin), "case %s (its initial state)", s->opt.casename));
+  PetscCall(FSSolverStartAdvice(s, ckpt, advice, sizeof(advice)));
   PetscCheck(glob[2] == 0, comm, PETSC_ERR_FILE_UNEXPECTED,
              "The particles of %s are not finite: particle %" PetscInt_FMT
              " at (%g, %g, %g), density %g, mass %g (or its velocity): %s",
              origin, (PetscInt)info[0], (double)info[1], (double)info[2], (double)info[3], (double)info[4],
-             (double)info[5], ckpt ? FSSolverStartAdvice(s) : "check the case's options");
+             (double)info[5], advice);
   if (glob[0] > s->opt.max_density_variation) {
     if (ckpt)
       SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
@@ -551,7 +561,7 @@ PetscErrorCode FSSolverCheckStart(FSSolver s)
               "particle %" PetscInt_FMT " at (%g, %g, %g), density %g (rho0 %g). The run would stop there at once: if "
               "the run that wrote it had a larger -fs_max_density_variation, give that; else %s",
               origin, (double)glob[0], (double)s->opt.max_density_variation, (PetscInt)info[0], (double)info[1],
-              (double)info[2], (double)info[3], (double)info[4], (double)s->opt.rho0, FSSolverStartAdvice(s));
+              (double)info[2], (double)info[3], (double)info[4], (double)s->opt.rho0, advice);
     SETERRQ(comm, PETSC_ERR_ARG_OUTOFRANGE,
             "The particles of %s have a density variation |rho/rho0 - 1| of %g, above -fs_max_density_variation %g: "
             "particle %" PetscInt_FMT
@@ -565,7 +575,7 @@ PetscErrorCode FSSolverCheckStart(FSSolver s)
   PetscCheck(2 * glob[1] <= s->opt.halo_skin * s->opt.h, comm, PETSC_ERR_FILE_UNEXPECTED,
              "The particles of %s are up to %g from the positions their neighbour lists were built at "
              "(/particles/build_position), more than half the halo skin %g: %s",
-             origin, (double)glob[1], (double)(s->opt.halo_skin * s->opt.h), FSSolverStartAdvice(s));
+             origin, (double)glob[1], (double)(s->opt.halo_skin * s->opt.h), advice);
   PetscFunctionReturn(0);
 }
 
@@ -593,7 +603,7 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   PetscReal          worst = 0, move = 0, t, glob[5], *xb;
   PetscMPIInt        rank;
   PetscBool          start; /* before the first step: the state comes from the case or a checkpoint */
-  char               origin[PETSC_MAX_PATH_LEN + 64];
+  char               origin[PETSC_MAX_PATH_LEN + 64], advice[512];
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -637,6 +647,7 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   PetscCall(TSGetStepNumber(s->ts, &step));
   start = (PetscBool)(step == s->mon.step0 && !s->mon.steps_taken);
   PetscCall(FSSolverStartOrigin(s, origin, sizeof(origin)));
+  PetscCall(FSSolverStartAdvice(s, (PetscBool)(s->opt.restart[0] != 0), advice, sizeof(advice)));
   if (bad >= 0) {
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
     PetscCall(PetscPrintf(PETSC_COMM_SELF,
@@ -670,7 +681,7 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
     PetscCall(VecRestoreArrayRead(s->state.U, &u));
     PetscCheck(!start, comm, PETSC_ERR_FILE_UNEXPECTED,
                "The state the run starts from, %s, is not finite: %s is %s at step %" PetscInt_FMT ", time %g: %s",
-               origin, what, FSNonFiniteName(v[0]), step, (double)t, FSSolverStartAdvice(s));
+               origin, what, FSNonFiniteName(v[0]), step, (double)t, advice);
     SETERRQ(comm, PETSC_ERR_FP, "The run blew up: %s is %s at step %" PetscInt_FMT ", time %g%s. Likely cause: %s",
             what, FSNonFiniteName(v[0]), step, (double)t, value, cause);
   }
@@ -684,7 +695,7 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
                           : (glob[0] == 2 ? "has a density variation above -fs_max_density_variation"
                                           : "has particles further than half the halo skin from where their "
                                             "neighbour lists were built"),
-             FSSolverStartAdvice(s));
+             advice);
   PetscCheck(glob[0] != 1, comm, PETSC_ERR_FP,
              "The run blew up: NaN or Inf at step %" PetscInt_FMT
              ", time %g (the particle is named above); reduce -fs_cfl or check the set-up",
