@@ -194,8 +194,8 @@ static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], con
   PetscCall(FSViewFields_Private(viewer, comm, nlocal, nfields, fields));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/particles", "nparticles", PETSC_INT, &N));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
-  { /* each field's checksum (a field given by its fill function is filled again, on every rank: it may be collective)
-     */
+  /* each field's checksum; a field given by its fill function is filled again, on every rank (it may be collective) */
+  {
     PetscReal *buf;
     PetscInt   most = 0;
     for (PetscInt f = 0; f < nfields; f++)
@@ -252,9 +252,10 @@ static PetscErrorCode FSCheckpointWriteHDF5(MPI_Comm comm, const char tmp[], con
    Input Parameters:
 +  comm    - communicator of the particles
 .  path    - the checkpoint file (written as "<path>.tmp", then renamed)
-.  hdr     - time, dt, step, the nglobal (<= 64) global values, the set-up record (or NULL: an empty one) and the
-nlayout layout values (or none), identical on all ranks (rank 0's are written) .  nlocal  - number of particles on this
-rank .  nfields - number of fields
+.  hdr     - time, dt, step, the nglobal (<= 64) global values, the set-up record (or NULL: an empty
+            one) and the nlayout layout values (or none), identical on all ranks (rank 0's are written)
+.  nlocal  - number of particles on this rank
+.  nfields - number of fields
 -  fields  - the fields (any bs >= 1); names as for snapshots
 
    Notes:

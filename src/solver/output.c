@@ -363,22 +363,23 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 }
 
 /*
-   FSSolverCheckIds - the ids read from a checkpoint (n on this rank, each already an integer in [0, N)) are each of
-   0..N-1 once: every id goes to the rank that keeps its share of 0..N-1, which marks it; an id seen twice is an error
-   naming the checkpoint and the id. Collective.
+   FSSolverCheckIds - the ids read from a checkpoint of N particles (n on this rank, each already an integer in [0, N))
+   are each of 0..N-1 once: every id goes to the rank that keeps its share of 0..N-1, which marks it; an id seen twice
+   is an error naming the checkpoint and the id. Collective.
 */
-static PetscErrorCode FSSolverCheckIds(FSSolver s, PetscInt n, const PetscInt id[])
+static PetscErrorCode FSSolverCheckIds(FSSolver s, PetscInt64 N, PetscInt n, const PetscInt id[])
 {
   MPI_Comm     comm = PetscObjectComm((PetscObject)s);
   const char  *path = s->opt.restart;
   PetscMPIInt  size, rank;
-  PetscInt64   N = s->pw.nglobal_particles, twice = -1, gtwice;
+  PetscInt64   twice = -1, gtwice;
   PetscMPIInt *scount, *sdispl, *rcount, *rdispl;
   PetscInt    *sbuf, *rbuf, *fill;
   PetscInt     nrecv;
   PetscBT      seen;
 
   PetscFunctionBegin;
+  if (N == 0) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   /* rank r keeps the ids i with floor(i size / N) == r: from ceil(r N / size) on */
@@ -552,7 +553,7 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   PetscCall(FSCheckpointReadField(comm, path, FS_FIELD_ID, 1, n, &rid, id));
   for (PetscInt k = 0; k < n; k++) pid[k] = (PetscInt)id[k];
   PetscCall(PetscFree(id));
-  PetscCall(FSSolverCheckIds(s, n, pid));
+  PetscCall(FSSolverCheckIds(s, nglob, n, pid));
   /* the positions of the last build (a checkpoint older than them: the lists are built at the positions) */
   PetscCall(FSCheckpointHasField(comm, path, FS_FIELD_BUILD, &hasbuild));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
