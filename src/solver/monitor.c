@@ -144,8 +144,8 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
   if (!s->opt.restart[0])
     PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
-  PetscCall(FSSolverCheckState(s));      /* before the output is touched: a restart refused leaves it as it was */
   if (!s->opt.write_output) PetscFunctionReturn(0);
+  PetscCall(FSSolverCheckState(s)); /* before the output is touched: a restart refused leaves it as it was */
   PetscCall(FSMakeDirectory(comm, s->opt.outdir, "-fs_output_dir"));
   /* the walls beside the snapshots, for ParaView and the movie (the geometry view has written them) */
   if (s->boundary && !s->opt.geometry_view) PetscCall(FSBoundaryWriteGeometry(s->boundary, s->opt.outdir, PETSC_FALSE));

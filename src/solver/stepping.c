@@ -567,7 +567,7 @@ PetscErrorCode FSSolverCheckStart(FSSolver s)
             "particle %" PetscInt_FMT
             " at (%g, %g, %g), density %g (rho0 %g). -fs_c0 %g is too small for the liquid's initial "
             "pressure (its hydrostatic or flow pressure p gives rho = rho0 (1 + p/(rho0 c0^2))): raise -fs_c0 to at "
-            "least %.3g",
+            "least %.3g, or -fs_max_density_variation",
             origin, (double)glob[0], (double)s->opt.max_density_variation, (PetscInt)info[0], (double)info[1],
             (double)info[2], (double)info[3], (double)info[4], (double)s->opt.rho0, (double)s->opt.c0,
             (double)(s->opt.c0 * PetscSqrtReal(glob[0] / s->opt.max_density_variation) * 1.001));

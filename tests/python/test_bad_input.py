@@ -160,12 +160,16 @@ def test_structure_blow_up_is_detected(run, tmp_path, name):
 
 
 def test_blow_up_threshold_option(run, tmp_path):
-    # the stable default run trips a tiny -fs_max_density_variation at once (TG starts at 0.5 %)
+    # the stable default run trips a tiny -fs_max_density_variation at once (TG starts at 0.5 %): the case's initial
+    # state, said so with the c0 that would do (it was "The run blew up ... at step 0 ...; reduce -fs_cfl")
     proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "5", "-fs_max_density_variation", "1e-3", "-fs_output_dir", tmp_path / "out"],
                check=False)
     assert_no_crash(proc)
     msg = petsc_error_message(proc.stdout)
-    assert re.search(r"above -fs_max_density_variation 0\.001 at step 0, time 0\b", msg), msg
+    assert re.search(r"The particles of case taylor_green \(its initial state\) have a density variation \|rho/rho0 - 1\| "
+                     r"of 0\.0047\d*, above -fs_max_density_variation 0\.001\b", msg), msg
+    assert re.search(r"raise -fs_c0 to at least 21\.8, or -fs_max_density_variation", msg), msg
+    assert "blew up" not in msg and "-fs_cfl" not in msg, msg
 
 
 # ---- a -fs_dx that makes more particles than an index counts or the memory holds: a clean error before any
