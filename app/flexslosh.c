@@ -16,8 +16,9 @@ static const char help[] = "flexslosh: liquid sloshing in tanks on flexible stru
    stack overflows (a segmentation fault inside PetscInitialize, PETSc 3.18). Before PetscInitialize,
    OptionsFileCycle() follows the files as PETSc reads them ('#' starts a comment; a line holds an
    option and its value, so "-options_file FILE" is one line) and writes the chain of a cycle,
-   or of nesting deeper than FS_OPTIONS_FILE_DEPTH, to msg. A file that cannot be opened or is not a
-   regular file is left to PETSc, which reports it.
+   or of nesting deeper than FS_OPTIONS_FILE_DEPTH, to msg, as it does for a file that starts with a byte-order
+   mark (FSTextByteOrderMark(): PETSc took it for part of the first option, invisibly). A file that cannot be
+   opened or is not a regular file is left to PETSc, which reports it.
 */
 #define FS_OPTIONS_FILE_DEPTH 16
 
@@ -55,6 +56,12 @@ static int OptionsFileCycle(const char *path, char real[][PATH_MAX], const char 
   size       = (long)fread(text, 1, (size_t)size, fp);
   text[size] = 0;
   fclose(fp);
+  if (FSTextByteOrderMark(text, (size_t)size)) { /* PETSc would read it as part of the first option */
+    snprintf(msg, len, "options file \"%s\" starts with %s: save it as plain text, ASCII or UTF-8 without the mark",
+             path, FSTextByteOrderMark(text, (size_t)size));
+    free(text);
+    return 1;
+  }
   for (char *c = text; c < text + size; c++) /* comments out, NUL bytes as blanks */
     if (*c == '#')
       while (c < text + size && *c != '\n') *c++ = ' ';

@@ -28,9 +28,6 @@ PETSC_INTERN PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm, const char[], const 
 /* the whole of a file read into a string (src/sys/files.c) */
 PETSC_INTERN PetscErrorCode FSFileReadAll(FILE *, char **, size_t *);
 
-/* the byte-order mark a text file starts with, in words showing its bytes, or NULL (src/sys/text.c) */
-PETSC_INTERN const char *FSTextByteOrderMark(const char[], size_t);
-
 /* an integer option PETSc reads itself, checked first as FSOptionsInt() checks (src/sys/options.c) */
 PETSC_INTERN PetscErrorCode FSOptionsCheckPetscInt(MPI_Comm, const char[], PetscInt, PetscInt);
 

@@ -1,7 +1,8 @@
 /*
    What a text input file may not start with: a byte-order mark. flexslosh's text files (walls, probes, a
-   prescribed motion's time series, ASCII STL) are plain ASCII or UTF-8 without one, as PETSc's options files
-   are; an editor that saves with a mark puts invisible bytes before the first word, so the readers name them.
+   prescribed motion's time series, ASCII STL, options files) are plain ASCII or UTF-8 without one; an editor
+   that saves with a mark puts invisible bytes before the first word, so the readers name them (options files
+   are read by PETSc, which took the mark for part of the first option: app/flexslosh.c looks first).
 */
 #include "sys/fssys.h"
 

@@ -330,6 +330,8 @@ def make_cases():
         cases.append(Case("walls", what, {"tank.walls": data}, walls_args, expect=expect))
     cases.append(Case("stl", "a solid name with a comma", {"tank.stl": STL_ASCII.replace(b"solid post", b"solid a,b")},
                       stl_args, expect=r"tank\.stl:\d+: bad wall name"))
+    cases.append(Case("options", "a UTF-8 byte-order mark", {"tiny.opts": b"\xef\xbb\xbf" + OPTIONS}, opt_args, "tiny.opts",
+                      expect=r'options file "tiny\.opts" starts with the bytes EF BB BF, a UTF-8 byte-order mark'))
     cases.append(Case("options", "stray bytes in an option's name and value",
                       {"tiny.opts": OPTIONS + b"-fs_d\xb5x caf\xc3\xa9\xff\n"}, opt_args, "tiny.opts", expect="ok"))
     # probes

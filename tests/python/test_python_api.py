@@ -158,6 +158,9 @@ def test_options_file_including_itself_is_refused(tmp_path):
     b.write_text("-fs_dx 0.1\n# -options_file a.opts (a comment)\n")
     with Solver(options_file=a) as s:  # no cycle: the chain is read by PETSc
         assert s.set_up().local_size == 100
+    b.write_bytes(b"\xef\xbb\xbf-fs_dx 0.1\n")  # a byte-order mark, which PETSc took for part of "-fs_dx", invisibly
+    with pytest.raises(ValueError, match=rf'options file "{b}" starts with the bytes EF BB BF, a UTF-8 byte-order mark'):
+        Solver(options_file=a)
 
 def test_bad_options_raise_petsc_messages():
     with pytest.raises(FlexsloshError, match='Unknown case "nosuch" given to -fs_case'):
