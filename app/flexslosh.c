@@ -20,7 +20,9 @@ static const char help[] = "flexslosh: liquid sloshing in tanks on flexible stru
    or of nesting deeper than FS_OPTIONS_FILE_DEPTH, to msg. It also refuses, by name, an options file that is a pipe,
    a socket or a device (`-options_file <(cat case.opts)`, `-options_file /dev/stdin`): PETSc 3.18 opens an options
    file twice, and the second read of a pipe finds it empty, so that its options were lost without a word and the
-   run went on as the default case. A file that cannot be opened, or a directory, is left to PETSc, which reports it.
+   run went on as the default case; and a file that starts with a byte-order mark (FSTextByteOrderMark(): PETSc took
+   it for part of the first option, invisibly). A file that cannot be opened, or a directory, is left to PETSc,
+   which reports it.
 */
 #define FS_OPTIONS_FILE_DEPTH 16
 
@@ -74,6 +76,12 @@ static int OptionsFileCycle(const char *path, char real[][PATH_MAX], const char 
   size       = (long)fread(text, 1, (size_t)size, fp);
   text[size] = 0;
   fclose(fp);
+  if (FSTextByteOrderMark(text, (size_t)size)) { /* PETSc would read it as part of the first option */
+    snprintf(msg, len, "options file \"%s\" starts with %s: save it as plain text, ASCII or UTF-8 without the mark",
+             path, FSTextByteOrderMark(text, (size_t)size));
+    free(text);
+    return 1;
+  }
   for (char *c = text; c < text + size; c++) /* comments out, NUL bytes as blanks */
     if (*c == '#')
       while (c < text + size && *c != '\n') *c++ = ' ';

@@ -48,6 +48,10 @@ PETSC_EXTERN PetscErrorCode FSOptionsInt(PetscOptionItems *, const char[], const
 PETSC_EXTERN PetscErrorCode FSOptionsRealArray(PetscOptionItems *, const char[], const char[], const char[],
                                                PetscReal[], PetscInt *, PetscBool *, PetscReal, PetscReal, FSRange);
 
+/* ---------- text inputs (src/sys/text.c): the byte-order mark a text file starts with, in words that show its bytes
+   ("the bytes EF BB BF, a UTF-8 byte-order mark"), or NULL; flexslosh's readers, options files included, refuse one */
+PETSC_EXTERN const char *FSTextByteOrderMark(const char[], size_t);
+
 /* ---------- solver ---------- */
 PETSC_EXTERN PetscErrorCode FSSolverCreate(MPI_Comm, FSSolver *);
 PETSC_EXTERN PetscErrorCode FSSolverSetFromOptions(FSSolver);

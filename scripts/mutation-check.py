@@ -137,6 +137,24 @@ MUTATIONS = [
     Mutation("options_file_pipe", "an options file that is a pipe is left to PETSc",
              "app/flexslosh.c", "!S_ISREG(sb.st_mode) && !S_ISDIR(sb.st_mode)", "0 && !S_ISDIR(sb.st_mode)",
              pytest=["test_bad_input.py::test_options_file_from_a_pipe_is_refused"]),
+    # the checkpoints' checks (issue 34): a restart reads nothing it has not checked
+    Mutation("checkpoint_checksum_ignored", "a checkpoint's stored checksum is taken as matching whatever was read",
+             "src/io/checkpoint.c", "PetscCall(PetscStrcmp(stored, computed, &same));", "same = PETSC_TRUE;",
+             pytest=["test_restart.py::test_restart_refuses_a_bad_checkpoint", "test_fuzz_files.py"]),
+    Mutation("checkpoint_checksum_index", "the checksum's term forgets the value's place (two values swapped, or the "
+             "ranks' shares in another order, would not change it)",
+             "src/io/checkpoint.c", "FSMix64(bits ^ FSMix64(i))", "FSMix64(bits)",
+             pytest=["test_restart.py::test_checkpoint_checksums"]),
+    Mutation("checkpoint_time_nan", "a checkpoint's time is checked only for its sign (NaN and Inf pass)",
+             "src/io/checkpoint.c", "PetscCheck(!PetscIsInfOrNanReal(h->time) && h->time >= 0,",
+             "PetscCheck(!(h->time < 0),",
+             pytest=["test_restart.py::test_restart_refuses_a_bad_checkpoint"]),
+    Mutation("checkpoint_nlocal_sign", "a writer's count in /layout/nlocal may be negative (the sum still checked)",
+             "src/io/checkpoint.c", "PetscCheck(counts[r] >= 0 && counts[r] <= N", "PetscCheck(counts[r] <= N",
+             pytest=["test_restart.py::test_restart_refuses_a_bad_checkpoint"]),
+    Mutation("restart_ids_once", "the ids' check looks each id up without marking it (duplicates pass)",
+             "src/solver/output.c", "if (PetscBTLookupSet(seen, rbuf[k] - first))", "if (PetscBTLookup(seen, rbuf[k] - first))",
+             pytest=["test_restart.py::test_restart_refuses_a_bad_checkpoint", "test_fuzz_files.py"]),
 ]
 
 

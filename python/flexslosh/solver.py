@@ -96,7 +96,8 @@ def options_file_cycle(words: list[str], _chain: tuple[tuple[str, str], ...] = (
     """The chain of options files that include themselves (or nest deeper than 16) among the files named
     after ``-options_file`` in words, followed as PETSc reads them ('#' starts a comment, each line its own
     words), as a message; None when there is none. PETSc 3.18 follows such a chain until the stack overflows
-    (a segmentation fault), so the files are checked before PETSc reads them; a file that cannot be read
+    (a segmentation fault), so the files are checked before PETSc reads them, as they are for a byte-order mark
+    (PETSc took it for part of the first option; the flexslosh binary refuses it alike); a file that cannot be read
     is left to PETSc, which names it."""
     for i, word in enumerate(words[:-1]):
         if word != "-options_file":
@@ -113,9 +114,15 @@ def options_file_cycle(words: list[str], _chain: tuple[tuple[str, str], ...] = (
                     else f"options files nested deeper than {_OPTIONS_FILE_DEPTH}")
             return what + ": " + " -> ".join(f"-options_file {g}" for g, _ in chain[first or 0:])
         try:
-            text = Path(real).read_bytes().replace(b"\0", b" ").decode("utf-8", "replace")
+            data = Path(real).read_bytes()
         except OSError:
             continue
+        marks = ((b"\xef\xbb\xbf", "EF BB BF, a UTF-8"), (b"\xff\xfe", "FF FE, a UTF-16"), (b"\xfe\xff", "FE FF, a UTF-16"))
+        for mark, what in marks:
+            if data.startswith(mark):
+                return (f'options file "{given}" starts with the bytes {what} byte-order mark: save it as plain text, '
+                        "ASCII or UTF-8 without the mark")
+        text = data.replace(b"\0", b" ").decode("utf-8", "replace")
         for line in text.splitlines():
             found = options_file_cycle(line.split("#", 1)[0].split(), chain)
             if found:

@@ -205,10 +205,20 @@ def _array(ptr, n: int) -> np.ndarray:
 
 
 def _store(ptr, n: int, values, what: str) -> None:
+    """Copies what a callback returned (what: its name) into the C array ptr of n reals: a sequence (or array) of n
+    numbers. Anything else is an error that says what came back: None (a forgotten return), a single number, values
+    that are not numbers, or another count."""
     core = initialize()
-    v = np.ascontiguousarray(values, dtype=core.real).ravel()
+    if values is None:
+        raise TypeError(f"{what} returned None, expected a sequence of {n} numbers (a missing return statement?)")
+    try:
+        v = np.ascontiguousarray(values, dtype=core.real).ravel()
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{what} returned {type(values).__name__} {values!r:.80}, expected a sequence of {n} numbers "
+                        f"({exc})") from None
     if v.shape != (n,):
-        raise ValueError(f"{what} returned {v.size} values, expected {n}")
+        got = "a single number" if np.ndim(values) == 0 else f"{v.size} values"
+        raise ValueError(f"{what} returned {got}, expected {n}")
     if n:
         core.ffi.memmove(ptr, v, v.nbytes)
 

@@ -38,10 +38,12 @@ PETSC_EXTERN PetscErrorCode FSSnapshotWriterDestroy(FSSnapshotWriter *);
    (the state's global DOFs, e.g. structure DOFs and energy integrals), and the text that records the
    run's set-up (written when not NULL; read back with FSCheckpointReadSetUp()), and nlayout values that
    describe how the writing ranks split the domain (written when nlayout > 0; read back with
-   FSCheckpointReadLayout()). All of it the same on every rank but global, which is rank 0's. */
+   FSCheckpointReadLayout()). All of it the same on every rank but global, which is rank 0's. version is the
+   format version of a checkpoint read (FSCheckpointReadHeader(); a writer writes the current one). */
 typedef struct {
   PetscReal        time, dt;
   PetscInt         step;
+  PetscInt         version;
   PetscInt         nglobal;
   PetscReal        global[64];
   const char      *setup;
@@ -49,12 +51,21 @@ typedef struct {
   const PetscReal *layout;
 } FSCheckpointHeader;
 
+/* What the values of a checkpoint's field may be (FSCheckpointReadField()), besides finite: within lo and hi (bs
+   bounds each, NULL: none; the bounds themselves excluded when open), integers when integer; expect says it in words
+   for the error message, e.g. "a positive number". */
+typedef struct {
+  const PetscReal *lo, *hi;
+  PetscBool        open, integer;
+  const char      *expect;
+} FSCheckpointRange;
+
 PETSC_EXTERN PetscErrorCode FSCheckpointWrite(MPI_Comm, const char path[], const FSCheckpointHeader *, PetscInt nlocal,
                                               PetscInt nfields, const FSOutputField fields[]);
 PETSC_EXTERN PetscErrorCode FSCheckpointReadHeader(MPI_Comm, const char path[], FSCheckpointHeader *,
                                                    PetscInt *nglobal_particles, PetscMPIInt *nranks_written);
 PETSC_EXTERN PetscErrorCode FSCheckpointReadField(MPI_Comm, const char path[], const char name[], PetscInt bs,
-                                                  PetscInt nlocal, PetscReal data[]);
+                                                  PetscInt nlocal, const FSCheckpointRange *, PetscReal data[]);
 PETSC_EXTERN PetscErrorCode FSCheckpointGetLocalSize(MPI_Comm, const char path[], PetscInt *nlocal);
 PETSC_EXTERN PetscErrorCode FSCheckpointHasField(MPI_Comm, const char path[], const char name[], PetscBool *has);
 PETSC_EXTERN PetscErrorCode FSCheckpointReadSetUp(MPI_Comm, const char path[], char **setup);

@@ -165,6 +165,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   if (!s->opt.restart[0])
     PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
   if (!s->opt.write_output) PetscFunctionReturn(0);
+  PetscCall(FSSolverCheckState(s)); /* before the output is touched: a restart refused leaves it as it was */
   PetscCall(FSSolverOpenOutputDir(s));
   /* the walls beside the snapshots, for ParaView and the movie (the geometry view has written them) */
   if (s->boundary && !s->opt.geometry_view) PetscCall(FSBoundaryWriteGeometry(s->boundary, s->opt.outdir, PETSC_FALSE));
@@ -208,7 +209,6 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/energy.csv", s->opt.outdir));
   PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->opt.restart[0] ? step : -1, &s->mon.energyseries));
   PetscCall(FSSnapshotWriterCreate(comm, s->opt.outdir, s->opt.restart[0] ? t : -1.0, &s->mon.snapshots));
-  PetscCall(FSSolverCheckState(s));
   PetscCall(FSSolverAppendSeries(s)); /* on restart, the series was cut just before this row */
   PetscCall(FSSolverProbesBegin(s));  /* probes.csv, as the series */
   if (!s->opt.restart[0]) PetscCall(FSSolverWriteSnapshot(s));

@@ -4,6 +4,7 @@
 */
 #include "solver/solverimpl.h"
 #include <sys/resource.h>
+#include <petscbt.h>
 
 /*
    FSSolverEvaluateAtState - a fresh evaluation of the right-hand side at the current state U and time t,
@@ -371,38 +372,182 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 }
 
 /*
+   FSSolverCheckIds - the ids read from a checkpoint of N particles (n on this rank, each already an integer in [0, N))
+   are each of 0..N-1 once: every id goes to the rank that keeps its share of 0..N-1, which marks it; an id seen twice
+   is an error naming the checkpoint and the id. Collective.
+*/
+static PetscErrorCode FSSolverCheckIds(FSSolver s, PetscInt64 N, PetscInt n, const PetscInt id[])
+{
+  MPI_Comm     comm = PetscObjectComm((PetscObject)s);
+  const char  *path = s->opt.restart;
+  PetscMPIInt  size, rank;
+  PetscInt64   twice = -1, gtwice;
+  PetscMPIInt *scount, *sdispl, *rcount, *rdispl;
+  PetscInt    *sbuf, *rbuf, *fill;
+  PetscInt     nrecv;
+  PetscBT      seen;
+
+  PetscFunctionBegin;
+  if (N == 0) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  /* rank r keeps the ids i with floor(i size / N) == r: from ceil(r N / size) on */
+#define FS_ID_OWNER(i) ((PetscMPIInt)(((PetscInt64)(i)*size) / N))
+#define FS_ID_FIRST(r) ((PetscInt)(((PetscInt64)(r)*N + size - 1) / size))
+  PetscCall(PetscCalloc4(size, &scount, size + 1, &sdispl, size, &rcount, size + 1, &rdispl));
+  PetscCall(PetscMalloc2(n + 1, &sbuf, size, &fill));
+  for (PetscInt k = 0; k < n; k++) scount[FS_ID_OWNER(id[k])]++;
+  for (PetscMPIInt r = 0; r < size; r++) sdispl[r + 1] = sdispl[r] + scount[r];
+  for (PetscMPIInt r = 0; r < size; r++) fill[r] = sdispl[r];
+  for (PetscInt k = 0; k < n; k++) sbuf[fill[FS_ID_OWNER(id[k])]++] = id[k];
+  PetscCallMPI(MPI_Alltoall(scount, 1, MPI_INT, rcount, 1, MPI_INT, comm));
+  for (PetscMPIInt r = 0; r < size; r++) rdispl[r + 1] = rdispl[r] + rcount[r];
+  nrecv = rdispl[size];
+  PetscCall(PetscMalloc1(nrecv + 1, &rbuf));
+  PetscCallMPI(MPI_Alltoallv(sbuf, scount, sdispl, MPIU_INT, rbuf, rcount, rdispl, MPIU_INT, comm));
+  {
+    const PetscInt first = FS_ID_FIRST(rank), count = FS_ID_FIRST(rank + 1) - first;
+    PetscCall(PetscBTCreate(count, &seen));
+    for (PetscInt k = 0; k < nrecv && twice < 0; k++)
+      if (PetscBTLookupSet(seen, rbuf[k] - first)) twice = rbuf[k];
+    PetscCall(PetscBTDestroy(&seen));
+  }
+#undef FS_ID_OWNER
+#undef FS_ID_FIRST
+  PetscCall(PetscFree(rbuf));
+  PetscCall(PetscFree2(sbuf, fill));
+  PetscCall(PetscFree4(scount, sdispl, rcount, rdispl));
+  PetscCallMPI(MPI_Allreduce(&twice, &gtwice, 1, MPIU_INT64, MPI_MAX, comm));
+  PetscCheck(gtwice < 0, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\": /particles/id holds the id %" PetscInt64_FMT
+             " more than once: expected each of 0 to %" PetscInt64_FMT " once",
+             path, gtwice, N - 1);
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverCheckLayout - the writers' split of the domain read from a checkpoint (layout[0] the step it was balanced at,
+   then the split's values, FSDecompGetLayout()) before FSDecompSetLayout() takes it: the step an integer in [0, the
+   checkpoint's step], and along each direction the cuts increasing from the domain's start to its end, as this run's
+   decomposition has them (the same number of ranks per direction; FSDecompSetLayout() ignores another split).
+*/
+static PetscErrorCode FSSolverCheckLayout(FSSolver s, PetscInt step, PetscInt nl, const PetscReal layout[])
+{
+  MPI_Comm        comm = PetscObjectComm((PetscObject)s);
+  const FSDecomp *dd   = &s->pw.decomp;
+  PetscInt        k    = 4;
+
+  PetscFunctionBegin;
+  PetscCheck(layout[0] >= 0 && layout[0] <= step && layout[0] == PetscFloorReal(layout[0]), comm,
+             PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\": /layout/domain[0], the step the ranks' cuts were balanced at, is %g: expected an "
+             "integer in [0, %" PetscInt_FMT "] (the checkpoint's step)",
+             s->opt.restart, (double)layout[0], step);
+  if (nl - 1 != FSDecompLayoutSize(dd)) PetscFunctionReturn(0);
+  for (PetscInt d = 0; d < 3; d++)
+    if (layout[1 + d] != (PetscReal)dd->np[d]) PetscFunctionReturn(0);
+  for (PetscInt d = 0; d < 3; d++) {
+    const PetscReal *cut = &layout[k], lo = dd->cut[d][0], hi = dd->cut[d][dd->np[d]];
+    const PetscReal  tol = 1e-12 * PetscMax(1, PetscAbsReal(hi - lo));
+    PetscBool        ok  = (PetscBool)(PetscAbsReal(cut[0] - lo) <= tol && PetscAbsReal(cut[dd->np[d]] - hi) <= tol);
+    for (PetscMPIInt i = 0; i < dd->np[d] && ok; i++) ok = (PetscBool)(cut[i + 1] > cut[i]);
+    PetscCheck(ok, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "Checkpoint \"%s\": /layout/domain[%" PetscInt_FMT "..%" PetscInt_FMT
+               "], the ranks' cuts along direction %" PetscInt_FMT ", are not increasing from %g to %g: expected the "
+               "cuts of a split of this run's domain",
+               s->opt.restart, k, k + dd->np[d], d, (double)lo, (double)hi);
+    k += dd->np[d] + 1;
+  }
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverLoadCheckpoint - replaces the case's particles by those of the checkpoint given to
    -fs_restart and remembers its time, step, dt and global DOFs for the TS, once the checkpoint's
-   set-up is found to be this run's (FSSolverCheckSetUp()).
+   set-up is found to be this run's (FSSolverCheckSetUp()). Every value is checked before it is used
+   (FSCheckpointReadField() and the others check types, counts, checksums and that values are finite; here
+   what they mean to this run): positions inside the domain along its walled directions, masses and densities
+   positive, the ids each of 0..N-1 once, the global values' time-step bound, its source and the last step's
+   limit in range, the ranks' cuts a split of the domain; then the particles as any start
+   (FSSolverCheckStart()). An error names the checkpoint and what is wrong, before the output is touched.
 */
 PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
 {
   MPI_Comm           comm = PetscObjectComm((PetscObject)s);
   const PetscInt     dim  = s->opt.dim;
+  const char        *path = s->opt.restart;
   FSCheckpointHeader hdr;
-  PetscInt           nglob, n;
+  PetscInt           nglob, n, ng = s->state.nglobaldofs, source, limit;
   PetscMPIInt        nranks;
   PetscReal         *x, *v, *rho, *m, *id, *xb;
   PetscInt          *pid;
   PetscBool          hasbuild;
+  PetscReal          lo[3], hi[3], zero[1] = {0}, idlo[1] = {0}, idhi[1];
+  char               inside[256], idrange[64];
+  FSCheckpointRange  rpos, rpositive, rid;
 
   PetscFunctionBegin;
-  PetscCall(FSCheckpointReadHeader(comm, s->opt.restart, &hdr, &nglob, &nranks));
+  PetscCall(FSCheckpointReadHeader(comm, path, &hdr, &nglob, &nranks));
+  if (hdr.version < 3)
+    PetscCall(PetscPrintf(comm,
+                          "Warning: checkpoint %s (format version %" PetscInt_FMT
+                          ") has no checksums: a damaged value is caught only where it is out of range\n",
+                          path, hdr.version));
   { /* the same set-up, but for the changes allowed */
     char *record;
-    PetscCall(FSCheckpointReadSetUp(comm, s->opt.restart, &record));
+    PetscCall(FSCheckpointReadSetUp(comm, path, &record));
     PetscCall(FSSolverCheckSetUp(s, record));
     PetscCall(PetscFree(record));
   }
-  PetscCheck(hdr.nglobal == s->state.nglobaldofs + 4 &&
-                 hdr.global[hdr.nglobal - 1] == (PetscReal)(s->state.gdiss - s->state.gstruct),
+  PetscCheck(hdr.nglobal == ng + 4 && hdr.global[hdr.nglobal - 1] == (PetscReal)(s->state.gdiss - s->state.gstruct),
              comm, PETSC_ERR_FILE_UNEXPECTED,
              "Checkpoint %s holds %" PetscInt_FMT
              " global values (%g of them structure DOFs) but this run needs %" PetscInt_FMT " (%" PetscInt_FMT
              "): restart with the same -fs_terms and -fs_structure (and its modes) as the run that wrote it",
-             s->opt.restart, hdr.nglobal, hdr.nglobal > 0 ? (double)hdr.global[hdr.nglobal - 1] : 0.0,
-             s->state.nglobaldofs + 4, s->state.gdiss - s->state.gstruct);
-  PetscCall(FSCheckpointGetLocalSize(comm, s->opt.restart, &n));
+             path, hdr.nglobal, hdr.nglobal > 0 ? (double)hdr.global[hdr.nglobal - 1] : 0.0, ng + 4,
+             s->state.gdiss - s->state.gstruct);
+  /* the viscosity bound of the first step, its source (0: the laminar viscosity, t + 1: term t) and the limit that
+     set the last step (FSDtLimit) */
+  PetscCheck(hdr.global[ng] >= 0, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\": /header/global[%" PetscInt_FMT "], the viscosity bound of the time step, is %g: "
+             "expected a number >= 0",
+             path, ng, (double)hdr.global[ng]);
+  PetscCheck(hdr.global[ng + 1] >= 0 && hdr.global[ng + 1] <= s->terms.nterms &&
+                 hdr.global[ng + 1] == PetscFloorReal(hdr.global[ng + 1]),
+             comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\": /header/global[%" PetscInt_FMT "], the source of the time step's viscosity bound, is "
+             "%g but this run has %" PetscInt_FMT " terms: expected an integer in [0, %" PetscInt_FMT
+             "]; restart with the same -fs_terms",
+             path, ng + 1, (double)hdr.global[ng + 1], s->terms.nterms, s->terms.nterms);
+  PetscCheck(hdr.global[ng + 2] >= 0 && hdr.global[ng + 2] < FS_DT_TERM + s->terms.nterms &&
+                 hdr.global[ng + 2] == PetscFloorReal(hdr.global[ng + 2]),
+             comm, PETSC_ERR_FILE_UNEXPECTED,
+             "Checkpoint \"%s\": /header/global[%" PetscInt_FMT "], the limit that set the last step, is %g: expected "
+             "an integer in [0, %" PetscInt_FMT "] (timeseries.csv's dt_limit)",
+             path, ng + 2, (double)hdr.global[ng + 2], (PetscInt)FS_DT_TERM + s->terms.nterms - 1);
+  source = (PetscInt)hdr.global[ng + 1];
+  limit  = (PetscInt)hdr.global[ng + 2];
+
+  /* what the particles' values may be */
+  for (PetscInt d = 0; d < 3; d++) {
+    const PetscBool walled = (PetscBool)(d < dim && !s->pw.periodic[d]);
+    lo[d]                  = walled ? s->pw.lo[d] : PETSC_NINFINITY;
+    hi[d]                  = walled ? s->pw.hi[d] : PETSC_INFINITY;
+  }
+  if (dim == 3)
+    PetscCall(PetscSNPrintf(inside, sizeof(inside), "a coordinate inside the domain [%g, %g] x [%g, %g] x [%g, %g]",
+                            (double)s->pw.lo[0], (double)s->pw.hi[0], (double)s->pw.lo[1], (double)s->pw.hi[1],
+                            (double)s->pw.lo[2], (double)s->pw.hi[2]));
+  else
+    PetscCall(PetscSNPrintf(inside, sizeof(inside), "a coordinate inside the domain [%g, %g] x [%g, %g]",
+                            (double)s->pw.lo[0], (double)s->pw.hi[0], (double)s->pw.lo[1], (double)s->pw.hi[1]));
+  idhi[0] = (PetscReal)(nglob - 1);
+  PetscCall(PetscSNPrintf(idrange, sizeof(idrange), "an integer in [0, %" PetscInt_FMT "]", nglob - 1));
+  rpos      = (FSCheckpointRange){.lo = lo, .hi = hi, .expect = inside};
+  rpositive = (FSCheckpointRange){.lo = zero, .open = PETSC_TRUE, .expect = "a positive number"};
+  rid       = (FSCheckpointRange){.lo = idlo, .hi = idhi, .integer = PETSC_TRUE, .expect = idrange};
+
+  PetscCall(FSCheckpointGetLocalSize(comm, path, &n));
   PetscCall(DMSwarmSetLocalSizes(s->swarm, n, 1024));
   PetscCall(PetscMalloc1(n + 1, &id));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
@@ -410,17 +555,18 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
-  PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_POSITION, dim, n, x));
-  PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_VELOCITY, dim, n, v));
-  PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_DENSITY, 1, n, rho));
-  PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_MASS, 1, n, m));
-  PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_ID, 1, n, id));
+  PetscCall(FSCheckpointReadField(comm, path, FS_FIELD_POSITION, dim, n, &rpos, x));
+  PetscCall(FSCheckpointReadField(comm, path, FS_FIELD_VELOCITY, dim, n, NULL, v));
+  PetscCall(FSCheckpointReadField(comm, path, FS_FIELD_DENSITY, 1, n, &rpositive, rho));
+  PetscCall(FSCheckpointReadField(comm, path, FS_FIELD_MASS, 1, n, &rpositive, m));
+  PetscCall(FSCheckpointReadField(comm, path, FS_FIELD_ID, 1, n, &rid, id));
   for (PetscInt k = 0; k < n; k++) pid[k] = (PetscInt)id[k];
   PetscCall(PetscFree(id));
+  PetscCall(FSSolverCheckIds(s, nglob, n, pid));
   /* the positions of the last build (a checkpoint older than them: the lists are built at the positions) */
-  PetscCall(FSCheckpointHasField(comm, s->opt.restart, FS_FIELD_BUILD, &hasbuild));
+  PetscCall(FSCheckpointHasField(comm, path, FS_FIELD_BUILD, &hasbuild));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
-  if (hasbuild) PetscCall(FSCheckpointReadField(comm, s->opt.restart, FS_FIELD_BUILD, dim, n, xb));
+  if (hasbuild) PetscCall(FSCheckpointReadField(comm, path, FS_FIELD_BUILD, dim, n, &rpos, xb));
   else PetscCall(PetscArraycpy(xb, x, n * dim));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
@@ -435,21 +581,16 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
     PetscReal layout[FS_LAYOUT_MAX];
     PetscInt  nl;
     PetscBool taken = PETSC_FALSE;
-    PetscCall(FSCheckpointReadLayout(comm, s->opt.restart, FS_LAYOUT_MAX, layout, &nl));
+    PetscCall(FSCheckpointReadLayout(comm, path, FS_LAYOUT_MAX, layout, &nl));
+    if (nl > 1) PetscCall(FSSolverCheckLayout(s, hdr.step, nl, layout));
     if (nl > 1) PetscCall(FSDecompSetLayout(&s->pw.decomp, nl - 1, layout + 1, &taken));
     if (taken) s->pw.balance_step = (PetscInt)layout[0];
   }
-  for (PetscInt g = 0; g < s->state.nglobaldofs; g++) s->state.global0[g] = hdr.global[g];
-  { /* the viscosity bound of the first step, from its source, and what limited the last step */
-    const PetscInt source = (PetscInt)hdr.global[s->state.nglobaldofs + 1];
-    PetscCheck(source >= 0 && source <= s->terms.nterms, comm, PETSC_ERR_FILE_UNEXPECTED,
-               "Checkpoint %s: its time-step bound comes from source %" PetscInt_FMT " but this run has %" PetscInt_FMT
-               " terms: restart with the same -fs_terms",
-               s->opt.restart, source, s->terms.nterms);
-    PetscCall(PetscArrayzero(s->state.nu_src, FS_MAX_TERMS + 1));
-    s->state.nu_src[source] = hdr.global[s->state.nglobaldofs];
-    s->state.dt_limit       = (PetscInt)hdr.global[s->state.nglobaldofs + 2];
-  }
+  for (PetscInt g = 0; g < ng; g++) s->state.global0[g] = hdr.global[g];
+  PetscCall(PetscArrayzero(s->state.nu_src, FS_MAX_TERMS + 1));
+  s->state.nu_src[source] = hdr.global[ng];
+  s->state.dt_limit       = limit;
+  PetscCall(FSSolverCheckStart(s));
   PetscFunctionReturn(0);
 }
 

@@ -47,6 +47,13 @@ static PetscErrorCode FSProbesReadFile(MPI_Comm comm, const char path[], char **
     SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "%s:%" PetscInt_FMT ": a NUL byte: a probe file (-fs_probes) is text",
             path, line);
   }
+  {
+    const char *bom = FSTextByteOrderMark(buf, (size_t)len);
+    if (bom) PetscCall(PetscFree(buf));
+    PetscCheck(!bom, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "%s:1: the file starts with %s: save it as plain text, ASCII or UTF-8 without the mark (-fs_probes)",
+               path, bom);
+  }
   *text = buf;
   PetscFunctionReturn(0);
 }

@@ -743,6 +743,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscCheck(s->pw.nglobal_particles > 0 || s->structure, comm, PETSC_ERR_ARG_WRONGSTATE,
              "Case %s created no particles and there is no structure (-fs_structure none): nothing to compute",
              s->opt.casename);
+  PetscCall(FSSolverCheckStart(s)); /* before the structure takes the liquid's mass for its payload */
 
   width = s->pw.kernel.support + s->opt.halo_skin * s->opt.h;
   for (PetscInt d = 0; d < s->opt.dim; d++)

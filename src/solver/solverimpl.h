@@ -279,6 +279,7 @@ PETSC_INTERN PetscErrorCode FSSolverOpenOutputDir(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverCheckStart(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverBlowUpCause(FSSolver, char[], size_t, PetscBool *);
 PETSC_INTERN PetscErrorCode FSSolverGetStepStart(FSSolver, Vec *);
 PETSC_INTERN PetscErrorCode FSSolverGetFreeStage(FSSolver, Vec *, PetscBool *later);

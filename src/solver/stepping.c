@@ -85,6 +85,11 @@ PetscErrorCode FSSolverSetUpTS(FSSolver s)
   PetscCall(TSSetRHSFunction(s->ts, NULL, FSSolverRHS, s));
   PetscCall(TSSetMaxTime(s->ts, s->opt.final_time));
   PetscCall(TSSetExactFinalTime(s->ts, TS_EXACTFINALTIME_MATCHSTEP));
+  /* the TS's integer options, checked as flexslosh's own are before PETSc reads them (its parser keeps a value's low
+     32 bits): the number of steps, and the rejected steps and nonlinear solver failures allowed (-1: any) */
+  PetscCall(FSOptionsCheckPetscInt(comm, "-ts_max_steps", 0, PETSC_MAX_INT));
+  PetscCall(FSOptionsCheckPetscInt(comm, "-ts_max_reject", -1, PETSC_MAX_INT));
+  PetscCall(FSOptionsCheckPetscInt(comm, "-ts_max_snes_failures", -1, PETSC_MAX_INT));
   PetscCall(TSSetFromOptions(s->ts));
   PetscCall(FSTSRK4LeanSetInPlace(s->ts, PETSC_TRUE)); /* FSSolverRHS reads all of its state first */
   PetscFunctionReturn(0);
@@ -447,6 +452,133 @@ PetscErrorCode FSSolverBlowUpCause(FSSolver s, char cause[], size_t len, PetscBo
   PetscFunctionReturn(0);
 }
 
+/* FSSolverStartOrigin - where the state a run starts from comes from, for the messages */
+static PetscErrorCode FSSolverStartOrigin(FSSolver s, char text[], size_t len)
+{
+  PetscFunctionBegin;
+  if (s->opt.restart[0]) PetscCall(PetscSNPrintf(text, len, "checkpoint \"%s\" (-fs_restart)", s->opt.restart));
+  else PetscCall(PetscSNPrintf(text, len, "the set-up of case %s", s->opt.casename));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverStartAdvice - what to do about a state the run cannot start from, for the messages */
+static PetscErrorCode FSSolverStartAdvice(FSSolver s, PetscBool ckpt, char text[], size_t len)
+{
+  PetscFunctionBegin;
+  if (ckpt)
+    PetscCall(PetscSNPrintf(text, len,
+                            "the checkpoint holds a state this run cannot start from: restart from an "
+                            "earlier one"));
+  else if (s->structure)
+    PetscCall(PetscSNPrintf(text, len,
+                            "check the options of case %s and of structure %s (-fs_structure), and the files they name",
+                            s->opt.casename, s->structure->name));
+  else PetscCall(PetscSNPrintf(text, len, "check the options of case %s and the files they name", s->opt.casename));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverCheckStart - the particles a run starts from, before anything else is done with them: after the case's
+   set-up (the structure's, whose payload takes the liquid's mass, comes next) and after a checkpoint is loaded. Each
+   position, velocity, density and mass must be finite, and |rho/rho0 - 1| at most -fs_max_density_variation (the
+   check of every step, FSSolverCheckState()); a checkpoint's particles, besides, no further from the positions the
+   lists were built at than half the halo skin. The error names where the state comes from (the case, or the
+   checkpoint), the particle, and what to do: for a case whose initial density is too far from rho0, the -fs_c0 at
+   which it would not be (the density of a state at rest, rho0 (1 + p/(rho0 c0^2)), moves from rho0 as 1/c0^2).
+
+   Collective
+*/
+PetscErrorCode FSSolverCheckStart(FSSolver s)
+{
+  MPI_Comm        comm = PetscObjectComm((PetscObject)s);
+  const PetscInt  dim  = s->opt.dim;
+  const PetscBool ckpt = (PetscBool)(s->opt.restart[0] && s->state.restart_hdr.dt > 0);
+  PetscInt        n, *id, kind = 0, worst_p = -1;
+  PetscReal      *x, *u, *rho, *m, *xb = NULL, worst = 0, move = 0, glob[3], info[6] = {0, 0, 0, 0, 0, 0};
+  PetscMPIInt     rank, owner, gowner;
+  char            origin[PETSC_MAX_PATH_LEN + 64], advice[512];
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
+  if (ckpt) PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  for (PetscInt p = 0; p < n && kind != 1; p++) {
+    PetscBool finite = (PetscBool)(!PetscIsInfOrNanReal(rho[p]) && !PetscIsInfOrNanReal(m[p]));
+    PetscReal var, d2 = 0;
+    for (PetscInt d = 0; d < dim; d++)
+      if (PetscIsInfOrNanReal(x[p * dim + d]) || PetscIsInfOrNanReal(u[p * dim + d])) finite = PETSC_FALSE;
+    if (!finite) {
+      kind    = 1;
+      worst_p = p;
+      break;
+    }
+    var = PetscAbsReal(rho[p] / s->opt.rho0 - 1.0);
+    if (var > worst) {
+      worst   = var;
+      worst_p = p;
+    }
+    if (xb)
+      for (PetscInt d = 0; d < dim; d++) d2 += PetscSqr(x[p * dim + d] - xb[p * dim + d]);
+    move = PetscMax(move, d2);
+  }
+  glob[0] = kind ? PETSC_MAX_REAL : worst;
+  glob[1] = PetscSqrtReal(move);
+  glob[2] = kind;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, glob, 3, MPIU_REAL, MPI_MAX, comm));
+  /* the particle that sets the worst variation (the first rank that has it), for the message */
+  owner = (worst_p >= 0 && (kind ? PETSC_MAX_REAL : worst) == glob[0]) ? rank : PETSC_MPI_INT_MAX;
+  PetscCallMPI(MPI_Allreduce(&owner, &gowner, 1, MPI_INT, MPI_MIN, comm));
+  if (rank == gowner) {
+    info[0] = (PetscReal)id[worst_p];
+    for (PetscInt d = 0; d < dim; d++) info[1 + d] = x[worst_p * dim + d];
+    info[4] = rho[worst_p];
+    info[5] = m[worst_p];
+  }
+  if (xb) PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
+  if (gowner != PETSC_MPI_INT_MAX) PetscCallMPI(MPI_Bcast(info, 6, MPIU_REAL, gowner, comm));
+  if (ckpt) PetscCall(FSSolverStartOrigin(s, origin, sizeof(origin)));
+  else PetscCall(PetscSNPrintf(origin, sizeof(origin), "case %s (its initial state)", s->opt.casename));
+  PetscCall(FSSolverStartAdvice(s, ckpt, advice, sizeof(advice)));
+  PetscCheck(glob[2] == 0, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "The particles of %s are not finite: particle %" PetscInt_FMT
+             " at (%g, %g, %g), density %g, mass %g (or its velocity): %s",
+             origin, (PetscInt)info[0], (double)info[1], (double)info[2], (double)info[3], (double)info[4],
+             (double)info[5], advice);
+  if (glob[0] > s->opt.max_density_variation) {
+    if (ckpt)
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+              "The particles of %s have a density variation |rho/rho0 - 1| of %g, above -fs_max_density_variation %g: "
+              "particle %" PetscInt_FMT " at (%g, %g, %g), density %g (rho0 %g). The run would stop there at once: if "
+              "the run that wrote it had a larger -fs_max_density_variation, give that; else %s",
+              origin, (double)glob[0], (double)s->opt.max_density_variation, (PetscInt)info[0], (double)info[1],
+              (double)info[2], (double)info[3], (double)info[4], (double)s->opt.rho0, advice);
+    SETERRQ(comm, PETSC_ERR_ARG_OUTOFRANGE,
+            "The particles of %s have a density variation |rho/rho0 - 1| of %g, above -fs_max_density_variation %g: "
+            "particle %" PetscInt_FMT
+            " at (%g, %g, %g), density %g (rho0 %g). -fs_c0 %g is too small for the liquid's initial "
+            "pressure (its hydrostatic or flow pressure p gives rho = rho0 (1 + p/(rho0 c0^2))): raise -fs_c0 to at "
+            "least %.3g, or -fs_max_density_variation",
+            origin, (double)glob[0], (double)s->opt.max_density_variation, (PetscInt)info[0], (double)info[1],
+            (double)info[2], (double)info[3], (double)info[4], (double)s->opt.rho0, (double)s->opt.c0,
+            (double)(s->opt.c0 * PetscSqrtReal(glob[0] / s->opt.max_density_variation) * 1.001));
+  }
+  PetscCheck(2 * glob[1] <= s->opt.halo_skin * s->opt.h, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "The particles of %s are up to %g from the positions their neighbour lists were built at "
+             "(/particles/build_position), more than half the halo skin %g: %s",
+             origin, (double)glob[1], (double)(s->opt.halo_skin * s->opt.h), advice);
+  PetscFunctionReturn(0);
+}
+
 /* what a value that is not finite is, for the messages */
 static const char *FSNonFiniteName(PetscReal v) { return PetscIsNanReal(v) ? "NaN" : (v > 0 ? "+Inf" : "-Inf"); }
 
@@ -470,6 +602,8 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   PetscInt          *id, bad = -1, kind = 0, step;
   PetscReal          worst = 0, move = 0, t, glob[5], *xb;
   PetscMPIInt        rank;
+  PetscBool          start; /* before the first step: the state comes from the case or a checkpoint */
+  char               origin[PETSC_MAX_PATH_LEN + 64], advice[512];
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -511,6 +645,9 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, glob, 5, MPIU_REAL, MPI_MAX, comm));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
+  start = (PetscBool)(step == s->mon.step0 && !s->mon.steps_taken);
+  PetscCall(FSSolverStartOrigin(s, origin, sizeof(origin)));
+  PetscCall(FSSolverStartAdvice(s, (PetscBool)(s->opt.restart[0] != 0), advice, sizeof(advice)));
   if (bad >= 0) {
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
     PetscCall(PetscPrintf(PETSC_COMM_SELF,
@@ -542,11 +679,23 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
     PetscCall(FSSolverBlowUpCause(s, cause, sizeof(cause), NULL));
     PetscCall(VecRestoreArrayRead(U0, &u0));
     PetscCall(VecRestoreArrayRead(s->state.U, &u));
+    PetscCheck(!start, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "The state the run starts from, %s, is not finite: %s is %s at step %" PetscInt_FMT ", time %g: %s",
+               origin, what, FSNonFiniteName(v[0]), step, (double)t, advice);
     SETERRQ(comm, PETSC_ERR_FP, "The run blew up: %s is %s at step %" PetscInt_FMT ", time %g%s. Likely cause: %s",
             what, FSNonFiniteName(v[0]), step, (double)t, value, cause);
   }
   PetscCall(VecRestoreArrayRead(U0, &u0));
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
+  /* at the start (FSSolverCheckStart() has checked the particles, so only a state changed since gets here) the
+     state is not a blow-up: it comes from the case or the checkpoint */
+  PetscCheck(!start || (glob[0] == 0 && 2 * glob[2] <= s->opt.halo_skin * s->opt.h), comm, PETSC_ERR_FILE_UNEXPECTED,
+             "The state the run starts from, %s, %s (the particle is named above): %s", origin,
+             glob[0] == 1 ? "holds NaN or Inf"
+                          : (glob[0] == 2 ? "has a density variation above -fs_max_density_variation"
+                                          : "has particles further than half the halo skin from where their "
+                                            "neighbour lists were built"),
+             advice);
   PetscCheck(glob[0] != 1, comm, PETSC_ERR_FP,
              "The run blew up: NaN or Inf at step %" PetscInt_FMT
              ", time %g (the particle is named above); reduce -fs_cfl or check the set-up",

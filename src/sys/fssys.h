@@ -28,6 +28,9 @@ PETSC_INTERN PetscErrorCode FSFileOpenOnEveryRank(MPI_Comm, const char[], const 
 /* the whole of a file read into a string (src/sys/files.c) */
 PETSC_INTERN PetscErrorCode FSFileReadAll(FILE *, char **, size_t *);
 
+/* an integer option PETSc reads itself, checked first as FSOptionsInt() checks (src/sys/options.c) */
+PETSC_INTERN PetscErrorCode FSOptionsCheckPetscInt(MPI_Comm, const char[], PetscInt, PetscInt);
+
 /* the size checks (src/sys/sizes.c): the memory this process may use in bytes (0 if unknown), a lattice's points,
    and whether (and the check that) a count of particles fits in an index and the memory */
 #define FS_PARTICLE_BYTES 1024.0 /* a particle's memory at the least (a run takes 1.7 kB measured) */

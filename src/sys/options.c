@@ -121,6 +121,52 @@ PetscErrorCode FSOptionsReal(PetscOptionItems *items, const char opt[], const ch
   PetscFunctionReturn(0);
 }
 
+/* CheckIntText - raw, an integer option's value as given, is an integer in [lo, hi]; else an error naming the option,
+   the value and the range (desc). PETSc's own parsing would keep the low bits of a value beyond the PetscInt range. */
+static PetscErrorCode CheckIntText(MPI_Comm comm, const char opt[], const char raw[], PetscInt lo, PetscInt hi,
+                                   const char desc[])
+{
+  char     *end;
+  long long v;
+
+  PetscFunctionBegin;
+  errno = 0;
+  v     = strtoll(raw, &end, 10);
+  PetscCheck(end != raw && !*end, comm, PETSC_ERR_ARG_OUTOFRANGE, "%s %s is not an integer: expected %s", opt, raw,
+             desc);
+  PetscCheck(errno != ERANGE && v >= lo && v <= hi, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "%s %s is out of range: expected %s", opt, raw, desc);
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSOptionsCheckPetscInt - checks an integer option that PETSc reads itself (TSSetFromOptions() reads -ts_max_steps),
+   before it does, as FSOptionsInt() checks flexslosh's: a value that is not an integer, does not fit a PetscInt or lies
+   outside [lo, hi] is an error naming the option, the value and the range (PETSc would keep the value's low 32 bits:
+   -ts_max_steps 4294967297 ran one step). Nothing happens when the option is not given.
+
+   Collective
+
+   Input Parameters:
++  comm   - the communicator of the object that reads the option
+.  opt    - the option, e.g. "-ts_max_steps" (no prefix)
+-  lo, hi - the closed bounds (PETSC_MIN_INT, PETSC_MAX_INT: none)
+*/
+PetscErrorCode FSOptionsCheckPetscInt(MPI_Comm comm, const char opt[], PetscInt lo, PetscInt hi)
+{
+  char      raw[256], desc[128];
+  PetscBool given;
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsGetString(NULL, NULL, opt, raw, sizeof(raw), &given));
+  if (!given || !raw[0]) PetscFunctionReturn(0);
+  PetscCall(RangeText(lo > PETSC_MIN_INT ? (PetscReal)lo : PETSC_NINFINITY,
+                      hi < PETSC_MAX_INT ? (PetscReal)hi : PETSC_INFINITY, FS_RANGE_CLOSED, PETSC_TRUE, desc,
+                      sizeof(desc)));
+  PetscCall(CheckIntText(comm, opt, raw, lo, hi, desc));
+  PetscFunctionReturn(0);
+}
+
 /*
    FSOptionsInt - reads an integer option as PetscOptionsInt() does, and checks it: a value that is
    not an integer, does not fit a PetscInt or lies outside [lo, hi] is an error naming the option,
@@ -155,16 +201,7 @@ PetscErrorCode FSOptionsInt(PetscOptionItems *items, const char opt[], const cha
                       sizeof(desc)));
   PetscCall(PetscSNPrintf(help, sizeof(help), "%s (%s)", text, desc));
   PetscCall(RawValue(items, opt, raw, sizeof(raw), &given));
-  if (given) { /* PETSc's own parsing would silently wrap a value beyond the PetscInt range */
-    char     *end;
-    long long v;
-    errno = 0;
-    v     = strtoll(raw, &end, 10);
-    PetscCheck(end != raw && !*end, items->comm, PETSC_ERR_ARG_OUTOFRANGE, "%s %s is not an integer: expected %s", opt,
-               raw, desc);
-    PetscCheck(errno != ERANGE && v >= lo && v <= hi, items->comm, PETSC_ERR_ARG_OUTOFRANGE,
-               "%s %s is out of range: expected %s", opt, raw, desc);
-  }
+  if (given) PetscCall(CheckIntText(items->comm, opt, raw, lo, hi, desc));
   PetscCall(PetscOptionsInt_Private(items, opt, help, man, *value, value, &given, PETSC_MIN_INT, PETSC_MAX_INT));
   if (set) *set = given;
   PetscFunctionReturn(0);

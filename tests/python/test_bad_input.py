@@ -32,6 +32,9 @@ BAD = {
     # snapshots 1e-20 s apart in a run to 1 s: the next snapshot's time was counted up to, forever (issue 34)
     "output_interval_tiny": (["-fs_output_interval", "1e-20"],
                              [r"-fs_output_interval 1e-20\b", r"at least 1e-12 of the final time -ts_max_time 1\b"]),
+    # PETSc's own integer options are checked as flexslosh's: 2^32 + 1 steps ran one step (PETSc kept the low 32 bits)
+    "max_steps_beyond_int": (["-ts_max_steps", "4294967297"], [r"-ts_max_steps 4294967297 is out of range: expected at least 0"]),
+    "max_steps_not_integer": (["-ts_max_steps", "2.5"], [r"-ts_max_steps 2\.5 is not an integer"]),
 }
 
 # the same for the wall cases' options (a coarse tank)
@@ -52,6 +55,21 @@ def test_bad_wall_option(run, tmp_path, name):
     msg = petsc_error_message(proc.stdout)
     for pat in patterns:
         assert re.search(pat, msg), f"{pat!r} not in the error message:\n{msg}"
+
+
+def test_tiny_c0_names_c0(run, tmp_path):
+    """A -fs_c0 too small for the liquid's hydrostatic pressure is named as such, with the c0 needed, before the
+    structure is set up (it was blamed on -fs_beam_payload_mass: the liquid's masses follow its density, here 3 to
+    270,000 times rho0), and in the uncoupled tank not reported as a blow-up with the advice to reduce -fs_cfl."""
+    for extra in (["-options_file", REPO_ROOT / "cases" / "coupled_rectangular.opts"], ["-fs_case", "tank"]):
+        proc = run(extra + ["-fs_dx", "0.01", "-fs_c0", "0.3", "-ts_max_steps", "1", "-fs_output_dir", tmp_path / "out"],
+                   check=False, timeout=60)
+        assert_no_crash(proc)
+        msg = petsc_error_message(proc.stdout)
+        assert re.search(r"The particles of case tank \(its initial state\) have a density variation \|rho/rho0 - 1\| "
+                         r"of [0-9.]+, above -fs_max_density_variation 0\.3", msg), msg
+        assert re.search(r"-fs_c0 0\.3 is too small .* raise -fs_c0 to at least 0\.\d+", msg), msg
+        assert "payload" not in msg and "blew up" not in msg and "-fs_cfl" not in msg, msg
 
 
 @pytest.mark.parametrize("name", list(BAD))
@@ -169,12 +187,16 @@ def test_structure_blow_up_is_detected(run, tmp_path, name):
 
 
 def test_blow_up_threshold_option(run, tmp_path):
-    # the stable default run trips a tiny -fs_max_density_variation at once (TG starts at 0.5 %)
+    # the stable default run trips a tiny -fs_max_density_variation at once (TG starts at 0.5 %): the case's initial
+    # state, said so with the c0 that would do (it was "The run blew up ... at step 0 ...; reduce -fs_cfl")
     proc = run(TG + ["-fs_dx", "0.05", "-ts_max_steps", "5", "-fs_max_density_variation", "1e-3", "-fs_output_dir", tmp_path / "out"],
                check=False)
     assert_no_crash(proc)
     msg = petsc_error_message(proc.stdout)
-    assert re.search(r"above -fs_max_density_variation 0\.001 at step 0, time 0\b", msg), msg
+    assert re.search(r"The particles of case taylor_green \(its initial state\) have a density variation \|rho/rho0 - 1\| "
+                     r"of 0\.0047\d*, above -fs_max_density_variation 0\.001\b", msg), msg
+    assert re.search(r"raise -fs_c0 to at least 21\.8, or -fs_max_density_variation", msg), msg
+    assert "blew up" not in msg and "-fs_cfl" not in msg, msg
 
 
 # ---- a -fs_dx that makes more particles than an index counts or the memory holds: a clean error before any

@@ -158,6 +158,9 @@ def test_options_file_including_itself_is_refused(tmp_path):
     b.write_text("-fs_dx 0.1\n# -options_file a.opts (a comment)\n")
     with Solver(options_file=a) as s:  # no cycle: the chain is read by PETSc
         assert s.set_up().local_size == 100
+    b.write_bytes(b"\xef\xbb\xbf-fs_dx 0.1\n")  # a byte-order mark, which PETSc took for part of "-fs_dx", invisibly
+    with pytest.raises(ValueError, match=rf'options file "{b}" starts with the bytes EF BB BF, a UTF-8 byte-order mark'):
+        Solver(options_file=a)
 
 def test_bad_options_raise_petsc_messages():
     with pytest.raises(FlexsloshError, match='Unknown case "nosuch" given to -fs_case'):
@@ -245,6 +248,28 @@ def test_python_structure_columns_energy_and_errors(tmp_path):
         assert 0.8 < s.time < 1  # the time of the step that failed: the TS did not advance
     with pytest.raises(FlexsloshError, match=r"its initial callback failed: ValueError: initial_state\(\) returned 1 values, expected 2"):
         Solver(dict(QUIET, fs_case="beam", fs_structure="pysize")).set_up()
+
+
+def test_python_structure_returning_none_or_words():
+    """What a structure's callback returned, named: None (a forgotten return, reported as "returned 1 values"
+    before, numpy making None one NaN), or something that is not numbers."""
+    class NoReturn(_Oscillator):
+        def rhs(self, t, y, loads):
+            super().rhs(t, y, loads)
+
+    class Words(_Oscillator):
+        def initial_state(self):
+            return "1 0"
+
+    flexslosh.register_structure("pynone", NoReturn)
+    flexslosh.register_structure("pywords", Words)
+    with Solver(dict(QUIET, fs_case="beam", fs_structure="pynone")) as s:
+        with pytest.raises(FlexsloshError, match=r"its rhs callback failed: TypeError: rhs\(\) returned None, expected a "
+                                                 r"sequence of 2 numbers \(a missing return statement\?\)"):
+            s.run()
+    with pytest.raises(FlexsloshError, match=r"TypeError: initial_state\(\) returned str '1 0', expected a sequence of 2 "
+                                             r"numbers"):
+        Solver(dict(QUIET, fs_case="beam", fs_structure="pywords")).set_up()
 
 
 # ------------------------------------------------------------------ sweeps and 2 ranks

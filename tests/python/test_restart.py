@@ -5,6 +5,7 @@ import h5py
 import numpy as np
 import pytest
 
+from checkpoint_tools import checksum, edit, header_checksum, strip_checksums
 from conftest import (REPO_ROOT, TG, assert_no_crash, last_snapshot, petsc_error_message, read_series, read_snapshot,
                       rel_max_diff, run_flexslosh, snapshot_files)
 
@@ -304,6 +305,7 @@ def test_restart_from_a_version_1_checkpoint(full_run, tmp_path):
         with h5py.File(p, "r+") as h5:
             del h5["header"].attrs["setup"]
             h5["header"].attrs["version"] = np.int64(1)
+            strip_checksums(h5)  # none before version 3
 
     ck = damaged_copy(full_run, tmp_path, old)
     args = TG + ["-fs_restart", ck, "-fs_output_dir", tmp_path / "B", "-ts_max_steps", "22"]
@@ -313,3 +315,142 @@ def test_restart_from_a_version_1_checkpoint(full_run, tmp_path):
     assert str(ck) in msg and "format version 1" in msg and "-fs_restart_allow_changes all" in msg, msg
     proc = run_flexslosh(args + ["-fs_restart_allow_changes", "all"], cwd=tmp_path)
     assert "has no record of its run's set-up: not checked" in proc.stdout
+
+
+# ---- every value a restart reads is checked before it is used, and a refused restart leaves the output as it was
+# (issue 34): the checkpoint's type, range and consistency checks, its checksums
+
+TINY = ["-fs_case", "taylor_green", "-fs_dx", "0.05", "-fs_output_interval", "0", "-fs_checkpoint_interval", "2"]
+
+
+@pytest.fixture(scope="module")
+def tiny_run(tmp_path_factory):
+    """TG at dx 0.05 (400 particles), 4 steps, checkpoints at steps 2 and 4, on 1 or 2 ranks (run on demand, once)."""
+    cache = {}
+
+    def get(nranks):
+        if nranks not in cache:
+            out = tmp_path_factory.mktemp(f"tiny{nranks}")
+            run_flexslosh(TINY + ["-ts_max_steps", "4", "-fs_output_dir", out], nranks=nranks, cwd=out)
+            cache[nranks] = out
+        return cache[nranks]
+
+    return get
+
+
+def set_attr(obj, name, value):
+    def change(h5):
+        h5[obj].attrs[name] = value
+    return change
+
+
+def set_value(dset, index, value):
+    def change(h5):
+        a = h5[dset][...]
+        a[index] = value if value is not None else a[index + 1]  # None: the next one's value (a duplicate)
+        h5[dset][...] = a
+    return change
+
+
+def next_float(dset, index):
+    def change(h5):
+        a = h5[dset][...]
+        a[index] = np.nextafter(a[index], np.inf)  # the last bit of the mantissa flipped
+        h5[dset][...] = a
+    return change
+
+
+def drop_attr(obj, name):
+    def change(h5):
+        del h5[obj].attrs[name]
+    return change
+
+
+# name -> (the change, whether the checkpoint is signed again, ranks that write and read it, what the error says).
+# Before these checks (observed): a NaN time ran on (5,000 steps and 125 NaN checkpoints in 30 s), a time of 5e306
+# or Inf ended at once with exit 0, a negative mass was reported as a blow-up with the advice to reduce -fs_cfl,
+# duplicate, NaN or huge ids were accepted, a negative /layout/nlocal and a string time were HDF5 errors that named
+# no file, a negative step a TS error that named none, and a flipped bit went unnoticed.
+BAD_CHECKPOINTS = {
+    "time_nan": (set_attr("header", "time", np.nan), True, 1,
+                 r"attribute /header\.time is nan: expected a finite number >= 0"),
+    "time_inf": (set_attr("header", "time", np.inf), True, 1, r"attribute /header\.time is inf: expected a finite"),
+    "time_huge": (set_attr("header", "time", 5e306), True, 1,
+                  r"/header\.time 5e\+306 and /header\.dt [-0-9.e]+: the time step is below the time's resolution"),
+    "time_string": (set_attr("header", "time", "0.1"), True, 1,
+                    r"attribute /header\.time is a string, expected a number"),
+    "step_negative": (set_attr("header", "step", np.int32(-3)), True, 1,
+                      r"attribute /header\.step is -3: expected an integer in \[0, 2147483647\]"),
+    "mass_negative": (set_value("particles/mass", 3, -1.0), True, 1, r"/particles/mass\[3\] is -1: expected a positive"),
+    "mass_zero": (set_value("particles/mass", 7, 0.0), True, 1, r"/particles/mass\[7\] is 0: expected a positive"),
+    "id_duplicate": (set_value("particles/id", 3, None), True, 1,
+                     r"/particles/id holds the id \d+ more than once: expected each of 0 to 399 once"),
+    "id_huge": (set_value("particles/id", 3, 1e20), True, 1, r"/particles/id\[3\] is 1e\+20: expected an integer in \[0, 399\]"),
+    "id_nan": (set_value("particles/id", 5, np.nan), True, 1, r"/particles/id\[5\] is nan: expected an integer"),
+    "id_duplicate_across_ranks": (set_value("particles/id", 350, 2.0), True, 2, r"/particles/id holds the id 2 more than once"),
+    "nlocal_negative": (set_value("layout/nlocal", slice(None), [-5, 405]), True, 2,
+                        r"/layout/nlocal\[0\] is -5: expected an integer in \[0, 400\]"),
+    "density_far": (set_value("particles/density", 3, 100.0), True, 1,
+                    r"The particles of checkpoint \"[^\"]+\" \(-fs_restart\) have a density variation \|rho/rho0 - 1\| "
+                    r"of 99\.?, above -fs_max_density_variation 0\.3: particle \d+ at"),
+    "velocity_bit": (next_float("particles/velocity", (300, 1)), False, 2,
+                     r"/particles/velocity does not match its checksum \(sum64:[0-9a-f]{16} stored in "
+                     r"/particles/velocity\.checksum, sum64:[0-9a-f]{16} computed"),
+    "header_bit": (set_attr("header", "step", np.int32(3)), False, 1,
+                   r"the header \(the attributes of /header\) does not match its checksum"),
+    "checksum_missing": (drop_attr("particles/mass", "checksum"), False, 1,
+                         r"/particles/mass has no checksum \(attribute /particles/mass\.checksum\), which format version 3"),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD_CHECKPOINTS))
+def test_restart_refuses_a_bad_checkpoint(tiny_run, tmp_path, name):
+    """Restarted in the run's own directory from a changed checkpoint: an error that names the file and what is
+    wrong, not a blow-up, and timeseries.csv, energy.csv and the rest of the directory as they were."""
+    change, sign, nranks, pattern = BAD_CHECKPOINTS[name]
+    run_dir = tmp_path / "run"
+    run_dir.mkdir()
+    for f in tiny_run(nranks).iterdir():
+        (run_dir / f.name).write_bytes(f.read_bytes())
+    ck = run_dir / "checkpoint_000002.h5"
+    edit(ck, change, sign=sign)
+    before = {f.name: f.read_bytes() for f in run_dir.iterdir()}
+    proc = run_flexslosh(TINY + ["-ts_max_steps", "6", "-fs_restart", ck, "-fs_output_dir", run_dir], nranks=nranks,
+                         cwd=tmp_path, check=False, timeout=60)
+    assert_no_crash(proc)
+    msg = petsc_error_message(proc.stdout)
+    assert proc.returncode != 0 and str(ck) in msg and re.search(pattern, msg), msg
+    assert "blew up" not in msg and "-fs_cfl" not in msg, msg
+    after = {f.name: f.read_bytes() for f in run_dir.iterdir()}
+    assert sorted(after) == sorted(before)
+    for f in before:
+        assert after[f] == before[f], f"{f} changed by a restart that was refused"
+
+
+def test_checkpoint_checksums(tiny_run):
+    """The checksums of a checkpoint written on 2 ranks are those of their description (checkpoint_tools.py): a sum
+    over the values and their places, the same whichever ranks wrote or read them (the 2-rank checkpoints restart on
+    1 and 3 ranks above, each rank verifying its share)."""
+    with h5py.File(tiny_run(2) / "checkpoint_000002.h5", "r") as h5:
+        assert h5["header"].attrs["version"] == 3
+        assert h5["header"].attrs["checksum"].decode() == header_checksum(h5)
+        for name in ("particles/position", "particles/id", "layout/nlocal", "layout/domain", "header/global"):
+            assert h5[name].attrs["checksum"].decode() == checksum(h5[name][...]), name
+
+
+def test_restart_from_a_checkpoint_without_checksums(tiny_run, tmp_path):
+    """A checkpoint of format version 2 (before the checksums) still restarts, with a warning, exactly."""
+    src = tiny_run(1)
+    ck = tmp_path / "checkpoint_000002.h5"
+    ck.write_bytes((src / "checkpoint_000002.h5").read_bytes())
+
+    def old(h5):
+        strip_checksums(h5)
+        h5["header"].attrs["version"] = np.int32(2)
+
+    edit(ck, old, sign=False)
+    proc = run_flexslosh(TINY + ["-ts_max_steps", "4", "-fs_restart", ck, "-fs_output_dir", tmp_path / "B"], cwd=tmp_path)
+    assert f"Warning: checkpoint {ck} (format version 2) has no checksums" in proc.stdout
+    with h5py.File(src / "checkpoint_000004.h5", "r") as a, h5py.File(tmp_path / "B" / "checkpoint_000004.h5", "r") as b:
+        for f in ("position", "velocity", "density"):
+            assert np.array_equal(a["particles/" + f][...], b["particles/" + f][...]), f

@@ -82,6 +82,9 @@ PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char o
     lineno++;
     err[0] = 0;
     if (strlen(line) < (size_t)len) PetscCall(PetscStrncpy(err, "a NUL byte: the file is text", sizeof(err)));
+    if (lineno == 1 && FSTextByteOrderMark(line, (size_t)len))
+      PetscCall(PetscSNPrintf(err, sizeof(err), "the file starts with %s: save it as plain text without the mark",
+                              FSTextByteOrderMark(line, (size_t)len)));
     if ((hash = strchr(line, '#'))) *hash = 0;
     if (!err[0]) {
       while (nv < 3 && NextNumber(&p, &v[nv], &bad)) nv++;

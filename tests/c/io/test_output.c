@@ -357,13 +357,13 @@ static PetscErrorCode TestCheckpoint(TestCtx *ctx)
   /* same number of ranks: the original layout, values exact */
   PetscCall(FSCheckpointGetLocalSize(ctx->comm, path, &rn));
   TCHECK(ctx->comm, rn == nlocal, "local size %" PetscInt_FMT ", expected %" PetscInt_FMT, rn, nlocal);
-  PetscCall(FSCheckpointReadField(ctx->comm, path, "velocity", 2, nlocal, buf));
+  PetscCall(FSCheckpointReadField(ctx->comm, path, "velocity", 2, nlocal, NULL, buf));
   for (PetscInt i = 0; i < 2 * nlocal; i++)
     if (buf[i] != vel[i]) bad++;
-  PetscCall(FSCheckpointReadField(ctx->comm, path, "position", 2, nlocal, buf));
+  PetscCall(FSCheckpointReadField(ctx->comm, path, "position", 2, nlocal, NULL, buf));
   for (PetscInt i = 0; i < 2 * nlocal; i++)
     if (buf[i] != pos[i]) bad++;
-  PetscCall(FSCheckpointReadField(ctx->comm, path, "rho", 1, nlocal, buf));
+  PetscCall(FSCheckpointReadField(ctx->comm, path, "rho", 1, nlocal, NULL, buf));
   for (PetscInt i = 0; i < nlocal; i++)
     if (buf[i] != rho[i]) bad++;
   PetscCallMPI(MPI_Allreduce(&bad, &gbad, 1, MPIU_INT, MPI_SUM, ctx->comm));
@@ -385,7 +385,7 @@ static PetscErrorCode TestCheckpoint(TestCtx *ctx)
       TCHECK(sub, rn == expect, "even split %" PetscInt_FMT ", expected %" PetscInt_FMT, rn, expect);
       PetscCallMPI(MPI_Scan(&rn, &sstart, 1, MPIU_INT, MPI_SUM, sub));
       sstart -= rn;
-      PetscCall(FSCheckpointReadField(sub, path, "velocity", 2, rn, buf));
+      PetscCall(FSCheckpointReadField(sub, path, "velocity", 2, rn, NULL, buf));
       bad = 0;
       for (PetscInt i = 0; i < rn; i++)
         for (PetscInt c = 0; c < 2; c++)
@@ -401,18 +401,18 @@ static PetscErrorCode TestCheckpoint(TestCtx *ctx)
   PetscCall(PetscSNPrintf(msg, sizeof(msg), "Checkpoint \"%s\" does not exist or cannot be read", missing));
   EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSCheckpointReadHeader(ctx->comm, missing, &rh, NULL, NULL), msg);
   EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSCheckpointGetLocalSize(ctx->comm, missing, &rn), msg);
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSCheckpointReadField(ctx->comm, missing, "rho", 1, nlocal, buf), msg);
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_OPEN, FSCheckpointReadField(ctx->comm, missing, "rho", 1, nlocal, NULL, buf), msg);
   PetscCall(PetscSNPrintf(msg, sizeof(msg), "Checkpoint \"%s\"", path));
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "pressure", 1, nlocal, buf), msg,
-               "has no field \"pressure\" (dataset /particles/pressure)");
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "velocity", 3, nlocal, buf), msg,
-               "field \"velocity\" has 2 components per particle, expected 3");
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "pressure", 1, nlocal, NULL, buf),
+               msg, "has no field \"pressure\" (dataset /particles/pressure)");
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "velocity", 3, nlocal, NULL, buf),
+               msg, "field \"velocity\" has 2 components per particle, expected 3");
   PetscCall(PetscSNPrintf(sizes, sizeof(sizes),
                           "field \"rho\" holds %" PetscInt_FMT
                           " particles, but the local sizes add up to %" PetscInt_FMT,
                           N, N - ctx->size));
-  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "rho", 1, nlocal - 1, buf), msg,
-               sizes);
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_UNEXPECTED, FSCheckpointReadField(ctx->comm, path, "rho", 1, nlocal - 1, NULL, buf),
+               msg, sizes);
   /* a snapshot is not a checkpoint */
   PetscCall(PetscSNPrintf(missing, sizeof(missing), "%s/snap3d/snapshot_000000.h5", ctx->dir));
   PetscCall(

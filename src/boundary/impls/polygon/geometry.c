@@ -376,6 +376,13 @@ PetscErrorCode FSWallsLoad(FSWalls *w, MPI_Comm comm, const char path[])
                elsewhere ? " on some of the other ranks" : ": ", elsewhere ? "" : why);
   }
   PetscCall(FSFileReadAll(fp, &text, &size)); /* the whole file, which may hold NUL bytes */
+  {
+    const char *bom = FSTextByteOrderMark(text, size);
+    if (bom) PetscCall(PetscFree(text));
+    PetscCheck(!bom, comm, PETSC_ERR_FILE_UNEXPECTED,
+               "%s:1: the file starts with %s: save it as plain text, ASCII or UTF-8 without the mark (docs/walls.md)",
+               path, bom);
+  }
   for (char *line = text; line; line = next) {
     char       *c, *tok[4], *save = NULL, shown[96];
     const char *bad;

@@ -4,6 +4,7 @@
    coordinates (STL repeats them in every facet) so that the triangles are connected.
 */
 #include "mesh.h"
+#include "sys/fssys.h"
 #include <ctype.h>
 #include <errno.h>
 #include <stdint.h>
@@ -299,6 +300,10 @@ static PetscErrorCode ReadSTL(const char path[], const char name[], STLData *s, 
       }
       PetscCall(STLDataAddFacet(s, xyz));
     }
+  } else if (FSTextByteOrderMark((const char *)buf, (size_t)size)) { /* an ASCII STL saved with a mark */
+    *err = PETSC_ERR_FILE_UNEXPECTED;
+    snprintf(msg, msglen, "%s:1: the file starts with %s: save it as plain text, ASCII or UTF-8 without the mark", path,
+             FSTextByteOrderMark((const char *)buf, (size_t)size));
   } else if (solid && text) {
     PetscCall(ParseASCII(path, name, (const char *)buf, (size_t)size, s, err, msg, msglen));
   } else if (size >= 84) {
