@@ -52,6 +52,7 @@ PETSC_EXTERN PetscErrorCode FSOptionsRealArray(PetscOptionItems *, const char[],
 PETSC_EXTERN PetscErrorCode FSSolverCreate(MPI_Comm, FSSolver *);
 PETSC_EXTERN PetscErrorCode FSSolverSetFromOptions(FSSolver);
 PETSC_EXTERN PetscErrorCode FSSolverSetUp(FSSolver);
+PETSC_EXTERN PetscErrorCode FSSolverSetOptionsChecked(FSSolver, PetscInt, const char *const[]);
 PETSC_EXTERN PetscErrorCode FSSolverStep(FSSolver);
 PETSC_EXTERN PetscErrorCode FSSolverSolve(FSSolver);
 PETSC_EXTERN PetscErrorCode FSSolverView(FSSolver, PetscViewer);
