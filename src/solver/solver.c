@@ -432,9 +432,10 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                              "end)",
                              "FSSolverCheckOptions", s->opt.options_check, &s->opt.options_check, NULL));
   { /* read by the executable after the set-up (PetscObjectViewFromOptions); here for -help and the check */
-    PetscBool view = PETSC_FALSE;
-    PetscCall(
-        PetscOptionsName("-fs_view", "Print the set-up after FSSolverSetUp() (the executable)", "FSSolverView", &view));
+    char view[PETSC_MAX_PATH_LEN] = "";
+    PetscCall(PetscOptionsString("-fs_view",
+                                 "Print the set-up after FSSolverSetUp() (the executable; a viewer may follow)",
+                                 "FSSolverView", view, view, sizeof(view), NULL));
   }
   PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor",
                              s->opt.progress, &s->opt.progress, NULL));
@@ -820,6 +821,7 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscReal dt;
     PetscCall(FSSolverComputeStableDt(s, &dt));
     PetscCall(TSSetTimeStep(s->ts, dt));
+    PetscCall(FSSolverStructureDtAdvice(s)); /* a mode's period that sets the step: said, with what to do */
   }
   PetscCall(FSSolverProbesSetUp(s));
   PetscCall(FSSolverCheckOptions(s, PETSC_TRUE)); /* every object has read its options: before the first step */

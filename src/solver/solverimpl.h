@@ -262,6 +262,7 @@ struct _p_FSSolver {
 /* solver pieces, one file each */
 PETSC_INTERN PetscErrorCode FSSolverCreateSwarm(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCheckOptions(FSSolver, PetscBool);
+PETSC_INTERN PetscErrorCode FSSolverStructureDtAdvice(FSSolver);
 PETSC_INTERN void           FSSolverWrapPeriodic(FSSolver, PetscReal x[]);
 PETSC_INTERN PetscErrorCode FSSolverMigrate(FSSolver, PetscBool *changed);
 PETSC_INTERN PetscErrorCode FSSolverSortByCell(FSSolver);

@@ -352,3 +352,15 @@ def test_bad_structure_option(tmp_path, name):
     for pat in patterns:
         assert re.search(pat, msg), f"{pat!r} not in the error message:\n{msg}"
     assert not (d / "summary.json").exists()
+
+
+def test_modal_time_step_advice(tmp_path):
+    """At set-up, a mode whose period sets the time step below the liquid's acoustic step is named, with the
+    number of modes that the liquid's step resolves and the -fs_structure_cfl that would; no warning otherwise."""
+    base = ["-options_file", REPO_ROOT / "cases" / "coupled_rectangular.opts", "-fs_structure", "modal", "-fs_dx",
+            "0.01", "-fs_geometry_view", "-fs_output_dir", tmp_path / "o"]
+    out = run_flexslosh(base, cwd=tmp_path).stdout
+    assert re.search(r"Warning: the structure modal's shortest period sets the time step: [\d.]+ Hz \(mode 5 of 5\)"
+                     r".*-fs_structure_cfl 0\.02 of it is .* times shorter than the liquid's acoustic step 0\.001 s.*"
+                     r"-fs_modal_modes \d.*raise -fs_structure_cfl to 0\.34", out), out
+    assert "shortest period sets" not in run_flexslosh(base + ["-fs_structure_cfl", "0.4"], cwd=tmp_path).stdout

@@ -138,6 +138,8 @@ static PetscErrorCode SetUp(FSStructure st)
 
   st->ndof       = 2 * n;
   st->min_period = 2 * PETSC_PI / p->omega[n - 1];
+  st->nmodes     = n;
+  for (PetscInt i = 0; i < n; i++) st->period[i] = 2 * PETSC_PI / p->omega[i];
   for (PetscInt i = 0; i < n; i++) {
     PetscCall(PetscSNPrintf(name, sizeof(name), "q%" PetscInt_FMT, i + 1));
     PetscCall(FSStructureAddColumn(st, name));
