@@ -1,7 +1,9 @@
-static const char help[] = "flexslosh: liquid sloshing in tanks on flexible structures (delta-LES-SPH, PETSc TS).\n"
-                           "  flexslosh -options_file cases/taylor_green.opts [-fs_dx 0.01 -ts_type ssp ...]\n"
-                           "  -fs_case_view lists the cases, -fs_terms_view the physics terms, -fs_view the set-up.\n"
-                           "  Options given but never used are reported at the end (-fs_options_left 0: not).\n\n";
+static const char help[] =
+    "flexslosh: liquid sloshing in tanks on flexible structures (delta-LES-SPH, PETSc TS).\n"
+    "  flexslosh -options_file cases/taylor_green.opts [-fs_dx 0.01 -ts_type ssp ...]\n"
+    "  -fs_case_view lists the cases, -fs_terms_view the physics terms, -fs_view the set-up.\n"
+    "  -fs_ options that nothing reads stop the run before its first step (-fs_options_check 0: not);\n"
+    "  other options given but never used are reported at the end (-fs_options_left 0: not).\n\n";
 
 #include <flexslosh.h>
 #include <errno.h>

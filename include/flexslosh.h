@@ -56,6 +56,7 @@ PETSC_EXTERN const char *FSTextByteOrderMark(const char[], size_t);
 PETSC_EXTERN PetscErrorCode FSSolverCreate(MPI_Comm, FSSolver *);
 PETSC_EXTERN PetscErrorCode FSSolverSetFromOptions(FSSolver);
 PETSC_EXTERN PetscErrorCode FSSolverSetUp(FSSolver);
+PETSC_EXTERN PetscErrorCode FSSolverSetOptionsChecked(FSSolver, PetscInt, const char *const[]);
 PETSC_EXTERN PetscErrorCode FSSolverStep(FSSolver);
 PETSC_EXTERN PetscErrorCode FSSolverSolve(FSSolver);
 PETSC_EXTERN PetscErrorCode FSSolverView(FSSolver, PetscViewer);
@@ -343,6 +344,7 @@ typedef struct {
 } FSStructureOps;
 
 #define FS_STRUCTURE_MAX_COLUMNS 64
+#define FS_STRUCTURE_MAX_MODES   32
 
 struct _p_FSStructure {
   char           name[64];
@@ -351,7 +353,9 @@ struct _p_FSStructure {
   FSStructureOps ops;
   PetscInt       ndof;       /* state size, set by setup */
   PetscReal      min_period; /* shortest period the model resolves (time step without particles), set by setup */
-  PetscInt       ncolumns;   /* the model's own time-series columns */
+  PetscInt       nmodes;     /* optional, set by setup: the model's modes, their periods longest first (the last is */
+  PetscReal      period[FS_STRUCTURE_MAX_MODES]; /* min_period), for the time-step advice at set-up */
+  PetscInt       ncolumns;                       /* the model's own time-series columns */
   PetscBool      prescribed; /* the motion is given, the loads do not move it: the energy budget books the work it
                                 does on the liquid (work_motion) instead of the structure's energies */
   char  column[FS_STRUCTURE_MAX_COLUMNS][32];

@@ -29,6 +29,7 @@ HEADER_FUNCTIONS = """
 PetscErrorCode FSInitializePackage(void);
 PetscErrorCode FSSolverSetFromOptions(FSSolver);
 PetscErrorCode FSSolverSetUp(FSSolver);
+PetscErrorCode FSSolverSetOptionsChecked(FSSolver, PetscInt, const char *const[]);
 PetscErrorCode FSSolverStep(FSSolver);
 PetscErrorCode FSSolverSolve(FSSolver);
 PetscErrorCode FSSolverDestroy(FSSolver *);

@@ -483,6 +483,10 @@ class Solver:
             self._mine = [k for k in after if before.get(k, _MISSING) != after[k]]
             core.call("FSLoadPlugins", self._ccomm, options=self._opts[0])  # a -dll_append: its terms and structures
             core.call("FSSolverCreate", self._ccomm, self._h, options=self._opts[0])
+            # the -fs_ options of the file and the dict that nothing reads are an error, with the nearest names: here
+            # (misspelt ones, those of other cases, terms, structure models) and at set_up (the walls, the coupling)
+            names = [core.ffi.new("char[]", k.encode()) for k in self._mine]
+            self._call("FSSolverSetOptionsChecked", len(names), core.ffi.new("char *[]", names))
             self._call("FSSolverSetFromOptions")
             self._created = True
         except BaseException:

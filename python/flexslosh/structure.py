@@ -139,6 +139,7 @@ class MassSpringDamper(Structure):
                 raise ValueError(f"-fs_beam_payload_mass {payload} kg is less than the liquid's mass {ctx.liquid_mass} kg")
             ballast = payload - ctx.liquid_mass
         xi = o.getReal("fs_beam_damping", 0.015)
+        o.getReal("fs_beam_tank_inertia", 0.0)  # read and unused, as msd.c does: no rotation (the seed's "no rolling")
         self.preload = o.getReal("fs_beam_preload", 0.0)
         force, xf = o.getReal("fs_beam_force", 0.0), o.getReal("fs_beam_force_position", a)
         fraction = o.getReal("fs_msd_beam_mass_fraction", 33.0 / 140.0)

@@ -33,6 +33,7 @@ plane (0.1 m): loads per unit width times w
 floor)
 */
 #include "couplingimpl.h"
+#include "sys/fssys.h"
 
 /* the tank frame's body acceleration field (gravity and the frame's inertia but Coriolis) of a motion */
 static void FrameField(FSCoupling c, const FSTankMotion *mo, FSFrameField *ff)
@@ -176,7 +177,10 @@ PetscErrorCode FSCouplingHelp(MPI_Comm comm)
   PetscFunctionBegin;
   PetscCall(FSCouplingCreate(comm, &c));
   PetscOptionsBegin(comm, NULL, "Coupling of the liquid and the structure (with a structure and a tank)", "FS");
+  PetscCall(FSOptionsSurveyBlock(PetscOptionsObject));
+  PetscCall(FSOptionsSurveyOwner("coupling", NULL));
   PetscCall(CouplingOptions(c, PetscOptionsObject, &want, ref, &nref, &set));
+  PetscCall(FSOptionsSurveyOwner(NULL, NULL));
   PetscOptionsEnd();
   PetscCall(FSCouplingDestroy(&c));
   PetscFunctionReturn(0);

@@ -55,6 +55,7 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->mon.probes.step           = -1;
   s->opt.final_time            = 1.0;
   s->opt.structure_cfl         = 0.02;
+  s->opt.options_check         = PETSC_TRUE;
   s->opt.packing.type          = FS_FILL_PACKING_AUTO;
   s->opt.packing.iterations    = 200;
   s->opt.packing.step          = 0.3;
@@ -241,7 +242,9 @@ static PetscErrorCode FSSolverOptionsCase(FSSolver s, PetscOptionItems *PetscOpt
              " time-series columns: at most FS_CASE_MAX_COLUMNS = %d, with a columns() routine",
              s->opt.casename, s->caseops.ncolumns, FS_CASE_MAX_COLUMNS);
   PetscCall(PetscStrncpy(s->opt.default_terms, FSDefaultTerms, sizeof(s->opt.default_terms)));
+  PetscCall(FSOptionsSurveyOwner("case", s->opt.casename));
   if (s->caseops.setfromoptions) PetscCall((*s->caseops.setfromoptions)(s, PetscOptionsObject));
+  PetscCall(FSOptionsSurveyOwner(NULL, NULL));
   PetscCall(PetscStrncpy(terms, s->opt.default_terms, len));
 
   PetscFunctionReturn(0);
@@ -423,6 +426,17 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                                "PETSc's report instead)",
                                "FSOptionsLeft", warn, &warn, NULL));
   }
+  PetscCall(PetscOptionsBool("-fs_options_check",
+                             "Before the first step, refuse the -fs_ options that nothing reads (misspelt, or of an "
+                             "object the run does not use), naming the nearest options (false: only the warning at the "
+                             "end)",
+                             "FSSolverCheckOptions", s->opt.options_check, &s->opt.options_check, NULL));
+  { /* read by the executable after the set-up (PetscObjectViewFromOptions); here for -help and the check */
+    char view[PETSC_MAX_PATH_LEN] = "";
+    PetscCall(PetscOptionsString("-fs_view",
+                                 "Print the set-up after FSSolverSetUp() (the executable; a viewer may follow)",
+                                 "FSSolverView", view, view, sizeof(view), NULL));
+  }
   PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor",
                              s->opt.progress, &s->opt.progress, NULL));
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_progress_interval", "Seconds between progress lines",
@@ -452,7 +466,9 @@ static PetscErrorCode FSSolverCreateTerms(FSSolver s, PetscOptionItems *PetscOpt
         PetscCheck(!same, comm, PETSC_ERR_ARG_WRONG, "Term \"%s\" appears twice in -fs_terms", tok);
       }
       PetscCall(FSTermCreate(s, tok, &term));
+      PetscCall(FSOptionsSurveyOwner("term", tok));
       if (term->ops.setfromoptions) PetscCall((*term->ops.setfromoptions)(term, PetscOptionsObject));
+      PetscCall(FSOptionsSurveyOwner(NULL, NULL));
       s->terms.term[s->terms.nterms++] = term;
       s->terms.needs |= term->needs;
     }
@@ -502,6 +518,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscCall(FSStructureRegisterAll());
   PetscCall(FSSolverCheckRanksAgree(s)); /* before any option steers a collective */
   PetscObjectOptionsBegin((PetscObject)s);
+  PetscCall(FSOptionsSurveyBlock(PetscOptionsObject));
   PetscCall(FSSolverOptionsCase(s, PetscOptionsObject, terms, sizeof(terms)));
   PetscCall(FSSolverOptionsPhysics(s, PetscOptionsObject));
   PetscCall(PetscOptionsString("-fs_terms", "Physics terms, comma separated (list with -fs_terms_view)",
@@ -524,8 +541,10 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
   PetscCall(FSStructureDestroy(&s->structure));
   if (strcmp(s->opt.structname, "none")) {
     PetscCall(FSStructureCreate(s, s->opt.structname, &s->structure));
+    PetscCall(FSOptionsSurveyOwner("structure model", s->opt.structname));
     if (s->structure->ops.setfromoptions)
       PetscCall((*s->structure->ops.setfromoptions)(s->structure, PetscOptionsObject));
+    PetscCall(FSOptionsSurveyOwner(NULL, NULL));
   }
   {
     PetscBool help;
@@ -569,6 +588,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
                "or at least 1e-12 of the final time -ts_max_time %g, that is %g",
                (double)s->opt.output_interval, (double)tmax, (double)(1e-12 * PetscAbsReal(tmax)));
   }
+  PetscCall(FSSolverCheckOptions(s, PETSC_FALSE)); /* misspelt options, and those of cases, terms, models not in use */
   PetscFunctionReturn(0);
 }
 
@@ -802,8 +822,10 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscReal dt;
     PetscCall(FSSolverComputeStableDt(s, &dt));
     PetscCall(TSSetTimeStep(s->ts, dt));
+    PetscCall(FSSolverStructureDtAdvice(s)); /* a mode's period that sets the step: said, with what to do */
   }
   PetscCall(FSSolverProbesSetUp(s));
+  PetscCall(FSSolverCheckOptions(s, PETSC_TRUE)); /* every object has read its options: before the first step */
   s->setupcalled = PETSC_TRUE;
   if (s->opt.geometry_view) { /* into a folder of its own: a run's results in the output directory stay as they are */
     size_t len;
@@ -895,6 +917,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   }
   for (PetscInt t = 0; t < s->terms.nterms; t++) PetscCall(FSTermDestroy(&s->terms.term[t]));
   PetscCall(FSStructureDestroy(&s->structure));
+  PetscCall(FSSolverSetOptionsChecked(s, 0, NULL));
   PetscCall(PetscFree2(s->sy, s->sydot));
   if (s->casedata) PetscCall(PetscFree(s->casedata));
   PetscCall(FSSnapshotWriterDestroy(&s->mon.snapshots));

@@ -66,6 +66,7 @@ typedef struct {
   char          structname[64];
   PetscBool     structure_view;
   PetscReal     structure_cfl; /* dt = structure_cfl * shortest period, when there are no particles */
+  PetscBool     options_check; /* -fs_options_check: refuse the -fs_ options nothing reads (FSSolverCheckOptions) */
   FSFillPacking packing;       /* -fs_fill_packing*: how the cases place the liquid's particles */
 } FSSolverOptions;
 
@@ -249,7 +250,9 @@ struct _p_FSSolver {
   FSLoads         loads;      /* liquid loads on the tank (the coupling fills them; zero until then) */
   PetscReal      *sy, *sydot; /* the structure's state and rate at the last right-hand side, every rank */
   FSCoupling      coupling;   /* the tank's frame and the loads (src/coupling) */
-  FSBoundary      boundary;   /* the walls (boundary integrals), NULL without walls */
+  PetscInt        nchecked;   /* FSSolverSetOptionsChecked(): the options FSSolverCheckOptions() looks at (0: all) */
+  char          **checked;
+  FSBoundary      boundary; /* the walls (boundary integrals), NULL without walls */
   TS              ts;
   FSSolverState   state;
   FSMonitorData   mon;
@@ -258,6 +261,8 @@ struct _p_FSSolver {
 
 /* solver pieces, one file each */
 PETSC_INTERN PetscErrorCode FSSolverCreateSwarm(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverCheckOptions(FSSolver, PetscBool);
+PETSC_INTERN PetscErrorCode FSSolverStructureDtAdvice(FSSolver);
 PETSC_INTERN void           FSSolverWrapPeriodic(FSSolver, PetscReal x[]);
 PETSC_INTERN PetscErrorCode FSSolverMigrate(FSSolver, PetscBool *changed);
 PETSC_INTERN PetscErrorCode FSSolverSortByCell(FSSolver);

@@ -44,6 +44,24 @@ PETSC_INTERN PetscErrorCode FSCheckParticleCount(MPI_Comm, PetscReal, double, co
 /* fault injection for the tests (src/sys/fault.c): FLEXSLOSH_FAULT=alloc|leak:RANK:STEP */
 PETSC_INTERN PetscErrorCode FSDebugFault(MPI_Comm, const char[], PetscInt, PetscBool *);
 
+/* the options every object reads, collected from the -help table by a survey (src/sys/optionssurvey.c) */
+typedef struct {
+  char      name[64];  /* without the '-', lower case */
+  char      owner[96]; /* the object that reads it: "" (the solver), "case tank", "term shifting", ... */
+  PetscBool prefix;    /* name is a prefix: the owner's PETSc objects read every option beginning with it */
+} FSOptionsEntry;
+typedef struct _n_FSOptionsTable *FSOptionsTable;
+PETSC_INTERN PetscErrorCode       FSOptionsSurveyBegin(const char[]);
+PETSC_INTERN PetscErrorCode       FSOptionsSurveyEnd(void);
+PETSC_INTERN PetscErrorCode       FSOptionsSurveyTake(FSOptionsTable *);
+PETSC_INTERN PetscBool            FSOptionsSurveyActive(void);
+PETSC_INTERN PetscErrorCode       FSOptionsSurveyOwner(const char[], const char[]);
+PETSC_INTERN PetscErrorCode       FSOptionsSurveyPrefix(const char[]);
+PETSC_INTERN PetscErrorCode       FSOptionsSurveyBlock(PetscOptionItems *);
+PETSC_INTERN PetscErrorCode       FSOptionsTableGet(FSOptionsTable, PetscInt *, const FSOptionsEntry **);
+PETSC_INTERN PetscErrorCode       FSOptionsTableDestroy(FSOptionsTable *);
+PETSC_INTERN PetscInt             FSOptionsDistance(const char[], const char[]);
+
 /* log events */
 PETSC_EXTERN PetscLogEvent FS_Structure, FS_Coupling;
 PETSC_EXTERN PetscLogEvent FS_Step, FS_Neighbours, FS_Halo, FS_FirstPass, FS_PairPass, FS_WallPass, FS_Walls,

@@ -135,8 +135,9 @@ def test_static_tip_deflection(tmp_path, model):
     3 EI/L^3, c = 2 xi omega m computed here (measured 2.1e-6 of the static deflection: RK4 at dt = T/50)."""
     F = -10 * 9.81
     exact = F * L ** 3 / (3 * EI)
-    args = ["-fs_beam_tank_mass", 10, "-fs_beam_force", F, "-fs_beam_damping", 0.9, "-fs_modal_modes", 3]
-    d, _ = beam_run(tmp_path, model, ["-fs_structure", model, "-ts_max_time", 2] + args)
+    args = ["-fs_beam_tank_mass", 10, "-fs_beam_force", F, "-fs_beam_damping", 0.9]
+    modes = ["-fs_modal_modes", 3]  # the modal model's own: an option of a model not in use is refused
+    d, _ = beam_run(tmp_path, model, ["-fs_structure", model, "-ts_max_time", 2] + args + modes * (model == "modal"))
     s, st = read_series(d), read_summary(d)["structure"]
     assert s["tip_displacement"][0] == 0.0
     assert s["tip_displacement"][-1] == pytest.approx(st["static_tip_deflection"], rel=1e-6)
@@ -144,7 +145,7 @@ def test_static_tip_deflection(tmp_path, model):
         assert st["static_tip_deflection"] == pytest.approx(exact, rel=1e-2)  # 3 modes
         assert st["static_tip_deflection_fe"] == pytest.approx(exact, rel=1e-10)
         return
-    fe_dir, _ = beam_run(tmp_path, "fe", ["-fs_structure", "modal", "-ts_max_steps", 1] + args)
+    fe_dir, _ = beam_run(tmp_path, "fe", ["-fs_structure", "modal", "-ts_max_steps", 1] + args + modes)
     fe = read_summary(fe_dir)["structure"]["static_tip_deflection_fe"]
     assert s["tip_displacement"][-1] == pytest.approx(fe, rel=1e-9)
     K, m, xi = 3 * EI / L ** 3, 33 / 140 * MLIN * L + 10, 0.9
@@ -352,3 +353,15 @@ def test_bad_structure_option(tmp_path, name):
     for pat in patterns:
         assert re.search(pat, msg), f"{pat!r} not in the error message:\n{msg}"
     assert not (d / "summary.json").exists()
+
+
+def test_modal_time_step_advice(tmp_path):
+    """At set-up, a mode whose period sets the time step below the liquid's acoustic step is named, with the
+    number of modes that the liquid's step resolves and the -fs_structure_cfl that would; no warning otherwise."""
+    base = ["-options_file", REPO_ROOT / "cases" / "coupled_rectangular.opts", "-fs_structure", "modal", "-fs_dx",
+            "0.01", "-fs_geometry_view", "-fs_output_dir", tmp_path / "o"]
+    out = run_flexslosh(base, cwd=tmp_path).stdout
+    assert re.search(r"Warning: the structure modal's shortest period sets the time step: [\d.]+ Hz \(mode 5 of 5\)"
+                     r".*-fs_structure_cfl 0\.02 of it is .* times shorter than the liquid's acoustic step 0\.001 s.*"
+                     r"-fs_modal_modes \d.*raise -fs_structure_cfl to 0\.34", out), out
+    assert "shortest period sets" not in run_flexslosh(base + ["-fs_structure_cfl", "0.4"], cwd=tmp_path).stdout

@@ -197,6 +197,8 @@ PetscErrorCode FSBoundaryHelpAll(MPI_Comm comm)
   PetscFunctionBegin;
   PetscCall(FSBoundaryCreate(comm, &b));
   PetscOptionsBegin(comm, NULL, "Walls (boundary integrals): every method", "FSBoundary");
+  PetscCall(FSOptionsSurveyBlock(PetscOptionsObject));
+  PetscCall(FSOptionsSurveyOwner("walls", NULL));
   {
     char type[64] = FSBOUNDARYPOLYGON;
     PetscCall(PetscOptionsString("-fs_boundary", "Boundary method of the walls (the case's by default)",
@@ -209,9 +211,12 @@ PetscErrorCode FSBoundaryHelpAll(MPI_Comm comm)
     PetscCall(FSBoundarySetType(b, info->name));
     PetscCall(PetscSNPrintf(title, sizeof(title), "Walls: boundary method %s", info->name));
     PetscOptionsBegin(comm, NULL, title, "FSBoundary");
+    PetscCall(FSOptionsSurveyBlock(PetscOptionsObject));
+    PetscCall(FSOptionsSurveyOwner("boundary method", info->name));
     if (b->ops->setfromoptions) PetscCall((*b->ops->setfromoptions)(b, PetscOptionsObject));
     PetscOptionsEnd();
   }
+  PetscCall(FSOptionsSurveyOwner(NULL, NULL));
   PetscCall(FSBoundaryDestroy(&b));
   PetscFunctionReturn(0);
 }

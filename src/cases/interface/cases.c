@@ -103,7 +103,9 @@ PetscErrorCode FSCaseHelpAll(FSSolver s, const char selected[], PetscOptionItems
     PetscCall(PetscMemzero(&ops, sizeof(ops)));
     PetscCall(FSSolverCreate(PetscObjectComm((PetscObject)s), &scratch));
     PetscCall((*create)(scratch, &ops));
+    PetscCall(FSOptionsSurveyOwner("case", info->name));
     if (ops.setfromoptions) PetscCall((*ops.setfromoptions)(scratch, PetscOptionsObject));
+    PetscCall(FSOptionsSurveyOwner(NULL, NULL));
     PetscCall(FSSolverDestroy(&scratch));
   }
   PetscFunctionReturn(0);

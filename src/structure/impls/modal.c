@@ -19,6 +19,7 @@
 */
 #include <flexslosh.h>
 #include "beamfe.h"
+#include "sys/fssys.h"
 
 #define FS_MODAL_MAX_MODES 24
 
@@ -68,6 +69,12 @@ static PetscErrorCode SetFromOptions(FSStructure st, PetscOptionItems *PetscOpti
   PetscCall(PetscOptionsBool("-fs_modal_view", "Print the modes: frequencies, k_n L, modal masses", "", p->view,
                              &p->view, NULL));
   PetscOptionsHeadEnd();
+  /* SLEPc's eigensolver reads -fs_modal_eps_*, its spectral transformation -fs_modal_st_* (with its KSP and PC),
+     ... at set-up (FSBeamFEModes) */
+  for (PetscInt k = 0; k < 5; k++) {
+    const char *prefixes[] = {"-fs_modal_eps_", "-fs_modal_st_", "-fs_modal_bv_", "-fs_modal_ds_", "-fs_modal_rg_"};
+    PetscCall(FSOptionsSurveyPrefix(prefixes[k]));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -131,6 +138,8 @@ static PetscErrorCode SetUp(FSStructure st)
 
   st->ndof       = 2 * n;
   st->min_period = 2 * PETSC_PI / p->omega[n - 1];
+  st->nmodes     = n;
+  for (PetscInt i = 0; i < n; i++) st->period[i] = 2 * PETSC_PI / p->omega[i];
   for (PetscInt i = 0; i < n; i++) {
     PetscCall(PetscSNPrintf(name, sizeof(name), "q%" PetscInt_FMT, i + 1));
     PetscCall(FSStructureAddColumn(st, name));

@@ -122,7 +122,9 @@ PetscErrorCode FSStructureHelpAll(FSSolver s, FSStructure selected, PetscOptionI
     FSStructure st;
     if (selected && !strcmp(selected->name, info->name)) continue;
     PetscCall(FSStructureCreate(s, info->name, &st));
+    PetscCall(FSOptionsSurveyOwner("structure model", info->name));
     if (st->ops.setfromoptions) PetscCall((*st->ops.setfromoptions)(st, PetscOptionsObject));
+    PetscCall(FSOptionsSurveyOwner(NULL, NULL));
     PetscCall(FSStructureDestroy(&st));
   }
   PetscFunctionReturn(0);

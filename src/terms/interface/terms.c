@@ -107,7 +107,9 @@ PetscErrorCode FSTermHelpAll(FSSolver s, const FSTermSet *set, PetscOptionItems 
       if (!strcmp(set->term[k]->name, info->name)) selected = PETSC_TRUE;
     if (selected) continue;
     PetscCall(FSTermCreate(s, info->name, &t));
+    PetscCall(FSOptionsSurveyOwner("term", info->name));
     if (t->ops.setfromoptions) PetscCall((*t->ops.setfromoptions)(t, PetscOptionsObject));
+    PetscCall(FSOptionsSurveyOwner(NULL, NULL));
     PetscCall(FSTermDestroy(&t));
   }
   PetscFunctionReturn(0);
