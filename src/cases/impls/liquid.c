@@ -339,14 +339,16 @@ PetscErrorCode FSCaseFillLiquidWithVelocity(FSSolver s, FSWalls *w, PetscReal x0
   PetscFunctionReturn(0);
 }
 
-/* FSSegmentEntersBox - does the segment p-q enter the open box lo..hi (dim coordinates) shrunk by eps?
-   (Liang-Barsky clipping) */
-PetscBool FSSegmentEntersBox(const PetscReal p[], const PetscReal q[], const PetscReal lo[], const PetscReal hi[],
-                             PetscInt dim, PetscReal eps)
+/* FSSegmentClip - the part [t0, t1] of the segment p + t (q - p), 0 <= t <= 1, inside the box lo..hi (dim
+   coordinates) grown by grow on every side (negative: shrunk); false where none is (Liang-Barsky clipping). A
+   segment parallel to a face counts as inside when it lies strictly between the grown faces. */
+PetscBool FSSegmentClip(const PetscReal p[], const PetscReal q[], const PetscReal lo[], const PetscReal hi[],
+                        PetscInt dim, PetscReal grow, PetscReal *t0, PetscReal *t1)
 {
-  PetscReal t0 = 0, t1 = 1;
+  *t0 = 0;
+  *t1 = 1;
   for (PetscInt d = 0; d < dim; d++) {
-    const PetscReal dd = q[d] - p[d], a = lo[d] + eps, b = hi[d] - eps;
+    const PetscReal dd = q[d] - p[d], a = lo[d] - grow, b = hi[d] + grow;
     if (dd == 0) {
       if (p[d] <= a || p[d] >= b) return PETSC_FALSE;
     } else {
@@ -356,12 +358,20 @@ PetscBool FSSegmentEntersBox(const PetscReal p[], const PetscReal q[], const Pet
         ta                 = tb;
         tb                 = tt;
       }
-      t0 = PetscMax(t0, ta);
-      t1 = PetscMin(t1, tb);
-      if (t0 >= t1) return PETSC_FALSE;
+      *t0 = PetscMax(*t0, ta);
+      *t1 = PetscMin(*t1, tb);
+      if (*t0 >= *t1) return PETSC_FALSE;
     }
   }
   return PETSC_TRUE;
+}
+
+/* FSSegmentEntersBox - does the segment p-q enter the open box lo..hi (dim coordinates) shrunk by eps? */
+PetscBool FSSegmentEntersBox(const PetscReal p[], const PetscReal q[], const PetscReal lo[], const PetscReal hi[],
+                             PetscInt dim, PetscReal eps)
+{
+  PetscReal t0, t1;
+  return FSSegmentClip(p, q, lo, hi, dim, -eps, &t0, &t1);
 }
 
 /*

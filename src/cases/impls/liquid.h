@@ -27,6 +27,8 @@ PETSC_INTERN PetscErrorCode FSCaseFillLiquidBoxes(FSSolver, FSWalls *, PetscInt 
                                                   const char what[]);
 PETSC_INTERN PetscErrorCode FSCaseFillLiquidMeshBoxes(FSSolver, FSMesh *, PetscInt nbox, const PetscReal box[],
                                                       const char what[]);
+PETSC_INTERN PetscBool      FSSegmentClip(const PetscReal[], const PetscReal[], const PetscReal[], const PetscReal[],
+                                          PetscInt, PetscReal, PetscReal *, PetscReal *);
 PETSC_INTERN PetscBool      FSSegmentEntersBox(const PetscReal p[], const PetscReal q[], const PetscReal lo[],
                                                const PetscReal hi[], PetscInt dim, PetscReal eps);
 /* the masses of this rank's particles of one body of liquid scaled so that they sum to mass over the ranks (unless

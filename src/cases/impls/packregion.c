@@ -1,6 +1,7 @@
 /* The closed region a body of liquid is packed in (packing.h): the walls' elements clipped to the liquid's box, and
  * the box's faces that lie in the liquid (the fill level, the sides of a liquid box) as elements of their own. */
 #include "packing.h"
+#include "liquid.h"
 
 static PetscErrorCode RegionAppend(FSPackRegion *g, PetscInt *cap, const PetscReal row[])
 {
@@ -86,26 +87,10 @@ PetscErrorCode FSPackRegionFromWalls(FSPackRegion *g, const FSWalls *w, const Pe
     g->lo[d] = lo[d];
     g->hi[d] = hi[d];
   }
-  for (PetscInt k = 0; k < w->nseg; k++) { /* Liang-Barsky: the part of the segment in the box (eps wider) */
+  for (PetscInt k = 0; k < w->nseg; k++) { /* the part of the segment in the box (eps wider) */
     const PetscReal *s = &w->seg[k * FS_SEG_STRIDE], *p = s + FS_SEG_P0, *q = s + FS_SEG_P1;
-    PetscReal        t0 = 0, t1 = 1, a[2], b[2];
-    PetscBool        in = PETSC_TRUE;
-    for (PetscInt d = 0; d < 2 && in; d++) {
-      const PetscReal dd = q[d] - p[d];
-      if (dd == 0) in = (PetscBool)(p[d] >= lo[d] - eps && p[d] <= hi[d] + eps);
-      else {
-        PetscReal ta = (lo[d] - eps - p[d]) / dd, tb = (hi[d] + eps - p[d]) / dd;
-        if (ta > tb) {
-          const PetscReal tt = ta;
-          ta                 = tb;
-          tb                 = tt;
-        }
-        t0 = PetscMax(t0, ta);
-        t1 = PetscMin(t1, tb);
-        in = (PetscBool)(t1 > t0);
-      }
-    }
-    if (!in) continue;
+    PetscReal        t0, t1, a[2], b[2];
+    if (!FSSegmentClip(p, q, lo, hi, 2, eps, &t0, &t1)) continue;
     for (PetscInt d = 0; d < 2; d++) {
       a[d] = p[d] + t0 * (q[d] - p[d]);
       b[d] = p[d] + t1 * (q[d] - p[d]);
