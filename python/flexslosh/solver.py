@@ -544,7 +544,8 @@ class Solver:
         try:
             with _Interrupts(self.comm) as interrupts:
                 self.set_up()
-                while not self._stops_at_set_up():
+                stepping = not self._stops_at_set_up()  # an option: read once, not at every step
+                while stepping:
                     if interrupts.pending():
                         self._write_interrupted()
                         interrupts.deliver()
