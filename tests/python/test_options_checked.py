@@ -83,6 +83,7 @@ ACCEPT = {
     "-fs_shifting_umin": {"0": "no smallest reference speed", "1e300": "capped by -fs_shifting_max"},
     "-fs_shifting_max": {"1e300": "no cap on the shifting velocity"},
     "-fs_tensile_control_surface": {"0": "the control everywhere in tension, the free surface included"},
+    "-fs_tensile_control_epsilon": {"0": "no repulsion: the artificial pressure off"},
     "-fs_halo_skin": {"1e300": "every rank sees every particle: slow, not wrong"},
     "-fs_rebalance_threshold": {"0": "the cuts of the start stay", "1e300": "never exceeded: the cuts of the start stay"},
     "-fs_walls_bounce_distance": {"0": "no bounce"},
@@ -133,6 +134,7 @@ NAMES = {
     "-fs_neighbour_candidates": (["nosuch"], None),
     "-fs_balance": (["nosuch"], None),
     "-fs_fill_packing": (["nosuch"], None),
+    "-fs_tensile_control_type": (["-fs_terms", "continuity,pressure,tensile_control", "-fs_tensile_control_type", "nosuch"], "nosuch"),
     "-fs_fill_packing_cache": None,  # a folder, made where a packing is written: test_packing.py
     "-fs_coupling_loads": (["-fs_structure", "msd", "-fs_coupling_loads", "nosuch"], "nosuch"),
     "-fs_walls_noslip": (["nosuch"], None),
