@@ -193,7 +193,7 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
 /* the distance from x to a wall element's plane (line in 2-D), and whether x lies within the element's
    extent along it (its half length in 2-D, the radius of a disc of twice its area in 3-D, plus tol) */
 static void FSProbesElementDistance(const FSWallView *B, PetscInt e, const PetscReal x[], PetscReal tol, PetscReal *dn,
-                                    PetscBool *over)
+                                    PetscBool *over, PetscReal *lateral)
 {
   const PetscReal *row = &B->element[e * B->stride], *c = row + B->centroid, *nrm = row + B->normal;
   const PetscReal  ext = B->dim == 2 ? 0.5 * row[B->measure] : PetscSqrtReal(2 * row[B->measure] / PETSC_PI);
@@ -202,6 +202,7 @@ static void FSProbesElementDistance(const FSWallView *B, PetscInt e, const Petsc
   for (PetscInt a = 0; a < B->dim; a++) r2 += PetscSqr(x[a] - c[a] - d * nrm[a]);
   *dn   = PetscAbsReal(d);
   *over = (PetscBool)(PetscSqrtReal(r2) <= ext + tol);
+  if (lateral) *lateral = PetscSqrtReal(r2);
 }
 
 /* appends element e with weight w to the probes' element list, growing it */
@@ -331,13 +332,15 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
     }
     if (B && B->nelements) {
       PetscInt  near = -1;
-      PetscReal best = PETSC_MAX_REAL, dn;
+      PetscReal best = PETSC_MAX_REAL, bestlat = PETSC_MAX_REAL, dn, lat;
       PetscBool over;
-      for (PetscInt e = 0; e < B->nelements; e++) { /* the nearest element among those x lies over */
-        FSProbesElementDistance(B, e, it->x0, 0.5 * dx, &dn, &over);
-        if (over && dn < best) {
-          best = dn;
-          near = e;
+      for (PetscInt e = 0; e < B->nelements; e++) { /* the nearest element among those x lies over; of the elements
+                                                        of one plane, the one whose centroid is nearest along it */
+        FSProbesElementDistance(B, e, it->x0, 0.5 * dx, &dn, &over, &lat);
+        if (over && (dn < best - 1e-9 * dx || (dn <= best + 1e-9 * dx && lat < bestlat))) {
+          best    = dn;
+          bestlat = lat;
+          near    = e;
         }
       }
       if (near >= 0 && best < 0.5 * dx) {
@@ -389,7 +392,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
         const PetscReal *nrm = &B->element[e * B->stride + B->normal];
         PetscReal        dn;
         PetscBool        over;
-        FSProbesElementDistance(B, e, x, 1e-9 * dx, &dn, &over);
+        FSProbesElementDistance(B, e, x, 1e-9 * dx, &dn, &over, NULL);
         if (over && dn < 1e-9 * dx)
           for (PetscInt d = 0; d < dim; d++) x[d] -= 1e-6 * dx * nrm[d];
       }
