@@ -153,3 +153,20 @@ def test_bad_sensor_keywords(tmp_path, text, what):
                          check=False)
     assert proc.returncode != 0
     assert "bad.txt:1: probe \"a\": " + what in proc.stdout, proc.stdout[-2000:]
+
+
+def test_python_probes_give_the_reading(tmp_path):
+    """Solver.probes(): a probe with a sensor's time response has its reading last, as in probes.csv."""
+    from flexslosh import Solver
+
+    (tmp_path / "p.txt").write_text("probe f 0 0.015 cutoff 40 rate 2500\nprobe g 0.1 0.015\n")
+    opts = {"-fs_case": "tank", "-fs_tank_length": 0.2, "-fs_dx": DX, "-fs_output_dir": tmp_path / "out",
+            "-fs_probes": tmp_path / "p.txt", "-fs_output_interval": 0, "-fs_progress": 0}
+    with Solver(opts) as s:
+        s.step(5)
+        values = s.probes()
+    P = read_probes(tmp_path / "out")
+    assert values["f"].shape == (4,) and values["g"].shape == (3,)
+    np.testing.assert_allclose(values["f"], [P[f"f_{c}"][-1] for c in ("pressure[Pa]", "velocity_x[m/s]",
+                                                                     "velocity_y[m/s]", "pressure_filtered[Pa]")],
+                               rtol=1e-9, atol=1e-12)
