@@ -82,7 +82,7 @@ PETSC_EXTERN PetscErrorCode FSSolverRestoreField(FSSolver, const char[], PetscIn
 PETSC_EXTERN PetscErrorCode FSSolverGetWallLoads(FSSolver, PetscInt *, const char *[], const PetscReal *[]);
 PETSC_EXTERN PetscErrorCode FSSolverGetEnergy(FSSolver, PetscInt *, const char *[], PetscReal[]);
 PETSC_EXTERN PetscErrorCode FSSolverGetLiquidMass(FSSolver, PetscReal *);
-#define FS_PROBE_MAX_VALUES 4 /* values of one probe (pressure, velocity) or gauge (elevation) */
+#define FS_PROBE_MAX_VALUES 5 /* values of one probe (pressure, velocity, filtered pressure) or gauge (elevation) */
 PETSC_EXTERN PetscErrorCode FSSolverGetProbes(FSSolver, PetscInt *, const char *[], PetscInt[], PetscReal[]);
 PETSC_EXTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 

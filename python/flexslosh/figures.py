@@ -148,7 +148,8 @@ def tip_acceleration(run: Run, path: PathLike, label: Optional[str] = None) -> P
 
 def probes(run: Run, path: PathLike) -> Path:
     """The pressure probes and wave gauges of probes.csv (-fs_probes) against time: the probes'
-    pressures (Pa) on the upper axes, the gauges' free-surface elevations (m) on the lower ones.
+    pressures (Pa) on the upper axes (a probe with a sensor's time response: its reading, dashed, over the
+    raw pressure), the gauges' free-surface elevations (m) on the lower ones.
 
     Args:
         run: a run with probes.csv.
@@ -171,7 +172,11 @@ def probes(run: Run, path: PathLike) -> Path:
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     for ax, (cols, ylabel, title) in zip(axes, panels):
         for c in cols:
-            ax.plot(t, run.probes[c], lw=0.9, label=c.split("_pressure")[0].split("_elevation")[0])
+            line, = ax.plot(t, run.probes[c], lw=0.9, label=c.split("_pressure")[0].split("_elevation")[0])
+            reading = c.replace("_pressure[Pa]", "_pressure_filtered[Pa]")
+            if reading != c and reading in run.probes:
+                ax.plot(t, run.probes[reading], lw=0.9, ls="--", color=line.get_color(),
+                        label=f"{line.get_label()} (sensor)")
         ax.set_ylabel(ylabel)
         ax.set_title(title)
         ax.legend(loc="upper right", fontsize="small")

@@ -788,7 +788,8 @@ class Solver:
     def probes(self) -> dict[str, Any]:
         """The probes and wave gauges of -fs_probes at the current state (the columns of probes.csv):
         {name: value} in the file's order, a probe's value a numpy array (pressure, velocity_x,
-        velocity_y[, velocity_z]), a gauge's its elevation (float); {} without -fs_probes, every
+        velocity_y[, velocity_z][, filtered pressure: a probe with cutoff or rate]), a gauge's its
+        elevation (float); {} without -fs_probes, every
         rank. Collective."""
         ffi, n = self._core.ffi, self._new("PetscInt *")
         self.set_up()

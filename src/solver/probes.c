@@ -6,7 +6,9 @@
 
    Each sample evaluates the right-hand side once at the current state (as the snapshots' pressure
    does), so that the particles' volumes and pressures, the body field of the tank's frame and the wall
-   pressure are those of the state sampled, not of the step's last stage.
+   pressure are those of the state sampled, not of the step's last stage. A probe on a wall reads the wall
+   pressure averaged over its face, and a probe with a cut-off or a rate adds its sensor's reading, the raw
+   pressure through the sensor's time response (sensor.c).
 */
 #include "solver/solverimpl.h"
 #include <ctype.h>
@@ -100,7 +102,8 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
     }
     if (!ntok) continue;
     PetscCheck(!strcmp(tok[0], "probe") || !strcmp(tok[0], "gauge"), comm, PETSC_ERR_FILE_UNEXPECTED,
-               "%s:%" PetscInt_FMT ": unknown item \"%s\": expected \"probe NAME x y%s [diameter D]\" or \"gauge NAME "
+               "%s:%" PetscInt_FMT
+               ": unknown item \"%s\": expected \"probe NAME x y%s [diameter D] ...\" or \"gauge NAME "
                "x0 y0%s x1 y1%s\"",
                path, lineno, tok[0], dim == 3 ? " z" : "", dim == 3 ? " z0" : "", dim == 3 ? " z1" : "");
     it->gauge = (PetscBool)!strcmp(tok[0], "gauge");
@@ -121,15 +124,40 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
                  "%s:%" PetscInt_FMT ": duplicate name \"%s\": every probe and gauge needs its own", path, lineno,
                  tok[1]);
     PetscCall(PetscStrncpy(it->name, tok[1], sizeof(it->name)));
-    if (!it->gauge) {
-      const PetscBool diam = (PetscBool)(ntok == 2 + dim + 2 && !strcmp(tok[2 + dim], "diameter"));
-      PetscBool       ok   = (PetscBool)(ntok == 2 + dim || diam);
+    if (!it->gauge) { /* the point, then the sensor's keywords, each once, in any order */
+      PetscBool ok = (PetscBool)(ntok >= 2 + dim);
       for (PetscInt d = 0; ok && d < dim; d++) ok = FSProbesNumber(tok[2 + d], &it->x0[d]);
-      if (ok && diam) ok = (PetscBool)(FSProbesNumber(tok[3 + dim], &it->diameter) && it->diameter > 0);
       PetscCheck(ok, comm, PETSC_ERR_FILE_UNEXPECTED,
-                 "%s:%" PetscInt_FMT ": probe \"%s\": expected \"probe NAME x y%s [diameter D]\" (%" PetscInt_FMT
-                 " coordinates, a positive diameter D)",
+                 "%s:%" PetscInt_FMT ": probe \"%s\": expected \"probe NAME x y%s [diameter D] [cutoff HZ] [order 1|2] "
+                 "[rate HZ]\" (%" PetscInt_FMT " coordinates)",
                  path, lineno, it->name, dim == 3 ? " z" : "", dim);
+      it->order = 1;
+      for (PetscInt q = 2 + dim; q < ntok; q += 2) {
+        static const char *key[]  = {"diameter", "cutoff", "order", "rate"};
+        static const char *what[] = {"a positive diameter D (m)", "a positive cut-off frequency (Hz)", "1 or 2",
+                                     "a positive sampling rate (Hz)"};
+        PetscReal         *dest[] = {&it->diameter, &it->cutoff, NULL, &it->rate}, v = 0;
+        PetscInt           k = 0;
+        while (k < 4 && strcmp(tok[q], key[k])) k++;
+        PetscCheck(k < 4, comm, PETSC_ERR_FILE_UNEXPECTED,
+                   "%s:%" PetscInt_FMT
+                   ": probe \"%s\": unknown keyword \"%s\": expected diameter, cutoff, order or rate",
+                   path, lineno, it->name, tok[q]);
+        for (PetscInt r = 2 + dim; r < q; r += 2)
+          PetscCheck(strcmp(tok[r], tok[q]), comm, PETSC_ERR_FILE_UNEXPECTED,
+                     "%s:%" PetscInt_FMT ": probe \"%s\": \"%s\" given twice", path, lineno, it->name, tok[q]);
+        ok = (PetscBool)(q + 1 < ntok && FSProbesNumber(tok[q + 1], &v) && v > 0);
+        if (ok && k == 2) ok = (PetscBool)(v == 1 || v == 2);
+        PetscCheck(ok, comm, PETSC_ERR_FILE_UNEXPECTED,
+                   "%s:%" PetscInt_FMT ": probe \"%s\": \"%s\" needs %s, got \"%s\"", path, lineno, it->name, key[k],
+                   what[k], q + 1 < ntok ? tok[q + 1] : "nothing");
+        if (dest[k]) *dest[k] = v;
+        else it->order = (PetscInt)v;
+      }
+      it->filtered     = (PetscBool)(it->cutoff > 0 || it->rate > 0);
+      it->filter.order = it->order;
+      it->filter.omega = 2 * PETSC_PI * it->cutoff;
+      it->filter.rate  = it->rate;
       for (PetscInt d = 0; d < dim; d++)
         PetscCheck(it->x0[d] >= s->pw.lo[d] - tol && it->x0[d] <= s->pw.hi[d] + tol, comm, PETSC_ERR_FILE_UNEXPECTED,
                    "%s:%" PetscInt_FMT ": probe \"%s\" is outside the domain: coordinate %" PetscInt_FMT
@@ -165,7 +193,7 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
 /* the distance from x to a wall element's plane (line in 2-D), and whether x lies within the element's
    extent along it (its half length in 2-D, the radius of a disc of twice its area in 3-D, plus tol) */
 static void FSProbesElementDistance(const FSWallView *B, PetscInt e, const PetscReal x[], PetscReal tol, PetscReal *dn,
-                                    PetscBool *over)
+                                    PetscBool *over, PetscReal *lateral)
 {
   const PetscReal *row = &B->element[e * B->stride], *c = row + B->centroid, *nrm = row + B->normal;
   const PetscReal  ext = B->dim == 2 ? 0.5 * row[B->measure] : PetscSqrtReal(2 * row[B->measure] / PETSC_PI);
@@ -174,6 +202,89 @@ static void FSProbesElementDistance(const FSWallView *B, PetscInt e, const Petsc
   for (PetscInt a = 0; a < B->dim; a++) r2 += PetscSqr(x[a] - c[a] - d * nrm[a]);
   *dn   = PetscAbsReal(d);
   *over = (PetscBool)(PetscSqrtReal(r2) <= ext + tol);
+  if (lateral) *lateral = PetscSqrtReal(r2);
+}
+
+/* appends element e with weight w to the probes' element list, growing it */
+static PetscErrorCode FSProbesAddElement(FSProbeSet *ps, PetscInt *cap, PetscInt e, PetscReal w)
+{
+  PetscFunctionBegin;
+  if (ps->nelem == *cap) {
+    PetscInt  *elem;
+    PetscReal *ewt;
+    *cap = PetscMax(16, 2 * *cap);
+    PetscCall(PetscMalloc2(*cap, &elem, *cap, &ewt));
+    PetscCall(PetscArraycpy(elem, ps->elem, ps->nelem));
+    PetscCall(PetscArraycpy(ewt, ps->ewt, ps->nelem));
+    PetscCall(PetscFree2(ps->elem, ps->ewt));
+    ps->elem = elem;
+    ps->ewt  = ewt;
+  }
+  ps->elem[ps->nelem]  = e;
+  ps->ewt[ps->nelem++] = w;
+  PetscFunctionReturn(0);
+}
+
+/* the elements of a wall probe's face: the segment (2-D) or disc (3-D) of diameter D centred at the probe's point
+   in the plane of its nearest element. An element facing the same way (normals within 60 degrees) and whose centroid
+   is within dx/2 + D/4 of that plane (a curved wall's elements near the face) is projected on the plane; its weight
+   is its area times the share of its projection inside the face (sensor.c), exact on a plane wall. */
+static PetscErrorCode FSProbesFace(const FSWallView *B, const FSProbe *it, PetscInt near, PetscReal dx, FSProbeSet *ps,
+                                   PetscInt *cap)
+{
+  const PetscInt   dim = B->dim;
+  const PetscReal *ns = &B->element[near * B->stride + B->normal], R = 0.5 * it->diameter;
+  PetscReal        e1[3] = {0, 0, 0}, e2[3] = {0, 0, 0};
+
+  PetscFunctionBegin;
+  if (dim == 2) {
+    e1[0] = -ns[1];
+    e1[1] = ns[0];
+  } else { /* an orthonormal basis of the plane */
+    const PetscInt ax = PetscAbsReal(ns[0]) < PetscAbsReal(ns[1]) ? (PetscAbsReal(ns[0]) < PetscAbsReal(ns[2]) ? 0 : 2)
+                                                                  : (PetscAbsReal(ns[1]) < PetscAbsReal(ns[2]) ? 1 : 2);
+    PetscReal      a[3] = {0, 0, 0}, l;
+    a[ax]               = 1;
+    e1[0]               = ns[1] * a[2] - ns[2] * a[1];
+    e1[1]               = ns[2] * a[0] - ns[0] * a[2];
+    e1[2]               = ns[0] * a[1] - ns[1] * a[0];
+    l                   = PetscSqrtReal(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (PetscInt d = 0; d < 3; d++) e1[d] /= l;
+    e2[0] = ns[1] * e1[2] - ns[2] * e1[1];
+    e2[1] = ns[2] * e1[0] - ns[0] * e1[2];
+    e2[2] = ns[0] * e1[1] - ns[1] * e1[0];
+  }
+  for (PetscInt e = 0; e < B->nelements; e++) {
+    const PetscReal *row = &B->element[e * B->stride], *c = row + B->centroid, *ne = row + B->normal,
+                    *v = row + B->vertex, A = row[B->measure];
+    PetscReal cosn = 0, off = 0, w = 0;
+    for (PetscInt d = 0; d < dim; d++) {
+      cosn += ne[d] * ns[d];
+      off += (c[d] - it->x0[d]) * ns[d];
+    }
+    if (cosn < 0.5 || PetscAbsReal(off) > 0.5 * dx + 0.5 * R) continue;
+    if (dim == 2) {
+      PetscReal sa = 0, sb = 0;
+      for (PetscInt d = 0; d < 2; d++) {
+        sa += (v[d] - it->x0[d]) * e1[d];
+        sb += (v[2 + d] - it->x0[d]) * e1[d];
+      }
+      if (PetscAbsReal(sb - sa) > 0) w = A * FSSensorSegmentOverlap(sa, sb, R) / PetscAbsReal(sb - sa);
+    } else {
+      PetscReal p[3][2], Ap;
+      for (PetscInt q = 0; q < 3; q++) {
+        p[q][0] = p[q][1] = 0;
+        for (PetscInt d = 0; d < 3; d++) {
+          p[q][0] += (v[3 * q + d] - it->x0[d]) * e1[d];
+          p[q][1] += (v[3 * q + d] - it->x0[d]) * e2[d];
+        }
+      }
+      Ap = 0.5 * PetscAbsReal((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
+      if (Ap > 0) w = A * FSSensorDiscTriangleArea(R, p) / Ap;
+    }
+    if (w > 1e-12 * A) PetscCall(FSProbesAddElement(ps, cap, e, w));
+  }
+  PetscFunctionReturn(0);
 }
 
 /*
@@ -191,7 +302,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
   const PetscReal   dx   = s->opt.dx;
   const FSWallView *B    = NULL;
   char             *text;
-  PetscInt          nv = 0;
+  PetscInt          nv = 0, cap = 0;
 
   PetscFunctionBegin;
   if (!ps->file[0]) PetscFunctionReturn(0);
@@ -203,10 +314,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
     const PetscReal *wW;
     PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
   }
-  /* the probes on walls: the nearest element, then those of its wall within D/2 */
-  PetscCall(PetscMalloc1(PetscMax(1, B ? B->nelements : 0), &ps->elem));
-  ps->nelem    = 0;
-  ps->nsamples = 0;
+  /* the probes on walls: the nearest element, or the elements within the face */
   for (PetscInt k = 0; k < ps->n; k++) {
     FSProbe *it = &ps->item[k];
     it->estart = it->eend = ps->nelem;
@@ -224,25 +332,22 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
     }
     if (B && B->nelements) {
       PetscInt  near = -1;
-      PetscReal best = PETSC_MAX_REAL, dn;
+      PetscReal best = PETSC_MAX_REAL, bestlat = PETSC_MAX_REAL, dn, lat;
       PetscBool over;
-      for (PetscInt e = 0; e < B->nelements; e++) { /* the nearest element among those x lies over */
-        FSProbesElementDistance(B, e, it->x0, 0.5 * dx, &dn, &over);
-        if (over && dn < best) {
-          best = dn;
-          near = e;
+      for (PetscInt e = 0; e < B->nelements; e++) { /* the nearest element among those x lies over; of the elements
+                                                        of one plane, the one whose centroid is nearest along it */
+        FSProbesElementDistance(B, e, it->x0, 0.5 * dx, &dn, &over, &lat);
+        if (over && (dn < best - 1e-9 * dx || (dn <= best + 1e-9 * dx && lat < bestlat))) {
+          best    = dn;
+          bestlat = lat;
+          near    = e;
         }
       }
       if (near >= 0 && best < 0.5 * dx) {
-        if (it->diameter > 0)
-          for (PetscInt e = 0; e < B->nelements; e++) {
-            const PetscReal *c  = &B->element[e * B->stride + B->centroid];
-            PetscReal        r2 = 0;
-            for (PetscInt a = 0; a < dim; a++) r2 += PetscSqr(it->x0[a] - c[a]);
-            if (B->elementwall[e] == B->elementwall[near] && r2 <= PetscSqr(0.5 * it->diameter))
-              ps->elem[ps->nelem++] = e;
-          }
-        if (ps->nelem == it->estart) ps->elem[ps->nelem++] = near; /* no diameter, or no centroid within it */
+        if (it->diameter > 0) PetscCall(FSProbesFace(B, it, near, dx, ps, &cap));
+        if (ps->nelem == it->estart) { /* no diameter, or no element within the face */
+          PetscCall(FSProbesAddElement(ps, &cap, near, B->element[near * B->stride + B->measure]));
+        }
       }
       it->eend = ps->nelem;
     }
@@ -252,7 +357,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
   for (PetscInt k = 0; k < ps->n; k++) {
     ps->offset[k] = nv;
     ps->names[k]  = ps->item[k].name;
-    nv += ps->item[k].gauge ? 1 : 1 + dim;
+    nv += ps->item[k].gauge ? 1 : 1 + dim + (ps->item[k].filtered ? 1 : 0);
   }
   ps->offset[ps->n] = nv;
   ps->nvalues       = nv;
@@ -268,6 +373,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
       PetscCall(PetscSNPrintf(col[0], sizeof(col[0]), "%s_pressure[Pa]", it->name));
       for (PetscInt d = 0; d < dim; d++)
         PetscCall(PetscSNPrintf(col[1 + d], sizeof(col[0]), "%s_velocity_%s[m/s]", it->name, ax[d]));
+      if (it->filtered) PetscCall(PetscSNPrintf(col[1 + dim], sizeof(col[0]), "%s_pressure_filtered[Pa]", it->name));
     }
   }
   PetscCall(PetscMalloc3(nv + 1, &ps->values, ps->nsamples + 1, &ps->sgamma, ps->n * (3 + dim) + ps->nsamples + 1,
@@ -286,7 +392,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
         const PetscReal *nrm = &B->element[e * B->stride + B->normal];
         PetscReal        dn;
         PetscBool        over;
-        FSProbesElementDistance(B, e, x, 1e-9 * dx, &dn, &over);
+        FSProbesElementDistance(B, e, x, 1e-9 * dx, &dn, &over, NULL);
         if (over && dn < 1e-9 * dx)
           for (PetscInt d = 0; d < dim; d++) x[d] -= 1e-6 * dx * nrm[d];
       }
@@ -374,7 +480,7 @@ static PetscErrorCode FSProbesSample(FSSolver s)
         const PetscInt e = ps->elem[q];
         PetscBool      owns;
         PetscCall(FSBoundaryOwnsElement(s->boundary, e, &owns));
-        if (owns) sum[k * PS + 2 + dim] += B->pressure[e] * B->element[e * B->stride + B->measure];
+        if (owns) sum[k * PS + 2 + dim] += B->pressure[e] * ps->ewt[q];
       }
     }
   }
@@ -392,10 +498,14 @@ static PetscErrorCode FSProbesSample(FSSolver s)
         v[0] = s->opt.background_pressure;
         for (PetscInt a = 0; a < dim; a++) v[1 + a] = 0;
       }
-      if (it->eend > it->estart && B && B->pressure) { /* on a wall: the wall pressure, area-weighted */
+      if (it->eend > it->estart && B && B->pressure) { /* on a wall: the wall pressure, averaged over the face */
         PetscReal a = 0;
-        for (PetscInt q = it->estart; q < it->eend; q++) a += B->element[ps->elem[q] * B->stride + B->measure];
+        for (PetscInt q = it->estart; q < it->eend; q++) a += ps->ewt[q];
         v[0] = sk[2 + dim] / a;
+      }
+      if (it->filtered) { /* the reading of the last sample of probes.csv (the raw value before the first) */
+        const FSSensorFilter *f = &it->filter;
+        v[1 + dim]              = f->started ? (f->rate > 0 ? f->held : f->y[0]) : v[0];
       }
     } else { /* the first sample, from the start, where S/gamma falls below 1/2 */
       const PetscReal *Sq = &ssum[it->sample], *gq = &ps->sgamma[it->sample];
@@ -463,6 +573,12 @@ PetscErrorCode FSSolverProbesMonitor(FSSolver s)
   PetscCall(TSGetStepNumber(s->ts, &step));
   if (step % ps->interval) PetscFunctionReturn(0);
   PetscCall(FSProbesSample(s));
+  for (PetscInt k = 0; k < ps->n; k++) { /* the sensors' time response: only the samples of probes.csv */
+    FSProbe *it = &ps->item[k];
+    if (it->filtered)
+      ps->values[ps->offset[k] + 1 + s->opt.dim] = FSSensorFilterUpdate(&it->filter, ps->time,
+                                                                        ps->values[ps->offset[k]]);
+  }
   if (ps->nvalues + 1 > (PetscInt)(sizeof(row) / sizeof(row[0]))) PetscCall(PetscMalloc1(ps->nvalues + 1, &r));
   r[0] = ps->time;
   PetscCall(PetscArraycpy(r + 1, ps->values, ps->nvalues));
@@ -479,7 +595,7 @@ PetscErrorCode FSSolverProbesDestroy(FSSolver s)
   PetscFunctionBegin;
   PetscCall(FSTimeSeriesDestroy(&ps->series));
   PetscCall(PetscFree(ps->item));
-  PetscCall(PetscFree(ps->elem));
+  PetscCall(PetscFree2(ps->elem, ps->ewt));
   PetscCall(PetscFree2(ps->offset, ps->names));
   PetscCall(PetscFree(ps->colname));
   PetscCall(PetscFree3(ps->values, ps->sgamma, ps->sums));
@@ -499,7 +615,8 @@ PetscErrorCode FSSolverProbesDestroy(FSSolver s)
 +  n       - the number of probes and gauges, in the order of the file (0 without -fs_probes)
 .  names   - their names (an array of n pointers, or NULL); owned by the solver
 .  offsets - (an array of n+1, or NULL) item k's values are values[offsets[k] .. offsets[k+1]): a probe's
-             pressure then its velocity (dim values), a gauge's elevation
+             pressure then its velocity (dim values), then with a cut-off or a rate its filtered pressure (the
+             reading of the last sample of probes.csv), a gauge's elevation
 -  values  - (an array of at most FS_PROBE_MAX_VALUES n reals, or NULL) the values, as the columns of
              probes.csv
 

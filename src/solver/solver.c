@@ -403,11 +403,12 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                                "may always change",
                                "FSSolverCheckSetUp", s->opt.allow_changes, s->opt.allow_changes,
                                sizeof(s->opt.allow_changes), NULL));
-  PetscCall(PetscOptionsString("-fs_probes",
-                               "File of pressure probes and wave gauges (\"probe NAME x y [z] [diameter D]\", "
-                               "\"gauge NAME x0 y0 [z0] x1 y1 [z1]\"): their values into <output_dir>/probes.csv",
-                               "FSSolverGetProbes", s->mon.probes.file, s->mon.probes.file, sizeof(s->mon.probes.file),
-                               NULL));
+  PetscCall(PetscOptionsString(
+      "-fs_probes",
+      "File of pressure probes and wave gauges (\"probe NAME x y [z] [diameter D] [cutoff HZ] [order 1|2] "
+      "[rate HZ]\", "
+      "\"gauge NAME x0 y0 [z0] x1 y1 [z1]\"): their values into <output_dir>/probes.csv",
+      "FSSolverGetProbes", s->mon.probes.file, s->mon.probes.file, sizeof(s->mon.probes.file), NULL));
   PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_probe_interval", "Steps between the samples of the probes and gauges",
                          "FSSolverGetProbes", &s->mon.probes.interval, NULL, 1, PETSC_MAX_INT));
   PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_series_interval",

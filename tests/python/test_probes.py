@@ -122,7 +122,7 @@ def test_three_dimensional_probe_and_gauge(tmp_path):
 
 
 @pytest.mark.parametrize("text,line,what", [
-    ("probe a 0.1 0.01\nprobe b 0.1\n", 2, "expected \"probe NAME x y [diameter D]\""),
+    ("probe a 0.1 0.01\nprobe b 0.1\n", 2, "expected \"probe NAME x y [diameter D] [cutoff HZ]"),
     ("probe a 0.1 0.01\n\n# c\nprobe a 0.1 0.02\n", 4, "duplicate name \"a\""),
     ("gauge g 0.1 0.0 0.1 0.0\n", 1, "zero length"),
     ("probe far 0.5 0.01\n", 1, "outside the domain"),
