@@ -86,7 +86,7 @@ static PetscErrorCode MeshSizeCheck(FSSolver s, const FSMesh *m, const PetscReal
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
-  PetscCall(PetscSNPrintf(region, sizeof(region), "%s: the liquid region %g x %g x %g, %g m^3 of liquid (walls: %s)",
+  PetscCall(PetscSNPrintf(region, sizeof(region), "%s: the liquid region %g x %g x %g, %.4g m^3 of liquid (walls: %s)",
                           what, (double)len[0], (double)len[1], (double)len[2], (double)vol, src));
   PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), 3, dx, (double)vol / ((double)dx * dx * dx), region,
                                  stl ? "check the STL file's unit: its coordinates are read in metres "

@@ -16,8 +16,8 @@
                   R (scale x) + shift: -fs_tank_stl_scale (the metres a unit of the files: a number, or m,
                   cm, mm, in), -fs_tank_stl_rotate ax,ay,az (degrees about x, then y, then z, fixed axes)
                   and -fs_tank_stl_translate x,y,z (metres); everything downstream (walls, fill, probes)
-                  sees the moved mesh. A tank over 20 m across at more than 1000 spacings is warned
-                  about as a file in millimetres read as metres.
+                  sees the moved mesh. A tank over 50 m across, or over 20 m at more than 1000
+                  spacings, is warned about as a file in millimetres read as metres.
    In 3-D (-fs_dim 3) the rectangular and baffled tanks are their 2-D outlines extruded across
    -fs_tank_width (0.1 m) along z: the 2-D cases are their cross-sections.
    The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5), or the boxes given by
@@ -208,7 +208,7 @@ static PetscErrorCode TankMeshTransform(FSSolver s, Tank *tk, FSMesh *m)
   }
   PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
   for (PetscInt d = 0; d < 3; d++) size = PetscMax(size, hi[d] - lo[d]);
-  if (size > 20 && size > 1000 * dx)
+  if (size > 50 || (size > 20 && size > 1000 * dx))
     PetscCall(PetscPrintf(comm,
                           "Warning: the STL tank %s is %g m across (%g spacings of -fs_dx %g): a file in millimetres "
                           "read as metres? Its coordinates are taken in metres: -fs_tank_stl_scale mm (or cm, in, a "
