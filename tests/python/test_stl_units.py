@@ -9,7 +9,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from conftest import MPI_ENV, assert_no_crash, flexslosh_bin, last_snapshot, petsc_error_message, run_flexslosh
+from conftest import (MPI_ENV, assert_no_crash, flexslosh_bin, last_snapshot, petsc_error_message, rel_max_diff,
+                      run_flexslosh)
 from test_walls_3d import ascii_stl, box_facets
 
 TANK3 = ["-fs_case", "tank", "-fs_dim", 3, "-fs_tank_shape", "stl", "-fs_output_interval", 0]
@@ -52,6 +53,15 @@ def test_scaled_rotated_translated_file_gives_the_same_tank(tmp_path):
     assert re.search(r"as read; \[-?0\.?, 0\.06\] x \[-?0\.?, 0\.06\] x \[-?0\.?, 0\.03\] m after -fs_tank_stl_scale mm",
                      line), line
     assert "Warning" not in p.stdout
+    # every rank moves the broadcast triangles alike: 2 ranks, 3 steps, as 1 rank
+    for n in (1, 2):
+        run_flexslosh(TANK3 + ["-fs_tank_stl", "cad.stl", "-fs_dx", 0.005, "-ts_max_steps", 3, "-fs_output_dir", f"r{n}",
+                               "-fs_tank_stl_scale", "mm", "-fs_tank_stl_rotate", "90,90,0",
+                               "-fs_tank_stl_translate", "1,-2,0.5"], nranks=n, cwd=tmp_path)
+    a, b = last_snapshot(tmp_path / "r1"), last_snapshot(tmp_path / "r2")
+    assert np.array_equal(a["id"], b["id"])
+    for f in ("position", "velocity", "density"):
+        assert rel_max_diff(a[f], b[f]) < 1e-10, f
 
 
 def test_wrong_order_or_sign_does_not_fit(tmp_path):
