@@ -28,6 +28,9 @@ struct _FSBoundaryOps {
   PetscErrorCode (*boundingbox)(FSBoundary, PetscReal lo[], PetscReal hi[]);
   /* the walls' Shepard factor gamma at a point, from every element (FSBoundaryShepardAt); not collective */
   PetscErrorCode (*shepard)(FSBoundary, const PetscReal x[], PetscReal *gamma);
+  /* where a point lies (FSBoundaryLocate): in the liquid region or not, the nearest wall and the distance to it;
+     not collective */
+  PetscErrorCode (*locate)(FSBoundary, const PetscReal x[], PetscBool *inliquid, PetscInt *wall, PetscReal *distance);
   /* rank 0: the walls into the geometry picture */
   PetscErrorCode (*draw)(FSBoundary, FSImage *, const FSImageMap *);
   /* the walls as files for ParaView (collective) */

@@ -9,6 +9,7 @@
                           elements within the support, the wall pressure and loads (FSBoundaryGetView)
      FSBoundaryBounce     after each step: particles too close to a wall bounce back
      FSBoundaryShepardAt  the walls' Shepard factor at any point (the wave gauges)
+     FSBoundaryLocate     whether a point is in the liquid region, its nearest wall (the probes' checks)
      FSBoundaryGetGeometryHash  a fingerprint of the walls as given (checkpoints record it)
      FSBoundaryGetLoads, FSBoundaryDraw, FSBoundaryWriteGeometry, FSBoundarySummary, FSBoundaryView
 
@@ -79,6 +80,8 @@ PETSC_INTERN PetscErrorCode FSBoundarySetPartition(FSBoundary, FSBoundaryRankOfF
 PETSC_INTERN PetscErrorCode FSBoundaryOwnsElement(FSBoundary, PetscInt k, PetscBool *owns);
 PETSC_INTERN PetscErrorCode FSBoundaryGetWallNames(FSBoundary, PetscInt *nwalls, const char *const **names);
 PETSC_INTERN PetscErrorCode FSBoundaryShepardAt(FSBoundary, const PetscReal x[], PetscReal *gamma);
+PETSC_INTERN PetscErrorCode FSBoundaryLocate(FSBoundary, const PetscReal x[], PetscBool *inliquid, PetscInt *wall,
+                                             PetscReal *distance);
 PETSC_INTERN PetscErrorCode FSBoundaryGetBoundingBox(FSBoundary, PetscReal lo[], PetscReal hi[]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetLoadPoint(FSBoundary, PetscReal point[3]);
 PETSC_INTERN PetscErrorCode FSBoundaryDraw(FSBoundary, FSImage *, const FSImageMap *);

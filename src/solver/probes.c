@@ -75,13 +75,14 @@ static PetscBool FSProbesNumber(const char *tok, PetscReal *v)
 /* Parses the probe file's text into the set's items, checking each line. */
 static PetscErrorCode FSProbesParse(FSSolver s, char *text)
 {
-  MPI_Comm        comm   = PetscObjectComm((PetscObject)s);
-  FSProbeSet     *ps     = &s->mon.probes;
-  const PetscInt  dim    = s->opt.dim;
-  const char     *path   = ps->file;
-  PetscInt        lineno = 0, cap = 0;
-  char           *line, *next     = text;
-  const PetscReal span = PetscMax(s->pw.hi[0] - s->pw.lo[0], s->pw.hi[1] - s->pw.lo[1]), tol = 1e-9 * span;
+  MPI_Comm                 comm   = PetscObjectComm((PetscObject)s);
+  FSProbeSet              *ps     = &s->mon.probes;
+  const PetscInt           dim    = s->opt.dim;
+  const char              *path   = ps->file;
+  PetscInt                 lineno = 0, cap = 0;
+  char                    *line, *next     = text;
+  const PetscReal          span = PetscMax(s->pw.hi[0] - s->pw.lo[0], s->pw.hi[1] - s->pw.lo[1]), tol = 1e-9 * span;
+  static const char *const axis[] = {"x", "y", "z"};
 
   PetscFunctionBegin;
   for (char *c = text; *c; c++) cap += (*c == '\n');
@@ -124,6 +125,7 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
                  "%s:%" PetscInt_FMT ": duplicate name \"%s\": every probe and gauge needs its own", path, lineno,
                  tok[1]);
     PetscCall(PetscStrncpy(it->name, tok[1], sizeof(it->name)));
+    it->line = lineno;
     if (!it->gauge) { /* the point, then the sensor's keywords, each once, in any order */
       PetscBool ok = (PetscBool)(ntok >= 2 + dim);
       for (PetscInt d = 0; ok && d < dim; d++) ok = FSProbesNumber(tok[2 + d], &it->x0[d]);
@@ -139,6 +141,12 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
         PetscReal         *dest[] = {&it->diameter, &it->cutoff, NULL, &it->rate}, v = 0;
         PetscInt           k = 0;
         while (k < 4 && strcmp(tok[q], key[k])) k++;
+        PetscCheck(
+            k < 4 || !FSProbesNumber(tok[q], &v), comm, PETSC_ERR_FILE_UNEXPECTED,
+            "%s:%" PetscInt_FMT ": probe \"%s\": expected \"probe NAME x y%s [diameter D] [cutoff HZ] [order 1|2] "
+            "[rate HZ]\": a %" PetscInt_FMT "-D probe has %" PetscInt_FMT " coordinates, then keywords; \"%s\" is "
+            "a number where a keyword belongs",
+            path, lineno, it->name, dim == 3 ? " z" : "", dim, dim, tok[q]);
         PetscCheck(k < 4, comm, PETSC_ERR_FILE_UNEXPECTED,
                    "%s:%" PetscInt_FMT
                    ": probe \"%s\": unknown keyword \"%s\": expected diameter, cutoff, order or rate",
@@ -160,9 +168,8 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
       it->filter.rate  = it->rate;
       for (PetscInt d = 0; d < dim; d++)
         PetscCheck(it->x0[d] >= s->pw.lo[d] - tol && it->x0[d] <= s->pw.hi[d] + tol, comm, PETSC_ERR_FILE_UNEXPECTED,
-                   "%s:%" PetscInt_FMT ": probe \"%s\" is outside the domain: coordinate %" PetscInt_FMT
-                   " = %g is not in [%g, %g]",
-                   path, lineno, it->name, d, (double)it->x0[d], (double)s->pw.lo[d], (double)s->pw.hi[d]);
+                   "%s:%" PetscInt_FMT ": probe \"%s\" is outside the domain: its %s = %g is not in [%g, %g]", path,
+                   lineno, it->name, axis[d], (double)it->x0[d], (double)s->pw.lo[d], (double)s->pw.hi[d]);
     } else {
       PetscBool ok = (PetscBool)(ntok == 2 + 2 * dim);
       PetscReal L2 = 0;
@@ -176,9 +183,9 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
         PetscCheck(it->x0[d] >= s->pw.lo[d] - tol && it->x0[d] <= s->pw.hi[d] + tol && it->x1[d] >= s->pw.lo[d] - tol &&
                        it->x1[d] <= s->pw.hi[d] + tol,
                    comm, PETSC_ERR_FILE_UNEXPECTED,
-                   "%s:%" PetscInt_FMT ": gauge \"%s\" reaches outside the domain: coordinate %" PetscInt_FMT
-                   " of its ends, %g and %g, is not in [%g, %g]",
-                   path, lineno, it->name, d, (double)it->x0[d], (double)it->x1[d], (double)s->pw.lo[d],
+                   "%s:%" PetscInt_FMT ": gauge \"%s\" reaches outside the domain: the %s of its ends, %g and %g, is "
+                   "not in [%g, %g]",
+                   path, lineno, it->name, axis[d], (double)it->x0[d], (double)it->x1[d], (double)s->pw.lo[d],
                    (double)s->pw.hi[d]);
       for (PetscInt d = 0; d < dim; d++) L2 += PetscSqr(it->x1[d] - it->x0[d]);
       PetscCheck(PetscSqrtReal(L2) > tol, comm, PETSC_ERR_FILE_UNEXPECTED,
@@ -287,6 +294,89 @@ static PetscErrorCode FSProbesFace(const FSWallView *B, const FSProbe *it, Petsc
   PetscFunctionReturn(0);
 }
 
+/* the first probe on a wall without a diameter (the warning names it) */
+static PetscInt firstbare(const FSProbeSet *ps)
+{
+  for (PetscInt k = 0; k < ps->n; k++)
+    if (!ps->item[k].gauge && ps->item[k].eend > ps->item[k].estart && !(ps->item[k].diameter > 0)) return k;
+  return 0;
+}
+
+/* a point of item it (a probe's point, a gauge's end) must lie in the liquid region, where its readings mean
+   something: inside the container's closed walls and outside every wall's solid (FSBoundaryLocate), or on a wall
+   (onwall: a probe within dx/2 of a wall element; a gauge's end within dx/2 of a wall). Otherwise an error naming the
+   file, the line, the item and the nearest wall. */
+static PetscErrorCode FSProbesCheckInLiquid(FSSolver s, const FSProbe *it, const PetscReal x[], PetscBool onwall,
+                                            const char what[])
+{
+  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
+  const FSProbeSet  *ps   = &s->mon.probes;
+  PetscBool          in;
+  PetscInt           wall, nwalls;
+  PetscReal          dist, lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  const char *const *names;
+  PetscBool          inbox = PETSC_TRUE;
+  char               at[128];
+
+  PetscFunctionBegin;
+  PetscCall(FSBoundaryLocate(s->boundary, x, &in, &wall, &dist));
+  if (in || onwall || (it->gauge && dist <= 0.5 * s->opt.dx)) PetscFunctionReturn(0);
+  PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &names));
+  PetscCall(FSBoundaryGetBoundingBox(s->boundary, lo, hi));
+  for (PetscInt d = 0; d < s->opt.dim; d++) inbox = (PetscBool)(inbox && x[d] >= lo[d] && x[d] <= hi[d]);
+  if (s->opt.dim == 3)
+    PetscCall(PetscSNPrintf(at, sizeof(at), "(%g, %g, %g)", (double)x[0], (double)x[1], (double)x[2]));
+  else PetscCall(PetscSNPrintf(at, sizeof(at), "(%g, %g)", (double)x[0], (double)x[1]));
+  SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+          "%s:%" PetscInt_FMT ": %s \"%s\"%s at %s is not in the liquid region: %s; the nearest wall, \"%s\", is %g m "
+          "away (a point on a wall must be within dx/2 = %g of it). Probes and gauges read the liquid or a wall's "
+          "pressure: move it into the tank's liquid or onto the wall's face",
+          ps->file, it->line, what, it->name, it->gauge ? (x == it->x0 ? " (its start)" : " (its end)") : "", at,
+          inbox ? "it lies beyond the tank's walls or inside a wall's thickness (a baffle, a rib, an obstacle)"
+                : "it lies outside the tank's walls (their bounding box)",
+          wall >= 0 && wall < nwalls ? names[wall] : "?", (double)dist, (double)(0.5 * s->opt.dx));
+}
+
+/* the signed distance of x from element e's plane, positive on the solid's side (the normal points out of the liquid)
+ */
+static PetscReal FSProbesSide(const FSWallView *B, PetscInt e, const PetscReal x[])
+{
+  const PetscReal *c = &B->element[e * B->stride + B->centroid], *n = &B->element[e * B->stride + B->normal];
+  PetscReal        d = 0;
+  for (PetscInt a = 0; a < B->dim; a++) d += (x[a] - c[a]) * n[a];
+  return d;
+}
+
+/* a probe on a wall (its nearest element near) strictly inside a wall's solid and within dx/2 of two opposite faces
+   (a baffle or a rib thinner than dx): which side it should read is not known, an error. On a face itself it reads
+   that face. */
+static PetscErrorCode FSProbesCheckFaces(FSSolver s, const FSProbe *it, const FSWallView *B, PetscInt near)
+{
+  const PetscInt     dim = s->opt.dim;
+  const PetscReal   *nn = &B->element[near * B->stride + B->normal], tol = 1e-6 * s->opt.dx;
+  PetscInt           nwalls;
+  const char *const *names;
+
+  PetscFunctionBegin;
+  if (FSProbesSide(B, near, it->x0) <= tol) PetscFunctionReturn(0);
+  PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &names));
+  for (PetscInt e = 0; e < B->nelements; e++) {
+    const PetscReal *n = &B->element[e * B->stride + B->normal];
+    PetscReal        dn, lat, nn_n = 0;
+    PetscBool        over;
+    FSProbesElementDistance(B, e, it->x0, 0.5 * s->opt.dx, &dn, &over, &lat);
+    for (PetscInt a = 0; a < dim; a++) nn_n += nn[a] * n[a];
+    PetscCheck(!(over && dn < 0.5 * s->opt.dx && nn_n < 0 && FSProbesSide(B, e, it->x0) > tol),
+               PetscObjectComm((PetscObject)s), PETSC_ERR_FILE_UNEXPECTED,
+               "%s:%" PetscInt_FMT ": probe \"%s\" lies inside the thickness of a wall, within dx/2 = %g of two "
+               "opposite faces (of walls \"%s\" and \"%s\"): which side it should read is not known. Put it on "
+               "the face it should read",
+               s->mon.probes.file, it->line, it->name, (double)(0.5 * s->opt.dx), names[B->elementwall[near]],
+               names[B->elementwall[e]]);
+  }
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverProbesSetUp - reads -fs_probes, checks the items against the domain, finds the wall elements
    of the probes on walls and the samples of the gauges with the walls' Shepard factor at each. Called
@@ -301,8 +391,9 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
   const PetscInt    dim  = s->opt.dim;
   const PetscReal   dx   = s->opt.dx;
   const FSWallView *B    = NULL;
-  char             *text;
-  PetscInt          nv = 0, cap = 0;
+  char             *text = NULL;
+  PetscInt          nv = 0, cap = 0, nbare = 0;
+  PetscReal         bare_area = 0;
 
   PetscFunctionBegin;
   if (!ps->file[0]) PetscFunctionReturn(0);
@@ -320,6 +411,10 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
     it->estart = it->eend = ps->nelem;
     if (it->gauge) {
       PetscReal L = 0, dev = 0;
+      if (s->boundary) {
+        PetscCall(FSProbesCheckInLiquid(s, it, it->x0, PETSC_FALSE, "gauge"));
+        PetscCall(FSProbesCheckInLiquid(s, it, it->x1, PETSC_FALSE, "gauge"));
+      }
       for (PetscInt d = 0; d < dim; d++) L += PetscSqr(it->x1[d] - it->x0[d]);
       L = PetscSqrtReal(L);
       for (PetscInt d = 0; d < dim; d++)
@@ -344,13 +439,32 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
         }
       }
       if (near >= 0 && best < 0.5 * dx) {
+        PetscCall(FSProbesCheckFaces(s, it, B, near));
         if (it->diameter > 0) PetscCall(FSProbesFace(B, it, near, dx, ps, &cap));
         if (ps->nelem == it->estart) { /* no diameter, or no element within the face */
           PetscCall(FSProbesAddElement(ps, &cap, near, B->element[near * B->stride + B->measure]));
         }
+        if (!(it->diameter > 0)) {
+          nbare++;
+          bare_area += B->element[near * B->stride + B->measure];
+        }
       }
       it->eend = ps->nelem;
     }
+    if (s->boundary) PetscCall(FSProbesCheckInLiquid(s, it, it->x0, it->eend > it->estart, "probe"));
+  }
+  if (nbare) { /* a probe on a wall without a diameter: the pressure of one element (dx long in 2-D, edge h in 3-D) */
+    const PetscReal mean = bare_area / nbare, across = dim == 2 ? mean : PetscSqrtReal(4 * mean / PETSC_PI);
+    const FSProbe  *it = &ps->item[firstbare(ps)];
+    char            size[96];
+    if (dim == 2) PetscCall(PetscSNPrintf(size, sizeof(size), "a segment %.3g m long", (double)mean));
+    else PetscCall(PetscSNPrintf(size, sizeof(size), "%.3g m^2, a disc %.3g m across", (double)mean, (double)across));
+    PetscCall(PetscPrintf(comm,
+                          "Warning: %s: %" PetscInt_FMT " probe(s) on a wall without a diameter (the first: \"%s\", "
+                          "line %" PetscInt_FMT "): each reads the wall pressure of its nearest wall element alone, on "
+                          "average %s (%.2g dx), not the face of a sensor: give \"diameter D\" (the sensor's) to "
+                          "average the wall pressure over it\n",
+                          ps->file, nbare, it->name, it->line, size, (double)(across / dx)));
   }
   /* the columns: per probe its pressure and velocity, per gauge its elevation */
   PetscCall(PetscMalloc2(ps->n + 1, &ps->offset, ps->n, &ps->names));

@@ -842,6 +842,71 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   PetscFunctionReturn(0);
 }
 
+/* the seconds a particle-step takes on one core, 2-D and 3-D: the dam breaks of docs/performance.md on the project's
+   2-core test machine, 1 rank (2-D: bench_dam_break.py, 20,000 particles, 2.41e5 particle-steps/s; 3-D:
+   bench_dam_break_3d.py, 310,675 particles, 1.75e4 particle-steps/s); a machine of its own takes its
+   particle_steps_per_second from a short run's summary.json */
+#define FS_SECONDS_PER_PARTICLE_STEP_2D (1 / 2.41e5)
+#define FS_SECONDS_PER_PARTICLE_STEP_3D (1 / 1.75e4)
+
+/* the estimate of FSSolverView: particles, wall elements, the time step of the set-up's state and what limits it,
+   the steps to the final time and the wall time they take at the measured cost of a particle-step; collective */
+static PetscErrorCode FSSolverViewEstimate(FSSolver s, PetscViewer viewer)
+{
+  const PetscReal per = s->opt.dim == 3 ? FS_SECONDS_PER_PARTICLE_STEP_3D : FS_SECONDS_PER_PARTICLE_STEP_2D;
+  PetscReal       nu, dt, t = 0, tmax = 0, secs, lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  PetscInt        source, limit, nel = 0, maxsteps = PETSC_MAX_INT, step = 0;
+  double          steps, run;
+  PetscBool       limited;
+  const char     *why;
+  PetscMPIInt     size;
+
+  PetscFunctionBegin;
+  if (!s->setupcalled || !s->ts) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
+  if (s->boundary) {
+    const FSWallView *B;
+    const PetscInt   *wstart, *wk;
+    const PetscReal  *wW;
+    PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
+    nel = B ? B->nelements : 0;
+    PetscCall(FSBoundaryGetBoundingBox(s->boundary, lo, hi));
+  }
+  PetscCall(FSSolverViscosityBound(s, &nu, &source));
+  if (s->pw.nglobal_particles > 0) FSSolverStableDtOf(s, s->state.umax, nu, source, &dt, &limit);
+  else {
+    PetscCall(FSSolverStructureDt(s, &dt));
+    limit = FS_DT_STRUCTURE;
+  }
+  PetscCall(FSSolverDtLimitName(s, limit, &why));
+  PetscCall(TSGetMaxTime(s->ts, &tmax));
+  PetscCall(TSGetMaxSteps(s->ts, &maxsteps));
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  steps   = dt > 0 ? PetscMax(0.0, PetscCeilReal((tmax - t) / dt)) : 0;
+  limited = (PetscBool)(maxsteps >= 0 && (double)(maxsteps - step) < steps);
+  run     = limited ? (double)PetscMax(0, maxsteps - step) : steps;
+  secs    = (PetscReal)(run * (double)s->pw.nglobal_particles / size * per);
+  if (s->boundary) {
+    char box[160];
+    PetscCall(PetscSNPrintf(box, sizeof(box), "[%g, %g] x [%g, %g]", (double)lo[0], (double)hi[0], (double)lo[1],
+                            (double)hi[1]));
+    if (s->opt.dim == 3)
+      PetscCall(
+          PetscSNPrintf(box + strlen(box), sizeof(box) - strlen(box), " x [%g, %g]", (double)lo[2], (double)hi[2]));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "walls: %" PetscInt_FMT " elements, bounding box %s\n", nel, box));
+  }
+  PetscCall(PetscViewerASCIIPrintf(
+      viewer,
+      "estimate: %" PetscInt64_FMT " particles; time step %.4g s at the start (limit: %s; "
+      "the acoustic CFL h/c0 %.4g s), %.0f steps to -ts_max_time %g s%s; about %.3g s of "
+      "wall time for %.0f steps on %d rank(s) at %.3g s a particle-step on a core "
+      "(measured, docs/running.md)\n",
+      s->pw.nglobal_particles, (double)dt, why, (double)(s->opt.cfl * s->opt.h / s->opt.c0), steps, (double)tmax,
+      limited ? " (-ts_max_steps stops the run first)" : "", (double)secs, run, (int)size, per));
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverView - prints the run's set-up: case, particles, decomposition, parameters, terms, TS.
 
@@ -884,6 +949,7 @@ PetscErrorCode FSSolverView(FSSolver s, PetscViewer viewer)
         (double)s->liquid[0], (double)s->liquid[1], (double)s->liquid[2], (double)(s->liquid[2] / s->liquid[1])));
   PetscCall(PetscViewerASCIIPrintf(viewer, "time step: CFL %g, viscous %g, force %g\n", (double)s->opt.cfl,
                                    (double)s->opt.cfl_visc, (double)s->opt.cfl_force));
+  PetscCall(FSSolverViewEstimate(s, viewer));
   PetscCall(PetscViewerASCIIPrintf(viewer, "terms (%" PetscInt_FMT "):\n", s->terms.nterms));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   for (PetscInt t = 0; t < s->terms.nterms; t++) {

@@ -190,6 +190,7 @@ typedef struct {
   PetscInt       estart, eend; /* a probe on a wall: its wall elements in FSProbeSet.elem[estart..eend), else equal */
   PetscInt       sample, nsample; /* a gauge: its first sample (in the samples' arrays) and their number */
   PetscBool      vertical;        /* a gauge along y: its elevation is the y coordinate, else the distance from x0 */
+  PetscInt       line;            /* its line in the file, for the messages */
 } FSProbe;
 
 typedef struct {

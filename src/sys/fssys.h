@@ -38,8 +38,9 @@ PETSC_INTERN PetscErrorCode FSOptionsCheckPetscInt(MPI_Comm, const char[], Petsc
 typedef enum { FS_SIZE_FITS, FS_SIZE_INDEX, FS_SIZE_MEMORY } FSSizeVerdict;
 PETSC_INTERN double         FSMemoryTotal(void);
 PETSC_INTERN double         FSLatticeCount(PetscInt, const PetscReal[], PetscReal);
-PETSC_INTERN FSSizeVerdict  FSParticleCountFits(double, PetscMPIInt, double, double *);
-PETSC_INTERN PetscErrorCode FSCheckParticleCount(MPI_Comm, PetscReal, double, const char[]);
+PETSC_INTERN double         FSParticleBytes(PetscInt);
+PETSC_INTERN FSSizeVerdict  FSParticleCountFits(double, PetscMPIInt, double, double, double *);
+PETSC_INTERN PetscErrorCode FSCheckParticleCount(MPI_Comm, PetscInt, PetscReal, double, const char[], const char[]);
 
 /* fault injection for the tests (src/sys/fault.c): FLEXSLOSH_FAULT=alloc|leak:RANK:STEP */
 PETSC_INTERN PetscErrorCode FSDebugFault(MPI_Comm, const char[], PetscInt, PetscBool *);

@@ -208,9 +208,11 @@ TOO_FINE = {
     "index": (["-fs_case", "tank", "-fs_dim", "3", "-fs_tank_length", "4.1", "-fs_tank_height", "2.048", "-fs_fill", "0.5",
                "-fs_tank_width", "1.024", "-fs_dx", "0.001", "-ts_max_steps", "1"],
               [r"-fs_dx 0\.001\b", r"4\.3e\+09 particles", r"more than an index can count", r"coarser -fs_dx"]),
-    # 2333 x 100 x 167 points, 39 GB at 1 kB a particle (it allocated for 43 s, then failed in DMSwarm)
+    # 2333 x 100 x 167 points (the liquid's 0.00105 m^3 / dx^3: 3.89e7 particles), 72 GB at 2 kB a particle in 3-D
+    # (it allocated for 43 s, then failed in DMSwarm)
     "memory": (["-options_file", "cases/coupled_rectangular_3d.opts", "-fs_dx", "0.0003"],
-               [r"-fs_dx 0\.0003\b", r"3\.9e\+07 particles", r"\d GB", r"coarser -fs_dx or more ranks"]),
+               [r"-fs_dx 0\.0003\b", r"3\.89e\+07 particles", r"72\.4 GB", r"2000 bytes a particle in 3-D",
+                r"coarser -fs_dx or more ranks"]),
 }
 
 

@@ -139,6 +139,7 @@ NAMES = {
     "-fs_coupling_loads": (["-fs_structure", "msd", "-fs_coupling_loads", "nosuch"], "nosuch"),
     "-fs_walls_noslip": (["nosuch"], None),
     "-fs_tank_file": (["-fs_tank_shape", "file", "-fs_tank_file", "/nonexistent.walls"], "/nonexistent.walls"),
+    "-fs_tank_stl_scale": (["nosuch"], None),
     "-fs_tank_stl": (TANK3[4:] + ["-fs_dim", "3", "-fs_tank_shape", "stl", "-fs_tank_stl", "/nonexistent.stl"], "/nonexistent.stl"),
     "-fs_probes": (["/nonexistent.probes"], "/nonexistent.probes"),
     "-fs_restart": (["/nonexistent.h5"], "/nonexistent.h5"),

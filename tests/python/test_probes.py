@@ -11,6 +11,7 @@ Standing wave (h/dx = 20, to two periods): the gauge at x = 0 fitted with A exp(
 theory, offset c = -0.09 dx (the gauges at walls read about 0.1 dx low).
 """
 import os
+import re
 
 import numpy as np
 import pytest
@@ -125,7 +126,12 @@ def test_three_dimensional_probe_and_gauge(tmp_path):
     ("probe a 0.1 0.01\nprobe b 0.1\n", 2, "expected \"probe NAME x y [diameter D] [cutoff HZ]"),
     ("probe a 0.1 0.01\n\n# c\nprobe a 0.1 0.02\n", 4, "duplicate name \"a\""),
     ("gauge g 0.1 0.0 0.1 0.0\n", 1, "zero length"),
-    ("probe far 0.5 0.01\n", 1, "outside the domain"),
+    ("probe far 0.5 0.01\n", 1, "outside the domain: its x = 0.5 is not in"),
+    ("probe a 0.1 0.01\nprobe high 0.1 0.02 0.07\n", 2, "expected \"probe NAME x y [diameter D]"),
+    ("probe a 0.1 0.01\nprobe lid 0.1 0.07\n", 2, "probe \"lid\" at (0.1, 0.07) is not in the liquid region: it lies "
+                                                  "outside the tank's walls (their bounding box); the nearest wall, "
+                                                  "\"tank\", is 0.01 m away"),
+    ("gauge g 0.1 0.01 0.1 0.075\n", 1, "gauge \"g\" (its end) at (0.1, 0.075) is not in the liquid region"),
     ("gauge g 0 0 0\n", 1, "expected \"gauge NAME x0 y0 x1 y1\""),
     ("sensor s 0 0\n", 1, "unknown item \"sensor\""),
     ("probe a 0.1 0.01 diameter -1\n", 1, "a positive diameter"),
@@ -136,6 +142,64 @@ def test_bad_probe_files(tmp_path, text, line, what):
                          check=False)
     assert proc.returncode != 0
     assert f"bad.txt:{line}:" in proc.stdout and what in proc.stdout, proc.stdout[-2000:]
+
+
+BAFFLED = ["-fs_case", "tank", "-fs_tank_shape", "baffled", "-fs_tank_compartments", 2, "-ts_max_steps", 0,
+           "-fs_output_interval", 0, "-fs_output_dir", "out"]
+
+
+@pytest.mark.parametrize("dx,text,what", [
+    # the baffle of the 2-compartment tank spans x = 0.1 .. 0.105, up to 0.045
+    (0.003, "probe inrib 0.1025 0.01\n", "probe \"inrib\" at (0.1025, 0.01) is not in the liquid region: it lies beyond "
+                                         "the tank's walls or inside a wall's thickness"),
+    (0.012, "probe inrib 0.1025 0.01\n", "probe \"inrib\" lies inside the thickness of a wall, within dx/2 = 0.006 of "
+                                         "two opposite faces"),
+])
+def test_probe_inside_a_baffle_is_an_error(tmp_path, dx, text, what):
+    """A probe inside a baffle's thickness read 0 Pa or a mix of both compartments: an error naming the line."""
+    (tmp_path / "p.txt").write_text("probe ok 0.05 0.01\n" + text)
+    proc = run_flexslosh(BAFFLED + ["-fs_dx", dx, "-fs_probes", "p.txt"], cwd=tmp_path, check=False)
+    assert proc.returncode != 0
+    assert "p.txt:2: " + what in proc.stdout, proc.stdout[-2000:]
+
+
+def test_wall_probe_reads_its_own_side_of_a_baffle(tmp_path):
+    """Liquid 0.03 m deep left of the baffle, 0.01 m right of it: a probe with a diameter on each face of the baffle
+    averages the wall pressure of its own face only (the baffle's back faces the other compartment): the means of
+    rho g (H - y) over the face y in [0, 0.015] (220.7 Pa left; 32.7 Pa right, where the face is wetted up to 0.01),
+    measured 220.7 and 32.1 Pa. Before, both read a mix of the two (159.9 and 132.2 Pa). A probe on a wall without a diameter is warned about, with its element's size."""
+    (tmp_path / "p.txt").write_text("probe left 0.1 0.005 diameter 0.02\nprobe right 0.105 0.005 diameter 0.02\n"
+                                    "probe bare 0.1 0.005\n")
+    proc = run_flexslosh(BAFFLED + ["-fs_dx", DX, "-fs_probes", "p.txt", "-fs_liquid_box",
+                                    "0,0.1,0,0.03,0.105,0.205,0,0.01"], cwd=tmp_path)
+    P = read_probes(tmp_path / "out")
+    assert P["left_pressure[Pa]"][0] == pytest.approx(RHO0 * G * (0.03 - 0.0075), rel=0.01)
+    # right: wetted up to 0.01 of the face's 0.015, dry above
+    assert abs(P["right_pressure[Pa]"][0] - RHO0 * G * 0.01**2 / 2 / 0.015) < 0.005 * RHO0 * G * 0.03
+    assert P["bare_pressure[Pa]"][0] == pytest.approx(RHO0 * G * (0.03 - 0.005), rel=0.03)
+    assert re.search(r"Warning: p\.txt: 1 probe\(s\) on a wall without a diameter \(the first: \"bare\", line 3\): "
+                     r"each reads the wall pressure of its nearest wall element alone, on average a segment 0\.00\d+ m "
+                     r"long \(1 dx\)", proc.stdout), proc.stdout[-2000:]
+
+
+def test_probe_inside_an_stl_obstacle_is_an_error(tmp_path):
+    """3-D: a probe inside a post standing in an STL tank (a solid of its own) or outside the tank's box."""
+    from test_walls_3d import ascii_stl, box_facets
+    (tmp_path / "t.stl").write_text(ascii_stl({"tank": box_facets((0, 0, 0), (0.06, 0.06, 0.03)),
+                                               "post": box_facets((0.025, 0.01, 0.01), (0.035, 0.05, 0.02))}))
+    args = ["-fs_case", "tank", "-fs_dim", 3, "-fs_tank_shape", "stl", "-fs_tank_stl", "t.stl", "-fs_dx", 0.005,
+            "-ts_max_steps", 0, "-fs_output_interval", 0, "-fs_output_dir", "out", "-fs_probes", "p.txt"]
+    for text, what in (("probe inpost 0.03 0.02 0.015\n", "probe \"inpost\" at (0.03, 0.02, 0.015) is not in the liquid "
+                                                          "region: it lies beyond the tank's walls or inside a wall's "
+                                                          "thickness (a baffle, a rib, an obstacle); the nearest wall, "
+                                                          "\"post\", is 0.005 m away"),
+                       ("probe out 0.03 0.02 0.04\n", "probe \"out\" at (0.03, 0.02, 0.04) is not in the liquid region: "
+                                                      "it lies outside the tank's walls")):
+        (tmp_path / "p.txt").write_text("probe fine 0.01 0.01 0.015\n" + text)
+        proc = run_flexslosh(args, cwd=tmp_path, check=False)
+        assert proc.returncode != 0 and "p.txt:2: " + what in proc.stdout, proc.stdout[-2000:]
+    (tmp_path / "p.txt").write_text("probe fine 0.01 0.01 0.015\nprobe face 0.025 0.02 0.015 diameter 0.006\n")
+    run_flexslosh(args, cwd=tmp_path)
 
 
 def test_python_probes_equal_the_csv(tmp_path):

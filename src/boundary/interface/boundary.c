@@ -630,6 +630,29 @@ PetscErrorCode FSBoundaryShepardAt(FSBoundary b, const PetscReal x[], PetscReal 
   PetscFunctionReturn(0);
 }
 
+/*
+   FSBoundaryLocate - where the point x lies with respect to the walls: inliquid, whether it is in the
+   liquid region (inside the container's closed walls and outside every wall's solid: an obstacle, a
+   baffle's thickness; the test of the leak check), the nearest wall (-1: none) and the distance to it.
+
+   Not collective
+
+   Notes:
+   A method without the op says every point is in the liquid (wall -1, distance PETSC_MAX_REAL).
+*/
+PetscErrorCode FSBoundaryLocate(FSBoundary b, const PetscReal x[], PetscBool *inliquid, PetscInt *wall,
+                                PetscReal *distance)
+{
+  PetscFunctionBegin;
+  PetscCheck(b->setupcalled, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_WRONGSTATE,
+             "FSBoundaryLocate(): call FSBoundarySetUp() first");
+  *inliquid = PETSC_TRUE;
+  *wall     = -1;
+  *distance = PETSC_MAX_REAL;
+  if (b->ops->locate) PetscCall((*b->ops->locate)(b, x, inliquid, wall, distance));
+  PetscFunctionReturn(0);
+}
+
 /* FSBoundaryGetBoundingBox - the box around every wall (dim values each). Not collective. */
 PetscErrorCode FSBoundaryGetBoundingBox(FSBoundary b, PetscReal lo[], PetscReal hi[])
 {

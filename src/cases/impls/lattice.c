@@ -29,7 +29,7 @@ PetscErrorCode FSLatticeCreate(FSSolver s, const PetscReal lo[], const PetscReal
     PetscCall(PetscSNPrintf(region, sizeof(region), "The periodic box %g x %g x %g", (double)len[0], (double)len[1],
                             (double)len[2]));
   else PetscCall(PetscSNPrintf(region, sizeof(region), "The periodic box %g x %g", (double)len[0], (double)len[1]));
-  PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), dx, FSLatticeCount(dim, len, dx), region));
+  PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), dim, dx, FSLatticeCount(dim, len, dx), region, NULL));
   for (PetscInt d = 0; d < dim; d++) {
     nc[d] = (PetscInt)PetscFloorReal((hi[d] - lo[d]) / dx + 0.5);
     PetscCheck(nc[d] >= 1, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,

@@ -67,7 +67,7 @@ static PetscErrorCode LatticeSizeCheck(FSSolver s, const FSWalls *w, PetscReal x
   PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
   PetscCall(PetscSNPrintf(region, sizeof(region), "%s: the liquid region %g x %g (walls: %s)", what, (double)len[0],
                           (double)len[1], w->npoly ? w->where[0] : "none"));
-  PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), dx, FSLatticeCount(2, len, dx), region));
+  PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), 2, dx, FSLatticeCount(2, len, dx), region, NULL));
   PetscFunctionReturn(0);
 }
 

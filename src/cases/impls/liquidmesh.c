@@ -1,5 +1,6 @@
 /* Set-up shared by the 3-D cases with walls: a body of liquid on a lattice in a triangle-mesh tank, hydrostatic,
  * at rest or with a given velocity field. */
+#include <strings.h>
 #include <flexslosh.h>
 #include "boundary/fsboundary.h"
 #include "liquid.h"
@@ -71,19 +72,26 @@ static PetscErrorCode MeshGive(FSSolver s, FSMesh *m)
   PetscFunctionReturn(0);
 }
 
-/* the lattice's points in lo..hi checked before anything is allocated (FSCheckParticleCount) */
+/* the particles of the liquid of m in lo..hi checked before anything is allocated (FSCheckParticleCount): their
+   count from the liquid's exact volume vol over dx^3 (a tank much smaller than its bounding box is not refused for
+   its box), with the advice on the unit of an STL file (-fs_tank_stl_scale) where the walls come from one */
 static PetscErrorCode MeshSizeCheck(FSSolver s, const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
-                                    const char what[])
+                                    PetscReal vol, const char what[])
 {
   const PetscReal len[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
   PetscReal       dx;
   char            region[256 + PETSC_MAX_PATH_LEN];
+  const char     *src = m->nwalls ? m->source[0] : "none", *ext = strrchr(src, '.');
+  const PetscBool stl = (PetscBool)(ext && !strcasecmp(ext, ".stl"));
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
-  PetscCall(PetscSNPrintf(region, sizeof(region), "%s: the liquid region %g x %g x %g (walls: %s)", what,
-                          (double)len[0], (double)len[1], (double)len[2], m->nwalls ? m->source[0] : "none"));
-  PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), dx, FSLatticeCount(3, len, dx), region));
+  PetscCall(PetscSNPrintf(region, sizeof(region), "%s: the liquid region %g x %g x %g, %.4g m^3 of liquid (walls: %s)",
+                          what, (double)len[0], (double)len[1], (double)len[2], (double)vol, src));
+  PetscCall(FSCheckParticleCount(PetscObjectComm((PetscObject)s), 3, dx, (double)vol / ((double)dx * dx * dx), region,
+                                 stl ? "check the STL file's unit: its coordinates are read in metres "
+                                       "(-fs_tank_stl_scale mm for a file in millimetres)"
+                                     : NULL));
   PetscFunctionReturn(0);
 }
 
@@ -103,8 +111,8 @@ static void MeshExactMass(const FSMesh *m, const PetscReal lo[3], const PetscRea
 /* this rank's rows of the lattice in the liquid region of m inside lo..hi (hi[1] the surface), points closer to a
    wall than margin times the spacing left out: positions, hydrostatic densities and masses (allocated here) */
 static PetscErrorCode MeshLatticePoints(FSSolver s, const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
-                                        const char what[], PetscReal margin, PetscInt *np, PetscReal **xp,
-                                        PetscReal **rhop, PetscReal **mp)
+                                        PetscReal vol, const char what[], PetscReal margin, PetscInt *np,
+                                        PetscReal **xp, PetscReal **rhop, PetscReal **mp)
 {
   MPI_Comm    comm = PetscObjectComm((PetscObject)s);
   PetscReal  *x, *rho, *mass, g[3], gmag, dx, rho0, c0, hy, hz, *cross;
@@ -115,7 +123,7 @@ static PetscErrorCode MeshLatticePoints(FSSolver s, const FSMesh *m, const Petsc
   PetscFunctionBegin;
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, &dx, NULL, &rho0, &c0, NULL));
-  PetscCall(MeshSizeCheck(s, m, lo, hi, what)); /* before the counts are converted to PetscInt */
+  PetscCall(MeshSizeCheck(s, m, lo, hi, vol, what)); /* before the counts are converted to PetscInt */
   gmag  = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
   ny    = (PetscInt)((hi[1] - lo[1]) / dx + 0.5);
   nz    = (PetscInt)((hi[2] - lo[2]) / dx + 0.5);
@@ -203,14 +211,14 @@ static PetscErrorCode MeshLattice(FSSolver s, FSMesh *m, const PetscReal lo[3], 
   PetscCall(FSSolverGetFillPacking(s, &pk));
   gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
   MeshExactMass(m, lo, hi, rho0, gmag / (c0 * c0), &vol, &exact);
-  PetscCall(MeshLatticePoints(s, m, lo, hi, what, 0.499, &n, &x, &rho, &mass));
+  PetscCall(MeshLatticePoints(s, m, lo, hi, vol, what, 0.499, &n, &x, &rho, &mass));
   PetscCall(FSCaseLatticeFits(s, pk.type, FSMeshAlongAxes(m), exact, n, mass, &relax));
   if (relax) { /* from the lattice of every point inside, relaxed */
     FSPackRegion region;
     PetscReal    dx, h;
     PetscCall(PetscFree3(x, rho, mass));
     PetscCall(FSSolverGetParameters(s, &dx, &h, NULL, NULL, NULL));
-    PetscCall(MeshLatticePoints(s, m, lo, hi, what, 0, &n, &x, &rho, &mass));
+    PetscCall(MeshLatticePoints(s, m, lo, hi, vol, what, 0, &n, &x, &rho, &mass));
     PetscCall(FSPackRegionFromMesh(&region, m, lo, hi, dx, h));
     PetscCall(FSCasePackRelax(s, &region, vol, n, x, what));
     PetscCall(FSPackRegionDestroy(&region));

@@ -12,7 +12,12 @@
                   liquid at rest quiet with -fs_walls_visibility all (measured: docs/walls.md).
      file:        -fs_tank_file <path> in the polyline format of docs/walls.md (2-D).
      stl:         -fs_tank_stl <path>[,<path>...]: closed triangle meshes (3-D), every solid of a file a
-                  named wall part (docs/walls.md).
+                  named wall part (docs/walls.md). Their vertices are moved once, as read, to
+                  R (scale x) + shift: -fs_tank_stl_scale (the metres a unit of the files: a number, or m,
+                  cm, mm, in), -fs_tank_stl_rotate ax,ay,az (degrees about x, then y, then z, fixed axes)
+                  and -fs_tank_stl_translate x,y,z (metres); everything downstream (walls, fill, probes)
+                  sees the moved mesh. A tank over 50 m across, or over 20 m at more than 1000
+                  spacings, is warned about as a file in millimetres read as metres.
    In 3-D (-fs_dim 3) the rectangular and baffled tanks are their 2-D outlines extruded across
    -fs_tank_width (0.1 m) along z: the 2-D cases are their cross-sections.
    The liquid fills the tank up to -fs_fill (fraction of the tank height, 0.5), or the boxes given by
@@ -24,6 +29,8 @@
    0 % point of a fill sweep.
    Defaults: rho0 = 1000, c0 = 20 m/s and h/dx = 2 (seed), nu = 1e-6, g = 9.81 down, dx = H/30.
 */
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 #include <flexslosh.h>
 #include "liquid.h"
@@ -38,7 +45,25 @@ typedef struct {
   PetscInt  ncomp, dim;
   PetscReal box[6 * FS_TANK_MAX_BOXES]; /* -fs_liquid_box: 2 dim reals per box */
   PetscInt  nbox;
+  char      stlunit[64];                      /* -fs_tank_stl_scale as given */
+  PetscReal stlscale, stlrot[3], stlshift[3]; /* -fs_tank_stl_scale (in metres a unit), _rotate, _translate */
 } Tank;
+
+/* -fs_tank_stl_scale: a unit's name or a positive number of metres a unit of the files, or 0 if it is neither */
+static PetscReal STLScale(const char unit[])
+{
+  static const struct {
+    const char *name;
+    PetscReal   metres;
+  } units[] = {{"m", 1}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}};
+  char  *end;
+  double v;
+
+  for (size_t k = 0; k < sizeof(units) / sizeof(units[0]); k++)
+    if (!strcmp(unit, units[k].name)) return units[k].metres;
+  v = strtod(unit, &end);
+  return end != unit && !*end && isfinite(v) && v > 0 ? (PetscReal)v : 0;
+}
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
@@ -47,7 +72,8 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscBool rect, baff, file, stl, stlset, fillset, boxset;
   PetscInt  nboxv;
   char     *stlfiles[9];
-  PetscInt  nstl = 9;
+  PetscInt  nstl = 9, nrot, nshift;
+  PetscBool rotset, shiftset;
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetCaseData(s, &tk));
@@ -76,6 +102,18 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscCall(PetscOptionsStringArray("-fs_tank_stl",
                                     "STL files of a 3-D tank (closed meshes; each solid a named wall part)", "",
                                     stlfiles, &nstl, &stlset));
+  PetscCall(PetscOptionsString(
+      "-fs_tank_stl_scale", "The metres a unit of the STL files: m, cm, mm, in, or a positive number (applied first)",
+      "", tk->stlunit, tk->stlunit, sizeof(tk->stlunit), NULL));
+  nrot = 3;
+  PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_tank_stl_rotate",
+                               "Rotation of the STL tank in degrees about x, then y, then z (fixed axes; after the "
+                               "scale)",
+                               "", tk->stlrot, &nrot, &rotset, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
+  nshift = 3;
+  PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_tank_stl_translate",
+                               "Translation of the STL tank in metres x,y,z (after the scale and the rotation)", "",
+                               tk->stlshift, &nshift, &shiftset, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_tank_width",
                           "Width of the 3-D rectangular and baffled tanks (along z)", "", &tk->width, NULL, 0,
                           PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
@@ -96,6 +134,15 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
       PetscCall(PetscFree(stlfiles[f]));
     }
   }
+  tk->stlscale = STLScale(tk->stlunit);
+  PetscCheck(tk->stlscale > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_tank_stl_scale %s is not a scale: expected the unit of the STL files' coordinates, m, cm, mm or in, "
+             "or the metres a unit as a positive number (0.001 for millimetres)",
+             tk->stlunit);
+  PetscCheck(!rotset || nrot == 3, PETSC_COMM_WORLD, PETSC_ERR_ARG_SIZ,
+             "-fs_tank_stl_rotate gives %" PetscInt_FMT " numbers: expected 3, the degrees about x, y and z", nrot);
+  PetscCheck(!shiftset || nshift == 3, PETSC_COMM_WORLD, PETSC_ERR_ARG_SIZ,
+             "-fs_tank_stl_translate gives %" PetscInt_FMT " numbers: expected 3, the metres along x, y and z", nshift);
   PetscCall(PetscStrcmp(tk->shape, "rectangular", &rect));
   PetscCall(PetscStrcmp(tk->shape, "baffled", &baff));
   PetscCall(PetscStrcmp(tk->shape, "file", &file));
@@ -133,14 +180,51 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
   PetscFunctionReturn(0);
 }
 
-/* the 3-D tank's mesh: its 2-D outline w extruded across the width, or the STL files */
+/* the STL files' vertices moved by -fs_tank_stl_scale, _rotate, _translate (when given), the bounding box before and
+   after printed; a tank that looks like millimetres read as metres warned about */
+static PetscErrorCode TankMeshTransform(FSSolver s, Tank *tk, FSMesh *m)
+{
+  MPI_Comm        comm  = PetscObjectComm((PetscObject)s);
+  const PetscBool moved = (PetscBool)(tk->stlscale != 1 || tk->stlrot[0] != 0 || tk->stlrot[1] != 0 ||
+                                      tk->stlrot[2] != 0 || tk->stlshift[0] != 0 || tk->stlshift[1] != 0 ||
+                                      tk->stlshift[2] != 0);
+  PetscReal       lo[3], hi[3], size = 0, dx;
+
+  PetscFunctionBegin;
+  FSMeshVertexBox(m, lo, hi);
+  if (moved) {
+    PetscCall(PetscPrintf(comm, "STL tank %s%s: bounding box [%g, %g] x [%g, %g] x [%g, %g] as read; ", tk->stl[0],
+                          tk->nstl > 1 ? ",..." : "", (double)lo[0], (double)hi[0], (double)lo[1], (double)hi[1],
+                          (double)lo[2], (double)hi[2]));
+    FSMeshTransform(m, tk->stlscale, tk->stlrot, tk->stlshift);
+    FSMeshVertexBox(m, lo, hi);
+    PetscCall(PetscPrintf(comm,
+                          "[%g, %g] x [%g, %g] x [%g, %g] m after -fs_tank_stl_scale %s (x %g), -fs_tank_stl_rotate "
+                          "%g,%g,%g, -fs_tank_stl_translate %g,%g,%g\n",
+                          (double)lo[0], (double)hi[0], (double)lo[1], (double)hi[1], (double)lo[2], (double)hi[2],
+                          tk->stlunit, (double)tk->stlscale, (double)tk->stlrot[0], (double)tk->stlrot[1],
+                          (double)tk->stlrot[2], (double)tk->stlshift[0], (double)tk->stlshift[1],
+                          (double)tk->stlshift[2]));
+  }
+  PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
+  for (PetscInt d = 0; d < 3; d++) size = PetscMax(size, hi[d] - lo[d]);
+  if (size > 50 || (size > 20 && size > 1000 * dx))
+    PetscCall(PetscPrintf(comm,
+                          "Warning: the STL tank %s is %g m across (%g spacings of -fs_dx %g): a file in millimetres "
+                          "read as metres? Its coordinates are taken in metres: -fs_tank_stl_scale mm (or cm, in, a "
+                          "factor) converts them\n",
+                          tk->stl[0], (double)size, (double)(size / dx), (double)dx));
+  PetscFunctionReturn(0);
+}
+
+/* the 3-D tank's mesh: its 2-D outline w extruded across the width, or the STL files (moved as the options say) */
 static PetscErrorCode TankMesh(FSSolver s, Tank *tk, PetscBool stl, FSWalls *w, FSMesh *m)
 {
   MPI_Comm comm = PetscObjectComm((PetscObject)s);
 
   PetscFunctionBegin;
   PetscCall(FSMeshCreate(m));
-  if (stl)
+  if (stl) {
     for (PetscInt f = 0; f < tk->nstl; f++) {
       char        name[64];
       const char *base = strrchr(tk->stl[f], '/') ? strrchr(tk->stl[f], '/') + 1 : tk->stl[f];
@@ -149,7 +233,8 @@ static PetscErrorCode TankMesh(FSSolver s, Tank *tk, PetscBool stl, FSWalls *w, 
       if ((dot = strrchr(name, '.'))) *dot = 0; /* the file's name without its extension names unnamed solids */
       PetscCall(FSMeshLoadSTL(m, comm, tk->stl[f], name));
     }
-  else {
+    PetscCall(TankMeshTransform(s, tk, m));
+  } else {
     PetscCall(FSWallsCheck(w, comm));
     PetscCall(FSMeshExtrude(m, comm, w, tk->width));
   }
@@ -236,6 +321,8 @@ PETSC_EXTERN PetscErrorCode FSCaseCreate_Tank(FSSolver s, FSCaseOps *ops)
   tk->hb    = 0.045;
   tk->fill  = 0.5;
   tk->width = 0.1;
+  PetscCall(PetscStrncpy(tk->stlunit, "m", sizeof(tk->stlunit)));
+  tk->stlscale = 1;
   PetscCall(FSSolverSetCaseData(s, tk));
   ops->setfromoptions = SetFromOptions;
   ops->setup          = SetUp;

@@ -20,7 +20,7 @@ static PetscErrorCode ExpectError(double count, const char *must[])
   PetscErrorCode ierr;
 
   PetscFunctionBegin;
-  FS_TEST_CAPTURE(FSCheckParticleCount(PETSC_COMM_SELF, 0.001, count, "the box"), e, ierr);
+  FS_TEST_CAPTURE(FSCheckParticleCount(PETSC_COMM_SELF, 3, 0.001, count, "the box", NULL), e, ierr);
   CHECK(ierr == PETSC_ERR_ARG_OUTOFRANGE, "%g particles must be an error", count);
   for (PetscInt k = 0; must[k]; k++)
     CHECK(strstr(e.text, must[k]), "the error must say \"%s\": \"%s\"", must[k], e.text);
@@ -39,25 +39,35 @@ int main(int argc, char **argv)
   CHECK(FSLatticeCount(3, big, 0.001) == 4100.0 * 1024 * 1024, "%g points", FSLatticeCount(3, big, 0.001));
   CHECK(FSLatticeCount(3, thin, 0.1) == 100, "a side below dx counts 1: %g points", FSLatticeCount(3, thin, 0.1));
 
-  CHECK(FSParticleCountFits(1000, 1, 0, &bytes) == FS_SIZE_FITS && bytes == 1000 * FS_PARTICLE_BYTES, "1000 fit");
-  CHECK(FSParticleCountFits(1000, 1, 2e6, &bytes) == FS_SIZE_FITS, "1000 fit in 2 MB");
-  CHECK(FSParticleCountFits(1000, 1, 1e6, &bytes) == FS_SIZE_MEMORY, "1000 do not fit in 1 MB");
-  CHECK(FSParticleCountFits(2000, 2, 1.5e6, &bytes) == FS_SIZE_FITS && bytes == 1000 * FS_PARTICLE_BYTES,
+  CHECK(FSParticleCountFits(1000, 1, FS_PARTICLE_BYTES, 0, &bytes) == FS_SIZE_FITS && bytes == 1000 * FS_PARTICLE_BYTES,
+        "1000 fit");
+  CHECK(FSParticleCountFits(1000, 1, FS_PARTICLE_BYTES, 2e6, &bytes) == FS_SIZE_FITS, "1000 fit in 2 MB");
+  CHECK(FSParticleCountFits(1000, 1, FS_PARTICLE_BYTES, 1e6, &bytes) == FS_SIZE_MEMORY, "1000 do not fit in 1 MB");
+  CHECK(FSParticleCountFits(2000, 2, FS_PARTICLE_BYTES, 1.5e6, &bytes) == FS_SIZE_FITS &&
+            bytes == 1000 * FS_PARTICLE_BYTES,
         "2000 on 2 ranks fit in 1.5 MB a rank");
-  CHECK(FSParticleCountFits(PETSC_MAX_INT, 1000, 0, &bytes) == FS_SIZE_INDEX, "the ids reach PETSC_MAX_INT");
-  CHECK(FSParticleCountFits(4100.0 * 1024 * 1024, 1, 0, &bytes) == FS_SIZE_INDEX, "the ids overflow");
-  CHECK(FSParticleCountFits(PETSC_MAX_INT / 8.0, 1, 0, &bytes) == FS_SIZE_INDEX, "a rank's records overflow");
-  CHECK(FSParticleCountFits(PETSC_MAX_INT / 8.0, 8, 0, &bytes) == FS_SIZE_FITS, "8 ranks share them");
-  CHECK(FSParticleCountFits(NAN, 1, 0, &bytes) == FS_SIZE_INDEX, "NaN is no count");
+  CHECK(FSParticleCountFits(PETSC_MAX_INT, 1000, FS_PARTICLE_BYTES, 0, &bytes) == FS_SIZE_INDEX,
+        "the ids reach PETSC_MAX_INT");
+  CHECK(FSParticleCountFits(4100.0 * 1024 * 1024, 1, FS_PARTICLE_BYTES, 0, &bytes) == FS_SIZE_INDEX,
+        "the ids overflow");
+  CHECK(FSParticleCountFits(PETSC_MAX_INT / 8.0, 1, FS_PARTICLE_BYTES, 0, &bytes) == FS_SIZE_INDEX,
+        "a rank's records overflow");
+  CHECK(FSParticleCountFits(PETSC_MAX_INT / 8.0, 8, FS_PARTICLE_BYTES, 0, &bytes) == FS_SIZE_FITS,
+        "8 ranks share them");
+  CHECK(FSParticleCountFits(NAN, 1, FS_PARTICLE_BYTES, 0, &bytes) == FS_SIZE_INDEX, "NaN is no count");
 
-  PetscCall(FSCheckParticleCount(PETSC_COMM_SELF, 0.001, 1000, "the box"));
+  PetscCall(FSCheckParticleCount(PETSC_COMM_SELF, 3, 0.001, 1000, "the box", NULL));
   {
     const char *must[] = {"the box: -fs_dx 0.001 would make 4.3e+09 particles", "GB", "use a coarser -fs_dx", NULL};
     PetscCall(ExpectError(4100.0 * 1024 * 1024, must));
   }
   {
-    const char *must[] = {"the box: -fs_dx 0.001 would make 1e+08 particles", "95.4 GB", "3.81 GB",
-                          "use a coarser -fs_dx or more ranks", NULL};
+    const char *must[] = {"the box: -fs_dx 0.001 would make 1e+08 particles",
+                          "186 GB",
+                          "2000 bytes a particle in 3-D",
+                          "3.81 GB",
+                          "use a coarser -fs_dx or more ranks",
+                          NULL};
     CHECK(!getrlimit(RLIMIT_AS, &saved), "getrlimit");
     four          = saved;
     four.rlim_cur = 4000000 * (rlim_t)1024;

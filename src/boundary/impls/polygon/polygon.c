@@ -353,6 +353,26 @@ static PetscErrorCode ShepardAt(FSBoundary b, const PetscReal x[], PetscReal *ga
   PetscFunctionReturn(0);
 }
 
+/* Locate - in the liquid region (the container polygon, outside the obstacles), the nearest segment's wall */
+static PetscErrorCode Locate(FSBoundary b, const PetscReal x[], PetscBool *inliquid, PetscInt *wall,
+                             PetscReal *distance)
+{
+  const FSWalls *w    = &((FSBoundary_Polygon *)b->data)->walls;
+  PetscReal      best = PETSC_MAX_REAL;
+
+  PetscFunctionBegin;
+  *inliquid = FSWallsInLiquid(w, x, 0);
+  for (PetscInt k = 0; k < w->nseg; k++) {
+    const PetscReal d2 = FSSegmentDistance2(&w->seg[k * FS_SEG_STRIDE], x);
+    if (d2 < best) {
+      best  = d2;
+      *wall = w->segwall[k];
+    }
+  }
+  *distance = PetscSqrtReal(best);
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode BoundingBox(FSBoundary b, PetscReal lo[], PetscReal hi[])
 {
   FSBoundary_Polygon *wd = (FSBoundary_Polygon *)b->data;
@@ -464,6 +484,7 @@ PetscErrorCode FSBoundaryCreate_Polygon(FSBoundary b)
   b->ops->bounce        = Bounce;
   b->ops->boundingbox   = BoundingBox;
   b->ops->shepard       = ShepardAt;
+  b->ops->locate        = Locate;
   b->ops->draw          = FSBoundaryDraw_Polygon;
   b->ops->writegeometry = FSBoundaryWriteGeometry_Polygon;
   b->ops->view          = View;

@@ -116,6 +116,68 @@ PetscErrorCode FSMeshAddVertex(FSMesh *m, const PetscReal x[3], PetscInt *v)
 }
 
 /*
+   FSMeshVertexBox - the bounding box lo..hi of the mesh's vertices as they are now (before FSMeshCheck,
+   which sets m->lo, m->hi); zeros for a mesh without vertices.
+
+   Not collective
+*/
+void FSMeshVertexBox(const FSMesh *m, PetscReal lo[3], PetscReal hi[3])
+{
+  for (PetscInt d = 0; d < 3; d++) lo[d] = hi[d] = m->nvert ? m->vert[d] : 0;
+  for (PetscInt v = 1; v < m->nvert; v++)
+    for (PetscInt d = 0; d < 3; d++) {
+      lo[d] = PetscMin(lo[d], m->vert[3 * v + d]);
+      hi[d] = PetscMax(hi[d], m->vert[3 * v + d]);
+    }
+}
+
+/* cos and sin of deg degrees, exact at the multiples of 90 (an STL rotated by a quarter turn keeps its faces along
+   the axes, which the fills and the walls' checks see exactly) */
+static void CosSinDegrees(PetscReal deg, PetscReal *c, PetscReal *s)
+{
+  const PetscReal q = deg / 90;
+  if (q == PetscFloorReal(q) && PetscAbsReal(q) < 1e9) {
+    const long k = ((long)q % 4 + 4) % 4;
+    *c           = k == 0 ? 1 : k == 2 ? -1 : 0;
+    *s           = k == 1 ? 1 : k == 3 ? -1 : 0;
+  } else {
+    *c = PetscCosReal(deg * PETSC_PI / 180);
+    *s = PetscSinReal(deg * PETSC_PI / 180);
+  }
+}
+
+/*
+   FSMeshTransform - moves every vertex x of the mesh to R (scale x) + shift, R the rotation by rot[0]
+   degrees about the x axis, then rot[1] about the y axis, then rot[2] about the z axis (the axes fixed:
+   R = Rz Ry Rx; right-hand rule, a positive angle counter-clockwise seen from the axis's tip). A positive
+   scale and a rotation keep the triangles' orientation. The mesh must be checked again (FSMeshCheck).
+
+   Not collective
+*/
+void FSMeshTransform(FSMesh *m, PetscReal scale, const PetscReal rot[3], const PetscReal shift[3])
+{
+  PetscReal c[3], s[3], R[9];
+
+  for (PetscInt a = 0; a < 3; a++) CosSinDegrees(rot[a], &c[a], &s[a]);
+  /* Rz Ry Rx, written out */
+  R[0] = c[2] * c[1];
+  R[1] = c[2] * s[1] * s[0] - s[2] * c[0];
+  R[2] = c[2] * s[1] * c[0] + s[2] * s[0];
+  R[3] = s[2] * c[1];
+  R[4] = s[2] * s[1] * s[0] + c[2] * c[0];
+  R[5] = s[2] * s[1] * c[0] - c[2] * s[0];
+  R[6] = -s[1];
+  R[7] = c[1] * s[0];
+  R[8] = c[1] * c[0];
+  for (PetscInt v = 0; v < m->nvert; v++) {
+    PetscReal *x = &m->vert[3 * v], y[3];
+    for (PetscInt i = 0; i < 3; i++) y[i] = scale * (R[3 * i] * x[0] + R[3 * i + 1] * x[1] + R[3 * i + 2] * x[2]);
+    for (PetscInt i = 0; i < 3; i++) x[i] = y[i] + shift[i];
+  }
+  m->checked = PETSC_FALSE;
+}
+
+/*
    FSMeshAddTriangle - appends the triangle (a, b, c) (vertex indices; its normal (b - a) x (c - a)
    points out of the liquid) to the wall part wall; src is its number in its source (0-based), for
    error messages.

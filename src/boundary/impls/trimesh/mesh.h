@@ -64,6 +64,10 @@ PETSC_INTERN PetscErrorCode FSMeshExtrude(FSMesh *, MPI_Comm, const FSWalls *, P
 /* STL, ASCII or binary (told apart by content): every solid of the file a wall part, named by its solid
    name (ASCII) or by `name` (binary, or an unnamed solid); rank 0 reads, all ranks get the triangles */
 PETSC_INTERN PetscErrorCode FSMeshLoadSTL(FSMesh *, MPI_Comm, const char path[], const char name[]);
+/* the vertices' bounding box as they are (before FSMeshCheck); every vertex x moved to R (scale x) + shift, R the
+   rotation by rot[0] degrees about x, then rot[1] about y, then rot[2] about z (fixed axes: R = Rz Ry Rx) */
+PETSC_INTERN void FSMeshVertexBox(const FSMesh *, PetscReal lo[3], PetscReal hi[3]);
+PETSC_INTERN void FSMeshTransform(FSMesh *, PetscReal scale, const PetscReal rot[3], const PetscReal shift[3]);
 
 /* the checks before a run, once (again only after vertices or triangles were added; each failure an
    error naming the file and the triangle): no degenerate triangle, every edge shared by exactly two

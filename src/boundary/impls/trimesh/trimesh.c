@@ -492,6 +492,27 @@ static PetscErrorCode ShepardAt(FSBoundary b, const PetscReal x[], PetscReal *ga
   PetscFunctionReturn(0);
 }
 
+/* Locate - in the liquid region (the winding number of the input triangles), the nearest input triangle's wall */
+static PetscErrorCode Locate(FSBoundary b, const PetscReal x[], PetscBool *inliquid, PetscInt *wall,
+                             PetscReal *distance)
+{
+  const FSMesh *m    = &((FSBoundary_Trimesh *)b->data)->mesh;
+  PetscReal     best = PETSC_MAX_REAL;
+
+  PetscFunctionBegin;
+  *inliquid = FSMeshInLiquid(m, x, 0);
+  for (PetscInt t = 0; t < m->ntri; t++) {
+    const PetscReal d2 = FSTriangleDistance2(&m->vert[3 * m->tri[3 * t]], &m->vert[3 * m->tri[3 * t + 1]],
+                                             &m->vert[3 * m->tri[3 * t + 2]], x);
+    if (d2 < best) {
+      best  = d2;
+      *wall = m->triwall[t];
+    }
+  }
+  *distance = PetscSqrtReal(best);
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode BoundingBox(FSBoundary b, PetscReal lo[], PetscReal hi[])
 {
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
@@ -614,6 +635,7 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   b->ops->bounce         = Bounce;
   b->ops->boundingbox    = BoundingBox;
   b->ops->shepard        = ShepardAt;
+  b->ops->locate         = Locate;
   b->ops->draw           = FSBoundaryDraw_Trimesh;
   b->ops->writegeometry  = FSBoundaryWriteGeometry_Trimesh;
   b->ops->view           = View;
