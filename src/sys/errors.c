@@ -14,11 +14,13 @@
 
 /* the current error's report in this process */
 static struct {
-  PetscBool print;   /* this process prints it (rank 0 of the error's communicator) */
-  PetscBool located; /* its 'where' is out: a frame in flexslosh's sources (or a signal's, which has none) */
-  PetscBool printed; /* this process printed a report (FSErrorPrinted()) */
-  int       frame;   /* FSErrorTraceHandler()'s frame count */
-} fserr = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, 1};
+  PetscBool   print;   /* this process prints it (rank 0 of the error's communicator) */
+  PetscBool   located; /* its 'where' is out: a frame in flexslosh's sources (or a signal's, which has none) */
+  PetscBool   printed; /* this process printed a report (FSErrorPrinted()) */
+  int         frame;   /* FSErrorTraceHandler()'s frame count */
+  int         skipped; /* frames outside flexslosh's sources since the innermost one (PETSc's own calls) */
+  const char *outer;   /* the outermost of them (the PETSc function flexslosh called; a __func__, never freed) */
+} fserr = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, 1, 0, NULL};
 
 /* a frame in flexslosh's sources (the library, the program, the example plug-ins), not PETSc's or the system's */
 static PetscBool FSErrorOwnFile(const char *file)
@@ -93,6 +95,8 @@ PetscErrorCode FSErrorHandler(MPI_Comm comm, int line, const char *fun, const ch
     if (comm != MPI_COMM_NULL && comm != PETSC_COMM_SELF) MPI_Comm_rank(comm, &rank);
     fserr.print   = (PetscBool)(rank == 0);
     fserr.located = PETSC_FALSE;
+    fserr.skipped = 0;
+    fserr.outer   = NULL;
     if (!fserr.print) return n;
     fserr.printed = PETSC_TRUE;
     (void)PetscErrorMessage(n, &text, NULL);
@@ -110,7 +114,18 @@ PetscErrorCode FSErrorHandler(MPI_Comm comm, int line, const char *fun, const ch
       else (void)PetscSNPrintf(tail, sizeof(tail), " (PETSc error %d)", (int)n);
       FSErrorPrintFrame("in", line, fun, file, tail);
     }
-  } else if (fserr.print && !fserr.located) FSErrorPrintFrame("called from", line, fun, file, "");
+  } else if (fserr.print && !fserr.located) {
+    if (FSErrorOwnFile(file) || (fun && !strcmp(fun, "main"))) { /* the first of flexslosh's frames */
+      char tail[160] = "";
+      if (fserr.skipped && fserr.outer)
+        (void)PetscSNPrintf(tail, sizeof(tail), ", through %s()%s", fserr.outer,
+                            fserr.skipped > 1 ? " and PETSc's calls inside it" : "");
+      FSErrorPrintFrame("called from", line, fun, file, tail);
+    } else { /* PETSc's own frames between: counted, not printed */
+      fserr.skipped++;
+      fserr.outer = fun;
+    }
+  }
   return n;
 }
 
