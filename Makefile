@@ -5,15 +5,18 @@
 #   make validate  build, run every validation case and write docs/validation/README.md (long: hours on
 #               2 cores; not part of make test); CASES=a,b runs a subset, VALIDATE_FLAGS=--quick a smoke run
 #   make format clang-format the C sources
-# `make build` also makes the Python package in python/ importable by $(PYTHON) (scripts/install-python.sh).
+# `make build` also makes the Python package in python/ importable by this checkout's own Python, $(PYTHON): a
+# virtual environment in $(BUILD)/venv over /usr/bin/python3 and its Debian packages (scripts/install-python.sh);
+# nothing outside the checkout is written, so that two checkouts do not take over each other's `import flexslosh`.
 BUILD   ?= build
 JOBS    ?= 2
-PYTHON  ?= /usr/bin/python3
+VENV    := $(abspath $(BUILD))/venv
+PYTHON  ?= $(VENV)/bin/python3
 export OMPI_ALLOW_RUN_AS_ROOT=1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 export OMPI_MCA_rmaps_base_oversubscribe=1
 
-.PHONY: all deps build demo test test-c test-python bench validate format clean
+.PHONY: all deps build python demo test test-c test-python bench validate format clean
 
 all: build
 
@@ -23,7 +26,11 @@ deps:
 build: deps
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release
 	cmake --build $(BUILD) -j $(JOBS)
-	@PYTHON=$(PYTHON) bash scripts/install-python.sh
+	@VENV=$(VENV) bash scripts/install-python.sh
+
+# the Python environment alone (part of build)
+python:
+	@VENV=$(VENV) bash scripts/install-python.sh
 
 demo: build
 	@BUILD=$(BUILD) PYTHON=$(PYTHON) bash scripts/demo.sh

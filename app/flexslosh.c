@@ -22,9 +22,9 @@ static const char help[] =
    or of nesting deeper than FS_OPTIONS_FILE_DEPTH, to msg. It also refuses, by name, an options file that is a pipe,
    a socket or a device (`-options_file <(cat case.opts)`, `-options_file /dev/stdin`): PETSc 3.18 opens an options
    file twice, and the second read of a pipe finds it empty, so that its options were lost without a word and the
-   run went on as the default case; and a file that starts with a byte-order mark (FSTextByteOrderMark(): PETSc took
-   it for part of the first option, invisibly). A file that cannot be opened, or a directory, is left to PETSc,
-   which reports it.
+   run went on as the default case; a file that starts with a byte-order mark (FSTextByteOrderMark(): PETSc took
+   it for part of the first option, invisibly); and a file that does not exist (in one line, where PETSc printed its
+   full report). A file that cannot be opened otherwise, or a directory, is left to PETSc, which reports it.
 */
 #define FS_OPTIONS_FILE_DEPTH 16
 
@@ -54,6 +54,14 @@ static int OptionsFileCycle(const char *path, char real[][PATH_MAX], const char 
       (void)snprintf(msg + n, len - n,
                      ": PETSc reads an options file twice and would find the second read of it empty, losing its "
                      "options; write them to a file and give its name");
+    return 1;
+  }
+  if (stat(path, &sb) &&
+      !strpbrk(path, "$~")) { /* PETSc would report it in its full report ('$', '~': PETSc expands) */
+    size_t n = (size_t)snprintf(msg, len, "cannot read options file %s: %s", path, strerror(errno));
+    for (int d = 0; d < depth && n < len; d++)
+      n += (size_t)snprintf(msg + n, len - n, "%s-options_file %s", d ? " -> " : " (in ", given[d]);
+    if (depth && n < len) (void)snprintf(msg + n, len - n, ")");
     return 1;
   }
   if (!realpath(path, real[depth])) return 0;
@@ -136,14 +144,35 @@ static int OptionsFilesCheck(int argc, char **argv)
   return found;
 }
 
-int main(int argc, char **argv)
+/* -fs_output_name's default: the name of the last -options_file of the command line without its folder and suffix
+   (cases/dam_break.opts: dam_break), so that the default output directory, output/<name>-<time stamp>, says which
+   case file ran; the case's name without one */
+static PetscErrorCode OutputNameDefault(int argc, char **argv)
+{
+  const char *file = NULL, *slash;
+  char        name[64], *dot;
+  PetscBool   set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-fs_output_name", &set));
+  for (int a = 1; a + 1 < argc; a++)
+    if (!strcmp(argv[a], "-options_file")) file = argv[a + 1];
+  if (set || !file) PetscFunctionReturn(0);
+  slash = strrchr(file, '/');
+  PetscCall(PetscStrncpy(name, slash ? slash + 1 : file, sizeof(name)));
+  if ((dot = strrchr(name, '.')) && dot != name) *dot = 0;
+  if (name[0] && strcmp(name, ".") && strcmp(name, ".."))
+    PetscCall(PetscOptionsSetValue(NULL, "-fs_output_name", name));
+  PetscFunctionReturn(0);
+}
+
+/* the run: the solver set up from the options and solved, the options nothing used reported */
+static PetscErrorCode Run(void)
 {
   FSSolver  solver;
   PetscBool help_only; /* -help lists the options (the solver's, its terms', its cases' and its TS's) and stops */
 
   PetscFunctionBeginUser;
-  if (OptionsFilesCheck(argc, argv)) return PETSC_ERR_FILE_UNEXPECTED;
-  PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   PetscCall(FSCheckPlugins(PETSC_COMM_WORLD));
   PetscCall(FSSolverCreate(PETSC_COMM_WORLD, &solver));
   PetscCall(FSSolverSetFromOptions(solver));
@@ -155,6 +184,45 @@ int main(int argc, char **argv)
   }
   PetscCall(FSSolverDestroy(&solver));
   if (!help_only) PetscCall(FSOptionsLeft(PETSC_COMM_WORLD, 0, NULL)); /* a misspelt option: a warning */
-  PetscCall(PetscFinalize());
-  return 0;
+  PetscFunctionReturn(0);
+}
+
+/*
+   End - the program's end after an error, its report printed (FSErrorHandler(), or PETSc's with -fs_error_trace):
+   one process returns the error code (without MPI_Abort()'s notice of several lines); on several, MPI_Abort() ends
+   every rank, however far the others are (in a collective call that the failed rank never joins), at once on the
+   rank that printed the report and after two seconds on the others, so that another rank's abort does not cut the
+   report off. The exit status is the error code (1 if it does not fit in one).
+*/
+static int End(PetscErrorCode ierr)
+{
+  PetscMPIInt size   = 1;
+  int         status = ierr > 0 && ierr < 256 ? (int)ierr : 1;
+
+  (void)MPI_Comm_size(MPI_COMM_WORLD, &size);
+  if (size == 1) return status;
+  if (!FSErrorPrinted()) (void)PetscSleep(2.0);
+  (void)MPI_Abort(MPI_COMM_WORLD, status);
+  return status;
+}
+
+/*
+   main - the command line. An error prints a short report (FSErrorHandler(): what, where, the option for more);
+   -fs_error_trace prints PETSc's full report instead (an error inside PetscInitialize() prints it too, the handler
+   being pushed after).
+*/
+int main(int argc, char **argv)
+{
+  PetscErrorCode ierr;
+  PetscBool      trace = PETSC_FALSE;
+
+  if (OptionsFilesCheck(argc, argv)) return PETSC_ERR_FILE_UNEXPECTED;
+  ierr = PetscInitialize(&argc, &argv, NULL, help);
+  if (ierr) return End(ierr);
+  ierr = PetscOptionsGetBool(NULL, NULL, "-fs_error_trace", &trace, NULL);
+  if (!ierr && !trace) ierr = PetscPushErrorHandler(FSErrorHandler, NULL);
+  if (!ierr) ierr = OutputNameDefault(argc, argv);
+  if (!ierr) ierr = Run();
+  if (ierr) return End(ierr);
+  return (int)PetscFinalize();
 }

@@ -37,6 +37,9 @@ PETSC_EXTERN PetscErrorCode FSLoadPlugins(MPI_Comm);
 PETSC_EXTERN PetscErrorCode FSOptionsLeft(MPI_Comm, PetscInt, const char *const[]);
 PETSC_EXTERN PetscErrorCode FSErrorHandler(MPI_Comm, int, const char *, const char *, PetscErrorCode, PetscErrorType,
                                            const char *, void *);
+PETSC_EXTERN PetscErrorCode FSErrorTraceHandler(MPI_Comm, int, const char *, const char *, PetscErrorCode,
+                                                PetscErrorType, const char *, void *);
+PETSC_EXTERN PetscBool      FSErrorPrinted(void);
 
 /* ---------- options, checked where they are read (src/sys/options.c) ---------- */
 /* Which bounds of a real option's range are open; PETSC_NINFINITY and PETSC_INFINITY stand for no bound. */

@@ -142,7 +142,8 @@ static PetscErrorCode fs_py_options_copy_default(PetscOptions *options)
 /* -- the calls' context: a solver's options and the error handler -------------------------------------
    Each call into the C core for a solver runs with that solver's options database pushed as PETSc's
    default (PetscOptionsPush: every PetscOptionsGet...(NULL, ...) of the core and of PETSc reads it) and
-   FSErrorHandler pushed. fs_py_enter(options) pushes both and records them; fs_py_leave(depth) pops what
+   FSErrorHandler pushed (its short report; FSErrorTraceHandler, PETSc's full one, with -fs_error_trace in the
+   database). fs_py_enter(options) pushes both and records them; fs_py_leave(depth) pops what
    was recorded above depth (fs_py_depth() before the call), so a KeyboardInterrupt raised anywhere
    between Python's two calls leaves nothing pushed. A database already in force (a callback of the
    solver's own call calling the solver again) is not pushed again; one deeper in the stack (solver A's
@@ -177,7 +178,9 @@ static int fs_py_enter(PetscOptions options)
   PetscBool push = (PetscBool)(options && options != fs_py_current());
   if (fs_py_ndepth == FS_PY_MAX_DEPTH || (push && fs_py_entered(options))) return -1;
   if (push && PetscOptionsPush(options)) return -2;
-  if (PetscPushErrorHandler(FSErrorHandler, NULL)) {
+  PetscBool trace = PETSC_FALSE; /* -fs_error_trace: PETSc's full report of each error instead of the short one */
+  if (PetscOptionsGetBool(NULL, NULL, "-fs_error_trace", &trace, NULL) || /* the database now in force */
+      PetscPushErrorHandler(trace ? FSErrorTraceHandler : FSErrorHandler, NULL)) {
     if (push) (void)PetscOptionsPop();
     return -2;
   }

@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD="${BUILD:-build}"
-PYTHON="${PYTHON:-/usr/bin/python3}"
+PYTHON="${PYTHON:-$BUILD/venv/bin/python3}"  # the checkout's own (make build: scripts/install-python.sh)
 NP="${NP:-2}"
 out=output/demo
 mkdir -p "$out"

@@ -6,7 +6,7 @@ registered as "duffing" and run dry (-fs_case beam) next to the linear built-in 
 mass and stiffness: the hardening spring's period shortens with the amplitude, the damping per cycle
 shows it.
 
-    /usr/bin/python3 python/examples/custom_structure.py [--tiny] [--out DIR]
+    build/venv/bin/python3 python/examples/custom_structure.py [--tiny] [--out DIR]
 
 Options of the model: -duffing_w_ref (m, default 0.05); the mass, stiffness and damping come from the
 -fs_beam_* options as for msd.

@@ -1,8 +1,8 @@
 """Damping of the coupled rectangular tank on the beam against the fill level: a sweep of
 cases/coupled_rectangular.opts over -fs_fill, the damping ratio per cycle of the tip's free decay.
 
-    /usr/bin/python3 python/examples/fill_sweep.py [--tiny] [--out DIR]
-    mpirun -n 4 /usr/bin/python3 python/examples/fill_sweep.py     # the fills spread over the ranks
+    build/venv/bin/python3 python/examples/fill_sweep.py [--tiny] [--out DIR]
+    mpirun -n 4 build/venv/bin/python3 python/examples/fill_sweep.py     # the fills spread over the ranks
 
 Every fill carries the same payload (liquid + ballast, -fs_beam_payload_mass in the options file), so
 the difference between the fills is the liquid's sloshing. Writes <out>/damping.csv.

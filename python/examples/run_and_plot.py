@@ -1,6 +1,6 @@
 """Run a small dam break from Python and plot one particle field to a PNG.
 
-    /usr/bin/python3 python/examples/run_and_plot.py [--tiny] [--out DIR] [--field pressure]
+    build/venv/bin/python3 python/examples/run_and_plot.py [--tiny] [--out DIR] [--field pressure]
 
 The run is driven step by step through flexslosh.Solver; the field is gathered to rank 0 sorted by
 particle id (also under mpirun -n 2). The figures of the paper are flexslosh.figures' job: this

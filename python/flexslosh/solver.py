@@ -481,6 +481,9 @@ class Solver:
                     _set_into(core.PETSc.Options(), options)
             after = opts.getAll()
             self._mine = [k for k in after if before.get(k, _MISSING) != after[k]]
+            if options_file is not None and "fs_output_name" not in after:  # output/<file's name>-<time stamp>
+                with core.entered(self._opts[0]):
+                    core.PETSc.Options().setValue("-fs_output_name", Path(options_file).stem)
             core.call("FSLoadPlugins", self._ccomm, options=self._opts[0])  # a -dll_append: its terms and structures
             core.call("FSSolverCreate", self._ccomm, self._h, options=self._opts[0])
             # the -fs_ options of the file and the dict that nothing reads are an error, with the nearest names: here

@@ -3,6 +3,8 @@
    energy budget (energy.csv, src/coupling/energy.c),
    particle snapshots at the output interval, checkpoints, the progress line and the summary.
 */
+#include <errno.h>
+#include <sys/stat.h>
 #include "solver/solverimpl.h"
 
 #define FS_MAX_WALL_COLUMNS  16 /* walls whose loads go into the time series */
@@ -111,6 +113,49 @@ static PetscReal FSNextOutputTime(PetscReal t, PetscReal interval)
 }
 
 /*
+   FSSolverOutputDirChoose - without -fs_output_dir, makes the run's own directory: output/<name>-<time stamp> as
+   FSSolverSetFromOptions() named it, or with -2, -3, ... added when it exists (a run started in the same second),
+   made by rank 0 with mkdir(), which fails on an existing directory, so that two runs never share one; says where.
+   Nothing to do with -fs_output_dir, or once made.
+
+   Collective
+*/
+PetscErrorCode FSSolverOutputDirChoose(FSSolver s)
+{
+  MPI_Comm    comm = PetscObjectComm((PetscObject)s);
+  PetscMPIInt rank;
+  int         err = 0;
+  char        dir[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBegin;
+  if (!s->opt.outdir_auto || s->opt.outdir_taken) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(PetscStrncpy(dir, s->opt.outdir, sizeof(dir)));
+  if (!rank) {
+    char *slash = strrchr(dir, '/');
+    if (slash) { /* the parent, output/ */
+      *slash = 0;
+      if (mkdir(dir, S_IRWXU | S_IRWXG | S_IRWXO) && errno != EEXIST) err = errno;
+      *slash = '/';
+    }
+    for (int k = 2; !err && mkdir(dir, S_IRWXU | S_IRWXG | S_IRWXO); k++) {
+      if (errno != EEXIST || k > 1000) err = errno;
+      else PetscCall(PetscSNPrintf(dir, sizeof(dir), "%s-%d", s->opt.outdir, k));
+    }
+  }
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, comm));
+  PetscCheck(
+      !err, comm, PETSC_ERR_FILE_OPEN,
+      "Cannot make the output directory \"%s\" (the default, new for each run; -fs_output_dir gives another): %s", dir,
+      strerror(err));
+  PetscCallMPI(MPI_Bcast(dir, sizeof(dir), MPI_CHAR, 0, comm));
+  PetscCall(PetscStrncpy(s->opt.outdir, dir, sizeof(s->opt.outdir)));
+  s->opt.outdir_taken = PETSC_TRUE;
+  PetscCall(PetscPrintf(comm, "Output directory: %s (new for this run; -fs_output_dir DIR writes to DIR)\n", dir));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverOpenOutputDir - the output directory, once: made, checked writable on every rank (FSMakeDirectory()),
    locked for this run (FSOutputDirLock(): another run writing there is an error naming it), and for a new run (not a
    restart, which continues what the directory holds) cleared of what an earlier run wrote there (FSOutputDirClear()),
@@ -124,6 +169,7 @@ PetscErrorCode FSSolverOpenOutputDir(FSSolver s)
 
   PetscFunctionBegin;
   if (s->mon.lock) PetscFunctionReturn(0);
+  PetscCall(FSSolverOutputDirChoose(s));
   PetscCall(FSMakeDirectory(comm, s->opt.outdir, "-fs_output_dir"));
   PetscCall(FSOutputDirLock(comm, s->opt.outdir, "-fs_output_dir", &s->mon.lock));
   if (!s->opt.restart[0]) PetscCall(FSOutputDirClear(comm, s->opt.outdir));

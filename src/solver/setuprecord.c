@@ -20,6 +20,8 @@
 /* options that never define the run: they may change on restart (a '*' matches any characters) */
 static const char *const FSSetUpAllowedByDefault[] = {"fs_output",
                                                       "fs_output_dir",
+                                                      "fs_output_name",
+                                                      "fs_error_trace",
                                                       "fs_output_interval",
                                                       "fs_checkpoint_interval",
                                                       "fs_restart",

@@ -1,6 +1,7 @@
 /*
    FSSolver: the object that holds a run. Create / SetFromOptions / SetUp / Solve / View / Destroy.
 */
+#include <time.h>
 #include "solver/solverimpl.h"
 
 PetscClassId FSSOLVER_CLASSID;
@@ -377,19 +378,66 @@ static PetscErrorCode FSSolverOptionsNumerics(FSSolver s, PetscOptionItems *Pets
   PetscFunctionReturn(0);
 }
 
+/*
+   FSSolverOutputDirDefault - the output directory without -fs_output_dir: a new one for every run,
+   output/<-fs_output_name>-<YYYYMMDD-HHMMSS> (the time stamp is rank 0's; FSSolverOutputDirChoose() adds -2, -3, ...
+   when a run of the same second took it), so that a second run, of the same case or another, leaves the first's
+   results alone; for a restart, the directory of its checkpoint, whose run it continues.
+
+   Collective
+*/
+static PetscErrorCode FSSolverOutputDirDefault(FSSolver s)
+{
+  MPI_Comm comm      = PetscObjectComm((PetscObject)s);
+  char     stamp[32] = "";
+
+  PetscFunctionBegin;
+  if (s->opt.restart[0]) {
+    char *slash;
+    PetscCall(PetscStrncpy(s->opt.outdir, s->opt.restart, sizeof(s->opt.outdir)));
+    slash = strrchr(s->opt.outdir, '/');
+    if (slash) *(slash == s->opt.outdir ? slash + 1 : slash) = 0;
+    else PetscCall(PetscStrncpy(s->opt.outdir, ".", sizeof(s->opt.outdir)));
+    s->opt.outdir_auto = PETSC_FALSE; /* an existing directory, continued as a given one is */
+    PetscFunctionReturn(0);
+  }
+  PetscCheck(s->opt.outname[0] && !strchr(s->opt.outname, '/') && strcmp(s->opt.outname, ".") &&
+                 strcmp(s->opt.outname, ".."),
+             comm, PETSC_ERR_ARG_WRONG,
+             "-fs_output_name \"%s\": expected a name without '/' (the directory is "
+             "output/<name>-<time stamp>; -fs_output_dir gives a whole path)",
+             s->opt.outname);
+  {
+    time_t    now = time(NULL);
+    struct tm tm;
+    if (localtime_r(&now, &tm)) (void)strftime(stamp, sizeof(stamp), "%Y%m%d-%H%M%S", &tm);
+  }
+  PetscCallMPI(MPI_Bcast(stamp, sizeof(stamp), MPI_CHAR, 0, comm)); /* rank 0's clock for every rank */
+  PetscCall(PetscSNPrintf(s->opt.outdir, sizeof(s->opt.outdir), "output/%s-%s", s->opt.outname, stamp));
+  PetscFunctionReturn(0);
+}
+
 /* FSSolverOptionsOutput - where and how often the run writes, restarts, the geometry view, progress. */
 static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscOptionsObject)
 {
   PetscFunctionBegin;
-  {
-    char def[PETSC_MAX_PATH_LEN];
-    PetscCall(PetscSNPrintf(def, sizeof(def), "output/%s", s->opt.casename));
-    if (!s->opt.outdir[0]) PetscCall(PetscStrncpy(s->opt.outdir, def, sizeof(s->opt.outdir)));
-  }
   PetscCall(PetscOptionsBool("-fs_output", "Write output files (snapshots, time series, summary)", "FSSolverSolve",
                              s->opt.write_output, &s->opt.write_output, NULL));
-  PetscCall(PetscOptionsString("-fs_output_dir", "Output directory (default output/<case>)", "FSSolverSolve",
-                               s->opt.outdir, s->opt.outdir, sizeof(s->opt.outdir), NULL));
+  if (!s->opt.outdir_taken) { /* the default directory is new for every run: output/<name>-<time stamp> */
+    PetscBool set;
+    char      dir[PETSC_MAX_PATH_LEN] = "";
+    PetscCall(PetscStrncpy(s->opt.outname, s->opt.casename, sizeof(s->opt.outname)));
+    PetscCall(PetscOptionsString("-fs_output_name",
+                                 "Name of the default output directory, output/<name>-<time stamp> (default: the "
+                                 "options file's name, else the case's)",
+                                 "FSSolverSolve", s->opt.outname, s->opt.outname, sizeof(s->opt.outname), NULL));
+    PetscCall(PetscOptionsString("-fs_output_dir",
+                                 "Output directory (default: a new one per run, output/<name>-<time stamp>; a "
+                                 "restart's default is its checkpoint's directory)",
+                                 "FSSolverSolve", dir, dir, sizeof(dir), &set));
+    s->opt.outdir_auto = (PetscBool)!set;
+    if (set) PetscCall(PetscStrncpy(s->opt.outdir, dir, sizeof(s->opt.outdir)));
+  }
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_output_interval",
                           "Simulated time between particle snapshots (0: first and last only)", "FSSolverWriteSnapshot",
                           &s->opt.output_interval, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
@@ -397,6 +445,7 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                          "FSSolverWriteCheckpoint", &s->opt.checkpoint_interval, NULL, 0, PETSC_MAX_INT));
   PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint",
                                s->opt.restart, s->opt.restart, sizeof(s->opt.restart), NULL));
+  if (s->opt.outdir_auto && !s->opt.outdir_taken) PetscCall(FSSolverOutputDirDefault(s));
   PetscCall(PetscOptionsString("-fs_restart_allow_changes",
                                "Items of the set-up that may differ from the checkpoint's, comma separated (e.g. "
                                "fs_nu,fs_beam_damping; all: any). The output options, -ts_max_time and -ts_max_steps "
@@ -426,6 +475,13 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                                "At the end of the run, warn about the options given but never used (-options_left: "
                                "PETSc's report instead)",
                                "FSOptionsLeft", warn, &warn, NULL));
+  }
+  { /* read by the executable after PetscInitialize, and by the Python package around each call; here for -help */
+    PetscBool trace = PETSC_FALSE;
+    PetscCall(PetscOptionsBool("-fs_error_trace",
+                               "On an error, print PETSc's full report (every frame, the options, the configuration) "
+                               "instead of the message and where it was raised",
+                               "FSErrorHandler", trace, &trace, NULL));
   }
   PetscCall(PetscOptionsBool("-fs_options_check",
                              "Before the first step, refuse the -fs_ options that nothing reads (misspelt, or of an "
@@ -506,6 +562,7 @@ output/<case>) .  -fs_output_interval <t>         - simulated time between parti
 .  -fs_geometry_view               - write the walls and particles (geometry.png, walls.xdmf, the step-0 snapshot) to
 <output_dir>/geometry/ and stop after set-up
 .  -fs_options_left <true>         - at the end, warn about the options given but never used
+.  -fs_error_trace                 - on an error, PETSc's full report instead of the short one (FSErrorHandler())
 -  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
 */
 PetscErrorCode FSSolverSetFromOptions(FSSolver s)
@@ -830,6 +887,8 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
   s->setupcalled = PETSC_TRUE;
   if (s->opt.geometry_view) { /* into a folder of its own: a run's results in the output directory stay as they are */
     size_t len;
+    PetscCall(PetscStrlen(s->opt.outdir, &len));
+    PetscCall(FSSolverOutputDirChoose(s)); /* the run's own directory, without -fs_output_dir */
     PetscCall(PetscStrlen(s->opt.outdir, &len));
     PetscCheck(len + 10 < sizeof(s->opt.outdir), comm, PETSC_ERR_ARG_SIZ, "-fs_output_dir %s: too long", s->opt.outdir);
     PetscCall(PetscStrcat(s->opt.outdir, "/geometry"));

@@ -41,6 +41,9 @@ typedef struct {
   char          casename[64];
   char          default_terms[1024]; /* the case's default for -fs_terms */
   char          outdir[PETSC_MAX_PATH_LEN];
+  char          outname[64];  /* -fs_output_name: the default output directory's name, before its time stamp */
+  PetscBool     outdir_auto;  /* no -fs_output_dir: outdir is output/<outname>-<time stamp>, made new by the run */
+  PetscBool     outdir_taken; /* that directory made (FSSolverOutputDirChoose()) */
   char          restart[PETSC_MAX_PATH_LEN];
   char          allow_changes[1024]; /* -fs_restart_allow_changes: items of the set-up a restart may change */
   PetscInt      dim;
@@ -280,6 +283,7 @@ struct _p_FSSolver {
 
 /* solver pieces, one file each */
 PETSC_INTERN PetscErrorCode FSSolverCreateSwarm(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverOutputDirChoose(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCheckOptions(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverStructureDtAdvice(FSSolver);
 PETSC_INTERN void           FSSolverWrapPeriodic(FSSolver, PetscReal x[]);

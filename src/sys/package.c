@@ -53,48 +53,6 @@ PetscErrorCode FSFinalizePackage(void)
   PetscFunctionReturn(0);
 }
 
-/*
-   FSErrorHandler - PETSc's traceback error report, for a process that lives on after an error (a
-   driver that turns every error into an exception, such as the Python package, pushes it with
-   PetscPushErrorHandler() around its calls): every error's report is printed in full, once, by rank 0
-   of the communicator the error was raised on, and every rank returns the error code.
-   PetscTraceBackErrorHandler() prints the message of the first error in a process's life only, and
-   ends the other ranks of the communicator.
-
-   Not collective
-
-   Input Parameters: those of a PetscErrorHandler (see PetscPushErrorHandler())
-
-.seealso: PetscPushErrorHandler(), PetscTraceBackErrorHandler(), PetscErrorMessage()
-*/
-PetscErrorCode FSErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n,
-                              PetscErrorType p, const char *mess, void *ctx)
-{
-  static PetscBool print = PETSC_TRUE;
-  static int       frame = 1;
-
-  (void)ctx;
-  if (p == PETSC_ERROR_INITIAL) {
-    PetscMPIInt rank = 0;
-    const char *text = NULL;
-
-    if (comm != MPI_COMM_NULL && comm != PETSC_COMM_SELF) MPI_Comm_rank(comm, &rank);
-    print = (PetscBool)(rank == 0);
-    frame = 1;
-    if (print) {
-      (void)(*PetscErrorPrintf)(
-          "--------------------- Error Message --------------------------------------------------------------\n");
-      (void)PetscErrorMessage(n, &text, NULL);
-      if (text) (void)(*PetscErrorPrintf)("%s\n", text);
-      if (mess) (void)(*PetscErrorPrintf)("%s\n", mess);
-      (void)(*PetscErrorPrintf)("See https://petsc.org/release/faq/ for trouble shooting.\n");
-    }
-  }
-  if (print && fun) (void)(*PetscErrorPrintf)("#%d %s() at %s:%d\n", frame++, fun, file ? file : "?", line);
-  else if (print && file) (void)(*PetscErrorPrintf)("#%d %s:%d\n", frame++, file, line);
-  return n;
-}
-
 /* the libraries given to -dll_append: loaded first if load (those PETSc has not loaded yet), then each
    checked for its entry point */
 static PetscErrorCode FSPluginsProcess(MPI_Comm comm, PetscBool load)

@@ -26,7 +26,7 @@ import pytest
 
 REPO_ROOT = Path(__file__).resolve().parents[2]
 
-# the Python package of this checkout (make build also installs a .pth pointing at it)
+# the Python package of this checkout (make build also makes build/venv, whose .pth points at it)
 import sys  # noqa: E402
 
 sys.path.insert(0, str(REPO_ROOT / "python"))
@@ -141,8 +141,9 @@ def read_summary(directory):
 
 
 def petsc_error_message(output):
-    """The text of PETSc's error message(s): the lines after "--- Error Message ---" up to "See
-    https://petsc.org", without the "option left" warnings, plus flexslosh's own diagnostic lines.
+    """The text of the error message(s): flexslosh's short report and diagnostic lines ("[rank] flexslosh: ...",
+    src/sys/errors.c), and with -fs_error_trace PETSc's report, the lines after "--- Error Message ---" up to "See
+    https://petsc.org", without the "option left" warnings.
     (PETSc's option table at the end of an error repeats every option given: tests must not find
     the option they passed there.)"""
     lines, inside = [], False

@@ -144,6 +144,7 @@ NAMES = {
     "-fs_probes": (["/nonexistent.probes"], "/nonexistent.probes"),
     "-fs_restart": (["/nonexistent.h5"], "/nonexistent.h5"),
     "-fs_output_dir": None,  # an unwritable directory: test_bad_input.py's test_unwritable_output_dir
+    "-fs_output_name": None,  # names the default directory only (not with -fs_output_dir): test_output_default.py
     "-fs_restart_allow_changes": None,  # names items of a checkpoint's record: test_restart.py
     "-fs_view": None,  # a viewer, read by the executable after the set-up (PetscObjectViewFromOptions)
     **{f"-fs_motion_{c}_file": (TANK3[2:4] * (c == "z") + ["-fs_structure", "prescribed", f"-fs_motion_{c}_file", "/nonexistent.motion"],
