@@ -64,6 +64,8 @@ RESOLUTIONS: dict[str, list[float]] = {
     "seed_convergence": [0.005, 0.0025, 0.00125],
     "seed_slams": [0.002, 0.001, 0.0007],
     "seed_slams_finest": [0.00035],
+    "shapes_at_rest": [0.005, 0.0035, 0.0025],
+    "shapes_at_rest_2d": [0.0025, 0.00125, 0.000625],
 }
 
 #: The coarse resolutions of ``--quick`` (and its shorter final times, in each case function).
@@ -85,6 +87,8 @@ QUICK: dict[str, list[float]] = {
     "seed_convergence": [0.01, 0.00707, 0.005],
     "seed_slams": [0.01, 0.005],
     "seed_slams_finest": [0.0035],
+    "shapes_at_rest": [0.005],
+    "shapes_at_rest_2d": [0.0025],
 }
 
 
@@ -973,6 +977,82 @@ def case_seed(ctx: Context, which: Optional[Sequence[str]] = None) -> Section:
     return sec
 
 
+#: The tanks at rest of ``shapes_at_rest``: label -> (dimension, the tank's options, the packing, what it is).
+SHAPES_AT_REST: dict[str, tuple[int, list[Any], str, str]] = {
+    "leaning_2d": (2, ["-fs_tank_shape", "file", "-fs_tank_file", "cases/data/leaning_tank.walls"], "auto",
+                   "2-D, side walls leaning out 18 degrees"),
+    "box": (3, ["-fs_tank_shape", "stl", "-fs_tank_stl", "cases/data/box_60x60x30mm.stl"], "auto",
+            "3-D box along the axes (on its lattice)"),
+    "turned": (3, ["-fs_tank_shape", "stl", "-fs_tank_stl", "cases/data/box_60x60x30mm.stl", "-fs_tank_stl_rotate",
+                   "0,30,0"], "auto", "the box turned 30 degrees about the vertical"),
+    "tilted": (3, ["-fs_tank_shape", "stl", "-fs_tank_stl", "cases/data/box_60x60x30mm.stl", "-fs_tank_stl_rotate",
+                   "0,0,20"], "auto", "the box tilted 20 degrees about a horizontal axis"),
+}
+#: The settings for a liquid at rest (cases/hydrostatic_3d.opts) and the walls' push back near contact.
+AT_REST_NUMERICS: list[Any] = ["-fs_c0", 8, "-fs_relax_time", 0.1, "-fs_delta_min", 0.1, "-fs_delta_hydrostatic",
+                               "-fs_walls_repulsion", 0.5]
+
+
+def case_shapes_at_rest(ctx: Context) -> Section:
+    """Tanks whose walls are not along the axes, half full and at rest (issue 33): the largest and the rms speed
+    against sqrt(g H) (H = 0.06 m, the tanks' height, as the issue measures), the walls' vertical load against the
+    liquid's weight and the liquid's volume against the exact one, at three resolutions."""
+    H, tmax = 0.06, (0.3 if ctx.quick else 0.5)
+    sec = Section("shapes_at_rest", TITLES["shapes_at_rest"],
+                  "Half-full tanks at rest from the body-fitted start (`-fs_fill_packing auto`: the lattice relaxed against "
+                  "the walls where a wall is not along the axes; the masses fitted to the exact volume; the hydrostatic "
+                  f"start), with `{' '.join(str(a) for a in AT_REST_NUMERICS)}`, to t = {tmax:g} s: "
+                  + "; ".join(f"{k} ({v[3]})" for k, v in SHAPES_AT_REST.items())
+                  + ". Checked at the finest resolution: the largest speed over the run below 0.05 sqrt(g H) and the rms "
+                  "speed sqrt(2 E_k / M) below 0.01 sqrt(g H) (H = 0.06 m, the tanks' height), the walls' vertical load "
+                  "at the end within 1 % of the weight, the liquid's volume sum m_i / rho_i at the end within 0.1 % of "
+                  "the exact volume below the fill level.",
+                  "Exact: the liquid at rest (zero velocity, load = weight, the volume of the geometry below the fill "
+                  "level); docs/walls.md; formulas, no data file.")
+    rows = ["| tank | dx (mm) | particles | max speed / sqrt(gH) | rms speed / sqrt(gH) | load / weight | volume / exact |",
+            "|---|---|---|---|---|---|---|"]
+    fig, axs = _figure(11, 4.2, ncols=2)
+    for k, (label, (dim, tank, packing, what)) in enumerate(SHAPES_AT_REST.items()):
+        dxs = sorted(ctx.dxs("shapes_at_rest" if dim == 3 else "shapes_at_rest_2d"), reverse=True)
+        for dx in dxs:
+            args = ["-fs_case", "tank", "-fs_dim", dim] + tank + AT_REST_NUMERICS + [
+                "-fs_fill_packing", packing, "-fs_dx", dx, "-ts_max_time", tmax, "-fs_output_interval", 0]
+            r = ctx.run("shapes_at_rest", f"{label}_{_label(dx)}", args, sec.runs)
+            t, c = r.column("time"), math.sqrt(G * H)
+            M = r.column("mass")[0]
+            vmax = float(np.max(r.column("max_velocity"))) / c
+            vrms_t = np.sqrt(2 * r.column("kinetic_energy") / M) / c
+            vrms = float(np.max(vrms_t))
+            fy = sum(v for col, v in r.timeseries.items() if col.startswith("wall_") and col.endswith("_force_y"))
+            load = -float(fy[-1]) / (M * G)
+            a, b = read_snapshot(r.snapshots[0][1]), read_snapshot(r.snapshots[-1][1])
+            ra, rb = a["density"][np.argsort(a["id"])], b["density"][np.argsort(b["id"])]
+            # sum m_i / rho_i at the end, with the start's equal volumes m_i / rho_i = M / sum rho_i (the packing's)
+            volume = M * float(np.sum(ra / rb)) / float(np.sum(ra)) / float(r.summary["liquid_volume"])
+            rows.append(f"| {label} | {1e3 * dx:g} | {r.particles:,} | {vmax:.3f} | {vrms:.4f} | {load:.4f} | {volume:.5f} |")
+            if dx == dxs[-1]:
+                sec.checks += [Check(f"{label}, dx {1e3 * dx:g} mm: largest speed / sqrt(g H)", vmax, 0.05, fmt="{:.3f}"),
+                               Check(f"{label}, dx {1e3 * dx:g} mm: rms speed / sqrt(g H), largest over the run", vrms, 0.01,
+                                     fmt="{:.4f}"),
+                               Check(f"{label}, dx {1e3 * dx:g} mm: abs(load / weight - 1) at the end", abs(load - 1), 0.01,
+                                     fmt="{:.2%}"),
+                               Check(f"{label}, dx {1e3 * dx:g} mm: abs(volume / exact - 1) at the end", abs(volume - 1), 1e-3,
+                                     fmt="{:.2e}")]
+                axs[0].plot(t, vrms_t, color=f"C{k}", lw=1, label=f"{label}, dx {1e3 * dx:g} mm")
+            axs[1].loglog([dx * 1e3], [vrms], "o", color=f"C{k}", label=label if dx == dxs[0] else None)
+    sec.notes.append("\n".join(rows))
+    axs[0].axhline(0.01, color="k", lw=1)
+    axs[0].set_xlabel("t (s)")
+    axs[0].set_ylabel("rms speed / sqrt(g H)")
+    axs[1].set_xlabel("dx (mm)")
+    axs[1].set_ylabel("largest rms speed / sqrt(g H)")
+    for ax in axs:
+        ax.legend(fontsize=7)
+    sec.figure = _save(fig, ctx, "shapes_at_rest")
+    sec.caption = "Left: the rms speed at the finest resolution (the line: the bound). Right: its largest value against dx"
+    return sec
+
+
 #: The modal beam's time step in the seed studies: its fifth mode (336 Hz, period 3.0 ms) would take dt down to
 #: -fs_structure_cfl's default 0.02 of it, 6e-5 s (2.5 times the acoustic limit's steps at dx = 2 mm); RK4 at 0.05
 #: of it loses 1.3e-4 of the mode's amplitude a period (its share of the release: 3e-5 of the first mode's).
@@ -1180,9 +1260,11 @@ CASES: dict[str, Callable[[Context], Section]] = {
     "seed": case_seed,
     "seed_convergence": case_seed_convergence,
     "seed_slams": case_seed_slams,
+    "shapes_at_rest": case_shapes_at_rest,
 }
 
 TITLES = {
+    "shapes_at_rest": "Tanks at rest whose walls are not along the axes (2-D and 3-D)",
     "taylor_green": "Taylor-Green vortex (2-D, periodic, Re = 100)",
     "hydrostatic": "Hydrostatic tank (2-D)",
     "hydrostatic_3d": "Hydrostatic tank (3-D box, triangle-mesh walls)",
