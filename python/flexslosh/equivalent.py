@@ -144,7 +144,7 @@ def analyse_cycles(t: np.ndarray, force: np.ndarray, work: np.ndarray | None, am
     span = window * period
     cycles = []
     k = 0
-    while start + (k + 1) * span <= t[-1] + 1e-12 * period:
+    while start + (k + 1) * span <= t[-1] + 1e-6 * period:  # the last step lands on the window's end, to round-off
         a, b = start + k * span, start + (k + 1) * span
         tw, f = _window(t, force, a, b)
         coef, freepart = _fit(tw, f, omega, harmonics, free)
