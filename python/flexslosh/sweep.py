@@ -24,7 +24,7 @@ import numpy as np
 from .damping import damping_per_cycle
 from .solver import Solver, initialize
 
-__all__ = ["sweep", "run_case", "write_table", "format_table"]
+__all__ = ["sweep", "run_case", "write_table", "format_table", "assign"]
 
 _COLUMNS = ("case", "cycle", "time", "amplitude", "period", "delta", "zeta")
 
@@ -101,6 +101,18 @@ def format_table(table: np.ndarray, columns: Sequence[str] | None = None) -> str
     return "\n".join("  ".join(v.rjust(w) for v, w in zip(line, widths)) for line in [columns] + cells)
 
 
+def assign(n: int, comm=None) -> tuple[range, Any, int]:
+    """The share of n runs this process makes: (the indices, the communicator each run gets, this rank).
+    comm None: all of them, one after the other on PETSC_COMM_WORLD (None), rank its rank there; an mpi4py
+    communicator: run k on rank k % size, each alone on MPI.COMM_SELF."""
+    if comm is None:
+        return range(n), None, initialize().PETSc.COMM_WORLD.getRank()
+    from mpi4py import MPI
+
+    rank, size = comm.Get_rank(), comm.Get_size()
+    return range(rank, n, size), MPI.COMM_SELF, rank
+
+
 def sweep(cases: Sequence[Mapping[str, Any]], base_options: Mapping[str, Any] | None = None, comm=None,
           output_root: str | os.PathLike = "output/sweep", signal: str = "tip_displacement", offset: float = 0.0,
           csv_name: str | None = "damping.csv") -> np.ndarray | None:
@@ -128,14 +140,7 @@ def sweep(cases: Sequence[Mapping[str, Any]], base_options: Mapping[str, Any] | 
         for k in case:
             if _key(k) not in names:
                 names.append(_key(k))
-    if comm is None:
-        mine, run_comm = range(len(cases)), None
-        rank = initialize().PETSc.COMM_WORLD.getRank()
-    else:
-        from mpi4py import MPI
-
-        rank, size = comm.Get_rank(), comm.Get_size()
-        mine, run_comm = range(rank, len(cases), size), MPI.COMM_SELF
+    mine, run_comm, rank = assign(len(cases), comm)
     rows: list[dict] = []
     for k in mine:
         params = {_key(n): v for n, v in cases[k].items()}

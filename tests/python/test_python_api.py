@@ -332,12 +332,14 @@ def test_sweep_over_two_ranks_equals_sequence(two_ranks, tmp_path):
 # ------------------------------------------------------------------ examples
 
 
-@pytest.mark.parametrize("example", ["run_and_plot", "fill_sweep", "custom_structure"])
+@pytest.mark.parametrize("example", ["run_and_plot", "fill_sweep", "custom_structure", "sway_mass"])
 def test_examples_run_tiny(example, tmp_path):
     proc = _python([REPO_ROOT / "python" / "examples" / f"{example}.py", "--tiny", "--out", tmp_path], cwd=tmp_path)
     assert "wrote" in proc.stdout
     if example == "run_and_plot":
         assert (tmp_path / "pressure.png").stat().st_size > 1000
+    elif example == "sway_mass":
+        assert len((tmp_path / "equivalent.csv").read_text().splitlines()) == 3
     else:
         with open(tmp_path / "damping.csv") as fp:
             assert len(fp.readlines()) >= 3
