@@ -253,6 +253,8 @@ PETSC_EXTERN PetscErrorCode FSSolverSetDomain(FSSolver, const PetscReal lo[], co
 PETSC_EXTERN PetscErrorCode FSSolverAddParticles(FSSolver, PetscInt n, const PetscReal x[], const PetscReal u[],
                                                  const PetscReal rho[], const PetscReal m[]);
 PETSC_EXTERN PetscErrorCode FSSolverAddLiquidVolume(FSSolver, PetscReal volume, PetscReal mass, PetscReal lattice_mass);
+/* the case's liquid starts at rest, so deep: the at-rest check watches it (src/solver/restcheck.c) */
+PETSC_EXTERN PetscErrorCode FSSolverSetLiquidAtRest(FSSolver, PetscBool, PetscReal depth);
 PETSC_EXTERN PetscErrorCode FSSolverGetLiquidVolume(FSSolver, PetscReal *volume, PetscReal *mass,
                                                     PetscReal *lattice_mass);
 /* How the cases place a body of liquid's particles (-fs_fill_packing, docs/walls.md): on a lattice cut by the walls, or

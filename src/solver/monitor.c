@@ -205,6 +205,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.nrebalances    = 0;
   s->mon.pair_visits    = 0;
   PetscCall(FSParallelStatsBegin(s));
+  PetscCall(FSSolverRestCheckBegin(s)); /* a liquid at rest too shallow in particles: warned here */
   /* snapshots at multiples of the interval, also after a restart */
   s->mon.next_output        = FSNextOutputTime(t, s->opt.output_interval);
   s->mon.last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
@@ -277,6 +278,7 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
   PetscCall(FSSolverAtEnd(s, &end)); /* the last step's row is written whatever the interval */
   if ((step - s->mon.step0) % s->opt.series_interval == 0 || end) PetscCall(FSSolverAppendSeries(s));
   PetscCall(FSSolverProbesMonitor(s));
+  PetscCall(FSSolverRestCheck(s)); /* the first steps: a liquid at rest that moves, a step that collapses */
   if (s->opt.write_output && s->opt.output_interval > 0 && t >= s->mon.next_output - 1e-9 * s->opt.output_interval) {
     PetscCall(FSSolverWriteSnapshot(s));
     s->mon.next_output = FSNextOutputTime(t, s->opt.output_interval);

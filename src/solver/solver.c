@@ -60,6 +60,9 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.packing.type          = FS_FILL_PACKING_AUTO;
   s->opt.packing.iterations    = 200;
   s->opt.packing.step          = 0.3;
+  s->mon.rest.time             = 0.5; /* the at-rest check (docs/own-tank.md: the thresholds measured) */
+  s->mon.rest.speed            = 0.25;
+  s->mon.rest.dt_ratio         = 0.25;
   PetscCall(PetscStrncpy(s->opt.structname, "none", sizeof(s->opt.structname)));
   PetscCall(FSCouplingCreate(comm, &s->coupling));
   s->pw.halo.rectype = MPI_DATATYPE_NULL;
@@ -594,6 +597,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       "FSSolverStructureDt", &s->opt.structure_cfl, NULL, 0, 1, FS_RANGE_OPEN_LOWER));
   PetscCall(FSSolverOptionsNumerics(s, PetscOptionsObject));
   PetscCall(FSSolverOptionsOutput(s, PetscOptionsObject));
+  PetscCall(FSSolverOptionsRestCheck(s, PetscOptionsObject));
   PetscCall(FSSolverCreateTerms(s, PetscOptionsObject, terms));
   /* the structure */
   PetscCall(FSStructureDestroy(&s->structure));

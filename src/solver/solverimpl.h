@@ -232,6 +232,19 @@ typedef struct {
   PetscInt   ghosts_first, owned_first, nbuilds0;
 } FSParallelStats;
 
+/* The at-rest check (-fs_rest_check_*, src/solver/restcheck.c): its options and what it watches in this run */
+typedef struct {
+  PetscReal time;                  /* -fs_rest_check_time: the simulated time watched from the start (0: none) */
+  PetscReal speed;                 /* -fs_rest_check_speed: the largest speed of a liquid at rest, over sqrt(g H) */
+  PetscReal dt_ratio;              /* -fs_rest_check_dt: the step's limit allowed down to this of the start's */
+  PetscBool at_rest;               /* the case starts its liquid at rest (FSSolverSetLiquidAtRest) */
+  PetscBool watch_speed, watch_dt; /* what this run's check watches (FSSolverRestCheckBegin) */
+  PetscBool warned_speed, warned_dt;
+  PetscReal depth0;   /* the liquid's depth the case gives (FSSolverSetLiquidAtRest) */
+  PetscReal depth, g; /* the liquid's depth in a run the check watches (else 0), |g| */
+  PetscReal dt0;      /* the step's limit at the start */
+} FSRestCheck;
+
 /* The monitors and output writers, and the run's statistics. */
 typedef struct {
   FSSnapshotWriter snapshots;
@@ -251,6 +264,7 @@ typedef struct {
   FSProbeSet       probes; /* -fs_probes */
   char            *setup;  /* the record of what defines the run, for the checkpoints (setuprecord.c) */
   FSParallelStats  par;    /* summary.json's "parallel" */
+  FSRestCheck      rest;   /* the at-rest check */
 } FSMonitorData;
 
 typedef struct _FSSolverOps *FSSolverOps;
@@ -337,6 +351,9 @@ PETSC_INTERN PetscErrorCode FSSolverWriteMemory(FSSolver, FSJSON, PetscReal peak
 PETSC_INTERN PetscErrorCode FSSolverSetUpRecord(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCheckSetUp(FSSolver, const char[]);
 PETSC_INTERN PetscErrorCode FSSolverCheckRanksAgree(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverOptionsRestCheck(FSSolver, PetscOptionItems *);
+PETSC_INTERN PetscErrorCode FSSolverRestCheckBegin(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverRestCheck(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesSetUp(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesMonitor(FSSolver);

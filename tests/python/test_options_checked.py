@@ -57,6 +57,8 @@ ACCEPT = {
     "-fs_beam_preload": {v: "an initial deflection of either sign (0: the beam at rest)" for v in ("-1", "0")},
     "-fs_nu": {"0": "an inviscid liquid", "1e300": "only bounds the time step"},
     "-fs_relax_time": {"0": "no relaxation", "1e300": "relax the whole run"},
+    "-fs_rest_check_time": {"0": "no at-rest check", "1e300": "check the whole run"},
+    "-fs_rest_check_speed": {"1e300": "a liquid at rest never warned of"},
     "-fs_output_interval": {"0": "the first and last snapshots only", "1e300": "the same"},
     "-fs_progress_interval": {"0": "a line every step", "1e300": "no line"},
     "-fs_checkpoint_interval": {"0": "no checkpoints"},

@@ -242,6 +242,17 @@ static PetscErrorCode TankMesh(FSSolver s, Tank *tk, PetscBool stl, FSWalls *w, 
   PetscFunctionReturn(0);
 }
 
+/* filled to a level under gravity along -y, the liquid starts at rest: the at-rest check watches it */
+static PetscErrorCode TankAtRest(FSSolver s, PetscReal depth)
+{
+  PetscReal g[3];
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetGravity(s, g));
+  PetscCall(FSSolverSetLiquidAtRest(s, (PetscBool)(g[0] == 0 && g[2] == 0 && g[1] < 0), depth));
+  PetscFunctionReturn(0);
+}
+
 /* the 3-D tank: the mesh, filled to the level or in the liquid boxes */
 static PetscErrorCode SetUp3(FSSolver s, Tank *tk, PetscBool stl, FSWalls *w)
 {
@@ -261,6 +272,7 @@ static PetscErrorCode SetUp3(FSSolver s, Tank *tk, PetscBool stl, FSWalls *w)
     }
     hi[1] = lo[1] + tk->fill * (m.hi[1] - m.lo[1]);
     PetscCall(FSCaseFillLiquidMesh(s, &m, lo, hi, "-fs_fill"));
+    PetscCall(TankAtRest(s, hi[1] - lo[1]));
   }
   PetscCall(FSMeshDestroy(&m));
   PetscFunctionReturn(0);
@@ -289,9 +301,10 @@ static PetscErrorCode SetUp(FSSolver s)
   }
   PetscCall(FSWallsCheck(&w, comm)); /* sets the bounding box used below */
   if (tk->nbox) PetscCall(FSCaseFillLiquidBoxes(s, &w, tk->nbox, tk->box, "-fs_liquid_box"));
-  else if (tk->fill > 0)
+  else if (tk->fill > 0) {
     PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
-  else { /* an empty tank (the 0 % point of a fill sweep): the structure alone, its payload all ballast */
+    PetscCall(TankAtRest(s, tk->fill * (w.hi[1] - w.lo[1])));
+  } else { /* an empty tank (the 0 % point of a fill sweep): the structure alone, its payload all ballast */
     FSStructure st;
     PetscCall(FSSolverGetStructure(s, &st));
     PetscCheck(st, comm, PETSC_ERR_ARG_WRONG,
