@@ -144,25 +144,24 @@ static PetscErrorCode SetUp(FSStructure st)
     PetscCheck(p->dim == 3 || (!z->nsines && !z->npoly && !z->file[0]), st->comm, PETSC_ERR_ARG_INCOMP,
                "-fs_motion_z_sines, -fs_motion_z_poly and -fs_motion_z_file move the tank across the plane: 3-D runs "
                "only (-fs_dim 3)");
+    PetscCheck(p->dim == 3 || !p->file6[0], st->comm, PETSC_ERR_ARG_INCOMP,
+               "-fs_motion_file %s: a 6-DOF motion is for 3-D runs only (-fs_dim 3); a 2-D tank takes "
+               "-fs_motion_x_file, -fs_motion_y_file and -fs_motion_roll_file",
+               p->file6);
     for (PetscInt c = COMP_PITCH; c <= COMP_AXIS; c++)
       PetscCheck(p->dim == 3 || !ComponentGiven(p, c), st->comm, PETSC_ERR_ARG_INCOMP,
                  "-fs_motion_%s_sines, -fs_motion_%s_poly and -fs_motion_%s_file turn the tank out of the plane: 3-D "
                  "runs only (-fs_dim 3; a 2-D tank rolls about z, -fs_motion_roll_*)",
                  CompName[c], CompName[c], CompName[c]);
-    PetscCheck(p->dim == 3 || !p->file6[0], st->comm, PETSC_ERR_ARG_INCOMP,
-               "-fs_motion_file %s: a 6-DOF motion is for 3-D runs only (-fs_dim 3); a 2-D tank takes "
-               "-fs_motion_x_file, -fs_motion_y_file and -fs_motion_roll_file",
-               p->file6);
-    PetscCheck(!ComponentGiven(p, COMP_AXIS) || p->naxis == 3, st->comm, PETSC_ERR_ARG_WRONGSTATE,
-               "-fs_motion_axis_sines, _poly or _file turn the tank about an axis: give its direction, "
-               "-fs_motion_axis_direction nx,ny,nz%s",
-               p->naxis ? " (three values)" : "");
     PetscCheck(p->naxis == 0 || p->naxis == 3, st->comm, PETSC_ERR_ARG_SIZ,
                "-fs_motion_axis_direction takes three values nx,ny,nz; got %" PetscInt_FMT, p->naxis);
     PetscCheck(p->naxis == 0 || p->axis[0] * p->axis[0] + p->axis[1] * p->axis[1] + p->axis[2] * p->axis[2] > 0,
                st->comm, PETSC_ERR_ARG_OUTOFRANGE,
                "-fs_motion_axis_direction %g,%g,%g has no direction: expected a nonzero vector", (double)p->axis[0],
                (double)p->axis[1], (double)p->axis[2]);
+    PetscCheck(!ComponentGiven(p, COMP_AXIS) || p->naxis == 3, st->comm, PETSC_ERR_ARG_WRONGSTATE,
+               "-fs_motion_axis_sines, _poly or _file turn the tank about an axis: give its direction, "
+               "-fs_motion_axis_direction nx,ny,nz");
   }
   for (PetscInt c = 0; c < NCOMP; c++) {
     Component *cp = &p->comp[c];
