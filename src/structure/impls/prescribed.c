@@ -160,7 +160,8 @@ static PetscErrorCode SetUp(FSStructure st)
                "-fs_motion_axis_direction %g,%g,%g has no direction: expected a nonzero vector", (double)p->axis[0],
                (double)p->axis[1], (double)p->axis[2]);
     PetscCheck(!ComponentGiven(p, COMP_AXIS) || p->naxis == 3, st->comm, PETSC_ERR_ARG_WRONGSTATE,
-               "-fs_motion_axis_sines, _poly or _file turn the tank about an axis: give its direction, "
+               "-fs_motion_axis_sines, -fs_motion_axis_poly and -fs_motion_axis_file turn the tank about an axis: give "
+               "its direction, "
                "-fs_motion_axis_direction nx,ny,nz");
   }
   for (PetscInt c = 0; c < NCOMP; c++) {
