@@ -142,6 +142,7 @@ NAMES = {
     "-fs_fill_packing_cache": None,  # a folder, made where a packing is written: test_packing.py
     "-fs_coupling_loads": (["-fs_structure", "msd", "-fs_coupling_loads", "nosuch"], "nosuch"),
     "-fs_walls_noslip": (["nosuch"], None),
+    "-fs_walls_moment_walls": (["-fs_walls_moment_walls", "nosuch", "-fs_walls_moment_points", "0,0"], "nosuch"),
     "-fs_tank_file": (["-fs_tank_shape", "file", "-fs_tank_file", "/nonexistent.walls"], "/nonexistent.walls"),
     "-fs_tank_stl_scale": (["nosuch"], None),
     "-fs_tank_stl": (TANK3[4:] + ["-fs_dim", "3", "-fs_tank_shape", "stl", "-fs_tank_stl", "/nonexistent.stl"], "/nonexistent.stl"),
