@@ -298,9 +298,15 @@ typedef struct {
 
 /* The body acceleration a particle at x feels in the tank's frame without the Coriolis part:
    a(x) = b + alpha (r_y, -r_x) + omega^2 (r_x, r_y), r = x - ref, b = R(-theta) (g - A) (the coupling's
-   tank frame; b = g without a coupling). The frame turns about z: in 3-D a_z = b_z (FSFrameFieldEval3). */
+   tank frame; b = g without a coupling). The frame turns about z: in 3-D a_z = b_z (FSFrameFieldEval3).
+   A 3-D frame turning about any axis (rotated, a prescribed pitch, yaw or rotation about an axis) has
+   a(x) = b - dw x r - w x (w x r), r = x - (ref, ref_z), b = Q^T (g - A), w and dw the angular velocity and
+   acceleration in the tank's axes (omega and alpha unused). */
 typedef struct {
   PetscReal b[3], omega, alpha, ref[2];
+  PetscReal ref_z;       /* the reference point's z (rotated frames) */
+  PetscBool rotated;     /* the frame turns about any axis: w, dw below */
+  PetscReal w[3], dw[3]; /* its angular velocity and acceleration, tank axes */
 } FSFrameField;
 
 static inline void FSFrameFieldEval(const FSFrameField *ff, const PetscReal x[], PetscReal a[])
@@ -312,16 +318,34 @@ static inline void FSFrameFieldEval(const FSFrameField *ff, const PetscReal x[],
 
 static inline void FSFrameFieldEval3(const FSFrameField *ff, const PetscReal x[], PetscReal a[])
 {
+  if (ff->rotated) { /* b - dw x r - w x (w x r) */
+    const PetscReal *w = ff->w, *dw = ff->dw;
+    const PetscReal  r[3] = {x[0] - ff->ref[0], x[1] - ff->ref[1], x[2] - ff->ref_z};
+    const PetscReal  c[3] = {w[1] * r[2] - w[2] * r[1], w[2] * r[0] - w[0] * r[2], w[0] * r[1] - w[1] * r[0]};
+    a[0]                  = ff->b[0] - (dw[1] * r[2] - dw[2] * r[1]) - (w[1] * c[2] - w[2] * c[1]);
+    a[1]                  = ff->b[1] - (dw[2] * r[0] - dw[0] * r[2]) - (w[2] * c[0] - w[0] * c[2]);
+    a[2]                  = ff->b[2] - (dw[0] * r[1] - dw[1] * r[0]) - (w[0] * c[1] - w[1] * c[0]);
+    return;
+  }
   FSFrameFieldEval(ff, x, a);
   a[2] = ff->b[2];
 }
 
 /* Rigid motion of the tank reference point: displacement, velocity and acceleration, and the
-   rotation (about z) angle, rate and angular acceleration. */
+   rotation (about z) angle, rate and angular acceleration. A 3-D motion that turns the tank about any
+   axis (a prescribed pitch, yaw or rotation about an axis; FSTankMotionRotate) sets rotated to 1 and
+   gives the rotation by Q, w and dw; angle, rate and angacc then hold the roll's share for the output
+   only. All members are reals (the motion is broadcast as an array of them). */
 typedef struct {
   PetscReal disp[3], vel[3], acc[3];
   PetscReal angle, rate, angacc;
+  PetscReal rotated; /* 1: Q, w, dw give the rotation; 0: the angle about z alone */
+  PetscReal Q[9];    /* the tank's axes in the global ones, row by row: X - X_ref = Q (x - x_ref) */
+  PetscReal w[3];    /* the angular velocity, in the tank's axes */
+  PetscReal dw[3];   /* the angular acceleration (the rate of w), in the tank's axes */
 } FSTankMotion;
+
+PETSC_EXTERN PetscErrorCode FSTankMotionRotate(FSTankMotion *, const PetscReal axis[3], const PetscReal angle[3]);
 
 struct _n_FSJSON; /* the JSON summary writer of src/output (fsoutput.h) */
 

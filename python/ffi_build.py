@@ -97,7 +97,7 @@ typedef ... *FSSolver;
 typedef ... *FSStructure;
 typedef ... *PetscOptions;
 typedef struct { PetscReal force[3], moment[3]; ...; } FSLoads;
-typedef struct { PetscReal disp[3], vel[3], acc[3]; PetscReal angle, rate, angacc; ...; } FSTankMotion;
+typedef struct { PetscReal disp[3], vel[3], acc[3]; PetscReal angle, rate, angacc; PetscReal rotated, Q[9], w[3], dw[3]; ...; } FSTankMotion;
 typedef struct { ...; } FSStructureCallbacks;
 #define FS_ENERGY_MAX_COLUMNS ...
 #define FS_PROBE_MAX_VALUES ...

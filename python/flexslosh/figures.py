@@ -11,7 +11,14 @@ path:
 - ``energy_terms``: the liquid's mechanical energy change, dissipation, external work and the
   budget's residual (seed Fig. 11);
 - ``damping_vs_amplitude``: the damping ratio of each cycle against its amplitude (docs/validation.md);
-- ``snapshots``: particles coloured by a field on a log scale at up to five times (seed Figs. 6, 7).
+- ``snapshots``: particles coloured by a field on a log scale at up to five times (seed Figs. 6, 7);
+- ``motion``: a prescribed motion's components (-fs_structure prescribed): the translations in mm and
+  the rotations (roll, pitch, yaw, the turn about an axis) in degrees, against time;
+- ``wall_loads``: the liquid's load on each wall (force and moment, the wall_* columns) and the loads
+  the tank receives less their static value (load_*), against time.
+
+``is_prescribed`` tells a prescribed-motion run (its motion_* columns) from a beam run: the plot command
+gives the first the motion and the loads, the second the seed's figures.
 
 A run that lacks what a figure needs (no structure, no liquid, no snapshots) raises ValueError
 naming the file and the missing column. matplotlib is imported inside the functions (Agg canvas,
@@ -40,6 +47,10 @@ __all__ = [
     "energy_balance",
     "damping_vs_amplitude",
     "snapshots",
+    "is_prescribed",
+    "motion_components",
+    "motion",
+    "wall_loads",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -304,6 +315,118 @@ def energy_terms(run: Run, path: PathLike) -> Path:
     ax.plot(t, e["residual"], color="0.4", lw=0.8, linestyle="--", label="residual")
     return _finish(fig, ax, f"energy of the liquid ({unit})", "Energy of the liquid in the tank's frame (seed Fig. 11)",
                    path, legend="best")
+
+
+def is_prescribed(run: Run) -> bool:
+    """Whether the run's tank was moved by a prescribed motion (-fs_structure prescribed: motion_* columns)."""
+    return "motion_disp_x" in run.timeseries
+
+
+#: the prescribed motion's columns: (column, label, factor to the unit shown, "translation" or "rotation")
+_MOTION_COLUMNS = (
+    ("motion_disp_x", "x", 1e3, "translation"),
+    ("motion_disp_y", "y", 1e3, "translation"),
+    ("motion_disp_z", "z", 1e3, "translation"),
+    ("motion_angle", "roll (about z)", 180 / np.pi, "rotation"),
+    ("motion_pitch", "pitch (about x)", 180 / np.pi, "rotation"),
+    ("motion_yaw", "yaw (about y)", 180 / np.pi, "rotation"),
+    ("motion_axis_angle", "about the axis", 180 / np.pi, "rotation"),
+)
+
+
+def motion_components(run: Run) -> dict[str, dict[str, np.ndarray]]:
+    """The prescribed motion's components that move: {"translation": {label: mm}, "rotation": {label: degrees}}.
+
+    A component whose column is absent or zero throughout is left out.
+
+    Raises:
+        ValueError: the run has no prescribed motion (no motion_disp_x column).
+    """
+    if not is_prescribed(run):
+        raise ValueError(f"{run.directory / 'timeseries.csv'}: no column 'motion_disp_x' (not a prescribed motion)")
+    out: dict[str, dict[str, np.ndarray]] = {"translation": {}, "rotation": {}}
+    for col, label, factor, kind in _MOTION_COLUMNS:
+        if col in run.timeseries and np.any(run.timeseries[col]):
+            out[kind][label] = run.timeseries[col] * factor
+    return out
+
+
+def motion(run: Run, path: PathLike, label: Optional[str] = None) -> Path:
+    """A prescribed motion against time: the translations of the tank's reference point (mm) above, its
+    rotations (degrees) below; only the components that move (see motion_components).
+
+    Raises:
+        ValueError: the run has no prescribed motion.
+    """
+    comps = motion_components(run)
+    t = _time(run)
+    fig = _figure(8, 6)
+    axes = fig.subplots(2, 1, sharex=True)
+    for ax, kind, unit in ((axes[0], "translation", "mm"), (axes[1], "rotation", "degrees")):
+        ax.axhline(0, color="0.6", lw=0.5)
+        for name, values in comps[kind].items():
+            ax.plot(t, values, lw=1.0, label=name)
+        if not comps[kind]:
+            ax.text(0.5, 0.5, f"no {kind}", transform=ax.transAxes, ha="center", va="center", color="0.5")
+        else:
+            ax.legend(loc="upper right", fontsize="small")
+        ax.set_ylabel(f"{kind} ({unit})")
+        ax.grid(alpha=0.3)
+    axes[0].set_title(f"Prescribed motion of the tank{' (' + label + ')' if label else ''}")
+    axes[1].set_xlabel("t (s)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def _wall_names(run: Run) -> list[str]:
+    names = []
+    for col in run.timeseries:
+        if col.startswith("wall_") and col.endswith("_force_x"):
+            names.append(col[len("wall_"):-len("_force_x")])
+    return names
+
+
+def wall_loads(run: Run, path: PathLike, label: Optional[str] = None) -> Path:
+    """The liquid's loads against time: each wall's force and moment (the wall_* columns, the wall pressure and
+    shear integrated; 2-D per metre of width) and, with a structure, the loads the tank receives less their value
+    at rest (load_*).
+
+    Raises:
+        ValueError: the run has no walls' loads.
+    """
+    ts, t = run.timeseries, _time(run)
+    walls = _wall_names(run)
+    if not walls:
+        raise ValueError(f"{run.directory / 'timeseries.csv'}: no wall_<name>_force_x column (a run without walls?)")
+    three = any(f"wall_{w}_force_z" in ts for w in walls)
+    per = "" if three else "/m"
+    fig = _figure(8, 7)
+    axes = fig.subplots(3 if "load_force_x" in ts else 2, 1, sharex=True)
+    for w in walls:
+        for a in "xyz" if three else "xy":
+            axes[0].plot(t, ts[f"wall_{w}_force_{a}"], lw=0.9, label=f"{w} $F_{a}$")
+        for a in "xyz" if three else "":
+            axes[1].plot(t, ts[f"wall_{w}_moment_{a}"], lw=0.9, label=f"{w} $M_{a}$")
+        if not three:
+            axes[1].plot(t, ts[f"wall_{w}_moment"], lw=0.9, label=f"{w} $M_z$")
+    axes[0].set_ylabel(f"wall force (N{per}, tank axes)")
+    axes[1].set_ylabel(f"wall moment (N m{per})")
+    if len(axes) == 3:
+        for a in "xyz":
+            if f"load_force_{a}" in ts and np.any(ts[f"load_force_{a}"]):
+                axes[2].plot(t, ts[f"load_force_{a}"], lw=0.9, label=f"$F_{a}$ (N)")
+            if f"load_moment_{a}" in ts and np.any(ts[f"load_moment_{a}"]):
+                axes[2].plot(t, ts[f"load_moment_{a}"], lw=0.9, linestyle="--", label=f"$M_{a}$ (N m)")
+        axes[2].set_ylabel("tank load less static\n(global axes)")
+    for ax in axes:
+        ax.axhline(0, color="0.6", lw=0.5)
+        ax.grid(alpha=0.3)
+        if ax.lines[1:]:
+            ax.legend(loc="upper right", fontsize="x-small", ncol=2)
+    axes[0].set_title(f"Loads of the liquid{' (' + label + ')' if label else ''}")
+    axes[-1].set_xlabel("t (s)")
+    fig.tight_layout()
+    return _save(fig, path)
 
 
 def damping_vs_amplitude(runs: Sequence[Run], labels: Optional[Sequence[str]], path: PathLike) -> Path:

@@ -8,7 +8,10 @@ For each run it writes ``tip_acceleration.png``, ``energy_terms.png``, ``snapsho
 coloured by --field), ``probes.png`` (the pressure probes and wave gauges of probes.csv, for a run
 with -fs_probes) and ``damping.csv`` (damping per cycle of tip_displacement: time, amplitude,
 period, delta, zeta) into the run's directory; for all the runs together ``normalized_motion.png``,
-``acceleration_envelope.png`` and ``damping_vs_amplitude.png`` into the first run's directory. With
+``acceleration_envelope.png`` and ``damping_vs_amplitude.png`` into the first run's directory. A run
+of a prescribed motion (-fs_structure prescribed) gets ``motion.png`` (the motion's components) and
+``wall_loads.png`` (the walls' loads and the tank's) instead of the beam's figures (tip acceleration,
+damping), and is left out of the figures of all the runs together. With
 ``--out DIR`` everything goes to DIR instead, the per-run files named ``<name>_<label>.<ext>``.
 A figure the data do not allow (no structure, no liquid, no snapshots) is skipped with a one-line
 note on stderr; the paths written are printed on stdout, one per line. A directory that is not a
@@ -106,16 +109,23 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                 tag += "_"
             used.add(tag)
             place = lambda stem, ext, tag=tag: out / f"{stem}_{tag}.{ext}"  # noqa: E731
-        _attempt(f"damping.csv of {label}", lambda: _damping_csv(run, place("damping", "csv")), written)
-        _attempt(f"tip_acceleration of {label}", lambda: figures.tip_acceleration(run, place("tip_acceleration", "png"), label), written)
+        if figures.is_prescribed(run):  # the rig's motion and the loads, not a beam's response
+            _attempt(f"motion of {label}", lambda: figures.motion(run, place("motion", "png"), label), written)
+            _attempt(f"wall_loads of {label}", lambda: figures.wall_loads(run, place("wall_loads", "png"), label),
+                     written)
+        else:
+            _attempt(f"damping.csv of {label}", lambda: _damping_csv(run, place("damping", "csv")), written)
+            _attempt(f"tip_acceleration of {label}",
+                     lambda: figures.tip_acceleration(run, place("tip_acceleration", "png"), label), written)
         _attempt(f"energy_terms of {label}", lambda: figures.energy_terms(run, place("energy_terms", "png")), written)
         _attempt(f"snapshots of {label}", lambda: figures.snapshots(run, place("snapshots", "png"), field=args.field), written)
         if run.probes:
             _attempt(f"probes of {label}", lambda: figures.probes(run, place("probes", "png")), written)
+    beams = [(r, lab) for r, lab in zip(runs, labels) if not figures.is_prescribed(r)]
     common = out if out is not None else runs[0].directory
-    for name in ("normalized_motion", "acceleration_envelope", "damping_vs_amplitude"):
+    for name in ("normalized_motion", "acceleration_envelope", "damping_vs_amplitude") if beams else ():
         make = getattr(figures, name)
-        _attempt(name, lambda: make(runs, labels, common / f"{name}.png"), written)
+        _attempt(name, lambda: make([r for r, _ in beams], [lab for _, lab in beams], common / f"{name}.png"), written)
     for path in written:
         print(path)
     return 0

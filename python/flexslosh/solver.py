@@ -774,11 +774,17 @@ class Solver:
 
     def tank_motion(self) -> dict[str, Any]:
         """The tank's motion at the current state (FSSolverGetTankMotion): disp, vel, acc (3 each),
-        angle, rate, angacc; zero without a structure. Collective."""
+        angle, rate, angacc; zero without a structure. A 3-D tank turned about any axis (a prescribed
+        pitch, yaw, axis or 6-DOF file) adds "rotation": Q (3x3, the tank's axes in the global ones),
+        w and dw (its angular velocity and acceleration in the tank's axes). Collective."""
         m = self._new("FSTankMotion *")
         self._call("FSSolverGetTankMotion", m)
-        return {"disp": np.array(list(m.disp)), "vel": np.array(list(m.vel)), "acc": np.array(list(m.acc)),
-                "angle": m.angle, "rate": m.rate, "angacc": m.angacc}
+        out = {"disp": np.array(list(m.disp)), "vel": np.array(list(m.vel)), "acc": np.array(list(m.acc)),
+               "angle": m.angle, "rate": m.rate, "angacc": m.angacc}
+        if m.rotated:
+            out["rotation"] = {"Q": np.array(list(m.Q)).reshape(3, 3), "w": np.array(list(m.w)),
+                               "dw": np.array(list(m.dw))}
+        return out
 
     def energy(self) -> dict[str, float]:
         """The energy budget of the current state: the columns of energy.csv, every rank. Collective."""

@@ -66,6 +66,12 @@ struct _p_FSBoundary {
   PetscInt     nnoslipname;
   PetscReal    loadpoint[3]; /* -fs_walls_load_point */
   PetscReal *load, *loadsum; /* per wall 6: this rank's share of the last right-hand side, and the sum over the ranks */
+  char      *momentname[FS_BOUNDARY_MAX_NAMES]; /* -fs_walls_moment_walls as read */
+  PetscInt   nmomentname;
+  PetscReal  momentpoint[3 * FS_BOUNDARY_MAX_NAMES]; /* -fs_walls_moment_points, dim values a named wall */
+  PetscInt   nmomentpoint;
+  PetscReal *wallpoint; /* per wall 3: the point its reported moment is about (FSBoundaryGetWallLoads) */
+  PetscReal *loadwall;  /* per wall 6: loadsum with each moment moved to the wall's point */
   /* the wall pressure's sums over the ranks (FSBoundarySetPartition): without a partition one MPI_Allreduce of
      every element's sums; with one a PetscSF from the ranks whose particles can reach an element to the rank that
      owns it (its centroid's) and back */

@@ -73,6 +73,8 @@ PETSC_INTERN PetscErrorCode FSBoundaryGetBounce(FSBoundary, PetscBool *);
 PETSC_INTERN PetscErrorCode FSBoundaryBounce(FSBoundary, PetscInt n, PetscReal x[], PetscReal v[], const PetscReal m[],
                                              FSParticleEnergyFn, void *, PetscReal de[2]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetLoads(FSBoundary, PetscInt *nwalls, const PetscReal **loads);
+PETSC_INTERN PetscErrorCode FSBoundaryGetWallLoads(FSBoundary, PetscInt *nwalls, const PetscReal **loads);
+PETSC_INTERN PetscErrorCode FSBoundaryGetWallLoadPoints(FSBoundary, PetscInt *nwalls, const PetscReal **points);
 /* the rank that owns the point x (the particles' domain decomposition) */
 typedef PetscMPIInt (*FSBoundaryRankOfFn)(void *ctx, const PetscReal x[]);
 PETSC_INTERN PetscErrorCode FSBoundarySetPartition(FSBoundary, FSBoundaryRankOfFn, void *ctx, const PetscReal lo[],

@@ -41,6 +41,21 @@ static void FrameField(FSCoupling c, const FSTankMotion *mo, FSFrameField *ff)
   const PetscReal cs = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
   const PetscReal gx = c->gravity[0] - mo->acc[0], gy = c->gravity[1] - mo->acc[1];
 
+  ff->rotated = mo->rotated != 0 ? PETSC_TRUE : PETSC_FALSE;
+  ff->ref_z   = c->tank_ref[2];
+  if (ff->rotated) { /* b = Q^T (g - A); the angular velocity and acceleration in the tank's axes */
+    const PetscReal *Q = mo->Q, G[3] = {gx, gy, c->gravity[2] - mo->acc[2]};
+    for (PetscInt d = 0; d < 3; d++) {
+      ff->b[d]  = Q[d] * G[0] + Q[3 + d] * G[1] + Q[6 + d] * G[2];
+      ff->w[d]  = mo->w[d];
+      ff->dw[d] = mo->dw[d];
+    }
+    ff->omega = ff->alpha = 0;
+    ff->ref[0]            = c->tank_ref[0];
+    ff->ref[1]            = c->tank_ref[1];
+    return;
+  }
+  for (PetscInt d = 0; d < 3; d++) ff->w[d] = ff->dw[d] = 0;
   ff->b[0]   = cs * gx + sn * gy;
   ff->b[1]   = -sn * gx + cs * gy;
   ff->b[2]   = c->gravity[2] - mo->acc[2];
@@ -66,7 +81,7 @@ PetscErrorCode FSCouplingCreate(MPI_Comm comm, FSCoupling *coupling)
 /* the coupling's options (FSCouplingSetUp, FSCouplingHelp): whether to couple, the loads, the width, the reference
  * point */
 static PetscErrorCode CouplingOptions(FSCoupling c, PetscOptionItems *PetscOptionsObject, PetscBool *want,
-                                      PetscReal ref[2], PetscInt *nref, PetscBool *set)
+                                      PetscReal ref[3], PetscInt *nref, PetscBool *set)
 {
   const char *loadtypes[] = {"reaction", "walls"};
   PetscInt    lt          = c->loads_from_walls ? 1 : 0;
@@ -85,7 +100,8 @@ static PetscErrorCode CouplingOptions(FSCoupling c, PetscOptionItems *PetscOptio
                           "Width of the tank across the 2-D plane: the liquid's loads per unit width times this",
                           "FSCouplingSetUp", &c->tank_width, NULL, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_tank_reference",
-                               "The tank's point on the beam, in the tank's frame (default: the middle of the floor)",
+                               "The tank's point on the beam, in the tank's frame, x,y (3-D: x,y[,z]; the centre of a "
+                               "prescribed rotation; default: the middle of the floor)",
                                "FSCouplingSetUp", ref, nref, set, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscFunctionReturn(0);
 }
@@ -106,8 +122,8 @@ PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, PetscInt dim, c
 {
   MPI_Comm  comm = c->comm;
   PetscBool want = PETSC_TRUE, set;
-  PetscReal ref[2], loc[4] = {0, 0, 0, 0}, glob[4], lo[3], hi[3];
-  PetscInt  nref = 2;
+  PetscReal ref[3], loc[4] = {0, 0, 0, 0}, glob[4], lo[3], hi[3];
+  PetscInt  nref = 3;
 
   PetscFunctionBegin;
   c->coupled = PETSC_FALSE;
@@ -121,17 +137,21 @@ PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, PetscInt dim, c
   PetscCall(FSBoundaryGetBoundingBox(b, lo, hi));
   ref[0] = 0.5 * (lo[0] + hi[0]);
   ref[1] = lo[1];
+  ref[2] = dim == 3 ? 0.5 * (lo[2] + hi[2]) : 0;
   PetscOptionsBegin(comm, NULL, "Coupling of the liquid and the structure", "FS");
   PetscCall(CouplingOptions(c, PetscOptionsObject, &want, ref, &nref, &set));
   PetscOptionsEnd();
-  PetscCheck(!set || nref == 2, comm, PETSC_ERR_ARG_SIZ, "-fs_tank_reference takes two values x,y; got %" PetscInt_FMT,
-             nref);
-  for (PetscInt d = 0; set && d < 2; d++) { /* on the beam next to the tank: within the walls' box grown by its size */
+  PetscCheck(!set || nref == 2 || (nref == 3 && dim == 3), comm, PETSC_ERR_ARG_SIZ,
+             "-fs_tank_reference takes two values x,y%s; got %" PetscInt_FMT, dim == 3 ? " (3-D: or x,y,z)" : "", nref);
+  if (set && nref == 2) ref[2] = dim == 3 ? 0.5 * (lo[2] + hi[2]) : 0;
+  for (PetscInt d = 0; set && d < nref;
+       d++) { /* on the beam next to the tank: within the walls' box grown by its size */
     const PetscReal size = hi[d] - lo[d];
-    PetscCheck(
-        ref[d] >= lo[d] - size && ref[d] <= hi[d] + size, comm, PETSC_ERR_ARG_OUTOFRANGE,
-        "-fs_tank_reference %g,%g: its %c must lie in [%g, %g] (the walls' extent grown by its size on each side)",
-        (double)ref[0], (double)ref[1], "xy"[d], (double)(lo[d] - size), (double)(hi[d] + size));
+    PetscCheck(ref[d] >= lo[d] - size && ref[d] <= hi[d] + size, comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "-fs_tank_reference %g,%g%s: its %c must lie in [%g, %g] (the walls' extent grown by its size on each "
+               "side)",
+               (double)ref[0], (double)ref[1], nref == 3 ? ",z" : "", "xyz"[d], (double)(lo[d] - size),
+               (double)(hi[d] + size));
   }
   PetscCheck(c->tank_width > 0, comm, PETSC_ERR_ARG_OUTOFRANGE, "-fs_tank_width %g must be positive",
              (double)c->tank_width);
@@ -139,7 +159,7 @@ PetscErrorCode FSCouplingSetUp(FSCoupling c, PetscBool possible, PetscInt dim, c
   c->coupled     = PETSC_TRUE;
   c->tank_ref[0] = ref[0];
   c->tank_ref[1] = ref[1];
-  c->tank_ref[2] = dim == 3 ? 0.5 * (lo[2] + hi[2]) : 0;
+  c->tank_ref[2] = ref[2];
   if (dim == 3) c->tank_width = 1; /* the liquid's loads are the whole tank's */
   /* the liquid at rest: its weight and the weight's moment about the reference point, per unit width */
   for (PetscInt p = 0; p < n; p++) {
@@ -171,8 +191,8 @@ PetscErrorCode FSCouplingHelp(MPI_Comm comm)
 {
   FSCoupling c      = NULL;
   PetscBool  want   = PETSC_TRUE, set;
-  PetscReal  ref[2] = {0, 0};
-  PetscInt   nref   = 2;
+  PetscReal  ref[3] = {0, 0, 0};
+  PetscInt   nref   = 3;
 
   PetscFunctionBegin;
   PetscCall(FSCouplingCreate(comm, &c));
@@ -230,7 +250,8 @@ PetscErrorCode FSCouplingGetBody(FSCoupling c, const FSFrameField **body)
 PetscErrorCode FSCouplingSetPredictedMotion(FSCoupling c, const FSTankMotion *predicted)
 {
   PetscFunctionBegin;
-  c->angle = predicted->angle;
+  c->angle     = predicted->angle;
+  c->predicted = *predicted;
   FrameField(c, predicted, &c->body);
   PetscFunctionReturn(0);
 }
@@ -326,6 +347,14 @@ PetscErrorCode FSCouplingComputeLoads(FSCoupling c, FSBoundary b, FSLoads *loads
   c->tank_load[2] = M;
   for (PetscInt k = 0; k < 3; k++) c->tank_load_out[k] = out[k];
   PetscCall(PetscMemzero(loads, sizeof(*loads)));
+  if (c->predicted.rotated != 0) { /* 3-D, turned about any axis: Q (F, out_F) and Q (out_M, M) */
+    const PetscReal *Q = c->predicted.Q, Ft[3] = {F[0], F[1], out[0]}, Mt[3] = {out[1], out[2], M};
+    for (PetscInt i = 0; i < 3; i++) {
+      loads->force[i]  = Q[3 * i] * Ft[0] + Q[3 * i + 1] * Ft[1] + Q[3 * i + 2] * Ft[2] - c->static_loads.force[i];
+      loads->moment[i] = Q[3 * i] * Mt[0] + Q[3 * i + 1] * Mt[1] + Q[3 * i + 2] * Mt[2] - c->static_loads.moment[i];
+    }
+    PetscFunctionReturn(0);
+  }
   loads->force[0]  = (cs * F[0] - sn * F[1]) * c->tank_width - c->static_loads.force[0];
   loads->force[1]  = (sn * F[0] + cs * F[1]) * c->tank_width - c->static_loads.force[1];
   loads->moment[2] = M * c->tank_width - c->static_loads.moment[2];
@@ -359,6 +388,23 @@ PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const Pet
 
   PetscFunctionBegin;
   FrameField(c, &c->motion, &ff);
+  if (ff.rotated) { /* 3-D, turned about any axis: b - g - dw x r - w x (w x r) - 2 w x u */
+    const PetscReal *w = ff.w;
+    for (PetscInt i = 0; i < n; i++) {
+      const PetscReal *ri = &rec[i * S], *u = &ri[3];
+      PetscReal        a[3];
+      FSFrameFieldEval3(&ff, ri, a);
+      a[0] -= c->gravity[0] + 2 * (w[1] * u[2] - w[2] * u[1]);
+      a[1] -= c->gravity[1] + 2 * (w[2] * u[0] - w[0] * u[2]);
+      a[2] -= c->gravity[2] + 2 * (w[0] * u[1] - w[1] * u[0]);
+      for (PetscInt d = 0; d < 3; d++) {
+        f[i * US + 3 + d] += a[d];
+        pw += ri[7] * u[d] * a[d];
+      }
+    }
+    *power = pw;
+    PetscFunctionReturn(0);
+  }
   ff.b[0] -= c->gravity[0]; /* the gravity term adds g itself */
   ff.b[1] -= c->gravity[1];
   for (PetscInt i = 0; i < n; i++) { /* in 3-D the frame turns about z: along z only the tank's acceleration */
@@ -383,13 +429,20 @@ PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const Pet
 }
 
 /* the power w [F . R(-theta) V_ref + omega F_M] of the in-plane force F[0..1] and moment F[2] on the liquid moving
-   with the tank's rigid motion (F in the tank's frame) */
-static PetscReal RigidPower(const FSCoupling c, const PetscReal F[3])
+   with the tank's rigid motion (F in the tank's frame); turned about any axis (3-D), F . Q^T V_ref + w . M with the
+   out-of-plane components out[] = F_z, M_x, M_y */
+static PetscReal RigidPower(const FSCoupling c, const PetscReal F[3], const PetscReal out[3])
 {
   const FSTankMotion *mo = &c->motion;
   const PetscReal     cs = PetscCosReal(mo->angle), sn = PetscSinReal(mo->angle);
   const PetscReal     vx = cs * mo->vel[0] + sn * mo->vel[1], vy = -sn * mo->vel[0] + cs * mo->vel[1];
 
+  if (mo->rotated != 0) {
+    const PetscReal *Q = mo->Q, *V = mo->vel, Ft[3] = {F[0], F[1], out[0]}, Mt[3] = {out[1], out[2], F[2]};
+    PetscReal        p = 0;
+    for (PetscInt d = 0; d < 3; d++) p += Ft[d] * (Q[d] * V[0] + Q[3 + d] * V[1] + Q[6 + d] * V[2]) + mo->w[d] * Mt[d];
+    return p; /* 3-D: no width factor */
+  }
   return c->tank_width * (F[0] * vx + F[1] * vy + mo->rate * F[2]);
 }
 
@@ -400,11 +453,13 @@ static PetscReal RigidPower(const FSCoupling c, const PetscReal F[3])
 */
 PetscErrorCode FSCouplingPower(FSCoupling c, const PetscReal R[3], PetscReal *power)
 {
-  const PetscReal *L    = c->tank_load;
-  const PetscReal  F[3] = {R[0] + L[0], R[1] + L[1], R[2] + L[2]};
+  const PetscReal *L      = c->tank_load;
+  const PetscReal  F[3]   = {R[0] + L[0], R[1] + L[1], R[2] + L[2]};
+  const PetscReal  out[3] = {c->reaction_out[0] + c->tank_load_out[0], c->reaction_out[1] + c->tank_load_out[1],
+                             c->reaction_out[2] + c->tank_load_out[2]};
 
   PetscFunctionBegin;
-  *power = RigidPower(c, F);
+  *power = RigidPower(c, F, out);
   PetscFunctionReturn(0);
 }
 
@@ -418,8 +473,8 @@ PetscErrorCode FSCouplingPower(FSCoupling c, const PetscReal R[3], PetscReal *po
 PetscErrorCode FSCouplingMotionPower(FSCoupling c, const PetscReal R[3], PetscReal *power)
 {
   PetscFunctionBegin;
-  *power = RigidPower(c, R);
-  if (c->dim == 3) *power += c->reaction_out[0] * c->motion.vel[2];
+  *power = RigidPower(c, R, c->reaction_out);
+  if (c->dim == 3 && c->motion.rotated == 0) *power += c->reaction_out[0] * c->motion.vel[2];
   PetscFunctionReturn(0);
 }
 
@@ -431,6 +486,20 @@ void FSCouplingAbsoluteEnergy(FSCoupling cp, const FSTankMotion *mo, PetscReal c
 {
   const PetscReal rx = x[0] - cp->tank_ref[0], ry = x[1] - cp->tank_ref[1];
   const PetscReal wx = v[0] - mo->rate * ry, wy = v[1] + mo->rate * rx; /* u + omega e_z x r */
+
+  if (mo->rotated != 0) { /* 3-D, turned about any axis: V = V_ref + Q (u + w x r), X = x_ref + D + Q r */
+    const PetscReal *Q = mo->Q, *w = mo->w, r[3] = {rx, ry, x[2] - cp->tank_ref[2]};
+    const PetscReal  W[3] = {v[0] + w[1] * r[2] - w[2] * r[1], v[1] + w[2] * r[0] - w[0] * r[2],
+                             v[2] + w[0] * r[1] - w[1] * r[0]};
+    *kin = *pot = 0;
+    for (PetscInt i = 0; i < 3; i++) {
+      const PetscReal Vi = mo->vel[i] + Q[3 * i] * W[0] + Q[3 * i + 1] * W[1] + Q[3 * i + 2] * W[2];
+      const PetscReal Xi = cp->tank_ref[i] + mo->disp[i] + Q[3 * i] * r[0] + Q[3 * i + 1] * r[1] + Q[3 * i + 2] * r[2];
+      *kin += 0.5 * m * Vi * Vi;
+      *pot -= m * cp->gravity[i] * Xi;
+    }
+    return;
+  }
   const PetscReal Vx = mo->vel[0] + c * wx - sn * wy, Vy = mo->vel[1] + sn * wx + c * wy;
   const PetscReal Xx = cp->tank_ref[0] + mo->disp[0] + c * rx - sn * ry,
                   Xy = cp->tank_ref[1] + mo->disp[1] + sn * rx + c * ry;

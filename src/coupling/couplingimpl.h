@@ -15,7 +15,8 @@ struct _p_FSCoupling {
   PetscReal angle;        /* the tank's angle at this stage (from the structure's state) */
   FSFrameField
       body; /* the body acceleration field of the tank's frame predicted for this stage (g without a coupling) */
-  FSTankMotion motion;   /* the tank's motion at the last right-hand side, every rank */
+  FSTankMotion motion;    /* the tank's motion at the last right-hand side, every rank */
+  FSTankMotion predicted; /* the motion predicted for this stage (FSCouplingSetPredictedMotion) */
   PetscReal reaction[3]; /* force (2) and moment of all terms but gravity on the liquid, tank frame, per unit width, all
                             ranks: the in-plane components the structure carries */
   PetscReal reaction_out[3]; /* 3-D: the components it does not carry, force_z, moment_x, moment_y */

@@ -78,7 +78,7 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   if (s->boundary) { /* the liquid's loads on each wall, from the step's last right-hand side */
     const PetscReal *L;
     PetscInt         nwalls;
-    PetscCall(FSBoundaryGetLoads(s->boundary, &nwalls, &L));
+    PetscCall(FSBoundaryGetWallLoads(s->boundary, &nwalls, &L)); /* each moment about its wall's point */
     for (PetscInt w = 0; w < PetscMin(nwalls, FS_MAX_WALL_COLUMNS); w++) {
       const PetscReal *Lw = &L[FS_WALL_LOAD_STRIDE * w];
       if (s->opt.dim == 3) { /* force and moment vectors */

@@ -687,7 +687,8 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
    Output Parameters:
 +  nwalls - the number of walls (0 in a case without walls)
 .  names  - the walls' names (an array of nwalls pointers into the solver, or NULL)
--  loads  - per wall: the force (3) and the moment (3) about -fs_walls_load_point, 6 nwalls values
+-  loads  - per wall: the force (3) and the moment (3) about -fs_walls_load_point (or the wall's own point,
+            -fs_walls_moment_walls and -fs_walls_moment_points), 6 nwalls values
             that stay valid until the next right-hand side (NULL without walls), or NULL
 
    Notes:
@@ -707,6 +708,6 @@ PetscErrorCode FSSolverGetWallLoads(FSSolver s, PetscInt *nwalls, const char *na
   PetscCall(FSBoundaryGetWallNames(s->boundary, nwalls, &wname));
   if (names)
     for (PetscInt w = 0; w < *nwalls; w++) names[w] = wname[w];
-  if (loads) PetscCall(FSBoundaryGetLoads(s->boundary, nwalls, loads));
+  if (loads) PetscCall(FSBoundaryGetWallLoads(s->boundary, nwalls, loads));
   PetscFunctionReturn(0);
 }

@@ -417,7 +417,7 @@ PETSC_INTERN PetscErrorCode FSSolverStructureRates(FSSolver, PetscBool broadcast
 PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const PetscReal *u);
 /* the reals of an FSTankMotion, and the most a structure routine's result broadcast carries */
 #define FS_MOTION_NREAL ((PetscInt)(sizeof(FSTankMotion) / sizeof(PetscReal)))
-#define FS_RANK0_MAX    (16 + FS_MAX_GLOBAL) /* the tank's motion and the structure's state */
+#define FS_RANK0_MAX    (32 + FS_MAX_GLOBAL) /* the tank's motion and the structure's state */
 PETSC_INTERN PetscErrorCode FSSolverStructureResultRank0(FSSolver, PetscErrorCode, const char[], PetscInt, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);

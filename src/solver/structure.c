@@ -382,6 +382,7 @@ PetscErrorCode FSSolverStructureValues(FSSolver s, PetscReal vals[])
   PetscCall(FSSolverStructureCurrent(s, NULL));
   if (rank) PetscFunctionReturn(0);
   PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(PetscMemzero(&m, sizeof(m)));
   PetscCall((*st->ops.motion)(st, t, s->sy, s->sydot, &m));
   vals[k++] = m.disp[1];
   vals[k++] = m.vel[1];
@@ -499,6 +500,7 @@ PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
   PetscCall(FSCouplingComputeLoads(s->coupling, s->boundary, &s->loads));
   /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
   PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f, &ierr));
+  PetscCall(PetscMemzero(&motion, sizeof(motion))); /* a model that fills part of it leaves no rotation */
   if (!rank && !ierr) ierr = (*st->ops.motion)(st, s->state.rhs_time, s->sy, s->sydot, &motion);
   PetscCall(PetscArrayzero(s->state.structure_energy, 3));
   if (!rank && !ierr && st->ndof && st->ops.energy) ierr = (*st->ops.energy)(st, s->sy, s->state.structure_energy);

@@ -44,6 +44,10 @@ BASE = [
     ("-fs_tank_baffle_", TANK + ["-fs_tank_shape", "baffled", "-fs_tank_compartments", "2", "-fs_tank_compartment_length", "0.05"]),
     ("-fs_tank_compartment", TANK + ["-fs_tank_shape", "baffled", "-fs_tank_compartments", "2", "-fs_tank_compartment_length", "0.05"]),
     ("-fs_motion_z_", TANK3 + ["-fs_structure", "prescribed"]),
+    ("-fs_motion_pitch_", TANK3 + ["-fs_structure", "prescribed"]),
+    ("-fs_motion_yaw_", TANK3 + ["-fs_structure", "prescribed"]),
+    ("-fs_motion_axis_direction", TANK3 + ["-fs_structure", "prescribed"]),
+    ("-fs_motion_axis_", TANK3 + ["-fs_structure", "prescribed", "-fs_motion_axis_direction", "0,0,1"]),
     ("-fs_motion_", TANK + ["-fs_structure", "prescribed"]),
     ("-fs_tank_reference", TANK + ["-fs_structure", "msd"]),
     ("", TANK),
@@ -102,7 +106,7 @@ ACCEPT = {
     "-fs_rho0": {"1e300": "only scales the masses and pressures"},
     "-fs_motion_ramp": {"0": "no smooth start", "1e300": "a start so slow the motion never grows"},
     **{f"-fs_motion_{c}_poly": {v: "an offset of either sign (the liquid feels accelerations only)" for v in ("-1", "0", "1e300")}
-       for c in ("x", "y", "z", "roll")},
+       for c in ("x", "y", "z", "roll", "pitch", "yaw", "axis")},
 }
 
 # option -> {value: (what the error says, why)}: refused further on, with a PETSc error that names no
@@ -140,6 +144,7 @@ NAMES = {
     "-fs_fill_packing_cache": None,  # a folder, made where a packing is written: test_packing.py
     "-fs_coupling_loads": (["-fs_structure", "msd", "-fs_coupling_loads", "nosuch"], "nosuch"),
     "-fs_walls_noslip": (["nosuch"], None),
+    "-fs_walls_moment_walls": (["-fs_walls_moment_walls", "nosuch", "-fs_walls_moment_points", "0,0"], "nosuch"),
     "-fs_tank_file": (["-fs_tank_shape", "file", "-fs_tank_file", "/nonexistent.walls"], "/nonexistent.walls"),
     "-fs_tank_stl_scale": (["nosuch"], None),
     "-fs_tank_stl": (TANK3[4:] + ["-fs_dim", "3", "-fs_tank_shape", "stl", "-fs_tank_stl", "/nonexistent.stl"], "/nonexistent.stl"),
@@ -151,6 +156,11 @@ NAMES = {
     "-fs_view": None,  # a viewer, read by the executable after the set-up (PetscObjectViewFromOptions)
     **{f"-fs_motion_{c}_file": (TANK3[2:4] * (c == "z") + ["-fs_structure", "prescribed", f"-fs_motion_{c}_file", "/nonexistent.motion"],
                                 "/nonexistent.motion") for c in ("x", "y", "z", "roll")},
+    **{f"-fs_motion_{c}_file": (TANK3[2:4] + ["-fs_structure", "prescribed", "-fs_motion_axis_direction", "0,0,1",
+                                              f"-fs_motion_{c}_file", "/nonexistent.motion"], "/nonexistent.motion")
+       for c in ("pitch", "yaw", "axis")},
+    "-fs_motion_file": (TANK3[2:4] + ["-fs_structure", "prescribed", "-fs_motion_file", "/nonexistent.motion"],
+                        "/nonexistent.motion"),
 }
 
 

@@ -133,6 +133,16 @@ static PetscErrorCode FSBoundaryOptions(FSBoundary b, PetscOptionItems *PetscOpt
   PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_walls_load_point",
                                "Point about which the moments of the wall loads are taken", "FSBoundarySetUp", lp, &np,
                                &set, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
+  for (PetscInt k = 0; k < b->nmomentname; k++) PetscCall(PetscFree(b->momentname[k]));
+  b->nmomentname = FS_BOUNDARY_MAX_NAMES;
+  PetscCall(PetscOptionsStringArray(
+      "-fs_walls_moment_walls", "Walls whose moment is reported about a point of their own (-fs_walls_moment_points)",
+      "FSBoundarySetUp", b->momentname, &b->nmomentname, NULL));
+  b->nmomentpoint = 3 * FS_BOUNDARY_MAX_NAMES;
+  PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_walls_moment_points",
+                               "The points of -fs_walls_moment_walls, x,y[,z] each in the same order",
+                               "FSBoundarySetUp", b->momentpoint, &b->nmomentpoint, NULL, PETSC_NINFINITY,
+                               PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscCall(PetscOptionsEList(
       "-fs_walls_visibility",
       "Fluid pairs and wall elements near walls: cut (pairs through walls cut, only facing and unhidden elements) or "
@@ -158,6 +168,8 @@ static PetscErrorCode FSBoundaryOptions(FSBoundary b, PetscOptionItems *PetscOpt
 .  -fs_walls_bounce_distance <0.1>      - particles closer to a wall than this (in dx) and moving towards it bounce back
 .  -fs_walls_bounce_restitution <1>     - the fraction of the normal velocity a bounce keeps
 .  -fs_walls_load_point <x,y[,z]>       - the point about which the wall moments are taken (the origin)
+.  -fs_walls_moment_walls <names>       - walls whose moment is reported about a point of their own
+.  -fs_walls_moment_points <x,y[,z],..> - those points, in the same order (dim values each)
 -  -fs_walls_visibility <cut|all>       - what a particle near the walls interacts with. cut (default): fluid pairs
    whose connecting line crosses a wall are cut, and gamma and the wall terms count only the elements that face the
    particle and are not hidden behind others. all: every fluid pair and every element within the support, far faces
@@ -254,6 +266,32 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
       }
     PetscCheck(found, comm, PETSC_ERR_ARG_WRONG, "-fs_walls_noslip names wall \"%s\", which this case does not have",
                b->noslipname[k]);
+  }
+  /* the walls' own moment points: -fs_walls_load_point unless named in -fs_walls_moment_walls */
+  PetscCall(PetscCalloc2(3 * b->nwalls, &b->wallpoint, FS_WALL_LOAD_STRIDE * b->nwalls, &b->loadwall));
+  for (PetscInt q = 0; q < b->nwalls; q++)
+    for (PetscInt d = 0; d < 3; d++) b->wallpoint[3 * q + d] = b->loadpoint[d];
+  PetscCheck(b->nmomentpoint == dim * b->nmomentname, comm, PETSC_ERR_ARG_SIZ,
+             "-fs_walls_moment_points gives %" PetscInt_FMT " numbers for the %" PetscInt_FMT
+             " walls of -fs_walls_moment_walls: expected %" PetscInt_FMT " (%s for each, in the same order)",
+             b->nmomentpoint, b->nmomentname, dim * b->nmomentname, dim == 3 ? "x,y,z" : "x,y");
+  for (PetscInt k = 0; k < b->nmomentname; k++) {
+    PetscBool found = PETSC_FALSE;
+    for (PetscInt q = 0; q < b->nwalls; q++)
+      if (!strcmp(b->momentname[k], b->wallname[q])) {
+        for (PetscInt d = 0; d < dim; d++) b->wallpoint[3 * q + d] = b->momentpoint[dim * k + d];
+        found = PETSC_TRUE;
+      }
+    if (!found) {
+      char known[512] = "";
+      for (PetscInt q = 0; q < b->nwalls; q++) {
+        PetscCall(PetscStrlcat(known, q ? ", " : "", sizeof(known)));
+        PetscCall(PetscStrlcat(known, b->wallname[q], sizeof(known)));
+      }
+      SETERRQ(comm, PETSC_ERR_ARG_WRONG,
+              "-fs_walls_moment_walls names wall \"%s\", which this case does not have: its walls are %s",
+              b->momentname[k], known);
+    }
   }
   b->view.dim    = dim;
   b->view.nwalls = b->nwalls;
@@ -602,6 +640,43 @@ PetscErrorCode FSBoundaryGetLoads(FSBoundary b, PetscInt *nwalls, const PetscRea
   PetscFunctionReturn(0);
 }
 
+/*
+   FSBoundaryGetWallLoads - the loads of FSBoundaryGetLoads() as reported (time series, FSSolverGetWallLoads): each
+   wall's moment about its own point (-fs_walls_moment_walls, -fs_walls_moment_points; -fs_walls_load_point for the
+   others), moved from the load point o to the wall's p exactly, M_p = M_o + (o - p) x F.
+
+   Collective
+*/
+PetscErrorCode FSBoundaryGetWallLoads(FSBoundary b, PetscInt *nwalls, const PetscReal **loads)
+{
+  const PetscReal *L;
+
+  PetscFunctionBegin;
+  PetscCall(FSBoundaryGetLoads(b, nwalls, &L));
+  for (PetscInt q = 0; q < b->nwalls; q++) {
+    const PetscReal *F = &L[FS_WALL_LOAD_STRIDE * q], *p = &b->wallpoint[3 * q];
+    PetscReal       *out = &b->loadwall[FS_WALL_LOAD_STRIDE * q];
+    PetscReal        r[3];
+    for (PetscInt c = 0; c < FS_WALL_LOAD_STRIDE; c++) out[c] = F[c];
+    for (PetscInt d = 0; d < 3; d++) r[d] = b->loadpoint[d] - p[d];
+    if (r[0] == 0 && r[1] == 0 && r[2] == 0) continue; /* about the load point: as summed */
+    out[3] += r[1] * F[2] - r[2] * F[1];
+    out[4] += r[2] * F[0] - r[0] * F[2];
+    out[5] += r[0] * F[1] - r[1] * F[0];
+  }
+  *loads = b->loadwall;
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryGetWallLoadPoints - per wall the point (3) its reported moment is about. Not collective. */
+PetscErrorCode FSBoundaryGetWallLoadPoints(FSBoundary b, PetscInt *nwalls, const PetscReal **points)
+{
+  PetscFunctionBegin;
+  *nwalls = b->nwalls;
+  *points = b->wallpoint;
+  PetscFunctionReturn(0);
+}
+
 /* FSBoundaryGetWallNames - the walls' names, in the order of the loads. Not collective. */
 PetscErrorCode FSBoundaryGetWallNames(FSBoundary b, PetscInt *nwalls, const char *const **names)
 {
@@ -880,7 +955,9 @@ PetscErrorCode FSBoundaryDestroy(FSBoundary *boundary)
   if (b->ops->destroy) PetscCall((*b->ops->destroy)(b));
   PetscCall(PetscFree(b->noslip));
   for (PetscInt k = 0; k < b->nnoslipname; k++) PetscCall(PetscFree(b->noslipname[k]));
+  for (PetscInt k = 0; k < b->nmomentname; k++) PetscCall(PetscFree(b->momentname[k]));
   PetscCall(PetscFree2(b->load, b->loadsum));
+  PetscCall(PetscFree2(b->wallpoint, b->loadwall));
   PetscCall(PetscSFDestroy(&b->wpsf));
   PetscCall(PetscFree2(b->owner, b->wproot));
   PetscCall(PetscHeaderDestroy(boundary));

@@ -198,6 +198,82 @@ static void PolygonExactMass(const FSWalls *w, PetscReal x0, PetscReal x1, Petsc
   *mass = rho0 * (*area + g_c02 * (q1 - q0 - (ysurf - y0) * a0));
 }
 
+/*
+   FSCaseFillLevel - the level in [y0, y1] below which the liquid has the volume target (bymass false) or the mass
+   target (bymass true, hydrostatic below that level: the masses the particles get), f(t) giving both exactly for the
+   level t (FSWallsLiquidBelow, FSMeshLiquidBelow). Both grow with the level, so bisection finds it, to round-off (a
+   box's level is -fs_fill's to the last bits). what names the option in the errors: a target above the tank's
+   capacity names both. Prints the level found.
+
+   Collective (every rank computes the same level)
+
+   Level: developer
+*/
+PetscErrorCode FSCaseFillLevel(FSSolver s, FSCaseLevelFn f, const void *ctx, PetscReal y0, PetscReal y1,
+                               PetscBool bymass, PetscReal target, const char what[], PetscReal *level)
+{
+  MPI_Comm  comm = PetscObjectComm((PetscObject)s);
+  PetscReal lo = y0, hi = y1, v, m, full;
+  PetscInt  dim;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetDimension(s, &dim));
+  f(ctx, y1, &v, &m);
+  full = bymass ? m : v;
+  PetscCheck(target > 0 && target <= full * (1 + 1e-12), comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "%s %g is more than the full tank holds: expected at most %g (%s)", what, (double)target, (double)full,
+             bymass ? (dim == 2 ? "kg per metre of width, hydrostatic" : "kg, hydrostatic")
+                    : (dim == 2 ? "m^2, the area in the plane: m^3 per metre of width" : "m^3"));
+  for (PetscInt it = 0; it < 200 && hi - lo > 4 * PETSC_MACHINE_EPSILON * PetscMax(PetscAbsReal(lo), PetscAbsReal(hi));
+       it++) {
+    const PetscReal mid = 0.5 * (lo + hi);
+    f(ctx, mid, &v, &m);
+    if ((bymass ? m : v) < target) lo = mid;
+    else hi = mid;
+  }
+  *level = 0.5 * (lo + hi);
+  f(ctx, *level, &v, &m);
+  PetscCall(PetscPrintf(comm,
+                        "%s %g: the liquid's level is y = %.10g, %.6g of the tank's height (volume %g, mass %g%s)\n",
+                        what, (double)target, (double)*level, (double)((*level - y0) / (y1 - y0)), (double)v, (double)m,
+                        dim == 2 ? ", per metre of width" : ""));
+  PetscFunctionReturn(0);
+}
+
+typedef struct {
+  const FSWalls *w;
+  PetscReal      x0, x1, y0, rho0, g_c02;
+} PolygonLevel;
+
+static void PolygonLevelAt(const void *ctx, PetscReal t, PetscReal *area, PetscReal *mass)
+{
+  const PolygonLevel *p = (const PolygonLevel *)ctx;
+  PolygonExactMass(p->w, p->x0, p->x1, p->y0, t, p->rho0, p->g_c02, area, mass);
+}
+
+/*
+   FSCaseFillLevelPolygon - the level of the liquid of w in the strip x0..x1 above y0 (at most y1) that holds the area
+   target (m^2, per metre of width) or the hydrostatic mass target (kg per metre of width).
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseFillLevelPolygon(FSSolver s, const FSWalls *w, PetscReal x0, PetscReal x1, PetscReal y0,
+                                      PetscReal y1, PetscBool bymass, PetscReal target, const char what[],
+                                      PetscReal *level)
+{
+  PolygonLevel p = {w, x0, x1, y0, 0, 0};
+  PetscReal    g[3], c0;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetGravity(s, g));
+  PetscCall(FSSolverGetParameters(s, NULL, NULL, &p.rho0, &c0, NULL));
+  p.g_c02 = PetscSqrtReal(g[0] * g[0] + g[1] * g[1]) / (c0 * c0);
+  PetscCall(FSCaseFillLevel(s, PolygonLevelAt, &p, y0, y1, bymass, target, what, level));
+  PetscFunctionReturn(0);
+}
+
 /* this rank's rows of the lattice in the liquid region of w inside [x0, x1] x [y0, ysurf], points closer to a wall
    than margin times the spacing left out: positions, hydrostatic densities and masses rho hx hy (x, rho, m
    allocated here) */

@@ -40,5 +40,16 @@ PETSC_INTERN PetscErrorCode FSCaseLatticeFits(FSSolver, FSFillPackingType, Petsc
 /* the hydrostatic densities of relaxed particles and their masses, the volume shared evenly */
 PETSC_INTERN PetscErrorCode FSCaseRelaxedDensities(FSSolver, PetscInt dim, PetscReal ysurf, PetscReal volume,
                                                    PetscInt n, const PetscReal x[], PetscReal rho[], PetscReal m[]);
+/* the liquid's exact volume and hydrostatic mass below the level t (FSCaseFillLevel) */
+typedef void (*FSCaseLevelFn)(const void *ctx, PetscReal t, PetscReal *volume, PetscReal *mass);
+PETSC_INTERN PetscErrorCode FSCaseFillLevel(FSSolver, FSCaseLevelFn, const void *ctx, PetscReal y0, PetscReal y1,
+                                            PetscBool bymass, PetscReal target, const char what[], PetscReal *level);
+/* the level of -fs_fill_volume / -fs_fill_mass in the strip x0..x1 of w (2-D) or the box lo..hi of m (3-D) */
+PETSC_INTERN PetscErrorCode FSCaseFillLevelPolygon(FSSolver, const FSWalls *, PetscReal x0, PetscReal x1, PetscReal y0,
+                                                   PetscReal y1, PetscBool bymass, PetscReal target, const char what[],
+                                                   PetscReal *level);
+PETSC_INTERN PetscErrorCode FSCaseFillLevelMesh(FSSolver, const FSMesh *, const PetscReal lo[3], const PetscReal hi[3],
+                                                PetscBool bymass, PetscReal target, const char what[],
+                                                PetscReal *level);
 /* the domain: the walls' box with a margin of 4h */
 PETSC_INTERN PetscErrorCode FSCaseSetDomainAround(FSSolver, PetscInt dim, const PetscReal lo[], const PetscReal hi[]);

@@ -108,6 +108,45 @@ static void MeshExactMass(const FSMesh *m, const PetscReal lo[3], const PetscRea
   *mass = rho0 * (*vol + g_c02 * (q1 - q0 - (hi[1] - lo[1]) * v0));
 }
 
+typedef struct {
+  const FSMesh *m;
+  PetscReal     lo[3], hi[3], rho0, g_c02;
+} MeshLevel;
+
+static void MeshLevelAt(const void *ctx, PetscReal t, PetscReal *vol, PetscReal *mass)
+{
+  const MeshLevel *p     = (const MeshLevel *)ctx;
+  PetscReal        hi[3] = {p->hi[0], t, p->hi[2]};
+  MeshExactMass(p->m, p->lo, hi, p->rho0, p->g_c02, vol, mass);
+}
+
+/*
+   FSCaseFillLevelMesh - the level of the liquid of m in the box lo..hi (x and z extents; above lo[1], at most hi[1])
+   that holds the volume target (m^3) or the hydrostatic mass target (kg).
+
+   Collective
+
+   Level: developer
+*/
+PetscErrorCode FSCaseFillLevelMesh(FSSolver s, const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],
+                                   PetscBool bymass, PetscReal target, const char what[], PetscReal *level)
+{
+  MeshLevel p;
+  PetscReal g[3], c0;
+
+  PetscFunctionBegin;
+  p.m = m;
+  for (PetscInt d = 0; d < 3; d++) {
+    p.lo[d] = lo[d];
+    p.hi[d] = hi[d];
+  }
+  PetscCall(FSSolverGetGravity(s, g));
+  PetscCall(FSSolverGetParameters(s, NULL, NULL, &p.rho0, &c0, NULL));
+  p.g_c02 = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) / (c0 * c0);
+  PetscCall(FSCaseFillLevel(s, MeshLevelAt, &p, lo[1], hi[1], bymass, target, what, level));
+  PetscFunctionReturn(0);
+}
+
 /* this rank's rows of the lattice in the liquid region of m inside lo..hi (hi[1] the surface), points closer to a
    wall than margin times the spacing left out: positions, hydrostatic densities and masses (allocated here) */
 static PetscErrorCode MeshLatticePoints(FSSolver s, const FSMesh *m, const PetscReal lo[3], const PetscReal hi[3],

@@ -26,7 +26,10 @@
    dx, with the hydrostatic density rho = rho0 + rho0 |g| (y_fill - y) / c0^2 and masses that sum to its
    integral over the liquid's exact volume (docs/walls.md). -fs_fill 0 is an empty
    tank: no particles and no walls, the structure alone (with -fs_beam_payload_mass all ballast), the
-   0 % point of a fill sweep.
+   0 % point of a fill sweep. Instead of -fs_fill, -fs_fill_volume V or -fs_fill_mass M fill the tank
+   to the level below which it holds the volume V (m^3; 2-D: the area, m^2 per metre of width) or the
+   hydrostatic mass M (kg; 2-D: per metre of width), found by bisection on the exact volume and mass
+   below a level (FSCaseFillLevel).
    Defaults: rho0 = 1000, c0 = 20 m/s and h/dx = 2 (seed), nu = 1e-6, g = 9.81 down, dx = H/30.
 */
 #include <math.h>
@@ -42,6 +45,7 @@ typedef struct {
   char      stl[8][PETSC_MAX_PATH_LEN]; /* -fs_tank_stl */
   PetscInt  nstl;
   PetscReal L, H, Lc, t, gap, hb, fill, width;
+  PetscReal fillvol, fillmass; /* -fs_fill_volume, -fs_fill_mass (0: not given) */
   PetscInt  ncomp, dim;
   PetscReal box[6 * FS_TANK_MAX_BOXES]; /* -fs_liquid_box: 2 dim reals per box */
   PetscInt  nbox;
@@ -69,7 +73,7 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
 {
   Tank     *tk;
   PetscReal g[3] = {0, -9.81, 0};
-  PetscBool rect, baff, file, stl, stlset, fillset, boxset;
+  PetscBool rect, baff, file, stl, stlset, fillset, boxset, volset, massset;
   PetscInt  nboxv;
   char     *stlfiles[9];
   PetscInt  nstl = 9, nrot, nshift;
@@ -119,6 +123,15 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
                           PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_fill", "Filling level, as a fraction of the tank height", "",
                           &tk->fill, &fillset, PETSC_NINFINITY, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(
+      FSOptionsReal(PetscOptionsObject, "-fs_fill_volume",
+                    "The liquid's volume instead of -fs_fill: the level found below which the tank holds it (m^3; "
+                    "2-D: m^2, the area in the plane)",
+                    "", &tk->fillvol, &volset, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_fill_mass",
+                          "The liquid's mass instead of -fs_fill: the level found below which the tank holds it at "
+                          "rest, hydrostatic (kg; 2-D: kg per metre of width)",
+                          "", &tk->fillmass, &massset, 0, PETSC_INFINITY, FS_RANGE_OPEN_LOWER));
   nboxv = 6 * FS_TANK_MAX_BOXES;
   PetscCall(FSOptionsRealArray(PetscOptionsObject, "-fs_liquid_box",
                                "Boxes of liquid instead of a filling level: xmin,xmax,ymin,ymax[,zmin,zmax] for each "
@@ -170,6 +183,10 @@ static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsO
                "-fs_fill and -fs_liquid_box both give the liquid: use one of them");
     tk->nbox = nboxv / (2 * tk->dim);
   }
+  PetscCheck((fillset || boxset ? 1 : 0) + (volset ? 1 : 0) + (massset ? 1 : 0) <= 1, PETSC_COMM_WORLD,
+             PETSC_ERR_ARG_INCOMP, "%s%s%s give the liquid more than once: use one of them",
+             fillset ? "-fs_fill, " : (boxset ? "-fs_liquid_box, " : ""), volset ? "-fs_fill_volume" : "",
+             massset ? (volset ? " and -fs_fill_mass" : "-fs_fill_mass") : "");
   PetscCheck(tk->fill >= 0 && tk->fill <= 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_fill %g is outside the tank: expected a fraction in [0, 1] of the tank height", (double)tk->fill);
   PetscCall(FSSolverSetDefaultPhysics(s, 1000.0, 20.0, 1e-6, g));
@@ -261,17 +278,21 @@ static PetscErrorCode SetUp3(FSSolver s, Tank *tk, PetscBool stl, FSWalls *w)
   PetscReal lo[3], hi[3];
 
   PetscFunctionBegin;
-  PetscCheck(tk->nbox || tk->fill > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
+  PetscCheck(tk->nbox || tk->fill > 0 || tk->fillvol > 0 || tk->fillmass > 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "-fs_fill 0 (an empty tank) is two-dimensional only: give a positive fill in 3-D");
   PetscCall(TankMesh(s, tk, stl, w, &m));
   if (tk->nbox) PetscCall(FSCaseFillLiquidMeshBoxes(s, &m, tk->nbox, tk->box, "-fs_liquid_box"));
   else {
+    const char *what = tk->fillvol > 0 ? "-fs_fill_volume" : (tk->fillmass > 0 ? "-fs_fill_mass" : "-fs_fill");
     for (PetscInt d = 0; d < 3; d++) {
       lo[d] = m.lo[d];
       hi[d] = m.hi[d];
     }
-    hi[1] = lo[1] + tk->fill * (m.hi[1] - m.lo[1]);
-    PetscCall(FSCaseFillLiquidMesh(s, &m, lo, hi, "-fs_fill"));
+    if (tk->fillvol > 0 || tk->fillmass > 0)
+      PetscCall(FSCaseFillLevelMesh(s, &m, lo, hi, (PetscBool)(tk->fillmass > 0),
+                                    tk->fillmass > 0 ? tk->fillmass : tk->fillvol, what, &hi[1]));
+    else hi[1] = lo[1] + tk->fill * (m.hi[1] - m.lo[1]);
+    PetscCall(FSCaseFillLiquidMesh(s, &m, lo, hi, what));
     PetscCall(TankAtRest(s, hi[1] - lo[1]));
   }
   PetscCall(FSMeshDestroy(&m));
@@ -301,7 +322,14 @@ static PetscErrorCode SetUp(FSSolver s)
   }
   PetscCall(FSWallsCheck(&w, comm)); /* sets the bounding box used below */
   if (tk->nbox) PetscCall(FSCaseFillLiquidBoxes(s, &w, tk->nbox, tk->box, "-fs_liquid_box"));
-  else if (tk->fill > 0) {
+  else if (tk->fillvol > 0 || tk->fillmass > 0) {
+    const char *what = tk->fillvol > 0 ? "-fs_fill_volume" : "-fs_fill_mass";
+    PetscReal   level;
+    PetscCall(FSCaseFillLevelPolygon(s, &w, w.lo[0], w.hi[0], w.lo[1], w.hi[1], (PetscBool)(tk->fillmass > 0),
+                                     tk->fillmass > 0 ? tk->fillmass : tk->fillvol, what, &level));
+    PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], level, what));
+    PetscCall(TankAtRest(s, level - w.lo[1]));
+  } else if (tk->fill > 0) {
     PetscCall(FSCaseFillLiquid(s, &w, w.lo[0], w.hi[0], w.lo[1], w.lo[1] + tk->fill * (w.hi[1] - w.lo[1]), "-fs_fill"));
     PetscCall(TankAtRest(s, tk->fill * (w.hi[1] - w.lo[1])));
   } else { /* an empty tank (the 0 % point of a fill sweep): the structure alone, its payload all ballast */

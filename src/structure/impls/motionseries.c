@@ -4,7 +4,8 @@
    skipped. Times strictly increase; at least two points. The points are joined by a natural cubic
    spline (second derivative zero at both ends) and continued by straight lines before the first and
    after the last point: the value, the velocity and the acceleration are continuous everywhere (C2),
-   so the inertial forces the liquid feels have no jumps.
+   so the inertial forces the liquid feels have no jumps. A file of several components (a 6-DOF motion:
+   the time and six values a line) gives one such spline per column (FSMotionSeriesLoadColumns).
 */
 #include <math.h>
 #include <stdio.h>
@@ -54,16 +55,33 @@ static void SplineSecondDerivatives(PetscInt n, const PetscReal t[], const Petsc
 PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char option[], PetscReal scale,
                                   FSMotionSeries *s)
 {
+  PetscFunctionBegin;
+  PetscCall(FSMotionSeriesLoadColumns(comm, file, option, 1, &scale, "two finite numbers, the time and the value", s));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSMotionSeriesLoadColumns - reads a file of lines 'time v_1 ... v_nc' and builds one spline per column
+   s[0..nc) (column k multiplied by scale[k]); what names the numbers a line must hold, for the errors.
+
+   Collective (every rank reads the file)
+*/
+PetscErrorCode FSMotionSeriesLoadColumns(MPI_Comm comm, const char file[], const char option[], PetscInt nc,
+                                         const PetscReal scale[], const char what[], FSMotionSeries s[])
+{
   FILE      *fp;
   char      *line    = NULL;
   size_t     linecap = 0;
   ssize_t    len;
-  PetscInt   cap = 256, lineno = 0;
-  PetscReal *w;
+  PetscInt   cap = 256, lineno = 0, np = 0;
+  PetscReal *w, *T, *Y; /* the times, the values (nc a point) */
 
   PetscFunctionBegin;
-  PetscCall(PetscMemzero(s, sizeof(*s)));
-  PetscCall(PetscStrncpy(s->file, file, sizeof(s->file)));
+  PetscCheck(nc >= 1 && nc <= FS_MOTION_MAX_COLUMNS, comm, PETSC_ERR_PLIB, "%" PetscInt_FMT " columns", nc);
+  for (PetscInt k = 0; k < nc; k++) {
+    PetscCall(PetscMemzero(&s[k], sizeof(s[k])));
+    PetscCall(PetscStrncpy(s[k].file, file, sizeof(s[k].file)));
+  }
   {
     PetscBool   elsewhere;
     const char *why;
@@ -71,10 +89,10 @@ PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char o
     PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "%s: cannot open the time-series file %s%s%s", option, file,
                elsewhere ? " on some of the other ranks" : ": ", elsewhere ? "" : why);
   }
-  PetscCall(PetscMalloc2(cap, &s->t, cap, &s->y));
+  PetscCall(PetscMalloc2(cap, &T, cap * nc, &Y));
   while ((len = getline(&line, &linecap, fp)) > 0) {
     char     *p = line, *hash;
-    PetscReal v[3];
+    PetscReal v[FS_MOTION_MAX_COLUMNS + 2];
     PetscInt  nv  = 0;
     PetscBool bad = PETSC_FALSE;
     char      err[256];
@@ -87,52 +105,71 @@ PetscErrorCode FSMotionSeriesLoad(MPI_Comm comm, const char file[], const char o
                               FSTextByteOrderMark(line, (size_t)len)));
     if ((hash = strchr(line, '#'))) *hash = 0;
     if (!err[0]) {
-      while (nv < 3 && NextNumber(&p, &v[nv], &bad)) nv++;
+      while (nv < nc + 2 && NextNumber(&p, &v[nv], &bad)) nv++;
       if (!nv && !bad) continue; /* blank or comment */
-      if (bad || nv != 2)
-        PetscCall(PetscStrncpy(err, "expected two finite numbers, the time and the value", sizeof(err)));
-      else if (s->n && v[0] <= s->t[s->n - 1])
+      if (bad || nv != nc + 1) PetscCall(PetscSNPrintf(err, sizeof(err), "expected %s", what));
+      else if (np && v[0] <= T[np - 1])
         PetscCall(PetscSNPrintf(err, sizeof(err),
                                 "the time %g does not follow the previous time %g (times must strictly increase)",
-                                (double)v[0], (double)s->t[s->n - 1]));
+                                (double)v[0], (double)T[np - 1]));
     }
     if (err[0]) {
       fclose(fp);
       free(line);
+      PetscCall(PetscFree2(T, Y));
       SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "%s: file %s, line %" PetscInt_FMT ": %s", option, file, lineno, err);
     }
-    if (s->n == cap) { /* grow */
+    if (np == cap) { /* grow */
       PetscReal *t, *y;
-      PetscCall(PetscMalloc2(2 * cap, &t, 2 * cap, &y));
-      PetscCall(PetscArraycpy(t, s->t, cap));
-      PetscCall(PetscArraycpy(y, s->y, cap));
-      PetscCall(PetscFree2(s->t, s->y));
-      s->t = t;
-      s->y = y;
+      PetscCall(PetscMalloc2(2 * cap, &t, 2 * cap * nc, &y));
+      PetscCall(PetscArraycpy(t, T, cap));
+      PetscCall(PetscArraycpy(y, Y, cap * nc));
+      PetscCall(PetscFree2(T, Y));
+      T = t;
+      Y = y;
       cap *= 2;
     }
-    s->t[s->n]   = v[0];
-    s->y[s->n++] = scale * v[1];
+    T[np] = v[0];
+    for (PetscInt k = 0; k < nc; k++) Y[np * nc + k] = scale[k] * v[1 + k];
+    np++;
   }
   free(line);
   fclose(fp);
-  PetscCheck(s->n >= 2, comm, PETSC_ERR_FILE_UNEXPECTED,
-             "%s: file %s has %" PetscInt_FMT " points (time, value): at least two are needed", option, file, s->n);
-  PetscCall(PetscMalloc1(s->n, &s->M));
-  PetscCall(PetscMalloc1(s->n, &w));
-  SplineSecondDerivatives(s->n, s->t, s->y, s->M, w);
-  PetscCall(PetscFree(w));
-  /* values too large, or times too close, for the spline's slopes and second derivatives (the velocity and
-     acceleration the liquid feels) to be numbers */
-  for (PetscInt i = 0; i + 1 < s->n; i++) {
-    const PetscReal slope = (s->y[i + 1] - s->y[i]) / (s->t[i + 1] - s->t[i]);
-    PetscCheck(!PetscIsInfOrNanReal(slope) && !PetscIsInfOrNanReal(s->M[i]) && !PetscIsInfOrNanReal(s->M[i + 1]), comm,
-               PETSC_ERR_FILE_UNEXPECTED,
-               "%s: file %s: the points (%g, %g) and (%g, %g) give a velocity or acceleration that is not a finite "
-               "number: values too large or times too close",
-               option, file, (double)s->t[i], (double)(s->y[i] / scale), (double)s->t[i + 1],
-               (double)(s->y[i + 1] / scale));
+  if (np < 2) PetscCall(PetscFree2(T, Y));
+  PetscCheck(np >= 2, comm, PETSC_ERR_FILE_UNEXPECTED,
+             "%s: file %s has %" PetscInt_FMT " points (%s): at least two are needed", option, file, np,
+             nc == 1 ? "time, value" : "lines");
+  PetscCall(PetscMalloc1(np, &w));
+  for (PetscInt k = 0; k < nc; k++) {
+    FSMotionSeries *sk = &s[k];
+    sk->n              = np;
+    PetscCall(PetscMalloc2(np, &sk->t, np, &sk->y));
+    PetscCall(PetscMalloc1(np, &sk->M));
+    for (PetscInt i = 0; i < np; i++) {
+      sk->t[i] = T[i];
+      sk->y[i] = Y[i * nc + k];
+    }
+    SplineSecondDerivatives(np, sk->t, sk->y, sk->M, w);
+    /* values too large, or times too close, for the spline's slopes and second derivatives (the velocity and
+       acceleration the liquid feels) to be numbers */
+    for (PetscInt i = 0; i + 1 < np; i++) {
+      const PetscReal slope = (sk->y[i + 1] - sk->y[i]) / (sk->t[i + 1] - sk->t[i]);
+      if (!PetscIsInfOrNanReal(slope) && !PetscIsInfOrNanReal(sk->M[i]) && !PetscIsInfOrNanReal(sk->M[i + 1])) continue;
+      char msg[256];
+      PetscCall(PetscSNPrintf(msg, sizeof(msg), "the points (%g, %g) and (%g, %g)%s", (double)T[i],
+                              (double)(Y[i * nc + k] / scale[k]), (double)T[i + 1],
+                              (double)(Y[(i + 1) * nc + k] / scale[k]), nc > 1 ? " of a column" : ""));
+      for (PetscInt j = 0; j <= k; j++) PetscCall(FSMotionSeriesDestroy(&s[j]));
+      PetscCall(PetscFree(w));
+      PetscCall(PetscFree2(T, Y));
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+              "%s: file %s: %s give a velocity or acceleration that is not a finite number: values too large or "
+              "times too close",
+              option, file, msg);
+    }
   }
+  PetscCall(PetscFree(w));
+  PetscCall(PetscFree2(T, Y));
   PetscFunctionReturn(0);
 }
 

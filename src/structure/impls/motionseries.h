@@ -15,5 +15,8 @@ typedef struct {
 
 PETSC_INTERN PetscErrorCode FSMotionSeriesLoad(MPI_Comm, const char file[], const char option[], PetscReal scale,
                                                FSMotionSeries *);
+#define FS_MOTION_MAX_COLUMNS 6
+PETSC_INTERN PetscErrorCode FSMotionSeriesLoadColumns(MPI_Comm, const char file[], const char option[], PetscInt nc,
+                                                      const PetscReal scale[], const char what[], FSMotionSeries[]);
 PETSC_INTERN void           FSMotionSeriesEval(const FSMotionSeries *, PetscReal t, PetscReal v[3]);
 PETSC_INTERN PetscErrorCode FSMotionSeriesDestroy(FSMotionSeries *);
