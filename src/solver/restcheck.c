@@ -172,7 +172,11 @@ PetscErrorCode FSSolverRestCheck(FSSolver s)
     PetscFunctionReturn(0);
   }
   PetscCall(TSGetStepNumber(s->ts, &step));
-  { /* the largest speed now (one reduction; only within the window) */
+  /* the largest speed now: one reduction a step while the speed is watched (a liquid at rest, within the window), and
+     once when the step collapses (dt_stable is the same on every rank); a moving run's steps take no extra collective
+   */
+  if ((r->watch_speed && !r->warned_speed) ||
+      (r->watch_dt && !r->warned_dt && s->state.dt_stable < r->dt_ratio * r->dt0)) {
     const PetscInt     dim = s->opt.dim, US = s->state.ustride;
     const PetscScalar *u;
     PetscReal          v2 = 0;
