@@ -177,16 +177,8 @@ PetscErrorCode FSSolverRestCheck(FSSolver s)
    */
   if ((r->watch_speed && !r->warned_speed) ||
       (r->watch_dt && !r->warned_dt && s->state.dt_stable < r->dt_ratio * r->dt0)) {
-    const PetscInt     dim = s->opt.dim, US = s->state.ustride;
-    const PetscScalar *u;
-    PetscReal          v2 = 0;
-    PetscCall(VecGetArrayRead(s->state.U, &u));
-    for (PetscInt p = 0; p < s->pw.nowned; p++) {
-      PetscReal w2 = 0;
-      for (PetscInt d = 0; d < dim; d++) w2 += u[p * US + dim + d] * u[p * US + dim + d];
-      v2 = PetscMax(v2, w2);
-    }
-    PetscCall(VecRestoreArrayRead(s->state.U, &u));
+    PetscReal v2;
+    PetscCall(FSSolverOwnedMaxSpeed2(s, &v2));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &v2, 1, MPIU_REAL, MPI_MAX, comm));
     umax = PetscSqrtReal(v2);
   }

@@ -420,6 +420,7 @@ PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const Pets
 #define FS_RANK0_MAX    (32 + FS_MAX_GLOBAL) /* the tank's motion and the structure's state */
 PETSC_INTERN PetscErrorCode FSSolverStructureResultRank0(FSSolver, PetscErrorCode, const char[], PetscInt, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
+PETSC_INTERN PetscErrorCode FSSolverOwnedMaxSpeed2(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);

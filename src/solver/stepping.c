@@ -362,6 +362,28 @@ void FSSolverStableDtOf(FSSolver s, PetscReal umax, PetscReal nu, PetscInt sourc
 }
 
 /*
+   FSSolverOwnedMaxSpeed2 - the largest squared speed of this rank's owned particles in the state U
+
+   Not collective
+*/
+PetscErrorCode FSSolverOwnedMaxSpeed2(FSSolver s, PetscReal *v2)
+{
+  const PetscInt     dim = s->opt.dim, US = s->state.ustride;
+  const PetscScalar *u;
+
+  PetscFunctionBegin;
+  *v2 = 0;
+  PetscCall(VecGetArrayRead(s->state.U, &u));
+  for (PetscInt p = 0; p < s->pw.nowned; p++) {
+    PetscReal w2 = 0;
+    for (PetscInt d = 0; d < dim; d++) w2 += u[p * US + dim + d] * u[p * US + dim + d];
+    *v2 = PetscMax(*v2, w2);
+  }
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverComputeStableDt - the SPH time-step limit for the current state:
      dt = min(CFL h/(c0 + |u|max), CFL_v h^2/nu_max, 0.4 skin h/|u|max, CFL_f sqrt(h/|g|)),
    nu_max being the largest viscosity any term applied in the integrator's last right-hand side
@@ -375,10 +397,8 @@ void FSSolverStableDtOf(FSSolver s, PetscReal umax, PetscReal nu, PetscInt sourc
 */
 PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
 {
-  const PetscInt     dim = s->opt.dim, US = s->state.ustride;
-  const PetscScalar *u;
-  PetscReal          v2 = 0, nu, loc[3];
-  PetscInt           source, limit;
+  PetscReal v2 = 0, nu, loc[3];
+  PetscInt  source, limit;
 
   PetscFunctionBegin;
   if (s->pw.nglobal_particles == 0) {
@@ -386,13 +406,7 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
     s->state.dt_limit = FS_DT_STRUCTURE;
     PetscFunctionReturn(0);
   }
-  PetscCall(VecGetArrayRead(s->state.U, &u));
-  for (PetscInt p = 0; p < s->pw.nowned; p++) {
-    PetscReal w2 = 0;
-    for (PetscInt d = 0; d < dim; d++) w2 += u[p * US + dim + d] * u[p * US + dim + d];
-    v2 = PetscMax(v2, w2);
-  }
-  PetscCall(VecRestoreArrayRead(s->state.U, &u));
+  PetscCall(FSSolverOwnedMaxSpeed2(s, &v2));
   /* one reduction for the speed, the viscosities and, for the parallel statistics, the largest owned count and
      pair list (the last right-hand side's) of a rank */
   loc[0] = v2;
