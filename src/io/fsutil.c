@@ -160,12 +160,14 @@ static PetscErrorCode FSMkdirParents(const char path[], int *err)
       ierr  = PetscMkdir(buf);
       if (ierr) *err = errno ? errno : EIO;
       PetscCall(PetscPopErrorHandler());
-      if (*err == EEXIST) { /* there, but not a directory that can be entered */
+      if (*err == EEXIST) { /* made meanwhile by another process (two runs making their parents), or there but not a
+                               directory that can be entered */
         PetscBool r;
 
+        PetscCall(PetscTestDirectory(buf, 'x', &isdir));
         PetscCall(PetscTestDirectory(buf, 'r', &r));
         PetscCall(PetscTestDirectory(buf, 'w', &w));
-        *err = r || w ? EACCES : ENOTDIR;
+        *err = isdir ? 0 : r || w ? EACCES : ENOTDIR;
       }
     }
     buf[i] = saved;
