@@ -294,14 +294,6 @@ static PetscErrorCode FSProbesFace(const FSWallView *B, const FSProbe *it, Petsc
   PetscFunctionReturn(0);
 }
 
-/* the first probe on a wall without a diameter (the warning names it) */
-static PetscInt firstbare(const FSProbeSet *ps)
-{
-  for (PetscInt k = 0; k < ps->n; k++)
-    if (!ps->item[k].gauge && ps->item[k].eend > ps->item[k].estart && !(ps->item[k].diameter > 0)) return k;
-  return 0;
-}
-
 /* a point of item it (a probe's point, a gauge's end) must lie in the liquid region, where its readings mean
    something: inside the container's closed walls and outside every wall's solid (FSBoundaryLocate), or on a wall
    (onwall: a probe within dx/2 of a wall element; a gauge's end within dx/2 of a wall). Otherwise an error naming the
@@ -392,7 +384,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
   const PetscReal   dx   = s->opt.dx;
   const FSWallView *B    = NULL;
   char             *text = NULL;
-  PetscInt          nv = 0, cap = 0, nbare = 0;
+  PetscInt          nv = 0, cap = 0, nbare = 0, firstbare = -1;
   PetscReal         bare_area = 0;
 
   PetscFunctionBegin;
@@ -445,7 +437,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
           PetscCall(FSProbesAddElement(ps, &cap, near, B->element[near * B->stride + B->measure]));
         }
         if (!(it->diameter > 0)) {
-          nbare++;
+          if (!nbare++) firstbare = k;
           bare_area += B->element[near * B->stride + B->measure];
         }
       }
@@ -455,7 +447,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
   }
   if (nbare) { /* a probe on a wall without a diameter: the pressure of one element (dx long in 2-D, edge h in 3-D) */
     const PetscReal mean = bare_area / nbare, across = dim == 2 ? mean : PetscSqrtReal(4 * mean / PETSC_PI);
-    const FSProbe  *it = &ps->item[firstbare(ps)];
+    const FSProbe  *it = &ps->item[firstbare];
     char            size[96];
     if (dim == 2) PetscCall(PetscSNPrintf(size, sizeof(size), "a segment %.3g m long", (double)mean));
     else PetscCall(PetscSNPrintf(size, sizeof(size), "%.3g m^2, a disc %.3g m across", (double)mean, (double)across));

@@ -112,7 +112,7 @@ PetscErrorCode FSSolverRestCheckBegin(FSSolver s)
 {
   FSRestCheck   *r    = &s->mon.rest;
   MPI_Comm       comm = PetscObjectComm((PetscObject)s);
-  const PetscInt dim = s->opt.dim, US = s->state.ustride;
+  const PetscInt dim  = s->opt.dim;
   PetscReal      g = 0, v2 = 0;
 
   PetscFunctionBegin;
@@ -125,11 +125,7 @@ PetscErrorCode FSSolverRestCheckBegin(FSSolver s)
   r->g = PetscSqrtReal(g);
   if (!r->at_rest || s->structure || !(r->g > 0)) PetscFunctionReturn(0);
   { /* a case may start it moving */
-    const PetscScalar *u;
-    PetscCall(VecGetArrayRead(s->state.U, &u));
-    for (PetscInt p = 0; p < s->pw.nowned; p++)
-      for (PetscInt d = 0; d < dim; d++) v2 = PetscMax(v2, PetscAbsReal(u[p * US + dim + d]));
-    PetscCall(VecRestoreArrayRead(s->state.U, &u));
+    PetscCall(FSSolverOwnedMaxSpeed2(s, &v2));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &v2, 1, MPIU_REAL, MPI_MAX, comm));
     if (v2 > 0) PetscFunctionReturn(0);
   }

@@ -32,6 +32,7 @@ static const char *const TensileControlTypes[] = {"deltaplus", "artificial_press
 typedef struct {
   TensileControlType type;
   PetscReal          epsilon, exponent; /* artificial_pressure: eps and n */
+  PetscReal          W0;                /* artificial_pressure: W(dx), set by Prepare */
   PetscReal          surface;           /* the Shepard sum below which a particle is on the free surface */
   PetscReal         *weight;            /* w_i of the owned particles, from the pair pass, for the wall pass */
   PetscInt           cap;
@@ -74,7 +75,7 @@ FS_ALWAYS_INLINE void ArtificialPressureDim(FSTerm t, const FSParticles *P, cons
 {
   const TensileControl *ctx = (const TensileControl *)t->data;
   const PetscInt        i = nb->i, S = P->stride, M = 2 * dim + 1;
-  const PetscReal      *p = P->pressure, rhoi = P->rec[i * S + 2 * dim], W0 = FSWendland(dim, P->h, P->dx);
+  const PetscReal      *p = P->pressure, rhoi = P->rec[i * S + 2 * dim], W0 = ctx->W0;
   const PetscReal       Ri     = p[i] < 0 ? -ctx->epsilon * p[i] / (rhoi * rhoi) : 0;
   PetscReal             acc[3] = {0, 0, 0}, pw = 0;
   for (PetscInt k = 0; k < nb->n; k++) {
@@ -132,6 +133,7 @@ static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)
   TensileControl *ctx = (TensileControl *)t->data;
 
   PetscFunctionBegin;
+  ctx->W0 = FSWendland(P->dim, P->h, P->dx);
   if (P->nowned > ctx->cap) {
     PetscCall(PetscFree(ctx->weight));
     ctx->cap = PetscMax(P->nowned, 2 * ctx->cap);
