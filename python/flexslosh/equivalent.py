@@ -31,7 +31,6 @@ import csv
 import json
 import math
 import os
-import subprocess
 import sys
 import time as _time
 from dataclasses import asdict, dataclass, field
@@ -39,6 +38,8 @@ from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
+
+from .output import code_revision
 
 __all__ = ["DIRECTIONS", "Cycle", "Description", "describe", "analyse_cycles", "settled_window", "grid",
            "rectangular_modes", "rectangular_sway_mass", "write_table", "plot_maps", "main"]
@@ -360,18 +361,6 @@ COLUMNS = [
 ]
 
 
-def _revision() -> str:
-    root = Path(__file__).resolve().parents[2]
-    try:
-        rev = subprocess.run(["git", "-C", str(root), "rev-parse", "--short=12", "HEAD"], capture_output=True,
-                             text=True, timeout=10).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True, timeout=10).stdout.strip()
-        return (rev + ("-dirty" if dirty else "")) if rev else "unknown"
-    except (OSError, subprocess.SubprocessError):
-        return "unknown"
-
-
 def _row(index: int, case: str, fill, d: Description, revision: str) -> dict[str, Any]:
     s = d.summary()
     row = {"point": index, "case": case, "dim": d.dim, "dx": d.dx, "revision": revision, "direction": d.direction,
@@ -421,7 +410,7 @@ def grid(options_file: str | os.PathLike | None, direction: str, fills: Sequence
                "describe": {k: v for k, v in describe_kw.items()}} for f, a, fr in points]
     todo = [k for k in range(len(points)) if _load_point(_point_file(out, k), params[k]) is None]
     mine, run_comm, rank = assign(len(todo), comm)
-    revision = _revision()
+    revision = code_revision()
     for j in mine:
         k = todo[j]
         f, a, fr = points[k]

@@ -22,11 +22,26 @@ from __future__ import annotations
 import glob
 import json
 import os
+import subprocess
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Sequence, Union
 
 import numpy as np
+
+
+def code_revision(exclude: Sequence[str] = ()) -> str:
+    """The checkout's commit (short hash, "+dirty" when tracked files under it differ from it, the paths in
+    ``exclude`` left out), or "unknown" outside a git checkout: the stamp of a run's results."""
+    root = str(Path(__file__).resolve().parents[2])
+    try:
+        head = subprocess.run(["git", "-C", root, "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                              check=True, timeout=10).stdout.strip()
+        dirty = subprocess.run(["git", "-C", root, "status", "--porcelain", "--untracked-files=no", "--", "."]
+                               + [f":(exclude){e}" for e in exclude], capture_output=True, text=True, timeout=10).stdout.strip()
+        return (head + ("+dirty" if dirty else "")) if head else "unknown"
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
 
 __all__ = ["Run", "Snapshot", "read_run", "read_csv", "read_snapshot", "SNAPSHOT_FIELDS"]
 

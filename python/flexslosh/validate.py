@@ -37,7 +37,7 @@ import numpy as np
 
 from .damping import SEED_BANDS, band_damping, convergence, damping_per_cycle
 from .figures import snapshots as snapshot_figure
-from .output import Run, read_csv, read_run, read_snapshot
+from .output import Run, code_revision, read_csv, read_run, read_snapshot
 from .waves import exact_viscous_mode, fit_decaying_oscillation, fit_decaying_wave
 
 __all__ = ["Check", "Section", "Context", "CASES", "RESOLUTIONS", "QUICK", "run_cases", "write_report", "main"]
@@ -274,13 +274,7 @@ class Context:
 def _commit() -> str:
     """The repository's commit (short hash, "+dirty" with uncommitted changes), or "unknown". The report's own folder
     (docs/validation, which each case rewrites) does not count: else every case after the first is stamped dirty."""
-    try:
-        head = subprocess.run(["git", "-C", str(REPO), "rev-parse", "--short", "HEAD"], capture_output=True, text=True, check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(REPO), "status", "--porcelain", "--untracked-files=no", "--", ".",
-                                ":(exclude)docs/validation"], capture_output=True, text=True).stdout.strip()
-        return head + ("+dirty" if dirty else "")
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
+    return code_revision(exclude=("docs/validation",))
 
 
 def _figure(width: float = 7.0, height: float = 4.0, ncols: int = 1) -> tuple[Any, Any]:
