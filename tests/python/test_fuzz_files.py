@@ -38,7 +38,7 @@ from conftest import MPI_ENV, flexslosh_bin, petsc_error_message
 
 SEED = 20260611
 TIMEOUT = int(os.environ.get("FUZZ_TIMEOUT", 60))  # seconds a case may take (a hang); each takes about 0.4 s alone
-WORKERS = 2
+WORKERS = 4  # a short run mostly waits on MPI_Init and the file system: 4 at a time fill 2 cores
 DIR = object()  # a directory in place of the file
 
 # ------------------------------------------------------------------ the seeds
