@@ -686,7 +686,8 @@ PetscErrorCode FSSolverSetDomain(FSSolver s, const PetscReal lo[], const PetscRe
 
 /*
    FSSolverGetFillPacking - how the cases place the liquid's particles: -fs_fill_packing (auto, lattice or relaxed)
-   and the relaxation's settings.
+   and the relaxation's settings, with the wall_pressure term's push near contact (-fs_walls_repulsion), which the
+   relaxation balances so that its particles start in the equilibrium of the run's own wall terms.
 
    Not collective
 
@@ -705,6 +706,8 @@ PetscErrorCode FSSolverGetFillPacking(FSSolver s, FSFillPacking *p)
 {
   PetscFunctionBegin;
   *p = s->opt.packing;
+  for (PetscInt t = 0; t < s->terms.nterms && !p->repulsion; t++)
+    PetscCall(FSTermWallPressureGetRepulsion(s->terms.term[t], &p->repulsion, &p->repulsion_distance));
   PetscFunctionReturn(0);
 }
 

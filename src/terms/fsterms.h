@@ -16,3 +16,4 @@ typedef struct {
 PETSC_INTERN PetscErrorCode FSTermCreate(FSSolver, const char name[], FSTerm *);
 PETSC_INTERN PetscErrorCode FSTermDestroy(FSTerm *);
 PETSC_INTERN PetscErrorCode FSTermHelpAll(FSSolver, const FSTermSet *, PetscOptionItems *);
+PETSC_INTERN PetscErrorCode FSTermWallPressureGetRepulsion(FSTerm, PetscReal *, PetscReal *);

@@ -9,10 +9,14 @@
    the particles' kernel-gradient sum and the walls' boundary integral (n_k out of the liquid), zero for a
    continuum: the sum that the pressure gradient's boundary-integral form (p_i + p_j) multiplies with a particle's
    own pressure (docs/walls.md), so that a packing with e_i = 0 is at rest under a uniform pressure in the solver's
-   own discretization. This is the background-pressure relaxation of SPHinXsys (Zhu, Zhang & Hu 2021), with the
-   boundary integrals in place of its level set's kernel integral: each iteration moves a particle by -step h^2 e_i
-   (at most dx/10), keeping it at least dx/4 from the walls and the fill level. The fill level is a wall during the
-   relaxation (a lid), so that the free surface stays flat at the fill level; the lid is dropped after it.
+   own discretization. With -fs_walls_repulsion kappa the wall term weighs a particle's own pressure f_ik = 1 +
+   kappa (d0 - d_ik)/d0 times within d0 of an element (wall.c), so an element's share in e_i is weighed (1 + f_ik)/2
+   here: without it the relaxed particles that sit closer than d0 to a wall start pushed off it (a 3-D box turned
+   30 degrees rang at 0.015 sqrt(gH), docs/walls.md). This is the background-pressure relaxation of SPHinXsys (Zhu,
+   Zhang & Hu 2021), with the boundary integrals in place of its level set's kernel integral: each iteration moves a
+   particle by -step h^2 e_i (at most dx/10), keeping it at least dx/4 from the walls and the fill level. The fill level
+   is a wall during the relaxation (a lid), so that the free surface stays flat at the fill level; the lid is dropped
+   after it.
 
    The work is split over the ranks by particle, every rank holding all positions (gathered after each iteration):
    each particle's sums run over the same neighbours in the same order on any number of ranks, so that the
@@ -127,9 +131,10 @@ static PetscErrorCode GridDestroy(Grid *gr)
   PetscFunctionReturn(0);
 }
 
-/* e_i of the particle i (packing.c's header) */
+/* e_i of the particle i (packing.c's header); push: the wall_pressure term's kappa and d0 (a length), whose f_ik
+   weighs an element's share near contact as the run's wall term does under a uniform pressure */
 static void ParticleSum(const FSPackRegion *g, const Grid *pg, const Grid *eg, const FSKernel *k, PetscReal V,
-                        const PetscReal X[], PetscInt i, PetscReal e[])
+                        const PetscReal push[2], const PetscReal X[], PetscInt i, PetscReal e[])
 {
   const PetscInt   dim  = g->dim;
   const PetscReal *xi   = &X[dim * i];
@@ -168,7 +173,12 @@ static void ParticleSum(const FSPackRegion *g, const Grid *pg, const Grid *eg, c
         FSTriangleIntegrals(k->h, xi, el, PETSC_FALSE, &gk, &wint);
         n = el + FS_TRI_NORMAL;
       }
-      for (PetscInt d = 0; d < dim; d++) e[d] += wint * n[d];
+      PetscReal dist = 0, f = 1; /* the wall term's weight (1 + f_ik)/2 under a uniform pressure (wall.c) */
+      if (push[0] > 0) {
+        for (PetscInt d = 0; d < dim; d++) dist += (el[d] - xi[d]) * n[d]; /* the first corner: FS_*_P0 */
+        if (dist > 0 && dist < push[1]) f += 0.5 * push[0] * (push[1] - dist) / push[1];
+      }
+      for (PetscInt d = 0; d < dim; d++) e[d] += f * wint * n[d];
     }
   }
 }
@@ -218,6 +228,10 @@ static PetscErrorCode CachePath(const FSFillPacking *opt, const FSPackRegion *g,
   h = Hash(h, par, 4 * sizeof(PetscReal));
   h = Hash(h, &opt->iterations, sizeof(opt->iterations));
   h = Hash(h, &opt->step, sizeof(opt->step));
+  if (opt->repulsion > 0) { /* the wall weights near contact (none: the hashes of before) */
+    h = Hash(h, &opt->repulsion, sizeof(opt->repulsion));
+    h = Hash(h, &opt->repulsion_distance, sizeof(opt->repulsion_distance));
+  }
   h = Hash(h, g->el, sizeof(PetscReal) * g->nel * g->stride);
   h = Hash(h, X, sizeof(PetscReal) * g->dim * N);
   PetscCall(PetscSNPrintf(path, len, "%s/packing-%016llx.bin", opt->cache, (unsigned long long)h));
@@ -298,7 +312,7 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
   Grid           pg, eg;
   PetscMPIInt    size, rank, *counts, *displs;
   PetscInt       N = 0, i0 = 0, *cellof;
-  PetscReal      dx, h, V, *X, *Xn, res[2][2] = {{0, 0}, {0, 0}}, resmax[2] = {0, 0}, par[4];
+  PetscReal      dx, h, V, *X, *Xn, res[2][2] = {{0, 0}, {0, 0}}, resmax[2] = {0, 0}, par[4], push[2];
   char           path[PETSC_MAX_PATH_LEN + 64] = "";
   PetscBool      found                         = PETSC_FALSE;
 
@@ -307,6 +321,8 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
   PetscCall(FSSolverGetFillPacking(s, &opt));
   PetscCall(FSSolverGetParameters(s, &dx, &h, NULL, NULL, NULL));
   PetscCall(FSKernelSetUp(&k, dim, h));
+  push[0] = opt.repulsion;
+  push[1] = opt.repulsion_distance * dx;
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCall(PetscMalloc2(size, &counts, size, &displs));
@@ -350,7 +366,7 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
       PetscCall(GridFillPoints(&pg, N, X, cellof));
       for (PetscInt i = i0; i < i0 + n; i++) {
         PetscReal e[3], e2 = 0, move = 0, *xn = &Xn[dim * i];
-        ParticleSum(g, &pg, &eg, &k, V, X, i, e);
+        ParticleSum(g, &pg, &eg, &k, V, push, X, i, e);
         for (PetscInt d = 0; d < dim; d++) e2 += e[d] * e[d];
         if (first || last) { /* |e_i| dx: its largest and its mean square */
           resmax[last] = PetscMax(resmax[last], PetscSqrtReal(e2) * dx);

@@ -314,6 +314,25 @@ static PetscErrorCode PressureDestroy(FSTerm t)
   PetscFunctionReturn(0);
 }
 
+/*
+   FSTermWallPressureGetRepulsion - the push back near contact of a wall_pressure term: kappa (-fs_walls_repulsion, 0
+   none) and d0 in units of dx (-fs_walls_repulsion_distance); 0 and 0 for any other term. The relaxed packing
+   balances the same wall weights (src/cases/impls/packing.c).
+
+   Not collective
+*/
+PetscErrorCode FSTermWallPressureGetRepulsion(FSTerm t, PetscReal *kappa, PetscReal *distance)
+{
+  PetscFunctionBegin;
+  *kappa = *distance = 0;
+  if (t->ops.wall == Pressure) {
+    const WallPressure *ctx = (const WallPressure *)t->data;
+    *kappa                  = ctx->kappa;
+    *distance               = ctx->distance;
+  }
+  PetscFunctionReturn(0);
+}
+
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallPressure(FSTerm t)
 {
   WallPressure *ctx;
