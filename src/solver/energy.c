@@ -184,7 +184,8 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
   st[0] = st[1] = st[2] = 0;
   if (s->structure && s->structure->ndof && s->structure->ops.energy) {
     PetscReal E[3] = {0, 0, 0};
-    PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : FSSolverStructureEnergy(s, E), "energy", 0, NULL));
+    PetscCall(FSSolverStructureResultRank0(s, FSSolverStructureHere(s) ? FSSolverStructureEnergy(s, E) : 0, "energy", 0,
+                                           NULL));
     st[0] = E[0];
     st[1] = E[1];
   }

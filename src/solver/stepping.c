@@ -214,22 +214,23 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (resize || !s->state.U) {
-    Vec U;
-    nloc = s->pw.nowned * s->state.ustride + (rank == 0 ? s->state.nglobaldofs : 0);
-    if (s->state.U && !rank && s->state.nglobaldofs) { /* keep the global DOFs */
+    Vec            U;
+    const PetscInt ng = FSSolverLocalGlobalDofs(s, rank); /* after the particles */
+    nloc              = s->pw.nowned * s->state.ustride + ng;
+    if (s->state.U && ng) { /* keep the global DOFs */
       const PetscScalar *u;
       PetscInt           n;
       PetscCall(VecGetLocalSize(s->state.U, &n));
       PetscCall(VecGetArrayRead(s->state.U, &u));
-      for (PetscInt k = 0; k < s->state.nglobaldofs; k++) s->state.global0[k] = u[n - s->state.nglobaldofs + k];
+      for (PetscInt k = 0; k < ng; k++) s->state.global0[k] = u[n - ng + k];
       PetscCall(VecRestoreArrayRead(s->state.U, &u));
     }
     PetscCall(VecCreateMPI(comm, nloc, PETSC_DETERMINE, &U));
     PetscCall(PetscObjectSetName((PetscObject)U, "state"));
-    if (!rank && s->state.nglobaldofs) {
+    if (ng) {
       PetscScalar *u;
       PetscCall(VecGetArray(U, &u));
-      for (PetscInt k = 0; k < s->state.nglobaldofs; k++) u[nloc - s->state.nglobaldofs + k] = s->state.global0[k];
+      for (PetscInt k = 0; k < ng; k++) u[nloc - ng + k] = s->state.global0[k];
       PetscCall(VecRestoreArray(U, &u));
     }
     PetscCall(VecDestroy(&s->state.U));
