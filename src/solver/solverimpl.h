@@ -143,10 +143,15 @@ typedef struct {
   PetscBool     rkstart; /* the integrator's own vector holds the state at the start of the last step */
   FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
   PetscInt      ngblocks;
-  PetscInt  gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
-  PetscInt  ndiss;                   /* dissipated energies: one per term with a power */
-  PetscInt  nglobaldofs;
-  PetscInt  nrepl; /* the global DOFs every rank holds: the structure's when it runs on every rank, else 0 */
+  PetscInt gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
+  PetscInt ndiss;                   /* dissipated energies: one per term with a power */
+  PetscInt nglobaldofs;
+  PetscInt nrepl;    /* the global DOFs every rank holds: the structure's when it runs on every rank, else 0 */
+  struct {           /* the next step's time-step reduction, done with the step's own (FSSolverStep) */
+    PetscBool ready; /* valid for the TS's step and time below, until the lists are rebuilt */
+    PetscInt  step, source;
+    PetscReal time, v2, nu, owned, pairs;
+  } dtnext;
   PetscReal global0[FS_MAX_GLOBAL];
   PetscInt  ustride; /* 2*dim+1 */
   PetscReal dt_stable, umax;
@@ -324,6 +329,10 @@ PETSC_INTERN PetscErrorCode FSSolverOpenOutputDir(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
+#define FS_CHECK_N    5   /* the values FSSolverCheckStateLocal() gives to be reduced (MPI_MAX) */
+#define FS_SUMMAX_MAX 256 /* the most values FSSolverReduceSumMax() reduces together */
+PETSC_INTERN PetscErrorCode FSSolverCheckStateLocal(FSSolver, PetscReal[]);
+PETSC_INTERN PetscErrorCode FSSolverCheckStateEnd(FSSolver, const PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverCheckStart(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverBlowUpCause(FSSolver, char[], size_t, PetscBool *);
 PETSC_INTERN PetscErrorCode FSSolverGetStepStart(FSSolver, Vec *);
@@ -337,6 +346,11 @@ PETSC_INTERN PetscErrorCode FSSolverMarkBuild(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverSwapBuildPositions(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRecordsAtBuild(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRebuildNeeded(FSSolver, PetscBool *rebuild, PetscBool *sort);
+#define FS_REBUILD_N 3 /* the values FSSolverRebuildNeededLocal() gives to be reduced (MPI_MAX) */
+PETSC_INTERN PetscErrorCode FSSolverRebuildNeededLocal(FSSolver, PetscReal[]);
+PETSC_INTERN PetscErrorCode FSSolverRebuildDecide(FSSolver, const PetscReal[], PetscReal, PetscInt, PetscBool *,
+                                                  PetscBool *);
+PETSC_INTERN PetscErrorCode FSSolverReduceSumMax(FSSolver, PetscInt, PetscReal[], PetscInt, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRebalance(FSSolver, PetscInt step, PetscBool *moved);
 PETSC_INTERN PetscErrorCode FSSolverBalanceWork(FSSolver);
@@ -408,7 +422,7 @@ typedef struct {
 PETSC_INTERN PetscErrorCode FSSolverEnergyJumpFrame(FSSolver, FSEnergyFrame *);
 PETSC_INTERN void           FSEnergyParticle(FSSolver, const FSEnergyFrame *, const PetscReal x[], const PetscReal v[],
                                              PetscReal m, PetscReal e[2]);
-PETSC_INTERN PetscErrorCode FSSolverEnergyAddJump(FSSolver, const PetscReal[2]);
+PETSC_INTERN PetscErrorCode FSSolverEnergyAddJump(FSSolver, const PetscReal[2], PetscBool);
 
 /* the structure inside the solver (src/solver/structure.c), with the coupling's stages */
 PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
