@@ -389,6 +389,9 @@ struct _p_FSStructure {
   PetscInt       ncolumns;                       /* the model's own time-series columns */
   PetscBool      prescribed; /* the motion is given, the loads do not move it: the energy budget books the work it
                                 does on the liquid (work_motion) instead of the structure's energies */
+  PetscBool rank0; /* its routines run on rank 0 alone, which broadcasts their results (the callbacks' models: a
+                      Python structure); else (the default) every rank runs them on the same values, from the loads
+                      reduced over the ranks, and holds the same state (docs/structures.md, "What runs where") */
   char  column[FS_STRUCTURE_MAX_COLUMNS][32];
   void *data; /* implementation data */
 };

@@ -184,7 +184,8 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
   st[0] = st[1] = st[2] = 0;
   if (s->structure && s->structure->ndof && s->structure->ops.energy) {
     PetscReal E[3] = {0, 0, 0};
-    PetscCall(FSSolverStructureResultRank0(s, rank ? 0 : FSSolverStructureEnergy(s, E), "energy", 0, NULL));
+    PetscCall(FSSolverStructureResultRank0(s, FSSolverStructureHere(s) ? FSSolverStructureEnergy(s, E) : 0, "energy", 0,
+                                           NULL));
     st[0] = E[0];
     st[1] = E[1];
   }
@@ -239,17 +240,17 @@ void FSEnergyParticle(FSSolver s, const FSEnergyFrame *fr, const PetscReal x[], 
 }
 
 /* FSSolverEnergyAddJump - adds this rank's energy changes de (liquid, whole system) of the changes
-   between steps to the energy block (work_bounce, work_bounce_total), summed over the ranks. After the
-   repacking of the state. Collective. */
-PetscErrorCode FSSolverEnergyAddJump(FSSolver s, const PetscReal de[2])
+   between steps to the energy block (work_bounce, work_bounce_total), summed over the ranks (summed: de is the
+   sum already). After the repacking of the state. Collective unless summed. */
+PetscErrorCode FSSolverEnergyAddJump(FSSolver s, const PetscReal de[2], PetscBool summed)
 {
-  PetscReal   sum[2];
+  PetscReal   sum[2] = {de[0], de[1]};
   PetscMPIInt rank;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-  PetscCallMPI(MPI_Reduce(de, sum, 2, MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
-  if (s->pw.decomp.size > 1) s->mon.par.uncounted++; /* PETSc's counters miss MPI_Reduce */
+  if (!summed) PetscCallMPI(MPI_Reduce(de, sum, 2, MPIU_REAL, MPI_SUM, 0, PetscObjectComm((PetscObject)s)));
+  if (!summed && s->pw.decomp.size > 1) s->mon.par.uncounted++; /* PETSc's counters miss MPI_Reduce */
   if (!rank) {
     PetscReal    w; /* the liquid's energies are per unit width */
     PetscScalar *u;

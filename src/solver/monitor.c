@@ -33,8 +33,8 @@ static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscRe
     vmax = PetscMax(vmax, v2);
   }
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  PetscCallMPI(MPI_Allreduce(loc, sums, 5, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &vmax, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  PetscCall(FSSolverReduceSumMax(s, 5, loc, 1, &vmax)); /* the sums and the largest speed in one reduction */
+  for (PetscInt k = 0; k < 5; k++) sums[k] = loc[k];
   *umax = PetscSqrtReal(vmax);
   PetscFunctionReturn(0);
 }

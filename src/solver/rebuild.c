@@ -96,21 +96,37 @@ PetscErrorCode FSSolverRecordsAtBuild(FSSolver s)
 */
 PetscErrorCode FSSolverRebuildNeeded(FSSolver s, PetscBool *rebuild, PetscBool *sort)
 {
-  const PetscInt     dim    = s->opt.dim;
-  const PetscInt     US     = s->state.ustride;
-  PetscReal          loc[3] = {0, 0, 0}, u, nu, dtmax, next, t, tprev, skin = s->opt.halo_skin * s->opt.h;
+  PetscReal loc[FS_REBUILD_N], nu;
+  PetscInt  source;
+
+  PetscFunctionBegin;
+  if (s->opt.rebuild == FS_REBUILD_ALWAYS) {
+    PetscCall(FSSolverRebuildDecide(s, NULL, 0, 0, rebuild, sort));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(FSSolverRebuildNeededLocal(s, loc));
+  PetscCall(FSSolverReduceWithViscosity(s, FS_REBUILD_N, loc, &nu, &source)); /* one reduction */
+  PetscCall(FSSolverRebuildDecide(s, loc, nu, source, rebuild, sort));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverRebuildNeededLocal - FSSolverRebuildNeeded()'s pass over this rank's particles: the squares of the largest
+   move since the build, speed and move over the step, loc[FS_REBUILD_N], to be reduced (MPI_MAX).
+
+   Not collective
+*/
+PetscErrorCode FSSolverRebuildNeededLocal(FSSolver s, PetscReal loc[])
+{
+  const PetscInt     dim = s->opt.dim;
+  const PetscInt     US  = s->state.ustride;
   PetscReal         *x, *v, *xb;
   const PetscScalar *u0;
   Vec                U0;
-  PetscInt           step, n, source, limit;
+  PetscInt           n;
 
   PetscFunctionBegin;
-  PetscCall(TSGetStepNumber(s->ts, &step));
-  if (s->opt.rebuild == FS_REBUILD_ALWAYS) {
-    *rebuild = PETSC_TRUE;
-    *sort    = (PetscBool)(step % s->opt.sort_interval == 0);
-    PetscFunctionReturn(0);
-  }
+  loc[0] = loc[1] = loc[2] = 0;
   PetscCall(DMSwarmGetLocalSize(s->swarm, &n));
   PetscCheck(n == s->pw.nowned, PETSC_COMM_SELF, PETSC_ERR_PLIB, "The swarm changed size since the lists were built");
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
@@ -133,7 +149,28 @@ PetscErrorCode FSSolverRebuildNeeded(FSSolver s, PetscBool *rebuild, PetscBool *
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  PetscCall(FSSolverReduceWithViscosity(s, 3, loc, &nu, &source)); /* one reduction */
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverRebuildDecide - FSSolverRebuildNeeded()'s decision from the reduced values of FSSolverRebuildNeededLocal()
+   and the viscosity bound (nu, source: FSSolverReduceWithViscosity()); loc is not read with -fs_rebuild always.
+
+   Not collective (the same decision on every rank)
+*/
+PetscErrorCode FSSolverRebuildDecide(FSSolver s, const PetscReal loc[], PetscReal nu, PetscInt source,
+                                     PetscBool *rebuild, PetscBool *sort)
+{
+  PetscReal u, dtmax, next, t, tprev, skin = s->opt.halo_skin * s->opt.h;
+  PetscInt  step, limit;
+
+  PetscFunctionBegin;
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  if (s->opt.rebuild == FS_REBUILD_ALWAYS) {
+    *rebuild = PETSC_TRUE;
+    *sort    = (PetscBool)(step % s->opt.sort_interval == 0);
+    PetscFunctionReturn(0);
+  }
   s->pw.moved = PetscSqrtReal(loc[0]);
   u           = PetscSqrtReal(loc[1]);
   FSSolverStableDtOf(s, u, nu, source, &dtmax, &limit);

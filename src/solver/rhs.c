@@ -381,6 +381,10 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
         PetscCall(FSCouplingMotionPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_MOTION]));
       else if (coupled) PetscCall(FSCouplingPower(s->coupling, &power[npower + 2], &fe[FS_ENERGY_WORK_COUPLING]));
     }
+    if (rank && !coupled && FSSolverStructureHere(s) && s->structure->ndof && s->structure->ops.energy) {
+      PetscReal E[3]; /* the others call it too (and fail as rank 0 does), so that no rank waits for rank 0's status */
+      ierr = (*s->structure->ops.energy)(s->structure, s->sy, E);
+    }
     if (!coupled && s->structure && s->structure->ndof && s->structure->ops.energy)
       PetscCall(FSSolverStructureResultRank0(s, ierr, "energy", 0, NULL));
   }

@@ -130,7 +130,9 @@ typedef enum {
 } FSDtLimit;
 
 /* The TS state: U packs (x, u, rho) per owned particle, then the global DOFs on rank 0 (blocks: the
-   structure's DOFs, the dissipated energies, the energy budget's), and what the stepping keeps. */
+   structure's DOFs, the dissipated energies, the energy budget's), and what the stepping keeps. A structure that
+   runs on every rank (not rank0) has its DOFs after the particles on every rank too (nrepl of them), integrated
+   there from the same rates: the same values everywhere, so that no rank waits for rank 0's. */
 typedef struct {
   Vec U;
   Vec Uprev;             /* state at the start of the step (for the displacement check), only with an integrator that
@@ -141,9 +143,15 @@ typedef struct {
   PetscBool     rkstart; /* the integrator's own vector holds the state at the start of the last step */
   FSGlobalBlock gblock[FS_MAX_GLOBAL_BLOCKS];
   PetscInt      ngblocks;
-  PetscInt  gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
-  PetscInt  ndiss;                   /* dissipated energies: one per term with a power */
-  PetscInt  nglobaldofs;
+  PetscInt gstruct, gdiss, genergy; /* offsets of the structure's DOFs, the dissipated energies, the energy block */
+  PetscInt ndiss;                   /* dissipated energies: one per term with a power */
+  PetscInt nglobaldofs;
+  PetscInt nrepl;    /* the global DOFs every rank holds: the structure's when it runs on every rank, else 0 */
+  struct {           /* the next step's time-step reduction, done with the step's own (FSSolverStep) */
+    PetscBool ready; /* valid for the TS's step and time below, until the lists are rebuilt */
+    PetscInt  step, source;
+    PetscReal time, v2, nu, owned, pairs;
+  } dtnext;
   PetscReal global0[FS_MAX_GLOBAL];
   PetscInt  ustride; /* 2*dim+1 */
   PetscReal dt_stable, umax;
@@ -159,10 +167,10 @@ typedef struct {
                             or the integrator's next evaluation) */
   PetscReal ext_power;   /* P_ext of the last right-hand side, this rank's share */
   PetscReal relax_power; /* power of the start-up relaxation of the last right-hand side, this rank's share */
-  PetscReal
-      structure_energy[3]; /* coupled: the structure's energies at the stage's state (rank 0; FSSolverCouplingRates) */
-  PetscInt64 split_stages; /* the split terms' RKL2 stages since the run (re)started (FSSolverSplitStep) */
-  PetscInt   split_max_stages; /* the most stages of one step */
+  PetscReal structure_energy[3]; /* coupled: the structure's energies at the stage's state (FSSolverCouplingRates; rank
+                                    0 with a rank0 structure, else every rank) */
+  PetscInt64 split_stages;       /* the split terms' RKL2 stages since the run (re)started (FSSolverSplitStep) */
+  PetscInt   split_max_stages;   /* the most stages of one step */
 } FSSolverState;
 
 /* Probes and wave gauges (-fs_probes, src/solver/probes.c): the items of the file, their current
@@ -321,6 +329,10 @@ PETSC_INTERN PetscErrorCode FSSolverOpenOutputDir(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
+#define FS_CHECK_N    5   /* the values FSSolverCheckStateLocal() gives to be reduced (MPI_MAX) */
+#define FS_SUMMAX_MAX 256 /* the most values FSSolverReduceSumMax() reduces together */
+PETSC_INTERN PetscErrorCode FSSolverCheckStateLocal(FSSolver, PetscReal[]);
+PETSC_INTERN PetscErrorCode FSSolverCheckStateEnd(FSSolver, const PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverCheckStart(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverBlowUpCause(FSSolver, char[], size_t, PetscBool *);
 PETSC_INTERN PetscErrorCode FSSolverGetStepStart(FSSolver, Vec *);
@@ -334,6 +346,11 @@ PETSC_INTERN PetscErrorCode FSSolverMarkBuild(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverSwapBuildPositions(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRecordsAtBuild(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRebuildNeeded(FSSolver, PetscBool *rebuild, PetscBool *sort);
+#define FS_REBUILD_N 3 /* the values FSSolverRebuildNeededLocal() gives to be reduced (MPI_MAX) */
+PETSC_INTERN PetscErrorCode FSSolverRebuildNeededLocal(FSSolver, PetscReal[]);
+PETSC_INTERN PetscErrorCode FSSolverRebuildDecide(FSSolver, const PetscReal[], PetscReal, PetscInt, PetscBool *,
+                                                  PetscBool *);
+PETSC_INTERN PetscErrorCode FSSolverReduceSumMax(FSSolver, PetscInt, PetscReal[], PetscInt, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRebalance(FSSolver, PetscInt step, PetscBool *moved);
 PETSC_INTERN PetscErrorCode FSSolverBalanceWork(FSSolver);
@@ -405,7 +422,7 @@ typedef struct {
 PETSC_INTERN PetscErrorCode FSSolverEnergyJumpFrame(FSSolver, FSEnergyFrame *);
 PETSC_INTERN void           FSEnergyParticle(FSSolver, const FSEnergyFrame *, const PetscReal x[], const PetscReal v[],
                                              PetscReal m, PetscReal e[2]);
-PETSC_INTERN PetscErrorCode FSSolverEnergyAddJump(FSSolver, const PetscReal[2]);
+PETSC_INTERN PetscErrorCode FSSolverEnergyAddJump(FSSolver, const PetscReal[2], PetscBool);
 
 /* the structure inside the solver (src/solver/structure.c), with the coupling's stages */
 PETSC_INTERN PetscErrorCode FSSolverCouplingPredict(FSSolver, const PetscReal *u);
@@ -419,6 +436,17 @@ PETSC_INTERN PetscErrorCode FSSolverStructureBroadcastState(FSSolver, const Pets
 #define FS_MOTION_NREAL ((PetscInt)(sizeof(FSTankMotion) / sizeof(PetscReal)))
 #define FS_RANK0_MAX    (32 + FS_MAX_GLOBAL) /* the tank's motion and the structure's state */
 PETSC_INTERN PetscErrorCode FSSolverStructureResultRank0(FSSolver, PetscErrorCode, const char[], PetscInt, PetscReal[]);
+/* whether the structure's routines run on this rank: on every rank, or on rank 0 alone for a rank0 structure */
+static inline PetscBool FSSolverStructureHere(FSSolver s)
+{
+  return (PetscBool)(s->structure && (!s->structure->rank0 || s->pw.decomp.rank == 0));
+}
+/* the global DOFs this rank holds after its particles: all of them on rank 0, the structure's elsewhere when it
+   runs on every rank */
+static inline PetscInt FSSolverLocalGlobalDofs(FSSolver s, PetscMPIInt rank)
+{
+  return rank == 0 ? s->state.nglobaldofs : s->state.nrepl;
+}
 PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverOwnedMaxSpeed2(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);

@@ -213,23 +213,25 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  s->state.dtnext.ready = PETSC_FALSE; /* the next time step is reduced anew */
   if (resize || !s->state.U) {
-    Vec U;
-    nloc = s->pw.nowned * s->state.ustride + (rank == 0 ? s->state.nglobaldofs : 0);
-    if (s->state.U && !rank && s->state.nglobaldofs) { /* keep the global DOFs */
+    Vec            U;
+    const PetscInt ng = FSSolverLocalGlobalDofs(s, rank); /* after the particles */
+    nloc              = s->pw.nowned * s->state.ustride + ng;
+    if (s->state.U && ng) { /* keep the global DOFs */
       const PetscScalar *u;
       PetscInt           n;
       PetscCall(VecGetLocalSize(s->state.U, &n));
       PetscCall(VecGetArrayRead(s->state.U, &u));
-      for (PetscInt k = 0; k < s->state.nglobaldofs; k++) s->state.global0[k] = u[n - s->state.nglobaldofs + k];
+      for (PetscInt k = 0; k < ng; k++) s->state.global0[k] = u[n - ng + k];
       PetscCall(VecRestoreArrayRead(s->state.U, &u));
     }
     PetscCall(VecCreateMPI(comm, nloc, PETSC_DETERMINE, &U));
     PetscCall(PetscObjectSetName((PetscObject)U, "state"));
-    if (!rank && s->state.nglobaldofs) {
+    if (ng) {
       PetscScalar *u;
       PetscCall(VecGetArray(U, &u));
-      for (PetscInt k = 0; k < s->state.nglobaldofs; k++) u[nloc - s->state.nglobaldofs + k] = s->state.global0[k];
+      for (PetscInt k = 0; k < ng; k++) u[nloc - ng + k] = s->state.global0[k];
       PetscCall(VecRestoreArray(U, &u));
     }
     PetscCall(VecDestroy(&s->state.U));
@@ -307,6 +309,56 @@ PetscErrorCode FSSolverReduceWithViscosity(FSSolver s, PetscInt n, PetscReal loc
       *nu     = v[n + k];
       *source = k;
     }
+  PetscFunctionReturn(0);
+}
+
+/* the operation of FSSolverReduceSumMax on its packed buffer: v[0] the number of sums n (the same on every rank),
+   v[1..n] summed, the rest the largest. Commutative: each pair is combined as MPI_SUM and MPI_MAX combine it. */
+static void MPIAPI FSSumMaxOp(void *in, void *inout, int *len, MPI_Datatype *type)
+{
+  const PetscReal *a = (const PetscReal *)in;
+  PetscReal       *b = (PetscReal *)inout;
+  const int        n = (int)a[0];
+
+  (void)type;
+  for (int k = 1; k <= n && k < *len; k++) b[k] = a[k] + b[k];
+  for (int k = n + 1; k < *len; k++) b[k] = PetscMax(a[k], b[k]);
+}
+
+static MPI_Op FSSumMax = MPI_OP_NULL;
+
+static PetscErrorCode FSSumMaxFree(void)
+{
+  PetscFunctionBegin;
+  if (FSSumMax != MPI_OP_NULL) PetscCallMPI(MPI_Op_free(&FSSumMax));
+  FSSumMax = MPI_OP_NULL;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverReduceSumMax - one MPI_Allreduce for nsum sums (sum[], replaced by the sums over the ranks) and nmax
+   maxima (max[], replaced by the largest over the ranks), where two reductions (MPI_SUM, MPI_MAX) would be needed.
+
+   Collective
+*/
+PetscErrorCode FSSolverReduceSumMax(FSSolver s, PetscInt nsum, PetscReal sum[], PetscInt nmax, PetscReal max[])
+{
+  PetscReal v[1 + FS_SUMMAX_MAX];
+
+  PetscFunctionBegin;
+  PetscCheck(nsum >= 0 && nmax >= 0 && nsum + nmax <= FS_SUMMAX_MAX, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "At most %d values reduced together, not %" PetscInt_FMT, FS_SUMMAX_MAX, nsum + nmax);
+  if (FSSumMax == MPI_OP_NULL) {
+    PetscCallMPI(MPI_Op_create(FSSumMaxOp, 1, &FSSumMax));
+    PetscCall(PetscRegisterFinalize(FSSumMaxFree));
+  }
+  v[0] = (PetscReal)nsum;
+  for (PetscInt k = 0; k < nsum; k++) v[1 + k] = sum[k];
+  for (PetscInt k = 0; k < nmax; k++) v[1 + nsum + k] = max[k];
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v, (PetscMPIInt)(1 + nsum + nmax), MPIU_REAL, FSSumMax,
+                             PetscObjectComm((PetscObject)s)));
+  for (PetscInt k = 0; k < nsum; k++) sum[k] = v[1 + k];
+  for (PetscInt k = 0; k < nmax; k++) max[k] = v[1 + nsum + k];
   PetscFunctionReturn(0);
 }
 
@@ -406,13 +458,29 @@ PetscErrorCode FSSolverComputeStableDt(FSSolver s, PetscReal *dt)
     s->state.dt_limit = FS_DT_STRUCTURE;
     PetscFunctionReturn(0);
   }
-  PetscCall(FSSolverOwnedMaxSpeed2(s, &v2));
-  /* one reduction for the speed, the viscosities and, for the parallel statistics, the largest owned count and
-     pair list (the last right-hand side's) of a rank */
-  loc[0] = v2;
-  loc[1] = (PetscReal)s->pw.nowned;
-  loc[2] = (PetscReal)s->pw.nbrs.npairs;
-  PetscCall(FSSolverReduceWithViscosity(s, 3, loc, &nu, &source));
+  if (s->state.dtnext.ready) { /* reduced with the last step's own values (FSSolverStepReduce)? */
+    PetscInt  step;
+    PetscReal t;
+    PetscCall(TSGetStepNumber(s->ts, &step));
+    PetscCall(TSGetTime(s->ts, &t));
+    s->state.dtnext.ready = (PetscBool)(step == s->state.dtnext.step && t == s->state.dtnext.time);
+  }
+  if (s->state.dtnext.ready) {
+    loc[0]                = s->state.dtnext.v2;
+    loc[1]                = s->state.dtnext.owned;
+    loc[2]                = s->state.dtnext.pairs;
+    nu                    = s->state.dtnext.nu;
+    source                = s->state.dtnext.source;
+    s->state.dtnext.ready = PETSC_FALSE;
+  } else {
+    PetscCall(FSSolverOwnedMaxSpeed2(s, &v2));
+    /* one reduction for the speed, the viscosities and, for the parallel statistics, the largest owned count and
+       pair list (the last right-hand side's) of a rank */
+    loc[0] = v2;
+    loc[1] = (PetscReal)s->pw.nowned;
+    loc[2] = (PetscReal)s->pw.nbrs.npairs;
+    PetscCall(FSSolverReduceWithViscosity(s, 3, loc, &nu, &source));
+  }
   s->state.umax          = PetscSqrtReal(loc[0]);
   s->mon.par.step_max[0] = loc[1];
   s->mon.par.step_max[1] = loc[2];
@@ -609,18 +677,32 @@ static const char *FSNonFiniteName(PetscReal v) { return PetscIsNanReal(v) ? "Na
 */
 PetscErrorCode FSSolverCheckState(FSSolver s)
 {
-  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
+  PetscReal glob[FS_CHECK_N];
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverCheckStateLocal(s, glob));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, glob, FS_CHECK_N, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  PetscCall(FSSolverCheckStateEnd(s, glob));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverCheckStateLocal - FSSolverCheckState()'s pass over this rank's particles: glob[FS_CHECK_N] to be reduced
+   (MPI_MAX) for FSSolverCheckStateEnd(); a particle that is not finite or blew up is named here (this rank prints).
+
+   Not collective
+*/
+PetscErrorCode FSSolverCheckStateLocal(FSSolver s, PetscReal glob[])
+{
   const PetscInt     dim = s->opt.dim, US = s->state.ustride;
   const PetscScalar *u, *u0;
   Vec                U0;
   PetscInt          *id, bad = -1, kind = 0, step;
-  PetscReal          worst = 0, move = 0, t, glob[5], *xb;
+  PetscReal          worst = 0, move = 0, t, *xb;
   PetscMPIInt        rank;
-  PetscBool          start; /* before the first step: the state comes from the case or a checkpoint */
-  char               origin[PETSC_MAX_PATH_LEN + 64], advice[512];
 
   PetscFunctionBegin;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(VecGetArrayRead(s->state.U, &u));
   PetscCall(FSSolverGetStepStart(s, &U0));
   PetscCall(VecGetArrayRead(U0, &u0));
@@ -656,12 +738,8 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
     for (PetscInt c = 0; c < 6 && glob[4] < 0; c++)
       if (PetscIsInfOrNanReal(L[c / 3][c % 3])) glob[4] = c;
   }
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, glob, 5, MPIU_REAL, MPI_MAX, comm));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
-  start = (PetscBool)(step == s->mon.step0 && !s->mon.steps_taken);
-  PetscCall(FSSolverStartOrigin(s, origin, sizeof(origin)));
-  PetscCall(FSSolverStartAdvice(s, (PetscBool)(s->opt.restart[0] != 0), advice, sizeof(advice)));
   if (bad >= 0) {
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
     PetscCall(PetscPrintf(PETSC_COMM_SELF,
@@ -672,6 +750,40 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
                           (double)u[bad * US + 2 * dim], (double)s->opt.rho0));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&id));
   }
+  PetscCall(VecRestoreArrayRead(U0, &u0));
+  PetscCall(VecRestoreArrayRead(s->state.U, &u));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverCheckStateEnd - FSSolverCheckState()'s verdict from the reduced glob[FS_CHECK_N] of
+   FSSolverCheckStateLocal(): the run stops with the messages described there, else the largest density variation
+   is kept (s->state.max_variation). The state U and its start must be those the local pass read.
+
+   Collective
+*/
+PetscErrorCode FSSolverCheckStateEnd(FSSolver s, const PetscReal glob[])
+{
+  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
+  const PetscInt     US   = s->state.ustride;
+  const PetscScalar *u, *u0;
+  Vec                U0;
+  PetscInt           step;
+  PetscReal          t;
+  PetscMPIInt        rank;
+  PetscBool          start; /* before the first step: the state comes from the case or a checkpoint */
+  char               origin[PETSC_MAX_PATH_LEN + 64], advice[512];
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(VecGetArrayRead(s->state.U, &u));
+  PetscCall(FSSolverGetStepStart(s, &U0));
+  PetscCall(VecGetArrayRead(U0, &u0));
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  start = (PetscBool)(step == s->mon.step0 && !s->mon.steps_taken);
+  PetscCall(FSSolverStartOrigin(s, origin, sizeof(origin)));
+  PetscCall(FSSolverStartAdvice(s, (PetscBool)(s->opt.restart[0] != 0), advice, sizeof(advice)));
   if (glob[0] != 1 && (glob[3] >= 0 || glob[4] >= 0)) { /* the quantity, its value and the likely cause */
     static const char *load[] = {"force_x", "force_y", "force_z", "moment_x", "moment_y", "moment_z"};
     const PetscInt     g      = (PetscInt)glob[3];
@@ -727,6 +839,52 @@ PetscErrorCode FSSolverCheckState(FSSolver s)
 }
 
 /*
+   FSSolverStepReduce - the step's own reductions in one (FSSolverReduceSumMax): the state check's maxima (check,
+   FSSolverCheckStateLocal()), the bounces' energy changes (jump, summed in place), the rebuild decision's maxima
+   and the viscosity bound (FSSolverRebuildNeeded()), and the next step's time-step reduction (the largest speed,
+   which the rebuild decision's is once the particles stay where they are, the viscosity bound, the largest owned
+   count and pair list): kept in s->state.dtnext for FSSolverComputeStableDt() when the lists are kept. Then the
+   check's verdict (FSSolverCheckStateEnd()) and the rebuild decision.
+
+   Collective
+*/
+static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscReal jump[2], PetscBool *rebuild,
+                                         PetscBool *sort)
+{
+  const PetscInt nsrc = 1 + s->terms.nterms;
+  PetscReal      mx[FS_CHECK_N + FS_REBUILD_N + 2 + FS_MAX_TERMS + 1], *rb = mx + FS_CHECK_N, *cnt = rb + FS_REBUILD_N,
+                                                                  *nus = cnt + 2, nu;
+  PetscInt source                                                      = 0, step;
+
+  PetscFunctionBegin;
+  for (PetscInt k = 0; k < FS_CHECK_N; k++) mx[k] = check[k];
+  PetscCall(FSSolverRebuildNeededLocal(s, rb));
+  cnt[0] = (PetscReal)s->pw.nowned;
+  cnt[1] = (PetscReal)s->pw.nbrs.npairs;
+  for (PetscInt k = 0; k < nsrc; k++) nus[k] = s->state.nu_src[k];
+  nus[0] = PetscMax(nus[0], s->opt.nu);
+  PetscCall(FSSolverReduceSumMax(s, 2, jump, FS_CHECK_N + FS_REBUILD_N + 2 + nsrc, mx));
+  PetscCall(FSSolverCheckStateEnd(s, mx));
+  nu = nus[0]; /* as FSSolverReduceWithViscosity() */
+  for (PetscInt k = 1; k < nsrc; k++)
+    if (nus[k] > nu) {
+      nu     = nus[k];
+      source = k;
+    }
+  PetscCall(FSSolverRebuildDecide(s, rb, nu, source, rebuild, sort));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  s->state.dtnext.ready  = (PetscBool) !*rebuild;
+  s->state.dtnext.step   = step;
+  s->state.dtnext.v2     = rb[1];
+  s->state.dtnext.owned  = cnt[0];
+  s->state.dtnext.pairs  = cnt[1];
+  s->state.dtnext.nu     = nu;
+  s->state.dtnext.source = source;
+  PetscCall(TSGetTime(s->ts, &s->state.dtnext.time));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverStep - advances the run by one time step of the stable size (or less, to land on the
    final time), then, when the lists must be rebuilt (FSSolverRebuildNeeded), migrates, reorders and
    repacks the particles and rebuilds the lists; else repacks them in place. The first step of a run opens its
@@ -741,7 +899,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   TSAdapt           adapt;
   TSConvergedReason reason;
   PetscInt          step;
-  PetscReal         ejump[2];
+  PetscReal         ejump[2], check[FS_CHECK_N];
   PetscBool         bounced, rebuild, sort;
 
   PetscFunctionBegin;
@@ -787,10 +945,10 @@ PetscErrorCode FSSolverStep(FSSolver s)
   s->mon.particle_steps += s->pw.nglobal_particles;
   s->mon.steps_taken++;
   PetscCall(FSSolverSplitStep(s, dt)); /* the split terms' diffusion over the step (-fs_delta_split), then the checks */
-  PetscCall(FSSolverCheckState(s));
+  PetscCall(FSSolverCheckStateLocal(s, check)); /* its verdict after the reduction below */
   PetscCall(FSSolverUnpackState(s));
   PetscCall(FSSolverBoundaryBounce(s, ejump, &bounced)); /* with the bounces' energy changes, for the energy budget */
-  PetscCall(FSSolverRebuildNeeded(s, &rebuild, &sort));
+  PetscCall(FSSolverStepReduce(s, check, ejump, &rebuild, &sort)); /* the check, the rebuild decision, the next dt */
   if (rebuild) {
     PetscBool rebalanced;
     PetscCall(FSSolverRebalance(s, step, &rebalanced));
@@ -802,7 +960,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
     PetscCall(FSSolverResize(s, changed));
     s->mon.nrebuilds++;
   } else PetscCall(FSSolverKeepLists(s));
-  if (bounced && s->pw.nglobal_particles > 0) PetscCall(FSSolverEnergyAddJump(s, ejump));
+  if (bounced && s->pw.nglobal_particles > 0) PetscCall(FSSolverEnergyAddJump(s, ejump, PETSC_TRUE));
   PetscCall(PetscLogEventEnd(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverMonitor(s));
   FSParallelStatsStepEnd(s);

@@ -1,9 +1,11 @@
 /*
-   The structure inside the solver: its DOFs y are the first block of the state's global DOFs (rank 0,
-   after the particles), advanced by the same TS as the liquid. At every right-hand side rank 0
-   broadcasts y to all ranks (a few doubles), so that every rank knows the tank's position and
-   rotation at each stage (the coupling needs them for the fictitious forces); the rate dy/dt is
-   computed on rank 0, with the liquid loads FSSolverSetLoads() gave (zero until the coupling).
+   The structure inside the solver: its DOFs y are the first block of the state's global DOFs (after the
+   particles), advanced by the same TS as the liquid. Every rank needs y at each stage (the tank's position and
+   rotation for the fictitious forces). A structure written in C holds its DOFs on every rank and runs there: each
+   rank computes dy/dt, the tank's motion and the energies from the same y and the same loads (reduced over the
+   ranks), so that every rank holds the same values and no broadcast is needed. A rank0 structure (the callbacks'
+   models: a Python structure) runs on rank 0 alone, which broadcasts y, the motion and its status (one broadcast
+   per call) to the others. The loads are FSSolverSetLoads()'s (zero until the coupling).
 */
 #include "solver/solverimpl.h"
 
@@ -25,7 +27,9 @@ PetscErrorCode FSSolverSetDefaultStructure(FSSolver s, const char name[])
 
 /*
    FSSolverSetLoads - the liquid's loads on the tank for the next right-hand sides (the coupling
-   calls it; the structure sees zero loads until then). Loads are read on rank 0.
+   calls it; the structure sees zero loads until then). Loads are read where the structure runs: on every
+   rank, which must give the same loads (the coupling's come from a reduction over the ranks), or on rank 0
+   for a rank0 structure.
 */
 PetscErrorCode FSSolverSetLoads(FSSolver s, const FSLoads *loads)
 {
@@ -52,7 +56,8 @@ PetscErrorCode FSSolverSetUpGlobalBlocks(FSSolver s)
   s->state.gblock[s->state.ngblocks].offset = 0;
   s->state.gblock[s->state.ngblocks++].n    = s->structure ? s->structure->ndof : 0;
   s->state.gdiss                            = s->state.gblock[0].n;
-  s->state.ndiss                            = ndiss;
+  s->state.nrepl = s->structure && !s->structure->rank0 ? s->structure->ndof : 0; /* on every rank */
+  s->state.ndiss = ndiss;
   PetscCall(
       PetscStrncpy(s->state.gblock[s->state.ngblocks].name, "dissipated_energy", sizeof(s->state.gblock[0].name)));
   s->state.gblock[s->state.ngblocks].offset = s->state.gdiss;
@@ -115,9 +120,11 @@ PetscErrorCode FSSolverGlobalDofName(FSSolver s, PetscInt g, char name[], size_t
    FSSolverStructureResultRank0 - a structure routine ran on rank 0 alone, returned ierr there and
    computed buf[0..n) (n <= FS_RANK0_MAX): one broadcast gives every rank buf and the error code, so
    that a failure (a Python structure's exception, a failed solve) stops the run everywhere instead of
-   leaving the other ranks waiting in the next collective. n = 0 broadcasts the code alone.
+   leaving the other ranks waiting in the next collective. n = 0 broadcasts the code alone. For a
+   structure that runs on every rank (not rank0) each rank has computed buf and ierr itself: no
+   broadcast, ierr returned as it is.
 
-   Collective
+   Collective for a rank0 structure
 */
 PetscErrorCode FSSolverStructureResultRank0(FSSolver s, PetscErrorCode ierr, const char what[], PetscInt n,
                                             PetscReal buf[])
@@ -130,7 +137,8 @@ PetscErrorCode FSSolverStructureResultRank0(FSSolver s, PetscErrorCode ierr, con
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  if (size == 1) PetscFunctionReturn(ierr); /* the error as raised, its message first */
+  /* the error as raised, its message first; a structure that runs on every rank has its result and status there */
+  if (size == 1 || !s->structure->rank0) PetscFunctionReturn(ierr);
   PetscCheck(n <= FS_RANK0_MAX, comm, PETSC_ERR_PLIB,
              "FSSolverStructureResultRank0: %" PetscInt_FMT " values, at most %d", n, FS_RANK0_MAX);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -154,8 +162,8 @@ PetscErrorCode FSSolverStructureResultRank0(FSSolver s, PetscErrorCode ierr, con
           s->structure->name, what, msg);
 }
 
-/* FSSolverStructureBroadcastState - the structure's state from the packed state u (rank 0) into s->sy on every rank.
- * Collective. */
+/* FSSolverStructureBroadcastState - the structure's state from the packed state u into s->sy on every rank: each
+ * rank's own copy, or rank 0's broadcast for a rank0 structure. Collective for a rank0 structure. */
 PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
 {
   PetscMPIInt rank, size;
@@ -163,17 +171,17 @@ PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
-  if (!rank)
+  if (FSSolverStructureHere(s))
     PetscCall(PetscArraycpy(s->sy, u + s->pw.nowned * s->state.ustride + s->state.gstruct, s->structure->ndof));
-  if (size > 1)
+  if (size > 1 && s->structure->rank0)
     PetscCallMPI(MPI_Bcast(s->sy, (PetscMPIInt)s->structure->ndof, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
   PetscFunctionReturn(0);
 }
 
 /*
-   FSSolverStructureRates - the structure's part of a right-hand side: rank 0 broadcasts the
-   structure's state from the packed state u (its global DOFs) into s->sy on every rank, then
-   computes dy/dt at s->state.rhs_time with the current loads into f (rank 0).
+   FSSolverStructureRates - the structure's part of a right-hand side: the structure's state from the packed state
+   u (its global DOFs) into s->sy on every rank (FSSolverStructureBroadcastState), then dy/dt at s->state.rhs_time
+   with the current loads into f (every rank; rank 0 alone for a rank0 structure).
 
    Collective
    With broadcast PETSC_FALSE s->sy already holds this stage's state on every rank (the coupling
@@ -187,19 +195,17 @@ PetscErrorCode FSSolverStructureBroadcastState(FSSolver s, const PetscReal *u)
 PetscErrorCode FSSolverStructureRates(FSSolver s, PetscBool broadcast, const PetscReal *u, PetscReal *f,
                                       PetscErrorCode *rank0err)
 {
-  FSStructure    st = s->structure;
-  PetscMPIInt    rank;
+  FSStructure    st  = s->structure;
   const PetscInt off = s->pw.nowned * s->state.ustride + s->state.gstruct;
 
   PetscFunctionBegin;
   if (rank0err) *rank0err = 0;
   if (!st || !st->ndof) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(FS_Structure, 0, 0, 0, 0));
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   if (broadcast) PetscCall(FSSolverStructureBroadcastState(s, u));
   {
     PetscErrorCode ierr = 0;
-    if (!rank) {
+    if (FSSolverStructureHere(s)) {
       ierr = (*st->ops.rhs)(st, s->state.rhs_time, s->sy, &s->loads, s->sydot);
       if (!ierr && f) ierr = PetscArraycpy(f + off, s->sydot, st->ndof);
     }
@@ -229,23 +235,22 @@ static PetscErrorCode FSSolverStructureCurrent(FSSolver s, PetscErrorCode *rank0
 /*
    FSSolverGetTankMotion - the tank's motion at the current state (displacement, velocity and
    acceleration of its reference point, rotation angle, rate and angular acceleration), the same on
-   every rank (computed on rank 0 and broadcast). Zero without a structure; a structure without DOFs
-   (a prescribed motion) gives its motion at the current time.
+   every rank (computed there, or on rank 0 and broadcast for a rank0 structure). Zero without a structure; a structure
+   without DOFs (a prescribed motion) gives its motion at the current time.
 
    Collective
 */
 PetscErrorCode FSSolverGetTankMotion(FSSolver s, FSTankMotion *m)
 {
-  PetscMPIInt    rank;
   PetscErrorCode ierr;
 
   PetscFunctionBegin;
   PetscCall(PetscMemzero(m, sizeof(*m)));
   PetscCall(FSSolverSetUp(s)); /* the state exists from the set-up on */
   if (!s->structure) PetscFunctionReturn(0);
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(FSSolverStructureCurrent(s, &ierr));
-  if (!rank && !ierr) ierr = (*s->structure->ops.motion)(s->structure, s->state.rhs_time, s->sy, s->sydot, m);
+  if (FSSolverStructureHere(s) && !ierr)
+    ierr = (*s->structure->ops.motion)(s->structure, s->state.rhs_time, s->sy, s->sydot, m);
   PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side or motion", FS_MOTION_NREAL, (PetscReal *)m));
   PetscFunctionReturn(0);
 }
@@ -367,20 +372,19 @@ PetscErrorCode FSSolverStructureColumns(FSSolver s, PetscInt *n, const char *nam
   PetscFunctionReturn(0);
 }
 
-/* FSSolverStructureValues - the values of those columns at the current state (valid on rank 0). Collective. */
+/* FSSolverStructureValues - the values of those columns at the current state (valid on rank 0; on every rank but
+   for a rank0 structure). Collective for a rank0 structure. */
 PetscErrorCode FSSolverStructureValues(FSSolver s, PetscReal vals[])
 {
   FSStructure  st = s->structure;
   FSTankMotion m;
-  PetscMPIInt  rank;
   PetscInt     k = 0;
   PetscReal    t;
 
   PetscFunctionBegin;
   if (!st) PetscFunctionReturn(0);
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(FSSolverStructureCurrent(s, NULL));
-  if (rank) PetscFunctionReturn(0);
+  if (!FSSolverStructureHere(s)) PetscFunctionReturn(0);
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(PetscMemzero(&m, sizeof(m)));
   PetscCall((*st->ops.motion)(st, t, s->sy, s->sydot, &m));
@@ -444,16 +448,15 @@ PetscErrorCode FSSolverStructureSummary(FSSolver s, FSJSON js)
    FSSolverCouplingPredict - at the start of a right-hand side when coupled: the structure's state of
    this stage on every rank, and the tank's motion it gives with the liquid at rest (its dynamic loads
    left out), which sets the tank frame's body acceleration and angle of this stage
-   (FSCouplingSetPredictedMotion). Rank 0 computes the motion and broadcasts it with the state and its
-   status: one collective.
+   (FSCouplingSetPredictedMotion). Every rank computes it from its own copy of the state; for a rank0 structure
+   rank 0 computes the motion and broadcasts it with the state and its status: one collective.
 
-   Collective
+   Collective for a rank0 structure
 */
 PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
 {
   FSStructure    st = s->structure;
   const PetscInt nm = FS_MOTION_NREAL, nd = st->ndof;
-  PetscMPIInt    rank;
   FSLoads        none;
   FSTankMotion   predicted;
   PetscReal      buf[FS_RANK0_MAX];
@@ -461,10 +464,9 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
 
   PetscFunctionBegin;
   PetscCheck(nm + nd <= FS_RANK0_MAX, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%" PetscInt_FMT " structure DOFs", nd);
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(PetscMemzero(&none, sizeof(none)));
   PetscCall(PetscMemzero(&predicted, sizeof(predicted)));
-  if (!rank) {
+  if (FSSolverStructureHere(s)) {
     PetscCall(PetscArraycpy(s->sy, u + s->pw.nowned * s->state.ustride + s->state.gstruct, nd));
     ierr = (*st->ops.rhs)(st, s->state.rhs_time, s->sy, &none, s->sydot);
     if (!ierr) ierr = (*st->ops.motion)(st, s->state.rhs_time, s->sy, s->sydot, &predicted);
@@ -481,29 +483,28 @@ PetscErrorCode FSSolverCouplingPredict(FSSolver s, const PetscReal *u)
 /*
    FSSolverCouplingRates - the structure's part of a right-hand side when coupled (after
    FSSolverCouplingPredict and the terms): the liquid's loads of this stage to the structure
-   (FSCouplingComputeLoads), its rate into f (rank 0), the tank's motion at this stage to the
-   coupling on every rank, and the structure's energies for the energy budget (rank 0,
-   s->state.structure_energy; FSSolverPowerRates books them). The status of rank 0's three calls rides
-   on the motion's broadcast: one collective.
+   (FSCouplingComputeLoads, from the reaction reduced over the ranks), its rate into f, the tank's motion at this
+   stage to the coupling, and the structure's energies for the energy budget (s->state.structure_energy;
+   FSSolverPowerRates books them), each rank from its own copy of the state. For a rank0 structure rank 0 computes
+   them, and the status of its three calls rides on the motion's broadcast: one collective.
 
-   Collective
+   Collective for a rank0 structure
 */
 PetscErrorCode FSSolverCouplingRates(FSSolver s, PetscReal *f)
 {
   FSStructure    st = s->structure;
-  PetscMPIInt    rank;
   FSTankMotion   motion;
-  PetscErrorCode ierr; /* rank 0's */
+  PetscErrorCode ierr; /* this rank's (0 where the structure does not run) */
 
   PetscFunctionBegin;
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(FSCouplingComputeLoads(s->coupling, s->boundary, &s->loads));
   /* the structure's rate under them (its state is on every rank since the prediction), and the tank's motion */
   PetscCall(FSSolverStructureRates(s, PETSC_FALSE, NULL, f, &ierr));
   PetscCall(PetscMemzero(&motion, sizeof(motion))); /* a model that fills part of it leaves no rotation */
-  if (!rank && !ierr) ierr = (*st->ops.motion)(st, s->state.rhs_time, s->sy, s->sydot, &motion);
+  if (FSSolverStructureHere(s) && !ierr) ierr = (*st->ops.motion)(st, s->state.rhs_time, s->sy, s->sydot, &motion);
   PetscCall(PetscArrayzero(s->state.structure_energy, 3));
-  if (!rank && !ierr && st->ndof && st->ops.energy) ierr = (*st->ops.energy)(st, s->sy, s->state.structure_energy);
+  if (FSSolverStructureHere(s) && !ierr && st->ndof && st->ops.energy)
+    ierr = (*st->ops.energy)(st, s->sy, s->state.structure_energy);
   PetscCall(FSSolverStructureResultRank0(s, ierr, "right-hand side, motion or energy", FS_MOTION_NREAL,
                                          (PetscReal *)&motion));
   PetscCall(FSCouplingSetMotion(s->coupling, &motion));

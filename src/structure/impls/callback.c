@@ -170,6 +170,7 @@ static PetscErrorCode FSStructureCreate_Callbacks(FSStructure st)
   st->ops.energy  = e->cb.energy ? Energy : NULL;
   st->ops.view    = View;
   st->ops.destroy = Destroy;
+  st->rank0       = PETSC_TRUE; /* a callback may keep state of its own or print: it runs once, on rank 0 */
   if (e->cb.create) {
     PetscCall(CallbackCheck(st, "create", (*e->cb.create)(e->ctx, st, &c->impl)));
     c->created = PETSC_TRUE;
