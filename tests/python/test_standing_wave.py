@@ -147,7 +147,7 @@ def test_standing_wave_no_slip_floor(tmp_path):
 def test_standing_wave_3d_mode_11(tmp_path):
     """The genuinely 3-D mode (1, 1), cos(pi x/L) cos(pi z/Lz) in a box L = 2h long and Lz = h wide
     (k = pi sqrt(1/L^2 + 1/Lz^2) = 3.51/h, k h = 3.5: a wavelength of 1.8 h), at h/dx = 10 (2,000
-    particles, about 60 s) to t sqrt(g/h) = 8: the triangle-mesh walls, the 3-D fill with the mode's
+    particles, 2 ranks) to t sqrt(g/h) = 8: the triangle-mesh walls, the 3-D fill with the mode's
     velocity, and the dispersion relation with the 3-D wavenumber. Measured: period +3.5 % against the
     exact viscous mode at h/dx = 10 (+4.2 % against inviscid linear theory; +1.4 % at h/dx = 20,
     docs/walls.md), decay 1.43 x the exact linear viscous
@@ -158,7 +158,7 @@ def test_standing_wave_3d_mode_11(tmp_path):
     w_exact, lam_exact = exact_viscous_mode(k, H, NU)
     out = tmp_path / "sw3"
     run_flexslosh(["-fs_case", "standing_wave", "-fs_dim", 3, "-fs_sw_width", Lz, "-fs_sw_mode_z", 1, "-fs_dx", 0.1,
-                   "-ts_max_time", 8, "-fs_output_interval", 0, "-fs_output_dir", out], cwd=tmp_path, timeout=600)
+                   "-ts_max_time", 8, "-fs_output_interval", 0, "-fs_output_dir", out], nranks=2, cwd=tmp_path, timeout=600)
     s = read_series(out)
     t, e = s["time"], s["kinetic_energy"]
     assert t[-1] == pytest.approx(8)
