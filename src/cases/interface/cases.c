@@ -8,6 +8,7 @@ static FSRegistry FSCases; /* src/sys/registry.c */
 PETSC_EXTERN PetscErrorCode FSCaseCreate_TaylorGreen(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_Shear(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_Channel(FSSolver, FSCaseOps *);
+PETSC_EXTERN PetscErrorCode FSCaseCreate_Drop(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_Beam(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_Tank(FSSolver, FSCaseOps *);
 PETSC_EXTERN PetscErrorCode FSCaseCreate_DamBreak(FSSolver, FSCaseOps *);
@@ -60,6 +61,11 @@ PetscErrorCode FSCaseRegisterAll(void)
                            "plane channel flow between two walls, periodic along x (and z), driven by a body force: "
                            "Poiseuille start-up with -fs_walls_noslip floor,lid",
                            FSCaseCreate_Channel));
+  PetscCall(
+      FSCaseRegister("drop",
+                     "a free drop without walls or gravity (square or ellipse; 2-D or 3-D) for the surface tension "
+                     "term: Laplace pressure and oscillation",
+                     FSCaseCreate_Drop));
   PetscFunctionReturn(0);
 }
 

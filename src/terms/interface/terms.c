@@ -14,6 +14,7 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_LESViscosity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_Gravity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_Shifting(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_TensileControl(FSTerm);
+PETSC_EXTERN PetscErrorCode FSTermCreate_SurfaceTension(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallContinuity(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallPressure(FSTerm);
 PETSC_EXTERN PetscErrorCode FSTermCreate_WallViscosity(FSTerm);
@@ -149,5 +150,9 @@ PetscErrorCode FSTermRegisterAll(void)
   PetscCall(FSTermRegister("tensile_control",
                            "tensile instability control of delta+-SPH (Sun et al. 2017): (p_j - p_i) where p_i < 0",
                            FSTermCreate_TensileControl));
+  PetscCall(FSTermRegister("surface_tension",
+                           "surface tension: pairwise cohesion calibrated to -fs_surface_tension_sigma, conserves "
+                           "momentum",
+                           FSTermCreate_SurfaceTension));
   PetscFunctionReturn(0);
 }
