@@ -79,7 +79,10 @@ static PetscErrorCode SetUp(FSSolver s)
   PetscCall(FSSolverGetParameters(s, &dx, NULL, &rho0, NULL, NULL));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)s), &size));
-  ext   = dr->R * PetscMax(PetscSqrtReal(dr->aspect), 1 / PetscSqrtReal(dr->aspect)) * 1.2 + 2 * dx;
+  ext = dr->R * PetscMax(PetscSqrtReal(dr->aspect), 1 / PetscSqrtReal(dr->aspect)) * 1.2 + 2 * dx;
+  PetscCheck(ext / dx < 2000, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_drop_radius %g with -fs_dx %g puts %g particles across the drop: expected at most 2000",
+             (double)dr->R, (double)dx, (double)(2 * ext / dx));
   nside = 2 * (PetscInt)PetscCeilReal(ext / dx);
   for (PetscInt d = 0; d < dim; d++) {
     const PetscBool periodic = (PetscBool)(dr->slab && d != 1);

@@ -70,6 +70,13 @@ static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)
   PetscFunctionBegin;
   ctx->c = P->dim == 2 ? 5.0 / 9.0 : 4.0 / 5.0;
   ctx->A = ctx->sigma / (P->rho0 * P->rho0 * P->h * K);
+  /* the surface layer's stresses, about sigma/(h K), must stay well below the liquid's stiffness rho0 c0^2 */
+  PetscCheck(
+      ctx->sigma / (P->h * K) <= 0.1 * P->rho0 * P->c0 * P->c0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+      "-fs_surface_tension_sigma %g is too stiff for this liquid: sigma/(h K) = %g Pa (h %g, K %g) must stay below "
+      "0.1 rho0 c0^2 = %g Pa; lower sigma or raise -fs_c0",
+      (double)ctx->sigma, (double)(ctx->sigma / (P->h * K)), (double)P->h, (double)K,
+      (double)(0.1 * P->rho0 * P->c0 * P->c0));
   PetscFunctionReturn(0);
 }
 
@@ -81,7 +88,7 @@ static PetscErrorCode SetFromOptions(FSTerm t, PetscOptionItems *PetscOptionsObj
   PetscOptionsHeadBegin(PetscOptionsObject, "Term surface_tension: pairwise cohesion calibrated to sigma");
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_surface_tension_sigma",
                           "surface tension sigma (N/m; water 0.0728) of the pair potential's flat surface", "",
-                          &ctx->sigma, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+                          &ctx->sigma, NULL, 0, 1e4, FS_RANGE_CLOSED));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }
