@@ -195,7 +195,7 @@ static PetscErrorCode LidTile(FSPackRegion *g, PetscInt *cap, FSMesh *m, PetscIn
 /*
    FSPackRegionFromMesh - the closed region of the liquid of the checked 3-D mesh m in the box lo..hi: m's elements
    (refined to edges of at most h) clipped to the box, and the box's faces inside the liquid tiled with squares of
-   at most dx, two triangles each (those whose middle is in the liquid), their normals out of the box.
+   at most dx, two triangles each, cut where a wall crosses them (LidTile), their normals out of the box.
 
    Not collective
 */
