@@ -74,6 +74,9 @@ PETSC_INTERN PetscErrorCode FSBoundaryBounce(FSBoundary, PetscInt n, PetscReal x
                                              FSParticleEnergyFn, void *, PetscReal de[2]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetLoads(FSBoundary, PetscInt *nwalls, const PetscReal **loads);
 PETSC_INTERN PetscErrorCode FSBoundaryGetWallLoads(FSBoundary, PetscInt *nwalls, const PetscReal **loads);
+PETSC_INTERN PetscErrorCode FSBoundaryGetLoadsLocal(FSBoundary, PetscInt *nwalls, const PetscReal **local);
+PETSC_INTERN PetscErrorCode FSBoundaryGetWallLoadsSummed(FSBoundary, const PetscReal summed[], PetscInt *nwalls,
+                                                         const PetscReal **loads);
 PETSC_INTERN PetscErrorCode FSBoundaryGetWallLoadPoints(FSBoundary, PetscInt *nwalls, const PetscReal **points);
 /* the rank that owns the point x (the particles' domain decomposition) */
 typedef PetscMPIInt (*FSBoundaryRankOfFn)(void *ctx, const PetscReal x[]);

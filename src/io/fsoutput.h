@@ -78,6 +78,9 @@ typedef struct _n_FSTimeSeries *FSTimeSeries;
 PETSC_EXTERN PetscErrorCode FSTimeSeriesCreate(MPI_Comm, const char path[], PetscInt ncols, const char *const names[],
                                                PetscInt restart_step, FSTimeSeries *);
 PETSC_EXTERN PetscErrorCode FSTimeSeriesAppend(FSTimeSeries, PetscInt step, const PetscReal values[]);
+PETSC_EXTERN PetscErrorCode FSTimeSeriesSetDeferred(FSTimeSeries, PetscBool);
+PETSC_EXTERN PetscErrorCode FSTimeSeriesGetFailure(FSTimeSeries, int *err, PetscBool *torn);
+PETSC_EXTERN PetscErrorCode FSTimeSeriesRaiseFailure(FSTimeSeries, int err, PetscBool torn);
 PETSC_EXTERN PetscErrorCode FSTimeSeriesDestroy(FSTimeSeries *);
 
 /* ---------------- JSON ---------------- */

@@ -2,7 +2,8 @@
    FSTimeSeries: a CSV file with a header "step,<names...>" and one row per output step, written
    by rank 0. Each row is formatted in memory and written with one write to the unbuffered stream, so a
    crash leaves only complete lines (at worst a torn last line, which a restart drops); a row that cannot
-   be written whole (a full disk) is cut off again, so the file keeps only whole rows.
+   be written whole (a full disk) is cut off again, so the file keeps only whole rows. The outcome of a write is
+   broadcast from rank 0, or (FSTimeSeriesSetDeferred()) left for the caller to carry on a collective of its own.
 */
 #define _POSIX_C_SOURCE 200809L
 #include <stdio.h>
@@ -19,10 +20,13 @@ struct _n_FSTimeSeries {
   FILE       *fp; /* rank 0 only, opened for appending */
   PetscInt    ncols;
   char        path[PETSC_MAX_PATH_LEN];
-  char       *row;    /* rank 0: buffer for one formatted row */
-  size_t      rowlen; /* its size */
-  off_t       size;   /* rank 0: the file's length after its last whole row */
-  PetscInt    kept;   /* a restart's step whose row the file kept (not written again), or -1 */
+  char       *row;       /* rank 0: buffer for one formatted row */
+  size_t      rowlen;    /* its size */
+  off_t       size;      /* rank 0: the file's length after its last whole row */
+  PetscInt    kept;      /* a restart's step whose row the file kept (not written again), or -1 */
+  PetscBool   deferred;  /* FSTimeSeriesSetDeferred(): the outcome of a write is not broadcast */
+  int         failed[2]; /* rank 0, deferred: the first failed write's errno and whether its torn row stayed */
+  PetscBool   raised;    /* FSTimeSeriesRaiseFailure() raised a failure */
 };
 
 /* Header line (without newline) in a PetscMalloc'ed string */
@@ -204,10 +208,41 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
   PetscFunctionReturn(0);
 }
 
+/* Rank 0: one row, formatted and written with one fwrite to the unbuffered stream; st: errno, and whether the torn row
+   could not be cut off */
+static PetscErrorCode FSTimeSeriesWriteRow(FSTimeSeries ts, PetscInt step, const PetscReal values[], int st[2])
+{
+  size_t off;
+  int    n;
+
+  PetscFunctionBegin;
+  PetscCheck(values || ts->ncols == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Time series \"%s\": no values", ts->path);
+  n = snprintf(ts->row, ts->rowlen, "%" PetscInt_FMT, step);
+  PetscCheck(n > 0 && (size_t)n < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
+  off = (size_t)n;
+  for (PetscInt c = 0; c < ts->ncols; c++) {
+    n = snprintf(ts->row + off, ts->rowlen - off, ",%.10e", (double)values[c]);
+    PetscCheck(n > 0 && (size_t)n < ts->rowlen - off, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+               "Time series row buffer too small");
+    off += (size_t)n;
+  }
+  PetscCheck(off + 1 < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
+  ts->row[off]     = '\n';
+  ts->row[off + 1] = '\0';
+  errno            = 0;
+  if (fwrite(ts->row, 1, off + 1, ts->fp) != off + 1 || fflush(ts->fp) != 0) {
+    st[0] = errno ? errno : EIO;
+    clearerr(ts->fp);
+    st[1] = ftruncate(fileno(ts->fp), ts->size) != 0; /* no torn row: the file ends at its last whole row */
+  } else ts->size += (off_t)(off + 1);
+  PetscFunctionReturn(0);
+}
+
 /*@C
    FSTimeSeriesAppend - Appends one row: step, then the values with "%.10e".
 
-   Collective (rank 0 writes; the outcome is broadcast, so a failure is raised on every rank)
+   Collective (rank 0 writes; the outcome is broadcast, so a failure is raised on every rank), or not collective
+   once FSTimeSeriesSetDeferred() deferred the outcome
 
    Input Parameters:
 +  ts     - the time series
@@ -216,7 +251,8 @@ PetscErrorCode FSTimeSeriesCreate(MPI_Comm comm, const char path[], PetscInt nco
 
    Notes:
    The row is written with one fwrite to the unbuffered stream; when it cannot be written whole (a full
-   disk), the file is cut back to its last whole row and the error names the file.
+   disk), the file is cut back to its last whole row and the error names the file. Deferred, the failure is
+   kept on rank 0 (FSTimeSeriesGetFailure()) and no row is written after it, so the file ends at its last whole row.
 @*/
 PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscReal values[])
 {
@@ -228,34 +264,66 @@ PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscRea
     ts->kept = -1;
     PetscFunctionReturn(0);
   }
-  if (ts->rank == 0) {
-    size_t off;
-    int    n;
-
-    PetscCheck(values || ts->ncols == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "Time series \"%s\": no values",
-               ts->path);
-    n = snprintf(ts->row, ts->rowlen, "%" PetscInt_FMT, step);
-    PetscCheck(n > 0 && (size_t)n < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
-    off = (size_t)n;
-    for (PetscInt c = 0; c < ts->ncols; c++) {
-      n = snprintf(ts->row + off, ts->rowlen - off, ",%.10e", (double)values[c]);
-      PetscCheck(n > 0 && (size_t)n < ts->rowlen - off, PETSC_COMM_SELF, PETSC_ERR_PLIB,
-                 "Time series row buffer too small");
-      off += (size_t)n;
-    }
-    PetscCheck(off + 1 < ts->rowlen, PETSC_COMM_SELF, PETSC_ERR_PLIB, "Time series row buffer too small");
-    ts->row[off]     = '\n';
-    ts->row[off + 1] = '\0';
-    errno            = 0;
-    if (fwrite(ts->row, 1, off + 1, ts->fp) != off + 1 || fflush(ts->fp) != 0) {
-      st[0] = errno ? errno : EIO;
-      clearerr(ts->fp);
-      st[1] = ftruncate(fileno(ts->fp), ts->size) != 0; /* no torn row: the file ends at its last whole row */
-    } else ts->size += (off_t)(off + 1);
+  if (ts->deferred) { /* rank 0 keeps the outcome; after a failure the file stays as it is */
+    if (ts->rank == 0 && !ts->failed[0]) PetscCall(FSTimeSeriesWriteRow(ts, step, values, ts->failed));
+    PetscFunctionReturn(0);
   }
+  if (ts->rank == 0) PetscCall(FSTimeSeriesWriteRow(ts, step, values, st));
   PetscCallMPI(MPI_Bcast(st, 2, MPI_INT, 0, ts->comm));
-  PetscCheck(!st[0], ts->comm, PETSC_ERR_FILE_WRITE, "Cannot write to time series \"%s\": %s%s", ts->path,
-             strerror(st[0]), st[1] ? " (and its last row could not be cut off)" : "");
+  PetscCall(FSTimeSeriesRaiseFailure(ts, st[0], (PetscBool)(st[1] != 0)));
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSTimeSeriesSetDeferred - whether FSTimeSeriesAppend() broadcasts the outcome of rank 0's write (the default) or
+   keeps it on rank 0 for the caller to carry on a collective it takes anyway (FSTimeSeriesGetFailure()) and raise on
+   every rank (FSTimeSeriesRaiseFailure()): a row then costs no collective.
+
+   Not Collective (the same on every rank)
+
+   Input Parameters:
++  ts       - the time series
+-  deferred - PETSC_TRUE to defer
+@*/
+PetscErrorCode FSTimeSeriesSetDeferred(FSTimeSeries ts, PetscBool deferred)
+{
+  PetscFunctionBegin;
+  ts->deferred = deferred;
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSTimeSeriesGetFailure - rank 0's first failed write of a deferred time series (FSTimeSeriesSetDeferred()).
+
+   Not Collective
+
+   Input Parameter:
+.  ts - the time series
+
+   Output Parameters:
++  err  - its errno, 0 when every row was written (always 0 on the other ranks)
+-  torn - whether the torn row could not be cut off (may be NULL)
+@*/
+PetscErrorCode FSTimeSeriesGetFailure(FSTimeSeries ts, int *err, PetscBool *torn)
+{
+  PetscFunctionBegin;
+  *err = ts->failed[0];
+  if (torn) *torn = (PetscBool)(ts->failed[1] != 0);
+  PetscFunctionReturn(0);
+}
+
+/*@C
+   FSTimeSeriesRaiseFailure - raises the error of a failed write (errno err, as rank 0's FSTimeSeriesGetFailure() gave
+   it, carried to every rank) naming the file; nothing when err is 0.
+
+   Not Collective (called on every rank with the same err, it raises the error on every rank)
+@*/
+PetscErrorCode FSTimeSeriesRaiseFailure(FSTimeSeries ts, int err, PetscBool torn)
+{
+  PetscFunctionBegin;
+  if (err) ts->raised = PETSC_TRUE;
+  PetscCheck(!err, ts->comm, PETSC_ERR_FILE_WRITE, "Cannot write to time series \"%s\": %s%s", ts->path, strerror(err),
+             torn ? " (and its last row could not be cut off)" : "");
   PetscFunctionReturn(0);
 }
 
@@ -266,6 +334,9 @@ PetscErrorCode FSTimeSeriesAppend(FSTimeSeries ts, PetscInt step, const PetscRea
 
    Input Parameter:
 .  ts - the time series (set to NULL)
+
+   Notes:
+   A deferred failure (FSTimeSeriesSetDeferred()) that was never raised is printed to stderr by rank 0.
 @*/
 PetscErrorCode FSTimeSeriesDestroy(FSTimeSeries *ts)
 {
@@ -273,6 +344,11 @@ PetscErrorCode FSTimeSeriesDestroy(FSTimeSeries *ts)
 
   PetscFunctionBegin;
   if (!ts || !*ts) PetscFunctionReturn(0);
+  if ((*ts)->failed[0] &&
+      !(*ts)->raised) /* deferred, and the run ended before it was carried to the ranks: said here */
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, PETSC_STDERR, "Error: cannot write to time series \"%s\": %s%s\n",
+                           (*ts)->path, strerror((*ts)->failed[0]),
+                           (*ts)->failed[1] ? " (and its last row could not be cut off)" : ""));
   if ((*ts)->fp && fclose((*ts)->fp) != 0) err = errno ? errno : EIO;
   (*ts)->fp = NULL;
   PetscCheck(!err, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "Cannot close time series \"%s\": %s", (*ts)->path,

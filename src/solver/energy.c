@@ -49,7 +49,8 @@
 #include <math.h>
 #include "solver/solverimpl.h"
 
-enum { FS_E_KIN, FS_E_POT, FS_E_COMP, FS_E_KIN_ABS, FS_E_POT_ABS, FS_E_NLIQ };
+enum { FS_E_KIN, FS_E_POT, FS_E_COMP, FS_E_KIN_ABS, FS_E_POT_ABS };
+#define FS_E_NLIQ FS_ENERGY_NSUMS /* the five above */
 
 static const char *FSEnergyNames[] = {"time",
                                       "E_kin",
@@ -137,25 +138,25 @@ static PetscErrorCode FSSolverStructureEnergy(FSSolver s, PetscReal E[3])
 }
 
 /*
-   The energies of the current state: the liquid's (every rank) and the structure's (rank 0):
-   liq[FS_E_*], st[0..2] structure kinetic, potential, L_s . (d, theta). Collective.
+   FSSolverEnergyLocal - this rank's sums of the liquid's energies of the current state (loc[FS_E_*],
+   FS_ENERGY_NSUMS values: E_kin, E_pot, E_comp in the tank's frame, E_kin and E_pot in the absolute one) and the
+   tank's motion mo, for FSSolverEnergySummed() once loc is summed over the ranks. Collective for a rank0 structure
+   only (its motion is broadcast).
 */
-static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ], PetscReal st[3])
+PetscErrorCode FSSolverEnergyLocal(FSSolver s, PetscReal loc[], FSTankMotion *mo)
 {
   const PetscInt     dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride;
   const PetscReal   *g = s->opt.gravity;
   const PetscScalar *u;
-  FSTankMotion       mo;
-  PetscReal          loc[FS_E_NLIQ] = {0, 0, 0, 0, 0}, c, sn;
-  PetscMPIInt        rank;
+  PetscReal          c, sn;
   PetscBool          coupled;
 
   PetscFunctionBegin;
+  for (PetscInt k = 0; k < FS_E_NLIQ; k++) loc[k] = 0;
   PetscCall(FSCouplingGetActive(s->coupling, &coupled));
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-  PetscCall(FSSolverGetTankMotion(s, &mo)); /* zero without a structure; sets s->sy */
-  c  = PetscCosReal(mo.angle);
-  sn = PetscSinReal(mo.angle);
+  PetscCall(FSSolverGetTankMotion(s, mo)); /* zero without a structure; sets s->sy */
+  c  = PetscCosReal(mo->angle);
+  sn = PetscSinReal(mo->angle);
   PetscCall(VecGetArrayRead(s->state.U, &u));
   for (PetscInt p = 0; p < s->pw.nowned; p++) {
     const PetscScalar *x = &u[p * US], *v = x + dim;
@@ -170,7 +171,7 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
     loc[FS_E_COMP] += m * FSCompressibilityEnergy(rho, s->opt.rho0, s->opt.c0, s->opt.background_pressure);
     if (coupled) { /* the absolute frame */
       PetscReal kin, pot;
-      FSCouplingAbsoluteEnergy(s->coupling, &mo, c, sn, x, v, m, &kin, &pot);
+      FSCouplingAbsoluteEnergy(s->coupling, mo, c, sn, x, v, m, &kin, &pot);
       loc[FS_E_KIN_ABS] += kin;
       loc[FS_E_POT_ABS] += pot;
     }
@@ -180,7 +181,16 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
     loc[FS_E_KIN_ABS] = loc[FS_E_KIN];
     loc[FS_E_POT_ABS] = loc[FS_E_POT];
   }
-  PetscCallMPI(MPI_Allreduce(loc, liq, FS_E_NLIQ, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   The structure's energies at the tank's motion mo (rank 0; every rank for a structure that runs there):
+   st[0..2] structure kinetic, potential, L_s . (d, theta). Collective for a rank0 structure.
+*/
+static PetscErrorCode FSSolverEnergyStructure(FSSolver s, const FSTankMotion *mo, PetscReal st[3])
+{
+  PetscFunctionBegin;
   st[0] = st[1] = st[2] = 0;
   if (s->structure && s->structure->ndof && s->structure->ops.energy) {
     PetscReal E[3] = {0, 0, 0};
@@ -189,7 +199,23 @@ static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ]
     st[0] = E[0];
     st[1] = E[1];
   }
-  if (!s->structure || !s->structure->prescribed) PetscCall(FSCouplingStaticLoadsWork(s->coupling, &mo, &st[2]));
+  if (!s->structure || !s->structure->prescribed) PetscCall(FSCouplingStaticLoadsWork(s->coupling, mo, &st[2]));
+  PetscFunctionReturn(0);
+}
+
+/*
+   The energies of the current state: the liquid's (every rank) and the structure's (rank 0):
+   liq[FS_E_*], st[0..2] structure kinetic, potential, L_s . (d, theta). Collective.
+*/
+static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ], PetscReal st[3])
+{
+  PetscReal    loc[FS_E_NLIQ];
+  FSTankMotion mo;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverEnergyLocal(s, loc, &mo));
+  PetscCallMPI(MPI_Allreduce(loc, liq, FS_E_NLIQ, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
+  PetscCall(FSSolverEnergyStructure(s, &mo, st));
   PetscFunctionReturn(0);
 }
 
@@ -318,18 +344,19 @@ PetscErrorCode FSSolverEnergyInitial(FSSolver s)
 }
 
 /*
-   FSSolverEnergyValues - the values of the columns of energy.csv at the current state (valid on rank 0).
+   FSSolverEnergySummed - the values of the columns of energy.csv at the current state (valid on rank 0) from the
+   liquid's energies liq of FSSolverEnergyLocal() summed over the ranks and the tank's motion mo it gave.
 
-   Collective
+   Collective for a rank0 structure
 */
-PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
+PetscErrorCode FSSolverEnergySummed(FSSolver s, const PetscReal liq[], const FSTankMotion *mo, PetscReal vals[])
 {
-  PetscReal   liq[FS_E_NLIQ], st[3], work[3] = {0, 0, 0}, eb[FS_ENERGY_NDOF], t;
+  PetscReal   st[3], work[3] = {0, 0, 0}, eb[FS_ENERGY_NDOF], t;
   PetscMPIInt rank;
   PetscInt    k = 0;
 
   PetscFunctionBegin;
-  PetscCall(FSSolverEnergyCompute(s, liq, st));
+  PetscCall(FSSolverEnergyStructure(s, mo, st));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   if (rank) PetscFunctionReturn(0);
   PetscCall(TSGetTime(s->ts, &t));
@@ -380,6 +407,23 @@ PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
     vals[k++] = Etot - eb[FS_ENERGY_TOTAL0] - w * Wint - eb[FS_ENERGY_WORK_DAMPING] - eb[FS_ENERGY_WORK_COUPLING] -
                 eb[FS_ENERGY_WORK_BOUNCE_TOTAL] - eb[FS_ENERGY_WORK_MOTION];
   }
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverEnergyValues - the values of the columns of energy.csv at the current state (valid on rank 0).
+
+   Collective
+*/
+PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
+{
+  PetscReal    loc[FS_E_NLIQ], liq[FS_E_NLIQ];
+  FSTankMotion mo;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverEnergyLocal(s, loc, &mo));
+  PetscCallMPI(MPI_Allreduce(loc, liq, FS_E_NLIQ, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
+  PetscCall(FSSolverEnergySummed(s, liq, &mo, vals));
   PetscFunctionReturn(0);
 }
 

@@ -11,14 +11,15 @@
 #define FS_MAX_FLUID_COLUMNS (32 + FS_CASE_MAX_COLUMNS + FS_MAX_TERMS)
 #define FS_MAX_COLUMNS       (FS_MAX_FLUID_COLUMNS + FS_STRUCTURE_MAX_COLUMNS + 6 * FS_MAX_WALL_COLUMNS)
 
-/* Global diagnostics of the current state. vals: kinetic energy, mass, momentum (3), then max |u|. */
-static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscReal *umax)
+/* This rank's sums for the row's diagnostics: kinetic energy, mass, momentum (3), and its largest |u|^2. */
+static PetscErrorCode FSSolverDiagnosticsLocal(FSSolver s, PetscReal loc[5], PetscReal *v2max)
 {
   const PetscInt     dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride;
   const PetscScalar *u;
-  PetscReal          loc[5] = {0, 0, 0, 0, 0}, vmax = 0;
+  PetscReal          vmax = 0;
 
   PetscFunctionBegin;
+  for (PetscInt k = 0; k < 5; k++) loc[k] = 0;
   PetscCall(VecGetArrayRead(s->state.U, &u));
   for (PetscInt p = 0; p < s->pw.nowned; p++) {
     const PetscReal m  = s->pw.rec[p * S + 2 * dim + 1];
@@ -33,21 +34,106 @@ static PetscErrorCode FSSolverDiagnostics(FSSolver s, PetscReal sums[5], PetscRe
     vmax = PetscMax(vmax, v2);
   }
   PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  PetscCall(FSSolverReduceSumMax(s, 5, loc, 1, &vmax)); /* the sums and the largest speed in one reduction */
-  for (PetscInt k = 0; k < 5; k++) sums[k] = loc[k];
-  *umax = PetscSqrtReal(vmax);
+  *v2max = vmax;
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode FSSolverAppendSeries(FSSolver s)
+/* the csv files whose write status is deferred (FSTimeSeriesSetDeferred()), in the order of FSSolverWriteStatus() */
+static void FSSolverDeferredFiles(FSSolver s, FSTimeSeries f[3])
 {
-  PetscReal   vals[FS_MAX_COLUMNS], evals[FS_ENERGY_MAX_COLUMNS], sums[5], umax = 0, t, dt;
-  PetscInt    k = 0, step;
-  PetscMPIInt rank;
+  f[0] = s->mon.series;
+  f[1] = s->mon.energyseries;
+  f[2] = s->mon.probes.series;
+}
+
+/*
+   FSSolverWriteStatus - rank 0's first failed write of timeseries.csv, energy.csv or probes.csv not yet raised, as one
+   real for a maximum over the ranks that a collective of the run carries (the step's reduction,
+   FSSolverWriteStatusCheck()): 0 when none (always on the other ranks), else 4 (2 errno + torn) + 1 + the file.
+
+   Not collective
+*/
+PetscReal FSSolverWriteStatus(FSSolver s)
+{
+  FSTimeSeries f[3];
+
+  FSSolverDeferredFiles(s, f);
+  for (int k = 0; k < 3; k++) {
+    int       err = 0;
+    PetscBool torn;
+    if (f[k] && !FSTimeSeriesGetFailure(f[k], &err, &torn) && err)
+      return (PetscReal)(4 * (2 * err + (torn ? 1 : 0)) + 1 + k);
+  }
+  return 0;
+}
+
+/*
+   FSSolverWriteStatusRaise - raises the failed write that status (FSSolverWriteStatus(), carried to every rank)
+   names, on every rank; nothing when it is 0. Rows since the status was taken are now checked.
+
+   Not collective (called on every rank with the same status)
+*/
+PetscErrorCode FSSolverWriteStatusRaise(FSSolver s, PetscReal status)
+{
+  const int    code = (int)status;
+  FSTimeSeries f[3];
 
   PetscFunctionBegin;
-  PetscCall(FSSolverDiagnostics(s, sums, &umax));
+  s->mon.rows_unchecked = PETSC_FALSE;
+  if (!code) PetscFunctionReturn(0);
+  FSSolverDeferredFiles(s, f);
+  PetscCheck(f[(code - 1) % 4], PetscObjectComm((PetscObject)s), PETSC_ERR_PLIB, "Write status %d names no file", code);
+  PetscCall(FSTimeSeriesRaiseFailure(f[(code - 1) % 4], (code - 1) / 8, (PetscBool)(((code - 1) / 4) % 2)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverWriteStatusCheck - when rows were written since the write status was last carried to the ranks, one
+   broadcast of it, and its failure raised on every rank: at the end of the run and before a snapshot or checkpoint
+   (so that a failed row is reported before another file is written).
+
+   Collective
+*/
+PetscErrorCode FSSolverWriteStatusCheck(FSSolver s)
+{
+  PetscReal status;
+
+  PetscFunctionBegin;
+  if (!s->mon.rows_unchecked) PetscFunctionReturn(0);
+  status = FSSolverWriteStatus(s);
+  PetscCallMPI(MPI_Bcast(&status, 1, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  PetscCall(FSSolverWriteStatusRaise(s, status));
+  PetscFunctionReturn(0);
+}
+
+/*
+   A row of timeseries.csv and energy.csv: a local pass fills one buffer with this rank's sums (the diagnostics, the
+   walls' loads of the last right-hand side, the liquid's energies) and its largest speed, one reduction
+   (FSSolverReduceSumMax) sums them over the ranks, then the rows are made and written by rank 0, their write status
+   left for the next step's reduction (FSSolverWriteStatus()).
+
+   Collective
+*/
+static PetscErrorCode FSSolverAppendSeries(FSSolver s)
+{
+  PetscReal        vals[FS_MAX_COLUMNS], evals[FS_ENERGY_MAX_COLUMNS], buf[64], *sum = buf, v2max, t, dt;
+  const PetscReal *wloc = NULL, *esum = NULL, *wsum = NULL;
+  PetscInt         k = 0, step, nwalls = 0, nsum = 5;
+  PetscMPIInt      rank;
+  FSTankMotion     mo;
+
+  PetscFunctionBegin;
   if (!s->mon.series) PetscFunctionReturn(0);
+  if (s->boundary) PetscCall(FSBoundaryGetLoadsLocal(s->boundary, &nwalls, &wloc));
+  nsum += FS_WALL_LOAD_STRIDE * nwalls + (s->mon.energyseries ? FS_ENERGY_NSUMS : 0);
+  if (nsum > (PetscInt)PETSC_STATIC_ARRAY_LENGTH(buf)) PetscCall(PetscMalloc1(nsum, &sum));
+  PetscCall(FSSolverDiagnosticsLocal(s, sum, &v2max));
+  if (nwalls) PetscCall(PetscArraycpy(sum + 5, wloc, FS_WALL_LOAD_STRIDE * nwalls));
+  if (s->mon.energyseries) PetscCall(FSSolverEnergyLocal(s, sum + 5 + FS_WALL_LOAD_STRIDE * nwalls, &mo));
+  PetscCall(FSSolverReduceSumMax(s, nsum, sum, 1, &v2max)); /* the row's one reduction */
+  wsum = sum + 5;
+  esum = wsum + FS_WALL_LOAD_STRIDE * nwalls;
+
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
@@ -59,10 +145,10 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   vals[k++] = t;
   vals[k++] = dt;
   vals[k++] = (PetscReal)s->state.dt_limit;
-  vals[k++] = sums[0];
-  vals[k++] = sums[1];
-  for (PetscInt d = 0; d < s->opt.dim; d++) vals[k++] = sums[2 + d];
-  vals[k++] = umax;
+  vals[k++] = sum[0];
+  vals[k++] = sum[1];
+  for (PetscInt d = 0; d < s->opt.dim; d++) vals[k++] = sum[2 + d];
+  vals[k++] = PetscSqrtReal(v2max);
   vals[k++] = s->state.max_variation;
   if (!rank && s->state.ndiss) { /* the dissipated energies */
     const PetscScalar *u;
@@ -77,8 +163,7 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   }
   if (s->boundary) { /* the liquid's loads on each wall, from the step's last right-hand side */
     const PetscReal *L;
-    PetscInt         nwalls;
-    PetscCall(FSBoundaryGetWallLoads(s->boundary, &nwalls, &L)); /* each moment about its wall's point */
+    PetscCall(FSBoundaryGetWallLoadsSummed(s->boundary, wsum, &nwalls, &L)); /* each moment about its wall's point */
     for (PetscInt w = 0; w < PetscMin(nwalls, FS_MAX_WALL_COLUMNS); w++) {
       const PetscReal *Lw = &L[FS_WALL_LOAD_STRIDE * w];
       if (s->opt.dim == 3) { /* force and moment vectors */
@@ -99,9 +184,12 @@ static PetscErrorCode FSSolverAppendSeries(FSSolver s)
   }
   /* energy.csv's row, the energy budget (src/solver/energy.c), first: its check of the structure's energy stops the
      run before either row of the step is written */
-  if (s->mon.energyseries) PetscCall(FSSolverEnergyValues(s, evals));
+  if (s->mon.energyseries) PetscCall(FSSolverEnergySummed(s, esum, &mo, evals));
+  if (sum != buf) PetscCall(PetscFree(sum));
   PetscCall(FSTimeSeriesAppend(s->mon.series, step, vals));
-  if (s->mon.energyseries) PetscCall(FSTimeSeriesAppend(s->mon.energyseries, step, evals));
+  /* rank 0: energy.csv's row only where timeseries.csv's was written, as when a failed row stopped the run at once */
+  if (s->mon.energyseries && !FSSolverWriteStatus(s)) PetscCall(FSTimeSeriesAppend(s->mon.energyseries, step, evals));
+  s->mon.rows_unchecked = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
@@ -255,6 +343,9 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   PetscCall(FSSolverEnergyColumns(s, &k, names));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/energy.csv", s->opt.outdir));
   PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->opt.restart[0] ? step : -1, &s->mon.energyseries));
+  /* a row's write status rides on the next step's reduction (FSSolverWriteStatus()), not on a broadcast of its own */
+  PetscCall(FSTimeSeriesSetDeferred(s->mon.series, PETSC_TRUE));
+  PetscCall(FSTimeSeriesSetDeferred(s->mon.energyseries, PETSC_TRUE));
   PetscCall(FSSnapshotWriterCreate(comm, s->opt.outdir, s->opt.restart[0] ? t : -1.0, &s->mon.snapshots));
   PetscCall(FSSolverAppendSeries(s)); /* on restart, the series was cut just before this row */
   PetscCall(FSSolverProbesBegin(s));  /* probes.csv, as the series */
@@ -297,6 +388,7 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
                           step, (double)t, (double)dt, (double)(100 * frac), now - s->mon.wall_start, (double)eta));
     s->mon.wall_last_progress = now;
   }
+  if (end) PetscCall(FSSolverWriteStatusCheck(s)); /* the last rows' write status: no step's reduction carries it */
   PetscFunctionReturn(0);
 }
 
@@ -308,6 +400,7 @@ PetscErrorCode FSSolverMonitorEnd(FSSolver s)
   PetscFunctionBegin;
   if (!s->mon.monitoring) PetscFunctionReturn(0);
   PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(FSSolverWriteStatusCheck(s)); /* the last rows' write status, when no step carried it */
   if (s->opt.write_output && s->mon.last_snapshot_time < t)
     PetscCall(FSSolverWriteSnapshot(s)); /* unless one was written at t */
   if (s->opt.write_output) PetscCall(FSSolverWriteSummary(s));

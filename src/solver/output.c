@@ -165,6 +165,7 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   PetscInt       step;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverWriteStatusCheck(s)); /* a failed csv row is reported before another file is written */
   PetscCall(PetscLogEventBegin(FS_Output, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &c.rank));
   PetscCall(TSGetTime(s->ts, &t));
@@ -310,6 +311,7 @@ PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
   PetscFunctionBegin;
   PetscCheck(s->mon.monitoring, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
              "FSSolverWriteCheckpoint(): the run's output is not open: take a step first");
+  PetscCall(FSSolverWriteStatusCheck(s)); /* a failed csv row is reported before the checkpoint is written */
   PetscCall(PetscLogEventBegin(FS_Output, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
   PetscCall(PetscMemzero(&hdr, sizeof(hdr)));

@@ -657,6 +657,7 @@ PetscErrorCode FSSolverProbesBegin(FSSolver s)
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/probes.csv", s->opt.outdir));
   PetscCall(FSTimeSeriesCreate(PetscObjectComm((PetscObject)s), path, ps->nvalues + 1, cols,
                                s->opt.restart[0] ? step : -1, &ps->series));
+  PetscCall(FSTimeSeriesSetDeferred(ps->series, PETSC_TRUE)); /* its write status as timeseries.csv's */
   if (cols != names) PetscCall(PetscFree(cols));
   PetscCall(FSSolverProbesMonitor(s));
   PetscFunctionReturn(0);
@@ -689,6 +690,7 @@ PetscErrorCode FSSolverProbesMonitor(FSSolver s)
   r[0] = ps->time;
   PetscCall(PetscArraycpy(r + 1, ps->values, ps->nvalues));
   PetscCall(FSTimeSeriesAppend(ps->series, step, r));
+  s->mon.rows_unchecked = PETSC_TRUE;
   if (r != row) PetscCall(PetscFree(r));
   PetscFunctionReturn(0);
 }

@@ -267,6 +267,7 @@ typedef struct {
   PetscInt         nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
   PetscInt         nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
   PetscBool        monitoring;
+  PetscBool        rows_unchecked; /* csv rows whose write status is not yet carried (FSSolverWriteStatus) */
   FSOutputLock     lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
   PetscReal        t0, last_snapshot_time;
   FSProbeSet       probes; /* -fs_probes */
@@ -327,10 +328,13 @@ PETSC_INTERN PetscErrorCode FSSolverMonitor(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverOpenOutputDir(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
+PETSC_INTERN PetscReal      FSSolverWriteStatus(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverWriteStatusRaise(FSSolver, PetscReal);
+PETSC_INTERN PetscErrorCode FSSolverWriteStatusCheck(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
 #define FS_CHECK_N    5   /* the values FSSolverCheckStateLocal() gives to be reduced (MPI_MAX) */
-#define FS_SUMMAX_MAX 256 /* the most values FSSolverReduceSumMax() reduces together */
+#define FS_SUMMAX_MAX 256 /* the most values FSSolverReduceSumMax() reduces without allocating */
 PETSC_INTERN PetscErrorCode FSSolverCheckStateLocal(FSSolver, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverCheckStateEnd(FSSolver, const PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverCheckStart(FSSolver);
@@ -413,6 +417,9 @@ enum {
 };
 PETSC_INTERN PetscErrorCode FSSolverEnergyColumns(FSSolver, PetscInt *, const char *[]);
 PETSC_INTERN PetscErrorCode FSSolverEnergyValues(FSSolver, PetscReal[]);
+#define FS_ENERGY_NSUMS 5 /* the liquid's energies a rank sums (FSSolverEnergyLocal()) */
+PETSC_INTERN PetscErrorCode FSSolverEnergyLocal(FSSolver, PetscReal loc[], FSTankMotion *);
+PETSC_INTERN PetscErrorCode FSSolverEnergySummed(FSSolver, const PetscReal liq[], const FSTankMotion *, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverEnergyInitial(FSSolver);
 typedef struct {
   FSTankMotion mo;

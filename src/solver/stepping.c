@@ -338,20 +338,22 @@ static PetscErrorCode FSSumMaxFree(void)
 /*
    FSSolverReduceSumMax - one MPI_Allreduce for nsum sums (sum[], replaced by the sums over the ranks) and nmax
    maxima (max[], replaced by the largest over the ranks), where two reductions (MPI_SUM, MPI_MAX) would be needed.
+   Any number of values (beyond FS_SUMMAX_MAX they are packed into memory allocated for the call).
 
    Collective
 */
 PetscErrorCode FSSolverReduceSumMax(FSSolver s, PetscInt nsum, PetscReal sum[], PetscInt nmax, PetscReal max[])
 {
-  PetscReal v[1 + FS_SUMMAX_MAX];
+  PetscReal buf[1 + FS_SUMMAX_MAX], *v = buf;
 
   PetscFunctionBegin;
-  PetscCheck(nsum >= 0 && nmax >= 0 && nsum + nmax <= FS_SUMMAX_MAX, PETSC_COMM_SELF, PETSC_ERR_PLIB,
-             "At most %d values reduced together, not %" PetscInt_FMT, FS_SUMMAX_MAX, nsum + nmax);
+  PetscCheck(nsum >= 0 && nmax >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "FSSolverReduceSumMax: %" PetscInt_FMT " sums and %" PetscInt_FMT " maxima", nsum, nmax);
   if (FSSumMax == MPI_OP_NULL) {
     PetscCallMPI(MPI_Op_create(FSSumMaxOp, 1, &FSSumMax));
     PetscCall(PetscRegisterFinalize(FSSumMaxFree));
   }
+  if (nsum + nmax > FS_SUMMAX_MAX) PetscCall(PetscMalloc1(1 + nsum + nmax, &v)); /* many walls' loads */
   v[0] = (PetscReal)nsum;
   for (PetscInt k = 0; k < nsum; k++) v[1 + k] = sum[k];
   for (PetscInt k = 0; k < nmax; k++) v[1 + nsum + k] = max[k];
@@ -359,6 +361,7 @@ PetscErrorCode FSSolverReduceSumMax(FSSolver s, PetscInt nsum, PetscReal sum[], 
                              PetscObjectComm((PetscObject)s)));
   for (PetscInt k = 0; k < nsum; k++) sum[k] = v[1 + k];
   for (PetscInt k = 0; k < nmax; k++) max[k] = v[1 + nsum + k];
+  if (v != buf) PetscCall(PetscFree(v));
   PetscFunctionReturn(0);
 }
 
@@ -843,8 +846,9 @@ PetscErrorCode FSSolverCheckStateEnd(FSSolver s, const PetscReal glob[])
    FSSolverCheckStateLocal()), the bounces' energy changes (jump, summed in place), the rebuild decision's maxima
    and the viscosity bound (FSSolverRebuildNeeded()), and the next step's time-step reduction (the largest speed,
    which the rebuild decision's is once the particles stay where they are, the viscosity bound, the largest owned
-   count and pair list): kept in s->state.dtnext for FSSolverComputeStableDt() when the lists are kept. Then the
-   check's verdict (FSSolverCheckStateEnd()) and the rebuild decision.
+   count and pair list), and the write status of the last csv rows (FSSolverWriteStatus()): kept in s->state.dtnext
+   for FSSolverComputeStableDt() when the lists are kept. Then a failed row's error, the check's verdict
+   (FSSolverCheckStateEnd()) and the rebuild decision.
 
    Collective
 */
@@ -852,7 +856,7 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
                                          PetscBool *sort)
 {
   const PetscInt nsrc = 1 + s->terms.nterms;
-  PetscReal      mx[FS_CHECK_N + FS_REBUILD_N + 2 + FS_MAX_TERMS + 1], *rb = mx + FS_CHECK_N, *cnt = rb + FS_REBUILD_N,
+  PetscReal      mx[FS_CHECK_N + FS_REBUILD_N + 2 + FS_MAX_TERMS + 2], *rb = mx + FS_CHECK_N, *cnt = rb + FS_REBUILD_N,
                                                                   *nus = cnt + 2, nu;
   PetscInt source                                                      = 0, step;
 
@@ -862,8 +866,10 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
   cnt[0] = (PetscReal)s->pw.nowned;
   cnt[1] = (PetscReal)s->pw.nbrs.npairs;
   for (PetscInt k = 0; k < nsrc; k++) nus[k] = s->state.nu_src[k];
-  nus[0] = PetscMax(nus[0], s->opt.nu);
-  PetscCall(FSSolverReduceSumMax(s, 2, jump, FS_CHECK_N + FS_REBUILD_N + 2 + nsrc, mx));
+  nus[0]    = PetscMax(nus[0], s->opt.nu);
+  nus[nsrc] = FSSolverWriteStatus(s); /* the last rows' write status (rank 0's) */
+  PetscCall(FSSolverReduceSumMax(s, 2, jump, FS_CHECK_N + FS_REBUILD_N + 2 + nsrc + 1, mx));
+  PetscCall(FSSolverWriteStatusRaise(s, nus[nsrc])); /* a failed row: the run stops one step after it */
   PetscCall(FSSolverCheckStateEnd(s, mx));
   nu = nus[0]; /* as FSSolverReduceWithViscosity() */
   for (PetscInt k = 1; k < nsrc; k++)

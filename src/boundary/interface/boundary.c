@@ -641,6 +641,37 @@ PetscErrorCode FSBoundaryGetLoads(FSBoundary b, PetscInt *nwalls, const PetscRea
 }
 
 /*
+   FSBoundaryGetLoadsLocal - this rank's share of the loads of FSBoundaryGetLoads() (6 per wall), for a caller that
+   sums them over the ranks in a reduction of its own (FSBoundaryGetWallLoadsSummed()).
+
+   Not collective
+*/
+PetscErrorCode FSBoundaryGetLoadsLocal(FSBoundary b, PetscInt *nwalls, const PetscReal **local)
+{
+  PetscFunctionBegin;
+  *nwalls = b->nwalls;
+  *local  = b->load;
+  PetscFunctionReturn(0);
+}
+
+/* each wall's moment moved from the load point o to the wall's own point p exactly, M_p = M_o + (o - p) x F: loadsum
+   into loadwall */
+static void FSBoundaryMoveMoments(FSBoundary b)
+{
+  for (PetscInt q = 0; q < b->nwalls; q++) {
+    const PetscReal *F = &b->loadsum[FS_WALL_LOAD_STRIDE * q], *p = &b->wallpoint[3 * q];
+    PetscReal       *out = &b->loadwall[FS_WALL_LOAD_STRIDE * q];
+    PetscReal        r[3];
+    for (PetscInt c = 0; c < FS_WALL_LOAD_STRIDE; c++) out[c] = F[c];
+    for (PetscInt d = 0; d < 3; d++) r[d] = b->loadpoint[d] - p[d];
+    if (r[0] == 0 && r[1] == 0 && r[2] == 0) continue; /* about the load point: as summed */
+    out[3] += r[1] * F[2] - r[2] * F[1];
+    out[4] += r[2] * F[0] - r[0] * F[2];
+    out[5] += r[0] * F[1] - r[1] * F[0];
+  }
+}
+
+/*
    FSBoundaryGetWallLoads - the loads of FSBoundaryGetLoads() as reported (time series, FSSolverGetWallLoads): each
    wall's moment about its own point (-fs_walls_moment_walls, -fs_walls_moment_points; -fs_walls_load_point for the
    others), moved from the load point o to the wall's p exactly, M_p = M_o + (o - p) x F.
@@ -653,17 +684,24 @@ PetscErrorCode FSBoundaryGetWallLoads(FSBoundary b, PetscInt *nwalls, const Pets
 
   PetscFunctionBegin;
   PetscCall(FSBoundaryGetLoads(b, nwalls, &L));
-  for (PetscInt q = 0; q < b->nwalls; q++) {
-    const PetscReal *F = &L[FS_WALL_LOAD_STRIDE * q], *p = &b->wallpoint[3 * q];
-    PetscReal       *out = &b->loadwall[FS_WALL_LOAD_STRIDE * q];
-    PetscReal        r[3];
-    for (PetscInt c = 0; c < FS_WALL_LOAD_STRIDE; c++) out[c] = F[c];
-    for (PetscInt d = 0; d < 3; d++) r[d] = b->loadpoint[d] - p[d];
-    if (r[0] == 0 && r[1] == 0 && r[2] == 0) continue; /* about the load point: as summed */
-    out[3] += r[1] * F[2] - r[2] * F[1];
-    out[4] += r[2] * F[0] - r[0] * F[2];
-    out[5] += r[0] * F[1] - r[1] * F[0];
-  }
+  FSBoundaryMoveMoments(b);
+  *loads = b->loadwall;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryGetWallLoadsSummed - FSBoundaryGetWallLoads() from sums over the ranks of FSBoundaryGetLoadsLocal()'s
+   values that the caller reduced with its own (the time series' row reduces them with its other sums).
+
+   Not collective
+*/
+PetscErrorCode FSBoundaryGetWallLoadsSummed(FSBoundary b, const PetscReal summed[], PetscInt *nwalls,
+                                            const PetscReal **loads)
+{
+  PetscFunctionBegin;
+  *nwalls = b->nwalls;
+  PetscCall(PetscArraycpy(b->loadsum, summed, FS_WALL_LOAD_STRIDE * b->nwalls));
+  FSBoundaryMoveMoments(b);
   *loads = b->loadwall;
   PetscFunctionReturn(0);
 }

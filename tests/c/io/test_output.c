@@ -12,6 +12,10 @@
 #include <stdlib.h>
 #include <string.h>
 #include <math.h>
+#include <errno.h>
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <petscvec.h>
 #include <petscviewerhdf5.h>
 #include "io/fsoutput.h"
@@ -475,6 +479,54 @@ static PetscErrorCode TestTimeSeries(TestCtx *ctx)
   PetscFunctionReturn(0);
 }
 
+/* A deferred time series (FSTimeSeriesSetDeferred): a row that cannot be written (rank 0 under a file-size limit,
+   EFBIG) is kept on rank 0, no row is written after it, and the error carried to every rank names the file */
+static PetscErrorCode TestTimeSeriesDeferred(TestCtx *ctx)
+{
+  char              path[PETSC_MAX_PATH_LEN], msg[PETSC_MAX_PATH_LEN + 128];
+  const char *const names[1] = {"x"};
+  FSTimeSeries      ts;
+  PetscReal         v[1] = {1.0};
+  struct rlimit     old, lim;
+  int               err = 0;
+  PetscBool         torn;
+
+  PetscFunctionBegin;
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/deferred.csv", ctx->dir));
+  PetscCall(FSTimeSeriesCreate(ctx->comm, path, 1, names, -1, &ts));
+  PetscCall(FSTimeSeriesSetDeferred(ts, PETSC_TRUE));
+  PetscCall(FSTimeSeriesAppend(ts, 0, v));
+  PetscCall(FSTimeSeriesAppend(ts, 1, v));
+  if (ctx->rank == 0) { /* the file may grow by half a row more: the next row fails, and is cut off again */
+    struct stat sb;
+    TCHECK(PETSC_COMM_SELF, stat(path, &sb) == 0 && getrlimit(RLIMIT_FSIZE, &old) == 0, "cannot stat %s", path);
+    (void)signal(SIGXFSZ, SIG_IGN);
+    lim          = old;
+    lim.rlim_cur = (rlim_t)sb.st_size + 10;
+    TCHECK(PETSC_COMM_SELF, setrlimit(RLIMIT_FSIZE, &lim) == 0, "cannot set a file-size limit");
+  }
+  PetscCall(FSTimeSeriesAppend(ts, 2, v)); /* fails on rank 0: kept there, nothing broadcast */
+  if (ctx->rank == 0) TCHECK(PETSC_COMM_SELF, setrlimit(RLIMIT_FSIZE, &old) == 0, "cannot restore the file-size limit");
+  PetscCall(FSTimeSeriesAppend(ts, 3, v)); /* not written after a failure, though it could be now */
+  PetscCall(FSTimeSeriesGetFailure(ts, &err, &torn));
+  TCHECK(PETSC_COMM_SELF, ctx->rank ? err == 0 : err == EFBIG && !torn, "rank %d: failure %d, expected %d", ctx->rank,
+         err, ctx->rank ? 0 : EFBIG);
+  PetscCallMPI(MPI_Bcast(&err, 1, MPI_INT, 0, ctx->comm)); /* as the solver's step reduction carries it */
+  PetscCall(PetscSNPrintf(msg, sizeof(msg), "Cannot write to time series \"%s\": %s", path, strerror(EFBIG)));
+  EXPECT_ERROR(ctx, PETSC_ERR_FILE_WRITE, FSTimeSeriesRaiseFailure(ts, err, PETSC_FALSE), msg);
+  PetscCall(FSTimeSeriesDestroy(&ts));
+  if (ctx->rank == 0) {
+    const char *expect = "step,x\n0,1.0000000000e+00\n1,1.0000000000e+00\n";
+    char       *text;
+    struct stat sb;
+    PetscCall(ReadText(path, &text));
+    TCHECK(PETSC_COMM_SELF, !strcmp(text, expect) && stat(path, &sb) == 0 && (size_t)sb.st_size == strlen(expect),
+           "deferred.csv after a failed row (%zu bytes):\n%s", (size_t)sb.st_size, text);
+    PetscCall(PetscFree(text));
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TestJSON(TestCtx *ctx)
 {
   char            path[PETSC_MAX_PATH_LEN];
@@ -552,6 +604,7 @@ int main(int argc, char **argv)
   PetscCall(TestSnapshots(&ctx));
   PetscCall(TestCheckpoint(&ctx));
   PetscCall(TestTimeSeries(&ctx));
+  PetscCall(TestTimeSeriesDeferred(&ctx));
   PetscCall(TestJSON(&ctx));
   PetscCall(PetscPrintf(ctx.comm, "test_output: OK (%d ranks, output in %s%s)\n", (int)ctx.size, ctx.dir,
                         made ? ", removed" : ""));
