@@ -56,17 +56,19 @@ FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
 {
   const PetscInt   S = s->pw.stride, A = s->pw.auxstride, n = s->pw.nowned;
   const PetscReal *rec = s->pw.rec, *vol = s->pw.vol, R2 = s->pw.kernel.support2;
-  PetscReal       *dx  = s->pw.scratch; /* x_j - x_i of the neighbours of i */
-  PetscReal       *r2s = dx + dim * s->pw.scratchcap, *Fs = r2s + s->pw.scratchcap; /* their r^2, then F(r) */
-  PetscInt        *js = s->pw.scratchj;
-  PetscInt64       np = 0;
+  PetscReal       *dx  = s->pw.scratch;         /* x_j - x_i of the neighbours of i */
+  PetscReal       *r2s = dx + dim * s->pw.scratchcap; /* their r^2 */
+  PetscInt64       np  = 0;
 
   for (PetscInt i = 0; i < n; i++) {
     FSCommProgress(i); /* the walls' and the ghosts' messages travel meanwhile */
     const PetscReal *ri   = &rec[i * S];
     PetscReal        M[9] = {0}, Minv[9], G[3] = {0, 0, 0}, Au[9] = {0}, J[9] = {0}, nrm = 0;
     PetscReal       *out = &s->pw.aux[i * A];
+    PetscInt        *js  = s->pw.pairj + np; /* the pairs go to the pair cache: room for i's candidates */
+    PetscReal       *Fs  = s->pw.pairF + np;
     const PetscInt   m   = FSNeighboursPick(&s->pw.nbrs, dim, i, rec, S, R2, js, dx, r2s);
+    s->pw.pairstart[i]   = (PetscInt)np;
     np += m;
     /* F(r) of the pairs (a loop the compiler vectorizes: square roots and divisions in pairs) */
     for (PetscInt k = 0; k < m; k++) Fs[k] = FSKernelF(&s->pw.kernel, PetscSqrtReal(r2s[k]));
@@ -103,14 +105,37 @@ FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
       }
     out[dim] = PetscSqrtReal(2.0 * nrm);
   }
+  s->pw.pairstart[n] = (PetscInt)np;
   return np;
 }
 
+/*
+   FSSolverFirstPass - the first pass over the pairs (FSSolverFirstPassDim), which leaves the pairs it picked and
+   their F(r) in the pair cache for the passes that follow at the same positions (the terms' pair pass, the split
+   step's stages: FSSolverNeighbourhood). The cache is sized for every candidate (an upper bound on the pairs) and the
+   last particle's scratch; only the pairs' part of it is written.
+*/
 PetscErrorCode FSSolverFirstPass(FSSolver s)
 {
+  const PetscInt   n    = s->pw.nowned;
+  const PetscInt64 need = s->pw.nbrs.ncand + s->pw.nbrs.maxcand + 1;
+
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
+  PetscCheck(need < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "More than %d candidate pairs on one rank: use more ranks", PETSC_MAX_INT);
+  if (n + 1 > s->pw.pairstartcap) {
+    PetscCall(PetscFree(s->pw.pairstart));
+    s->pw.pairstartcap = PetscMax(n + 1, (PetscInt)(1.25 * s->pw.pairstartcap));
+    PetscCall(PetscMalloc1(s->pw.pairstartcap, &s->pw.pairstart));
+  }
+  if (need > s->pw.paircap) {
+    PetscCall(PetscFree2(s->pw.pairj, s->pw.pairF));
+    s->pw.paircap = PetscMin(PETSC_MAX_INT - 1, PetscMax(need, (PetscInt64)(1.25 * s->pw.paircap)));
+    PetscCall(PetscMalloc2(s->pw.paircap, &s->pw.pairj, s->pw.paircap, &s->pw.pairF));
+  }
   s->pw.nbrs.npairs = s->opt.dim == 2 ? FSSolverFirstPassDim(s, 2) : FSSolverFirstPassDim(s, 3);
+  s->pw.pairsvalid  = PETSC_TRUE;
   PetscCall(PetscLogEventEnd(FS_FirstPass, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -242,6 +267,7 @@ PetscErrorCode FSSolverGatherRecordsBegin(FSSolver s, const PetscReal *u)
   const PetscInt maxn = s->pw.nbrs.maxcand; /* the scratch holds one particle's neighbours: its candidates bound them */
 
   PetscFunctionBegin;
+  s->pw.pairsvalid = PETSC_FALSE; /* new positions: the pair cache waits for the first pass */
   for (PetscInt i = 0; i < n; i++)
     for (PetscInt a = 0; a < US; a++) s->pw.rec[i * S + a] = u[i * US + a];
   PetscCall(PetscLogEventBegin(FS_Halo, 0, 0, 0, 0));

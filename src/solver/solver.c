@@ -1069,6 +1069,8 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSNeighboursDestroy(&s->pw.nbrs));
   PetscCall(PetscFree4(s->pw.rec, s->pw.aux, s->pw.vol, s->pw.pressure));
   PetscCall(PetscFree2(s->pw.scratch, s->pw.scratchj));
+  PetscCall(PetscFree(s->pw.pairstart));
+  PetscCall(PetscFree2(s->pw.pairj, s->pw.pairF));
   PetscCall(PetscFree(s->pw.split));
   PetscCall(PetscFree(s->pw.passorder));
   PetscCall(PetscFree(s->mon.setup));

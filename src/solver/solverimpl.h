@@ -103,6 +103,14 @@ typedef struct {
   PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW, 1/r2 */
   PetscInt    *scratchj; /* per-i neighbourhood scratch: the neighbours' indices */
   PetscInt     scratchcap;
+  /* the pair cache: the neighbours each owned particle's first pass picked and their kernel factors F(r), for the
+     passes that follow at the same positions (FSSolverNeighbourhood); valid from the first pass to the next records */
+  PetscInt    *pairstart; /* nowned+1: the first pair of each particle */
+  PetscInt    *pairj;     /* the neighbours' indices */
+  PetscReal   *pairF;     /* F(r) of the pairs */
+  PetscInt     pairstartcap;
+  PetscInt64   paircap;
+  PetscBool    pairsvalid;
   PetscInt    *passorder; /* the owned particles, those with no ghost among their candidates first (FSSolverResize) */
   PetscInt     ninterior, passcap;
   PetscReal   *gamma,
@@ -445,16 +453,49 @@ FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscIn
   return n;
 }
 
+/* The same from the pair cache (FSSolverFirstPass): the n neighbours j[] with their F(r) given, the same values as
+   FSFillNeighbourhoodDim's (the same operations on the same positions) without the candidates' search and the
+   square roots */
+FS_ALWAYS_INLINE void FSFillCachedNeighbourhoodDim(const FSSolver s, const PetscInt dim, PetscInt i, PetscInt n,
+                                                   const PetscInt *j, const PetscReal *F, PetscReal *dx, PetscReal *r2,
+                                                   PetscReal *gw, PetscReal *ri2)
+{
+  const PetscInt   S = s->pw.stride;
+  const PetscReal *rec = s->pw.rec, *xi = &rec[i * S];
+
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal *xj = &rec[j[k] * S];
+    PetscReal        d2 = 0;
+    for (PetscInt a = 0; a < dim; a++) {
+      const PetscReal d = xj[a] - xi[a];
+      dx[k * dim + a]   = d;
+      d2 += d * d;
+    }
+    r2[k] = d2;
+  }
+  for (PetscInt k = 0; k < n; k++)
+    for (PetscInt a = 0; a < dim; a++) gw[dim * k + a] = -F[k] * dx[dim * k + a];
+  for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
+}
+
 /* The neighbourhood of owned particle i in the solver's scratch (FSFillNeighbourhoodDim), for the terms' pair sums */
 FS_ALWAYS_INLINE void FSSolverNeighbourhood(const FSSolver s, PetscInt i, FSNeighbourhood *nb)
 {
   const PetscInt dim = s->opt.dim, cap = s->pw.scratchcap;
   PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * cap, *gw = r2 + cap, *ri2 = gw + dim * cap;
 
-  nb->i     = i;
-  nb->n     = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, s->pw.scratchj, dx, r2, gw, ri2)
-                       : FSFillNeighbourhoodDim(s, 3, i, s->pw.scratchj, dx, r2, gw, ri2);
-  nb->j     = s->pw.scratchj;
+  nb->i = i;
+  nb->j = s->pw.scratchj;
+  if (s->pw.pairsvalid) { /* the first pass's pairs at these positions */
+    const PetscInt   p0 = s->pw.pairstart[i], *j = s->pw.pairj + p0;
+    const PetscReal *F  = s->pw.pairF + p0;
+    nb->n               = s->pw.pairstart[i + 1] - p0;
+    nb->j               = j;
+    if (dim == 2) FSFillCachedNeighbourhoodDim(s, 2, i, nb->n, j, F, dx, r2, gw, ri2);
+    else FSFillCachedNeighbourhoodDim(s, 3, i, nb->n, j, F, dx, r2, gw, ri2);
+  } else
+    nb->n = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, s->pw.scratchj, dx, r2, gw, ri2)
+                     : FSFillNeighbourhoodDim(s, 3, i, s->pw.scratchj, dx, r2, gw, ri2);
   nb->dx    = dx;
   nb->r2    = r2;
   nb->rinv2 = ri2;
