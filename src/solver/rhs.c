@@ -43,6 +43,66 @@ static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscRe
 }
 
 /*
+   The first pass's sums over the m pairs of a particle in 2-D (FSSolverFirstPassDim's loop for dim 2) with the two
+   components of each vector in one register: each component gets the same operations in the same order as the
+   scalar loop's (the same sums bit for bit), in half the instructions. M, G, Au: the sums, row-major.
+*/
+#if defined(__GNUC__)
+typedef double        FSReal2 __attribute__((vector_size(16)));
+static inline FSReal2 FSLoad2(const PetscReal *p)
+{
+  FSReal2 v;
+  memcpy(&v, p, sizeof(v));
+  return v;
+}
+FS_ALWAYS_INLINE void FSFirstPassSums2(PetscInt m, const PetscInt js[], const PetscReal Fs[], const PetscReal dx[],
+                                       const PetscReal rec[], PetscInt S, const PetscReal ri[], const PetscReal vol[],
+                                       PetscReal M[], PetscReal G[], PetscReal Au[])
+{
+  const FSReal2 ui = FSLoad2(&ri[2]);
+  FSReal2       m0 = {0, 0}, m1 = {0, 0}, gs = {0, 0}, a0 = {0, 0}, a1 = {0, 0};
+
+  for (PetscInt k = 0; k < m; k++) {
+    const PetscReal *rj = &rec[js[k] * S], Vj = vol[js[k]], drho = (rj[4] - ri[4]) * Vj;
+    const FSReal2    d = FSLoad2(&dx[2 * k]), g = -Fs[k] * d, du = (FSLoad2(&rj[2]) - ui) * Vj, dd = d * Vj;
+    gs += drho * g;
+    m0 += dd[0] * g;
+    m1 += dd[1] * g;
+    a0 += du[0] * g;
+    a1 += du[1] * g;
+  }
+  M[0]  = m0[0];
+  M[1]  = m0[1];
+  M[2]  = m1[0];
+  M[3]  = m1[1];
+  G[0]  = gs[0];
+  G[1]  = gs[1];
+  Au[0] = a0[0];
+  Au[1] = a0[1];
+  Au[2] = a1[0];
+  Au[3] = a1[1];
+}
+#else
+FS_ALWAYS_INLINE void FSFirstPassSums2(PetscInt m, const PetscInt js[], const PetscReal Fs[], const PetscReal dx[],
+                                       const PetscReal rec[], PetscInt S, const PetscReal ri[], const PetscReal vol[],
+                                       PetscReal M[], PetscReal G[], PetscReal Au[])
+{
+  for (PetscInt k = 0; k < m; k++) {
+    const PetscReal *rj = &rec[js[k] * S], *d = &dx[2 * k], Vj = vol[js[k]], drho = (rj[4] - ri[4]) * Vj;
+    const PetscReal  g[2] = {-Fs[k] * d[0], -Fs[k] * d[1]};
+    for (PetscInt a = 0; a < 2; a++) {
+      const PetscReal du = (rj[2 + a] - ri[2 + a]) * Vj, dd = d[a] * Vj;
+      G[a] += drho * g[a];
+      for (PetscInt b = 0; b < 2; b++) {
+        M[a * 2 + b] += dd * g[b];
+        Au[a * 2 + b] += du * g[b];
+      }
+    }
+  }
+}
+#endif
+
+/*
    First pass over the pairs of each owned particle i:
      M_i = sum_j (x_j - x_i) (x) grad_i W_ij V_j,  L_i = M_i^{-1}   (Randles & Libersky)
      <grad rho>^L_i = L_i^T sum_j (rho_j - rho_i) grad_i W_ij V_j
@@ -56,7 +116,7 @@ FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
 {
   const PetscInt   S = s->pw.stride, A = s->pw.auxstride, n = s->pw.nowned;
   const PetscReal *rec = s->pw.rec, *vol = s->pw.vol, R2 = s->pw.kernel.support2;
-  PetscReal       *dx  = s->pw.scratch;         /* x_j - x_i of the neighbours of i */
+  PetscReal       *dx  = s->pw.scratch;               /* x_j - x_i of the neighbours of i */
   PetscReal       *r2s = dx + dim * s->pw.scratchcap; /* their r^2 */
   PetscInt64       np  = 0;
 
@@ -72,21 +132,23 @@ FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
     np += m;
     /* F(r) of the pairs (a loop the compiler vectorizes: square roots and divisions in pairs) */
     for (PetscInt k = 0; k < m; k++) Fs[k] = FSKernelF(&s->pw.kernel, PetscSqrtReal(r2s[k]));
-    for (PetscInt k = 0; k < m; k++) {
-      const PetscInt   j  = js[k];
-      const PetscReal *rj = &rec[j * S], *d = &dx[k * dim], F = Fs[k];
-      const PetscReal  Vj = vol[j], drho = (rj[2 * dim] - ri[2 * dim]) * Vj;
-      PetscReal        g[3];
-      for (PetscInt a = 0; a < dim; a++) g[a] = -F * d[a];
-      for (PetscInt a = 0; a < dim; a++) {
-        const PetscReal du = (rj[dim + a] - ri[dim + a]) * Vj, dd = d[a] * Vj;
-        G[a] += drho * g[a];
-        for (PetscInt b = 0; b < dim; b++) {
-          M[a * dim + b] += dd * g[b];
-          Au[a * dim + b] += du * g[b];
+    if (dim == 2) FSFirstPassSums2(m, js, Fs, dx, rec, S, ri, vol, M, G, Au);
+    else
+      for (PetscInt k = 0; k < m; k++) {
+        const PetscInt   j  = js[k];
+        const PetscReal *rj = &rec[j * S], *d = &dx[k * dim], F = Fs[k];
+        const PetscReal  Vj = vol[j], drho = (rj[2 * dim] - ri[2 * dim]) * Vj;
+        PetscReal        g[3];
+        for (PetscInt a = 0; a < dim; a++) g[a] = -F * d[a];
+        for (PetscInt a = 0; a < dim; a++) {
+          const PetscReal du = (rj[dim + a] - ri[dim + a]) * Vj, dd = d[a] * Vj;
+          G[a] += drho * g[a];
+          for (PetscInt b = 0; b < dim; b++) {
+            M[a * dim + b] += dd * g[b];
+            Au[a * dim + b] += du * g[b];
+          }
         }
       }
-    }
     FSInvertCorrection(dim, M, Minv);
     for (PetscInt a = 0; a < dim; a++) {
       PetscReal v = 0;

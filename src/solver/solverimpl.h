@@ -105,15 +105,15 @@ typedef struct {
   PetscInt     scratchcap;
   /* the pair cache: the neighbours each owned particle's first pass picked and their kernel factors F(r), for the
      passes that follow at the same positions (FSSolverNeighbourhood); valid from the first pass to the next records */
-  PetscInt    *pairstart; /* nowned+1: the first pair of each particle */
-  PetscInt    *pairj;     /* the neighbours' indices */
-  PetscReal   *pairF;     /* F(r) of the pairs */
-  PetscInt     pairstartcap;
-  PetscInt64   paircap;
-  PetscBool    pairsvalid;
-  PetscInt    *passorder; /* the owned particles, those with no ghost among their candidates first (FSSolverResize) */
-  PetscInt     ninterior, passcap;
-  PetscReal   *gamma,
+  PetscInt  *pairstart; /* nowned+1: the first pair of each particle */
+  PetscInt  *pairj;     /* the neighbours' indices */
+  PetscReal *pairF;     /* F(r) of the pairs */
+  PetscInt   pairstartcap;
+  PetscInt64 paircap;
+  PetscBool  pairsvalid;
+  PetscInt  *passorder; /* the owned particles, those with no ghost among their candidates first (FSSolverResize) */
+  PetscInt   ninterior, passcap;
+  PetscReal *gamma,
       *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
   PetscReal *gammav, *invgammav; /* with no-slip walls: gamma plus the share behind them, and its inverse */
   PetscInt   gammacap;
@@ -460,7 +460,7 @@ FS_ALWAYS_INLINE void FSFillCachedNeighbourhoodDim(const FSSolver s, const Petsc
                                                    const PetscInt *j, const PetscReal *F, PetscReal *dx, PetscReal *r2,
                                                    PetscReal *gw, PetscReal *ri2)
 {
-  const PetscInt   S = s->pw.stride;
+  const PetscInt   S   = s->pw.stride;
   const PetscReal *rec = s->pw.rec, *xi = &rec[i * S];
 
   for (PetscInt k = 0; k < n; k++) {
@@ -488,9 +488,9 @@ FS_ALWAYS_INLINE void FSSolverNeighbourhood(const FSSolver s, PetscInt i, FSNeig
   nb->j = s->pw.scratchj;
   if (s->pw.pairsvalid) { /* the first pass's pairs at these positions */
     const PetscInt   p0 = s->pw.pairstart[i], *j = s->pw.pairj + p0;
-    const PetscReal *F  = s->pw.pairF + p0;
-    nb->n               = s->pw.pairstart[i + 1] - p0;
-    nb->j               = j;
+    const PetscReal *F = s->pw.pairF + p0;
+    nb->n              = s->pw.pairstart[i + 1] - p0;
+    nb->j              = j;
     if (dim == 2) FSFillCachedNeighbourhoodDim(s, 2, i, nb->n, j, F, dx, r2, gw, ri2);
     else FSFillCachedNeighbourhoodDim(s, 3, i, nb->n, j, F, dx, r2, gw, ri2);
   } else
