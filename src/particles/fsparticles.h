@@ -6,6 +6,7 @@
 #pragma once
 #include <flexslosh.h> /* FS_ALWAYS_INLINE */
 #include <petscsf.h>
+#include <stddef.h>
 #include <stdint.h>
 
 /* Wendland C2 kernel with support 2h, dimension 2 or 3. */
@@ -278,18 +279,31 @@ FS_ALWAYS_INLINE PetscInt FSNeighboursPick(const FSNeighbours *nb, const PetscIn
       w += nwr;
     }
   }
-  for (PetscInt q = 0; q < nc; q++) {
-    const PetscInt   c  = cj[q];
-    const PetscReal *xc = &rec[c * stride];
-    PetscReal        d2 = 0;
-    for (PetscInt a = 0; a < dim; a++) {
-      const PetscReal d = xc[a] - xi[a];
-      dx[m * dim + a]   = d;
-      d2 += d * d;
+  { /* the write positions move on by whether the candidate is inside: pointers, not indices times dim */
+    const PetscReal xi0 = xi[0], xi1 = xi[1], xi2 = dim == 3 ? xi[2] : 0;
+    PetscReal      *dxm = dx, *r2m = r2;
+    PetscInt       *jm = j;
+    for (PetscInt q = 0; q < nc; q++) {
+      const PetscInt   c  = cj[q];
+      const PetscReal *xc = &rec[(ptrdiff_t)c * stride];
+      const PetscReal  d0 = xc[0] - xi0, d1 = xc[1] - xi1;
+      PetscReal        d2 = d0 * d0 + d1 * d1; /* = 0 + d0^2 + d1^2, the sum in the order of the components */
+      PetscInt         in;
+      dxm[0] = d0;
+      dxm[1] = d1;
+      if (dim == 3) {
+        const PetscReal d3 = xc[2] - xi2;
+        dxm[2]             = d3;
+        d2 += d3 * d3;
+      }
+      *jm  = c;
+      *r2m = d2;
+      in   = d2 < R2;
+      dxm += dim * in;
+      r2m += in;
+      jm += in;
+      m += in;
     }
-    j[m]  = c;
-    r2[m] = d2;
-    m += d2 < R2;
   }
   return m;
 }

@@ -114,7 +114,7 @@ FS_ALWAYS_INLINE void FSFirstPassSums2(PetscInt m, const PetscInt js[], const Pe
 */
 FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
 {
-  const PetscInt   S = s->pw.stride, A = s->pw.auxstride, n = s->pw.nowned;
+  const PetscInt   S = 2 * dim + 2, A = s->pw.auxstride, n = s->pw.nowned; /* the records' stride as a constant */
   const PetscReal *rec = s->pw.rec, *vol = s->pw.vol, R2 = s->pw.kernel.support2;
   PetscReal       *dx  = s->pw.scratch;               /* x_j - x_i of the neighbours of i */
   PetscReal       *r2s = dx + dim * s->pw.scratchcap; /* their r^2 */
@@ -184,6 +184,8 @@ PetscErrorCode FSSolverFirstPass(FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
+  PetscCheck(s->pw.stride == 2 * s->opt.dim + 2, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "Records of %" PetscInt_FMT " reals: the first pass expects 2 dim + 2", s->pw.stride);
   PetscCheck(need < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
              "More than %d candidate pairs on one rank: use more ranks", PETSC_MAX_INT);
   if (n + 1 > s->pw.pairstartcap) {

@@ -440,7 +440,7 @@ FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscIn
                                                  PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
 {
   const FSKernel *kern = &s->pw.kernel;
-  const PetscInt  n    = FSNeighboursPick(&s->pw.nbrs, dim, i, s->pw.rec, s->pw.stride, kern->support2, j, dx, r2);
+  const PetscInt  n    = FSNeighboursPick(&s->pw.nbrs, dim, i, s->pw.rec, 2 * dim + 2, kern->support2, j, dx, r2);
 
   /* F(r) in a loop of its own, which the compiler vectorizes (the same value as the first pass's) */
   for (PetscInt k = 0; k < n; k++) {
@@ -460,7 +460,7 @@ FS_ALWAYS_INLINE void FSFillCachedNeighbourhoodDim(const FSSolver s, const Petsc
                                                    const PetscInt *j, const PetscReal *F, PetscReal *dx, PetscReal *r2,
                                                    PetscReal *gw, PetscReal *ri2)
 {
-  const PetscInt   S   = s->pw.stride;
+  const PetscInt   S   = 2 * dim + 2; /* the records' stride (FSSolverFirstPass checks it) */
   const PetscReal *rec = s->pw.rec, *xi = &rec[i * S];
 
   for (PetscInt k = 0; k < n; k++) {
