@@ -148,7 +148,7 @@ PetscErrorCode FSSolverWriteMemory(FSSolver s, FSJSON js, PetscReal peak)
   PetscCall(PetscArrayzero(b, FS_MEM_N + 1));
   PetscCall(FSSolverSwarmBytes(s, &b[FS_MEM_PARTICLE_FIELDS]));
   b[FS_MEM_PARTICLE_WORK] = (PetscInt64)pw->reccap * (pw->stride + pw->auxstride + 2) * sizeof(PetscReal) +
-                            (PetscInt64)pw->scratchcap * ((2 * dim + 2) * sizeof(PetscReal) + sizeof(PetscInt)) +
+                            (PetscInt64)pw->scratchcap * ((3 * dim + 3) * sizeof(PetscReal) + sizeof(PetscInt)) +
                             (PetscInt64)pw->gammacap * (pw->gammav ? 4 : 2) * sizeof(PetscReal) +
                             (PetscInt64)pw->passcap * sizeof(PetscInt);
   PetscCall(FSSolverTSBytes(s, &b[FS_MEM_TS_VECTORS]));

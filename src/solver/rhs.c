@@ -340,7 +340,7 @@ PetscErrorCode FSSolverGatherRecordsBegin(FSSolver s, const PetscReal *u)
   if (maxn > s->pw.scratchcap) {
     PetscCall(PetscFree2(s->pw.scratch, s->pw.scratchj));
     s->pw.scratchcap = PetscMax(maxn, 2 * s->pw.scratchcap);
-    PetscCall(PetscMalloc2((2 * dim + 2) * s->pw.scratchcap, &s->pw.scratch, s->pw.scratchcap, &s->pw.scratchj));
+    PetscCall(PetscMalloc2((3 * dim + 3) * s->pw.scratchcap, &s->pw.scratch, s->pw.scratchcap, &s->pw.scratchj));
   }
   FSSolverVolumesAndPressures(s, 0, n);
   PetscFunctionReturn(0);

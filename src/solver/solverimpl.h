@@ -100,7 +100,7 @@ typedef struct {
   PetscInt     reccap;
   FSHalo       halo;
   FSNeighbours nbrs;
-  PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW, 1/r2 */
+  PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW, 1/r2, u_j - u_i, V_j */
   PetscInt    *scratchj; /* per-i neighbourhood scratch: the neighbours' indices */
   PetscInt     scratchcap;
   /* the pair cache: the neighbours each owned particle's first pass picked and their kernel factors F(r), for the
@@ -434,8 +434,22 @@ PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureSummary(FSSolver, FSJSON);
 
+/* u_j - u_i and V_j of the n neighbours j[] of particle i, for the terms (FSNeighbourhood) */
+FS_ALWAYS_INLINE void FSFillNeighbourVelocitiesDim(const FSSolver s, const PetscInt dim, PetscInt i, PetscInt n,
+                                                   const PetscInt *j, PetscReal *du, PetscReal *Vj)
+{
+  const PetscInt   S   = 2 * dim + 2; /* the records' stride (solver.c) */
+  const PetscReal *rec = s->pw.rec, *ui = &rec[i * S + dim], *vol = s->pw.vol;
+
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal *uj = &rec[j[k] * S + dim];
+    for (PetscInt a = 0; a < dim; a++) du[k * dim + a] = uj[a] - ui[a];
+    Vj[k] = vol[j[k]];
+  }
+}
+
 /* Fills the neighbourhood scratch of particle i: its neighbours j (picked from the candidates), x_j - x_i,
-   r^2, grad_i W and, when ri2 is given, 1/r^2. Returns their number. */
+   r^2, grad_i W, 1/r^2. Returns their number. */
 FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscInt dim, PetscInt i, PetscInt *j,
                                                  PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
 {
@@ -448,8 +462,7 @@ FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscIn
     for (PetscInt a = 0; a < dim; a++) gw[dim * k + a] = -F * dx[dim * k + a];
   }
   /* the inverses in a loop of their own, which the compiler vectorizes */
-  if (ri2)
-    for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
+  for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
   return n;
 }
 
@@ -478,11 +491,13 @@ FS_ALWAYS_INLINE void FSFillCachedNeighbourhoodDim(const FSSolver s, const Petsc
   for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
 }
 
-/* The neighbourhood of owned particle i in the solver's scratch (FSFillNeighbourhoodDim), for the terms' pair sums */
+/* The neighbourhood of owned particle i in the solver's scratch (FSFillNeighbourhoodDim, or from the pair cache),
+   for the terms' pair sums. The scratch: dx (dim a neighbour), r^2, grad W (dim), 1/r^2, u_j - u_i (dim), V_j. */
 FS_ALWAYS_INLINE void FSSolverNeighbourhood(const FSSolver s, PetscInt i, FSNeighbourhood *nb)
 {
   const PetscInt dim = s->opt.dim, cap = s->pw.scratchcap;
-  PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * cap, *gw = r2 + cap, *ri2 = gw + dim * cap;
+  PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * cap, *gw = r2 + cap, *ri2 = gw + dim * cap, *du = ri2 + cap,
+            *Vj = du + dim * cap;
 
   nb->i = i;
   nb->j = s->pw.scratchj;
@@ -496,8 +511,12 @@ FS_ALWAYS_INLINE void FSSolverNeighbourhood(const FSSolver s, PetscInt i, FSNeig
   } else
     nb->n = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, s->pw.scratchj, dx, r2, gw, ri2)
                      : FSFillNeighbourhoodDim(s, 3, i, s->pw.scratchj, dx, r2, gw, ri2);
+  if (dim == 2) FSFillNeighbourVelocitiesDim(s, 2, i, nb->n, nb->j, du, Vj);
+  else FSFillNeighbourVelocitiesDim(s, 3, i, nb->n, nb->j, du, Vj);
   nb->dx    = dx;
   nb->r2    = r2;
   nb->rinv2 = ri2;
   nb->gradW = gw;
+  nb->du    = du;
+  nb->Vj    = Vj;
 }
