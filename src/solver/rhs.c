@@ -47,14 +47,7 @@ static inline void FSInvertCorrection(PetscInt dim, const PetscReal M[], PetscRe
    components of each vector in one register: each component gets the same operations in the same order as the
    scalar loop's (the same sums bit for bit), in half the instructions. M, G, Au: the sums, row-major.
 */
-#if defined(__GNUC__)
-typedef double        FSReal2 __attribute__((vector_size(16)));
-static inline FSReal2 FSLoad2(const PetscReal *p)
-{
-  FSReal2 v;
-  memcpy(&v, p, sizeof(v));
-  return v;
-}
+#if defined(FS_HAVE_REAL2)
 FS_ALWAYS_INLINE void FSFirstPassSums2(PetscInt m, const PetscInt js[], const PetscReal Fs[], const PetscReal dx[],
                                        const PetscReal rec[], PetscInt S, const PetscReal ri[], const PetscReal vol[],
                                        PetscReal M[], PetscReal G[], PetscReal Au[])

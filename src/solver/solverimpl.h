@@ -466,25 +466,45 @@ FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscIn
   return n;
 }
 
-/* The same from the pair cache (FSSolverFirstPass): the n neighbours j[] with their F(r) given, the same values as
-   FSFillNeighbourhoodDim's (the same operations on the same positions) without the candidates' search and the
-   square roots */
+/* The same from the pair cache (FSSolverFirstPass), with u_j - u_i and V_j: the n neighbours j[] with their F(r)
+   given, the same values as FSFillNeighbourhoodDim's and FSFillNeighbourVelocitiesDim's (the same operations on the
+   same records) without the candidates' search and the square roots; positions and velocities two components at a
+   time where the compiler has FSReal2 */
 FS_ALWAYS_INLINE void FSFillCachedNeighbourhoodDim(const FSSolver s, const PetscInt dim, PetscInt i, PetscInt n,
                                                    const PetscInt *j, const PetscReal *F, PetscReal *dx, PetscReal *r2,
-                                                   PetscReal *gw, PetscReal *ri2)
+                                                   PetscReal *gw, PetscReal *ri2, PetscReal *du, PetscReal *Vj)
 {
   const PetscInt   S   = 2 * dim + 2; /* the records' stride (FSSolverFirstPass checks it) */
-  const PetscReal *rec = s->pw.rec, *xi = &rec[i * S];
+  const PetscReal *rec = s->pw.rec, *xi = &rec[i * S], *vol = s->pw.vol;
+#if defined(FS_HAVE_REAL2)
+  const FSReal2 xi01 = FSLoad2(xi), ui01 = FSLoad2(xi + dim);
+#endif
 
   for (PetscInt k = 0; k < n; k++) {
     const PetscReal *xj = &rec[j[k] * S];
-    PetscReal        d2 = 0;
+    PetscReal        d2;
+#if defined(FS_HAVE_REAL2)
+    const FSReal2 d = FSLoad2(xj) - xi01, sq = d * d;
+    FSStore2(&dx[k * dim], d);
+    FSStore2(&du[k * dim], FSLoad2(xj + dim) - ui01);
+    d2 = sq[0] + sq[1]; /* = 0 + d0^2 + d1^2 */
+    if (dim == 3) {
+      const PetscReal d3 = xj[2] - xi[2];
+      dx[k * dim + 2]    = d3;
+      d2 += d3 * d3;
+      du[k * dim + 2] = xj[dim + 2] - xi[dim + 2];
+    }
+#else
+    d2 = 0;
     for (PetscInt a = 0; a < dim; a++) {
       const PetscReal d = xj[a] - xi[a];
       dx[k * dim + a]   = d;
       d2 += d * d;
+      du[k * dim + a] = xj[dim + a] - xi[dim + a];
     }
+#endif
     r2[k] = d2;
+    Vj[k] = vol[j[k]];
   }
   for (PetscInt k = 0; k < n; k++)
     for (PetscInt a = 0; a < dim; a++) gw[dim * k + a] = -F[k] * dx[dim * k + a];
@@ -506,13 +526,15 @@ FS_ALWAYS_INLINE void FSSolverNeighbourhood(const FSSolver s, PetscInt i, FSNeig
     const PetscReal *F = s->pw.pairF + p0;
     nb->n              = s->pw.pairstart[i + 1] - p0;
     nb->j              = j;
-    if (dim == 2) FSFillCachedNeighbourhoodDim(s, 2, i, nb->n, j, F, dx, r2, gw, ri2);
-    else FSFillCachedNeighbourhoodDim(s, 3, i, nb->n, j, F, dx, r2, gw, ri2);
-  } else
-    nb->n = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, s->pw.scratchj, dx, r2, gw, ri2)
-                     : FSFillNeighbourhoodDim(s, 3, i, s->pw.scratchj, dx, r2, gw, ri2);
-  if (dim == 2) FSFillNeighbourVelocitiesDim(s, 2, i, nb->n, nb->j, du, Vj);
-  else FSFillNeighbourVelocitiesDim(s, 3, i, nb->n, nb->j, du, Vj);
+    if (dim == 2) FSFillCachedNeighbourhoodDim(s, 2, i, nb->n, j, F, dx, r2, gw, ri2, du, Vj);
+    else FSFillCachedNeighbourhoodDim(s, 3, i, nb->n, j, F, dx, r2, gw, ri2, du, Vj);
+  } else if (dim == 2) {
+    nb->n = FSFillNeighbourhoodDim(s, 2, i, s->pw.scratchj, dx, r2, gw, ri2);
+    FSFillNeighbourVelocitiesDim(s, 2, i, nb->n, nb->j, du, Vj);
+  } else {
+    nb->n = FSFillNeighbourhoodDim(s, 3, i, s->pw.scratchj, dx, r2, gw, ri2);
+    FSFillNeighbourVelocitiesDim(s, 3, i, nb->n, nb->j, du, Vj);
+  }
   nb->dx    = dx;
   nb->r2    = r2;
   nb->rinv2 = ri2;
