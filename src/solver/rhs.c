@@ -105,7 +105,7 @@ FS_ALWAYS_INLINE void FSFirstPassSums2(PetscInt m, const PetscInt js[], const Pe
    of pairs it visited. The body is written for a compile-time dimension (FS_ALWAYS_INLINE) so that the
    small dim x dim loops unroll and the sums stay in registers.
 */
-FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
+FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim, PetscBool keep)
 {
   const PetscInt   S = 2 * dim + 2, A = s->pw.auxstride, n = s->pw.nowned; /* the records' stride as a constant */
   const PetscReal *rec = s->pw.rec, *vol = s->pw.vol, R2 = s->pw.kernel.support2;
@@ -118,10 +118,10 @@ FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
     const PetscReal *ri   = &rec[i * S];
     PetscReal        M[9] = {0}, Minv[9], G[3] = {0, 0, 0}, Au[9] = {0}, J[9] = {0}, nrm = 0;
     PetscReal       *out = &s->pw.aux[i * A];
-    PetscInt        *js  = s->pw.pairj + np; /* the pairs go to the pair cache: room for i's candidates */
-    PetscReal       *Fs  = s->pw.pairF + np;
+    PetscInt        *js  = keep ? s->pw.pairj + np : s->pw.scratchj; /* into the pair cache: room for i's candidates */
+    PetscReal       *Fs  = keep ? s->pw.pairF + np : r2s + s->pw.scratchcap;
     const PetscInt   m   = FSNeighboursPick(&s->pw.nbrs, dim, i, rec, S, R2, js, dx, r2s);
-    s->pw.pairstart[i]   = (PetscInt)np;
+    if (keep) s->pw.pairstart[i] = (PetscInt)np;
     np += m;
     /* F(r) of the pairs (a loop the compiler vectorizes: square roots and divisions in pairs) */
     for (PetscInt k = 0; k < m; k++) Fs[k] = FSKernelF(&s->pw.kernel, PetscSqrtReal(r2s[k]));
@@ -160,39 +160,40 @@ FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim)
       }
     out[dim] = PetscSqrtReal(2.0 * nrm);
   }
-  s->pw.pairstart[n] = (PetscInt)np;
+  if (keep) s->pw.pairstart[n] = (PetscInt)np;
   return np;
 }
 
 /*
-   FSSolverFirstPass - the first pass over the pairs (FSSolverFirstPassDim), which leaves the pairs it picked and
-   their F(r) in the pair cache for the passes that follow at the same positions (the terms' pair pass, the split
-   step's stages: FSSolverNeighbourhood). The cache is sized for every candidate (an upper bound on the pairs) and the
-   last particle's scratch; only the pairs' part of it is written.
+   FSSolverFirstPass - the first pass over the pairs (FSSolverFirstPassDim). With the pair cache (-fs_pair_cache) it
+   leaves the pairs it picked and their F(r) there for the passes that follow at the same positions (the terms' pair
+   pass, the split step's stages: FSSolverNeighbourhood), which then need not search the candidates again. The cache
+   is sized for every candidate (an upper bound on the pairs) and the last particle's scratch; only the pairs' part of
+   it is written (and resident). Without it, or past PetscInt's range, the passes pick the pairs again.
 */
 PetscErrorCode FSSolverFirstPass(FSSolver s)
 {
   const PetscInt   n    = s->pw.nowned;
   const PetscInt64 need = s->pw.nbrs.ncand + s->pw.nbrs.maxcand + 1;
+  const PetscBool  keep = (PetscBool)((s->opt.paircache == 1 || (s->opt.paircache == 0 && s->opt.dim == 2)) &&
+                                     need < PETSC_MAX_INT);
 
   PetscFunctionBegin;
   PetscCall(PetscLogEventBegin(FS_FirstPass, 0, 0, 0, 0));
   PetscCheck(s->pw.stride == 2 * s->opt.dim + 2, PETSC_COMM_SELF, PETSC_ERR_PLIB,
              "Records of %" PetscInt_FMT " reals: the first pass expects 2 dim + 2", s->pw.stride);
-  PetscCheck(need < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_SUP,
-             "More than %d candidate pairs on one rank: use more ranks", PETSC_MAX_INT);
-  if (n + 1 > s->pw.pairstartcap) {
+  if (keep && n + 1 > s->pw.pairstartcap) {
     PetscCall(PetscFree(s->pw.pairstart));
     s->pw.pairstartcap = PetscMax(n + 1, (PetscInt)(1.25 * s->pw.pairstartcap));
     PetscCall(PetscMalloc1(s->pw.pairstartcap, &s->pw.pairstart));
   }
-  if (need > s->pw.paircap) {
+  if (keep && need > s->pw.paircap) {
     PetscCall(PetscFree2(s->pw.pairj, s->pw.pairF));
     s->pw.paircap = PetscMin(PETSC_MAX_INT - 1, PetscMax(need, (PetscInt64)(1.25 * s->pw.paircap)));
     PetscCall(PetscMalloc2(s->pw.paircap, &s->pw.pairj, s->pw.paircap, &s->pw.pairF));
   }
-  s->pw.nbrs.npairs = s->opt.dim == 2 ? FSSolverFirstPassDim(s, 2) : FSSolverFirstPassDim(s, 3);
-  s->pw.pairsvalid  = PETSC_TRUE;
+  s->pw.nbrs.npairs = s->opt.dim == 2 ? FSSolverFirstPassDim(s, 2, keep) : FSSolverFirstPassDim(s, 3, keep);
+  s->pw.pairsvalid  = keep;
   PetscCall(PetscLogEventEnd(FS_FirstPass, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

@@ -66,6 +66,7 @@ typedef struct {
   PetscInt      balance;             /* -fs_balance: what the cuts balance (FSBalance) */
   PetscInt      rebuild;             /* -fs_neighbour_rebuild: FS_REBUILD_AUTO or FS_REBUILD_ALWAYS */
   PetscInt      candidates;          /* -fs_neighbour_candidates: 0 auto, 1 indices, 2 bits (FSNeighboursForm) */
+  PetscInt      paircache;           /* -fs_pair_cache: 0 auto (yes in 2-D, no in 3-D), 1 yes, 2 no */
   char          structname[64];
   PetscBool     structure_view;
   PetscReal     structure_cfl; /* dt = structure_cfl * shortest period, when there are no particles */
