@@ -2,9 +2,10 @@
    The right-hand side of the particle ODE system, evaluated by TS at every stage:
      halo refresh -> first pass (correction matrix L_i, renormalized density gradient, strain rate
      ||D||_i) -> ghost refresh of those -> the terms' pair pass.
-   Each pass picks the pairs within the support from the candidate lists as it visits them
-   (FSNeighboursPick: no list of the pairs is kept) and computes the kernel gradients from r^2, once per
-   pair and pass, for all terms; the first pass runs only when a selected term needs it.
+   The first pass picks the pairs within the support from the candidate lists as it visits them
+   (FSNeighboursPick) with their kernel factors F(r), and keeps both in the pair cache (-fs_pair_cache), from which the
+   pair pass takes them (else it picks them again); the kernel gradients are computed once per pair and pass, for all
+   terms. The first pass runs only when a selected term needs it.
 */
 #include "solver/solverimpl.h"
 
@@ -75,24 +76,6 @@ FS_ALWAYS_INLINE void FSFirstPassSums2(PetscInt m, const PetscInt js[], const Pe
   Au[2] = a1[0];
   Au[3] = a1[1];
 }
-#else
-FS_ALWAYS_INLINE void FSFirstPassSums2(PetscInt m, const PetscInt js[], const PetscReal Fs[], const PetscReal dx[],
-                                       const PetscReal rec[], PetscInt S, const PetscReal ri[], const PetscReal vol[],
-                                       PetscReal M[], PetscReal G[], PetscReal Au[])
-{
-  for (PetscInt k = 0; k < m; k++) {
-    const PetscReal *rj = &rec[js[k] * S], *d = &dx[2 * k], Vj = vol[js[k]], drho = (rj[4] - ri[4]) * Vj;
-    const PetscReal  g[2] = {-Fs[k] * d[0], -Fs[k] * d[1]};
-    for (PetscInt a = 0; a < 2; a++) {
-      const PetscReal du = (rj[2 + a] - ri[2 + a]) * Vj, dd = d[a] * Vj;
-      G[a] += drho * g[a];
-      for (PetscInt b = 0; b < 2; b++) {
-        M[a * 2 + b] += dd * g[b];
-        Au[a * 2 + b] += du * g[b];
-      }
-    }
-  }
-}
 #endif
 
 /*
@@ -125,8 +108,10 @@ FS_ALWAYS_INLINE PetscInt64 FSSolverFirstPassDim(FSSolver s, const PetscInt dim,
     np += m;
     /* F(r) of the pairs (a loop the compiler vectorizes: square roots and divisions in pairs) */
     for (PetscInt k = 0; k < m; k++) Fs[k] = FSKernelF(&s->pw.kernel, PetscSqrtReal(r2s[k]));
+#if defined(FS_HAVE_REAL2)
     if (dim == 2) FSFirstPassSums2(m, js, Fs, dx, rec, S, ri, vol, M, G, Au);
     else
+#endif
       for (PetscInt k = 0; k < m; k++) {
         const PetscInt   j  = js[k];
         const PetscReal *rj = &rec[j * S], *d = &dx[k * dim], F = Fs[k];
