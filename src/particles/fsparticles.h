@@ -108,9 +108,10 @@ static inline void FSCommProgress(PetscInt i)
    in 2-D, 9 in 3-D, contiguous in the cell-sorted order) within the candidate radius, kept in one of two
    forms (FSNeighboursForm): their indices (4 bytes a candidate), or one bit per position of those rows, set
    for a candidate and read back through the cell list (about 6 words for 64 candidates in 2-D, 54 for 520
-   in 3-D: a fifth of the indices' memory, for a few per cent more time in each pass). The first pass over the pairs of a
-   right-hand side picks the pairs within the support from the candidates (FSNeighboursPick) as it visits them; the
-   solver's pair cache (-fs_pair_cache) keeps what it picked for the passes that follow, else they pick again. */
+   in 3-D: a fifth of the indices' memory, for a few per cent more time in each pass). The first pass over the
+   pairs of a right-hand side picks the pairs within the support from the candidates (FSNeighboursPick) as it visits
+   them; the solver's pair cache (-fs_pair_cache) keeps what it picked for the passes that follow, else they pick
+   again. */
 typedef enum {
   FS_CANDIDATES_INDICES, /* cand[cstart[i] .. cend[i]) */
   FS_CANDIDATES_BITS     /* the words mask[cstart[i] .. cstart[i+1]), each row of cells from a word of its own */
