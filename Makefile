@@ -47,6 +47,7 @@ test: build
 
 bench: build
 	$(BUILD)/bench_terms -fs_dx 0.005 -reps 20
+	$(BUILD)/bench_rhs -fs_case dam_break -fs_dx 0.01 -steps 20 -reps 40
 	$(PYTHON) bench/bench_taylor_green.py
 	$(PYTHON) bench/bench_dam_break.py
 	$(PYTHON) bench/bench_coupled.py

@@ -119,12 +119,14 @@ typedef struct {
 } FSParticles;
 
 /* The neighbourhood of one owned particle i: n neighbours j[k] with x_j - x_i in dx[k*dim], the
-   squared distance r2[k] and its inverse rinv2[k], and the kernel gradient grad_i W(x_i - x_j) in
-   gradW[k*dim], computed once per pair by the core and shared by all terms. */
+   squared distance r2[k] and its inverse rinv2[k], the kernel gradient grad_i W(x_i - x_j) in
+   gradW[k*dim], u_j - u_i in du[k*dim] and the neighbours' volumes V_j in Vj[k] (FSParticles' vol[j]),
+   computed once per pair by the core and shared by all terms, in arrays a term's loop reads in order. */
 typedef struct {
   PetscInt         i, n;
   const PetscInt  *j;
   const PetscReal *dx, *r2, *rinv2, *gradW;
+  const PetscReal *du, *Vj;
 } FSNeighbourhood;
 
 /* The Wendland C2 kernel W(r) of the core (support 2h), for terms that need kernel values and not only the

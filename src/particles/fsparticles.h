@@ -6,7 +6,9 @@
 #pragma once
 #include <flexslosh.h> /* FS_ALWAYS_INLINE */
 #include <petscsf.h>
+#include <stddef.h>
 #include <stdint.h>
+#include <string.h> /* memcpy */
 
 /* Wendland C2 kernel with support 2h, dimension 2 or 3. */
 typedef struct {
@@ -106,9 +108,10 @@ static inline void FSCommProgress(PetscInt i)
    in 2-D, 9 in 3-D, contiguous in the cell-sorted order) within the candidate radius, kept in one of two
    forms (FSNeighboursForm): their indices (4 bytes a candidate), or one bit per position of those rows, set
    for a candidate and read back through the cell list (about 6 words for 64 candidates in 2-D, 54 for 520
-   in 3-D: a fifth of the indices' memory, for a few per cent more time in each pass). No list of the pairs
-   within the support is kept: each pass over the pairs picks them from the candidates (FSNeighboursPick)
-   as it visits them, which costs a distance per candidate and saves the list's memory. */
+   in 3-D: a fifth of the indices' memory, for a few per cent more time in each pass). The first pass over the
+   pairs of a right-hand side picks the pairs within the support from the candidates (FSNeighboursPick) as it visits
+   them; the solver's pair cache (-fs_pair_cache) keeps what it picked for the passes that follow, else they pick
+   again. */
 typedef enum {
   FS_CANDIDATES_INDICES, /* cand[cstart[i] .. cend[i]) */
   FS_CANDIDATES_BITS     /* the words mask[cstart[i] .. cstart[i+1]), each row of cells from a word of its own */
@@ -245,6 +248,23 @@ static inline void FSNeighboursCandidateDrop(FSNeighbours *nb, FSCandidateIter *
 }
 
 /*
+   Two reals in one vector register (GCC's vector extensions, which clang has too), for the pair loops: the two
+   components of a vector get the same operations in the same order as a scalar loop's, so the results are the same
+   bit for bit, in half the instructions. FS_HAVE_REAL2 says whether the compiler has them (else scalar code).
+*/
+#if defined(__GNUC__)
+#  define FS_HAVE_REAL2 1
+typedef double        FSReal2 __attribute__((vector_size(16)));
+static inline FSReal2 FSLoad2(const PetscReal *p)
+{
+  FSReal2 v;
+  memcpy(&v, p, sizeof(v));
+  return v;
+}
+static inline void FSStore2(PetscReal *p, FSReal2 v) { memcpy(p, &v, sizeof(v)); }
+#endif
+
+/*
    FSNeighboursPick - the neighbours j != i of owned particle i within r^2 < R2 at the current positions
    (records rec with stride, position first), picked from its candidates: their indices into j[], x_j - x_i
    into dx[] (dim a pair) and r^2 into r2[]; returns their number (at most nb->maxcand, which bounds the
@@ -278,18 +298,31 @@ FS_ALWAYS_INLINE PetscInt FSNeighboursPick(const FSNeighbours *nb, const PetscIn
       w += nwr;
     }
   }
-  for (PetscInt q = 0; q < nc; q++) {
-    const PetscInt   c  = cj[q];
-    const PetscReal *xc = &rec[c * stride];
-    PetscReal        d2 = 0;
-    for (PetscInt a = 0; a < dim; a++) {
-      const PetscReal d = xc[a] - xi[a];
-      dx[m * dim + a]   = d;
-      d2 += d * d;
+  { /* the write positions move on by whether the candidate is inside: pointers, not indices times dim */
+    const PetscReal xi0 = xi[0], xi1 = xi[1], xi2 = dim == 3 ? xi[2] : 0;
+    PetscReal      *dxm = dx, *r2m = r2;
+    PetscInt       *jm = j;
+    for (PetscInt q = 0; q < nc; q++) {
+      const PetscInt   c  = cj[q];
+      const PetscReal *xc = &rec[(ptrdiff_t)c * stride];
+      const PetscReal  d0 = xc[0] - xi0, d1 = xc[1] - xi1;
+      PetscReal        d2 = d0 * d0 + d1 * d1; /* = 0 + d0^2 + d1^2, the sum in the order of the components */
+      PetscInt         in;
+      dxm[0] = d0;
+      dxm[1] = d1;
+      if (dim == 3) {
+        const PetscReal d3 = xc[2] - xi2;
+        dxm[2]             = d3;
+        d2 += d3 * d3;
+      }
+      *jm  = c;
+      *r2m = d2;
+      in   = d2 < R2;
+      dxm += dim * in;
+      r2m += in;
+      jm += in;
+      m += in;
     }
-    j[m]  = c;
-    r2[m] = d2;
-    m += d2 < R2;
   }
   return m;
 }

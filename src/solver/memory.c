@@ -9,7 +9,8 @@
 /* the items of "memory", in this order (FSSolverWriteMemory) */
 typedef enum {
   FS_MEM_PARTICLE_FIELDS, /* the swarm's fields: position, velocity, density, mass, id, build position, DMSwarm's own */
-  FS_MEM_PARTICLE_WORK,   /* records of owned and ghost particles, first-pass quantities, volumes, pressures, gamma */
+  FS_MEM_PARTICLE_WORK,   /* records of owned and ghost particles, first-pass quantities, volumes, pressures, gamma, the
+                             pair cache */
   FS_MEM_TS_VECTORS,      /* the state U, Uprev, Fout and the integrator's own vectors */
   FS_MEM_CANDIDATES,      /* the candidate (Verlet) list and its row starts */
   FS_MEM_CELLS,           /* the cell list */
@@ -148,9 +149,11 @@ PetscErrorCode FSSolverWriteMemory(FSSolver s, FSJSON js, PetscReal peak)
   PetscCall(PetscArrayzero(b, FS_MEM_N + 1));
   PetscCall(FSSolverSwarmBytes(s, &b[FS_MEM_PARTICLE_FIELDS]));
   b[FS_MEM_PARTICLE_WORK] = (PetscInt64)pw->reccap * (pw->stride + pw->auxstride + 2) * sizeof(PetscReal) +
-                            (PetscInt64)pw->scratchcap * ((2 * dim + 2) * sizeof(PetscReal) + sizeof(PetscInt)) +
+                            (PetscInt64)pw->scratchcap * ((3 * dim + 3) * sizeof(PetscReal) + sizeof(PetscInt)) +
                             (PetscInt64)pw->gammacap * (pw->gammav ? 4 : 2) * sizeof(PetscReal) +
-                            (PetscInt64)pw->passcap * sizeof(PetscInt);
+                            (PetscInt64)pw->passcap * sizeof(PetscInt) +
+                            (PetscInt64)pw->pairstartcap * sizeof(PetscInt) +
+                            pw->paircap * (sizeof(PetscInt) + sizeof(PetscReal)); /* the pair cache */
   PetscCall(FSSolverTSBytes(s, &b[FS_MEM_TS_VECTORS]));
   b[FS_MEM_CANDIDATES] = (PetscInt64)nb->mcap * sizeof(uint64_t) + (PetscInt64)nb->ccandcap * sizeof(PetscInt) +
                          (PetscInt64)nb->scap * 2 * sizeof(PetscInt);

@@ -66,6 +66,7 @@ typedef struct {
   PetscInt      balance;             /* -fs_balance: what the cuts balance (FSBalance) */
   PetscInt      rebuild;             /* -fs_neighbour_rebuild: FS_REBUILD_AUTO or FS_REBUILD_ALWAYS */
   PetscInt      candidates;          /* -fs_neighbour_candidates: 0 auto, 1 indices, 2 bits (FSNeighboursForm) */
+  PetscInt      paircache;           /* -fs_pair_cache: 0 auto (yes in 2-D, no in 3-D), 1 yes, 2 no */
   char          structname[64];
   PetscBool     structure_view;
   PetscReal     structure_cfl; /* dt = structure_cfl * shortest period, when there are no particles */
@@ -100,12 +101,20 @@ typedef struct {
   PetscInt     reccap;
   FSHalo       halo;
   FSNeighbours nbrs;
-  PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW, 1/r2 */
+  PetscReal   *scratch;  /* per-i neighbourhood scratch: dx, r2, gradW, 1/r2, u_j - u_i, V_j */
   PetscInt    *scratchj; /* per-i neighbourhood scratch: the neighbours' indices */
   PetscInt     scratchcap;
-  PetscInt    *passorder; /* the owned particles, those with no ghost among their candidates first (FSSolverResize) */
-  PetscInt     ninterior, passcap;
-  PetscReal   *gamma,
+  /* the pair cache: the neighbours each owned particle's first pass picked and their kernel factors F(r), for the
+     passes that follow at the same positions (FSSolverNeighbourhood); valid from the first pass to the next records */
+  PetscInt  *pairstart; /* nowned+1: the first pair of each particle */
+  PetscInt  *pairj;     /* the neighbours' indices */
+  PetscReal *pairF;     /* F(r) of the pairs */
+  PetscInt   pairstartcap;
+  PetscInt64 paircap;
+  PetscBool  pairsvalid;
+  PetscInt  *passorder; /* the owned particles, those with no ghost among their candidates first (FSSolverResize) */
+  PetscInt   ninterior, passcap;
+  PetscReal *gamma,
       *invgamma; /* the walls' Shepard factor gamma of the owned and ghost particles and 1/gamma (with walls) */
   PetscReal *gammav, *invgammav; /* with no-slip walls: gamma plus the share behind them, and its inverse */
   PetscInt   gammacap;
@@ -461,13 +470,27 @@ PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureSummary(FSSolver, FSJSON);
 
+/* u_j - u_i and V_j of the n neighbours j[] of particle i, for the terms (FSNeighbourhood) */
+FS_ALWAYS_INLINE void FSFillNeighbourVelocitiesDim(const FSSolver s, const PetscInt dim, PetscInt i, PetscInt n,
+                                                   const PetscInt *j, PetscReal *du, PetscReal *Vj)
+{
+  const PetscInt   S   = 2 * dim + 2; /* the records' stride (solver.c) */
+  const PetscReal *rec = s->pw.rec, *ui = &rec[i * S + dim], *vol = s->pw.vol;
+
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal *uj = &rec[j[k] * S + dim];
+    for (PetscInt a = 0; a < dim; a++) du[k * dim + a] = uj[a] - ui[a];
+    Vj[k] = vol[j[k]];
+  }
+}
+
 /* Fills the neighbourhood scratch of particle i: its neighbours j (picked from the candidates), x_j - x_i,
-   r^2, grad_i W and, when ri2 is given, 1/r^2. Returns their number. */
+   r^2, grad_i W, 1/r^2. Returns their number. */
 FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscInt dim, PetscInt i, PetscInt *j,
                                                  PetscReal *dx, PetscReal *r2, PetscReal *gw, PetscReal *ri2)
 {
   const FSKernel *kern = &s->pw.kernel;
-  const PetscInt  n    = FSNeighboursPick(&s->pw.nbrs, dim, i, s->pw.rec, s->pw.stride, kern->support2, j, dx, r2);
+  const PetscInt  n    = FSNeighboursPick(&s->pw.nbrs, dim, i, s->pw.rec, 2 * dim + 2, kern->support2, j, dx, r2);
 
   /* F(r) in a loop of its own, which the compiler vectorizes (the same value as the first pass's) */
   for (PetscInt k = 0; k < n; k++) {
@@ -475,23 +498,83 @@ FS_ALWAYS_INLINE PetscInt FSFillNeighbourhoodDim(const FSSolver s, const PetscIn
     for (PetscInt a = 0; a < dim; a++) gw[dim * k + a] = -F * dx[dim * k + a];
   }
   /* the inverses in a loop of their own, which the compiler vectorizes */
-  if (ri2)
-    for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
+  for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
   return n;
 }
 
-/* The neighbourhood of owned particle i in the solver's scratch (FSFillNeighbourhoodDim), for the terms' pair sums */
+/* The same from the pair cache (FSSolverFirstPass), with u_j - u_i and V_j: the n neighbours j[] with their F(r)
+   given, the same values as FSFillNeighbourhoodDim's and FSFillNeighbourVelocitiesDim's (the same operations on the
+   same records) without the candidates' search and the square roots; positions and velocities two components at a
+   time where the compiler has FSReal2 */
+FS_ALWAYS_INLINE void FSFillCachedNeighbourhoodDim(const FSSolver s, const PetscInt dim, PetscInt i, PetscInt n,
+                                                   const PetscInt *j, const PetscReal *F, PetscReal *dx, PetscReal *r2,
+                                                   PetscReal *gw, PetscReal *ri2, PetscReal *du, PetscReal *Vj)
+{
+  const PetscInt   S   = 2 * dim + 2; /* the records' stride (FSSolverFirstPass checks it) */
+  const PetscReal *rec = s->pw.rec, *xi = &rec[i * S], *vol = s->pw.vol;
+#if defined(FS_HAVE_REAL2)
+  const FSReal2 xi01 = FSLoad2(xi), ui01 = FSLoad2(xi + dim);
+#endif
+
+  for (PetscInt k = 0; k < n; k++) {
+    const PetscReal *xj = &rec[j[k] * S];
+    PetscReal        d2;
+#if defined(FS_HAVE_REAL2)
+    const FSReal2 d = FSLoad2(xj) - xi01, sq = d * d;
+    FSStore2(&dx[k * dim], d);
+    FSStore2(&du[k * dim], FSLoad2(xj + dim) - ui01);
+    d2 = sq[0] + sq[1]; /* = 0 + d0^2 + d1^2 */
+    if (dim == 3) {
+      const PetscReal d3 = xj[2] - xi[2];
+      dx[k * dim + 2]    = d3;
+      d2 += d3 * d3;
+      du[k * dim + 2] = xj[dim + 2] - xi[dim + 2];
+    }
+#else
+    d2 = 0;
+    for (PetscInt a = 0; a < dim; a++) {
+      const PetscReal d = xj[a] - xi[a];
+      dx[k * dim + a]   = d;
+      d2 += d * d;
+      du[k * dim + a] = xj[dim + a] - xi[dim + a];
+    }
+#endif
+    r2[k] = d2;
+    Vj[k] = vol[j[k]];
+  }
+  for (PetscInt k = 0; k < n; k++)
+    for (PetscInt a = 0; a < dim; a++) gw[dim * k + a] = -F[k] * dx[dim * k + a];
+  for (PetscInt k = 0; k < n; k++) ri2[k] = 1.0 / r2[k];
+}
+
+/* The neighbourhood of owned particle i in the solver's scratch (FSFillNeighbourhoodDim, or from the pair cache),
+   for the terms' pair sums. The scratch: dx (dim a neighbour), r^2, grad W (dim), 1/r^2, u_j - u_i (dim), V_j. */
 FS_ALWAYS_INLINE void FSSolverNeighbourhood(const FSSolver s, PetscInt i, FSNeighbourhood *nb)
 {
   const PetscInt dim = s->opt.dim, cap = s->pw.scratchcap;
-  PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * cap, *gw = r2 + cap, *ri2 = gw + dim * cap;
+  PetscReal     *dx = s->pw.scratch, *r2 = dx + dim * cap, *gw = r2 + cap, *ri2 = gw + dim * cap, *du = ri2 + cap,
+            *Vj = du + dim * cap;
 
-  nb->i     = i;
-  nb->n     = dim == 2 ? FSFillNeighbourhoodDim(s, 2, i, s->pw.scratchj, dx, r2, gw, ri2)
-                       : FSFillNeighbourhoodDim(s, 3, i, s->pw.scratchj, dx, r2, gw, ri2);
-  nb->j     = s->pw.scratchj;
+  nb->i = i;
+  nb->j = s->pw.scratchj;
+  if (s->pw.pairsvalid) { /* the first pass's pairs at these positions */
+    const PetscInt   p0 = s->pw.pairstart[i], *j = s->pw.pairj + p0;
+    const PetscReal *F = s->pw.pairF + p0;
+    nb->n              = s->pw.pairstart[i + 1] - p0;
+    nb->j              = j;
+    if (dim == 2) FSFillCachedNeighbourhoodDim(s, 2, i, nb->n, j, F, dx, r2, gw, ri2, du, Vj);
+    else FSFillCachedNeighbourhoodDim(s, 3, i, nb->n, j, F, dx, r2, gw, ri2, du, Vj);
+  } else if (dim == 2) {
+    nb->n = FSFillNeighbourhoodDim(s, 2, i, s->pw.scratchj, dx, r2, gw, ri2);
+    FSFillNeighbourVelocitiesDim(s, 2, i, nb->n, nb->j, du, Vj);
+  } else {
+    nb->n = FSFillNeighbourhoodDim(s, 3, i, s->pw.scratchj, dx, r2, gw, ri2);
+    FSFillNeighbourVelocitiesDim(s, 3, i, nb->n, nb->j, du, Vj);
+  }
   nb->dx    = dx;
   nb->r2    = r2;
   nb->rinv2 = ri2;
   nb->gradW = gw;
+  nb->du    = du;
+  nb->Vj    = Vj;
 }

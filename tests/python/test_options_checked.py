@@ -141,6 +141,7 @@ NAMES = {
     "-fs_walls_visibility": (["nosuch"], None),
     "-fs_neighbour_rebuild": (["nosuch"], None),
     "-fs_neighbour_candidates": (["nosuch"], None),
+    "-fs_pair_cache": (["nosuch"], None),
     "-fs_balance": (["nosuch"], None),
     "-fs_fill_packing": (["nosuch"], None),
     "-fs_tensile_control_type": (["-fs_terms", "continuity,pressure,tensile_control", "-fs_tensile_control_type", "nosuch"], "nosuch"),

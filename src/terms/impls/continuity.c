@@ -11,15 +11,13 @@
 FS_ALWAYS_INLINE PetscReal InteractDim(const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate,
                                        const PetscInt dim)
 {
-  const PetscInt   S  = P->stride;
-  const PetscReal *ri = &P->rec[nb->i * S], rhoi = ri[2 * dim], *V = P->vol;
-  PetscReal        sum = 0;
+  const PetscReal rhoi = P->rec[nb->i * P->stride + 2 * dim];
+  PetscReal       sum  = 0;
   for (PetscInt k = 0; k < nb->n; k++) {
-    const PetscInt   j  = nb->j[k];
-    const PetscReal *rj = &P->rec[j * S], *g = &nb->gradW[k * dim];
+    const PetscReal *du = &nb->du[k * dim], *g = &nb->gradW[k * dim];
     PetscReal        dot = 0;
-    for (PetscInt d = 0; d < dim; d++) dot += (rj[dim + d] - ri[dim + d]) * g[d];
-    sum += dot * V[j];
+    for (PetscInt d = 0; d < dim; d++) dot += du[d] * g[d];
+    sum += dot * nb->Vj[k];
   }
   rate->drho -= rhoi * sum;
   return -P->vol[nb->i] * P->pressure[nb->i] * sum;

@@ -46,7 +46,7 @@ FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighb
       proj += dx[d] * g[d];
     }
     Dij = 2.0 * ((rj[2 * dim] - rhoi) - 0.5 * corr) * nb->rinv2[k];
-    sum += (2.0 * di * dj / dsum) * Dij * proj * V[j];
+    sum += (2.0 * di * dj / dsum) * Dij * proj * nb->Vj[k];
   }
   sum *= P->h * P->c0;
   rate->drho += sum;

@@ -23,7 +23,7 @@ FS_ALWAYS_INLINE PetscReal InteractDim(const FSParticles *P, const FSNeighbourho
   PetscReal        acc[3] = {0, 0, 0}, pw = 0;
   for (PetscInt k = 0; k < nb->n; k++) {
     const PetscInt   j = nb->j[k];
-    const PetscReal *g = &nb->gradW[k * dim], f = (pi + p[j]) * V[j];
+    const PetscReal *g = &nb->gradW[k * dim], f = (pi + p[j]) * nb->Vj[k];
     for (PetscInt d = 0; d < dim; d++) acc[d] += f * g[d];
   }
   for (PetscInt d = 0; d < dim; d++) {

@@ -27,7 +27,7 @@ FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighb
 {
   Viscosity       *ctx = (Viscosity *)t->data;
   const PetscInt   S = P->stride, i = nb->i;
-  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim], *V = P->vol;
+  const PetscReal *ri = &P->rec[i * S], rhoi = ri[2 * dim];
   const PetscReal *ig     = les || !P->invgammav ? P->invgamma : P->invgammav;
   PetscReal        acc[3] = {0, 0, 0}, f, pw = 0;
   if (les) {
@@ -37,12 +37,12 @@ FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighb
     }
     for (PetscInt k = 0; k < nb->n; k++) {
       const PetscInt   j  = nb->j[k];
-      const PetscReal *rj = &P->rec[j * S], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
+      const PetscReal *du = &nb->du[k * dim], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
       const PetscReal  aj = a[j];
       PetscReal        pi = 0;
       if (aj <= 0) continue;
-      for (PetscInt d = 0; d < dim; d++) pi += (rj[dim + d] - ri[dim + d]) * dx[d];
-      pi *= 2.0 * ai * aj / (ai + aj) * nb->rinv2[k] * V[j];
+      for (PetscInt d = 0; d < dim; d++) pi += du[d] * dx[d];
+      pi *= 2.0 * ai * aj / (ai + aj) * nb->rinv2[k] * nb->Vj[k];
       if (gam) pi *= 0.5 * (ig[i] + ig[j]);
       for (PetscInt d = 0; d < dim; d++) acc[d] += pi * g[d];
     }
@@ -50,10 +50,10 @@ FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighb
   } else {
     for (PetscInt k = 0; k < nb->n; k++) {
       const PetscInt   j  = nb->j[k];
-      const PetscReal *rj = &P->rec[j * S], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
+      const PetscReal *du = &nb->du[k * dim], *dx = &nb->dx[k * dim], *g = &nb->gradW[k * dim];
       PetscReal        pi = 0;
-      for (PetscInt d = 0; d < dim; d++) pi += (rj[dim + d] - ri[dim + d]) * dx[d];
-      pi *= nb->rinv2[k] * V[j];
+      for (PetscInt d = 0; d < dim; d++) pi += du[d] * dx[d];
+      pi *= nb->rinv2[k] * nb->Vj[k];
       if (gam) pi *= 0.5 * (ig[i] + ig[j]);
       for (PetscInt d = 0; d < dim; d++) acc[d] += pi * g[d];
     }

@@ -61,6 +61,7 @@ typedef struct {
   /* each particle's neighbourhood: the two others */
   PetscInt  j[NP][NP - 1];
   PetscReal dx[NP][(NP - 1) * DIM], r2[NP][NP - 1], rinv2[NP][NP - 1], gradW[NP][(NP - 1) * DIM];
+  PetscReal du[NP][(NP - 1) * DIM], Vj[NP][NP - 1];
   PetscReal hgrad[NP][(NP - 1) * DIM]; /* the gradient written out, for the expected values */
 } Particles;
 
@@ -105,14 +106,16 @@ static PetscErrorCode SetUpParticles(Particles *pa)
   P->gravity[1]          = -9.81;
   P->gravity[0]          = 0.7;
   P->background_pressure = 0;
-  /* the neighbourhoods, as the core fills them: x_j - x_i, r^2, 1/r^2, grad_i W = -F(r) (x_j - x_i) */
+  /* the neighbourhoods, as the core fills them: x_j - x_i, r^2, 1/r^2, grad_i W = -F(r) (x_j - x_i), u_j - u_i, V_j */
   for (PetscInt i = 0; i < NP; i++)
     for (PetscInt j = 0, k = 0; j < NP; j++) {
       PetscReal r, q, a;
       if (j == i) continue;
       pa->j[i][k]  = j;
       pa->r2[i][k] = 0;
+      pa->Vj[i][k] = pa->vol[j];
       for (PetscInt d = 0; d < DIM; d++) {
+        pa->du[i][k * DIM + d] = u[j][d] - u[i][d];
         pa->dx[i][k * DIM + d] = x[j][d] - x[i][d];
         pa->r2[i][k] += pa->dx[i][k * DIM + d] * pa->dx[i][k * DIM + d];
       }
@@ -140,6 +143,8 @@ static void Neighbourhood(const Particles *pa, PetscInt i, FSNeighbourhood *nb)
   nb->r2    = pa->r2[i];
   nb->rinv2 = pa->rinv2[i];
   nb->gradW = pa->gradW[i];
+  nb->du    = pa->du[i];
+  nb->Vj    = pa->Vj[i];
 }
 
 /* the term's rates (pair pass and sources) of every particle, and its power */
