@@ -200,6 +200,7 @@ typedef struct {
   /* a per-particle output field the term can provide for the owned particles (e.g. "turbulent_viscosity") */
   PetscErrorCode (*field)(FSTerm, const char[], const FSParticles *, PetscReal *, PetscBool *);
   PetscErrorCode (*setfromoptions)(FSTerm, PetscOptionItems *);
+  /* once, before the first prepare of the run's first right-hand side, with the owned particles */
   PetscErrorCode (*setup)(FSTerm, const FSParticles *);
   PetscErrorCode (*view)(FSTerm, PetscViewer);
   PetscErrorCode (*destroy)(FSTerm);
@@ -219,7 +220,8 @@ struct _p_FSTerm {
   PetscReal dt_coefficient_rk4; /* dt_coefficient's default with RK4 (set up by FSSolverSetFromOptions; 0: none) */
   PetscBool split; /* advanced after each step by super-time-stepping (src/solver/split.c), not in the integrator's
                       stages: for a term whose only rate is drho, a diffusion in rho (term delta's -fs_delta_split) */
-  void *data;      /* implementation data */
+  void     *data;  /* implementation data */
+  PetscBool setupcalled; /* ops.setup has run (src/solver/rhs.c) */
 };
 
 typedef PetscErrorCode (*FSTermCreateFn)(FSTerm);

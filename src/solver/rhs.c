@@ -518,6 +518,8 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     for (PetscInt t = 0; t < s->terms.nterms; t++) {
       FSTerm term = s->terms.term[t];
       term->power = 0;
+      if (term->ops.setup && !term->setupcalled) PetscCall((*term->ops.setup)(term, &Pown));
+      term->setupcalled = PETSC_TRUE;
       if (term->ops.prepare) PetscCall((*term->ops.prepare)(term, &Pown));
     }
   }

@@ -4,6 +4,7 @@ is conserved to round-off, the energy budget closes with the term's work, and 2 
 Coarse (R/dx = 10) and dimensionless (rho0 = 1, R = 1, sigma = 1, c0 = 100): the figures at finer resolutions are
 in docs/surface-tension.md."""
 import csv
+import re
 
 import numpy as np
 import pytest
@@ -99,3 +100,16 @@ def test_two_ranks_give_one_ranks_particles(tmp_path_factory):
     for field in ("position", "velocity", "density"):
         assert rel_max_diff(a[field], b[field]) < 1e-10, field
     assert np.max(np.abs(a["velocity"])) > 0.01  # the term moved them
+
+
+def test_a_too_stiff_sigma_is_refused(tmp_path):
+    """The term's set-up (its ops.setup, called once before the first right-hand side) refuses a sigma whose
+    surface stresses sigma/(h K) reach 0.1 rho0 c0^2: here 193 sigma = 193 Pa against 10 (c0 = 10), before any
+    step, naming the option, its value and what to change."""
+    from conftest import petsc_error_message
+
+    p = run_flexslosh(BASE + ["-fs_c0", 10, "-ts_max_steps", 5, "-fs_output_dir", tmp_path / "out"], cwd=tmp_path,
+                      check=False)
+    msg = petsc_error_message(p.stdout)
+    assert p.returncode > 0 and re.search(r"-fs_surface_tension_sigma 1\.? is too stiff", msg) and "-fs_c0" in msg, msg
+    assert "Segmentation" not in p.stdout

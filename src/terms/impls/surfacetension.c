@@ -30,7 +30,7 @@
 
 typedef struct {
   PetscReal sigma; /* N/m (2-D: N per metre of depth, the same number) */
-  PetscReal A, c;  /* the potential's amplitude and the zero of its repulsive part, set by Prepare */
+  PetscReal A, c;  /* the potential's amplitude and the zero of its repulsive part, set by SetUp */
 } SurfaceTension;
 
 FS_ALWAYS_INLINE void InteractDim(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, FSRate *rate,
@@ -62,7 +62,8 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
 }
 
 /* the potential's constants for the run's dimension, smoothing length and density */
-static PetscErrorCode Prepare(FSTerm t, const FSParticles *P)
+/* the potential's constants and the stiffness check, once before the first right-hand side */
+static PetscErrorCode SetUp(FSTerm t, const FSParticles *P)
 {
   SurfaceTension *ctx = (SurfaceTension *)t->data;
   const PetscReal K   = P->dim == 2 ? 11.0 / (135.0 * PETSC_PI) : 1.0 / 44.0;
@@ -120,7 +121,7 @@ PETSC_EXTERN PetscErrorCode FSTermCreate_SurfaceTension(FSTerm t)
   t->data               = ctx;
   t->has_power          = PETSC_TRUE;
   t->ops.interact       = Interact;
-  t->ops.prepare        = Prepare;
+  t->ops.setup          = SetUp;
   t->ops.setfromoptions = SetFromOptions;
   t->ops.view           = View;
   t->ops.destroy        = Destroy;
