@@ -368,7 +368,7 @@ def main():
         ax[1].set_xlabel("cores")
         ax[1].set_ylabel("parallel efficiency (%)")
         ax[1].set_ylim(0, 105)
-        ax[1].legend(fontsize=8)
+        ax[1].legend(fontsize=7, loc="lower left")
         for axis in ax:
             axis.grid(True, which="both", lw=0.3)
         fig.suptitle(f"flexslosh projected (latency {a.alpha * 1e6:.1f} us, bandwidth {a.beta / 1e9:.0f} GB/s)", fontsize=10)
