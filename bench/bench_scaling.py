@@ -15,8 +15,10 @@ The cases (their resolution is the counted runs', not the projections'):
              oversubscribed ranks would need about 2.5 GB and far longer), 6 steps
   seed2d     cases/coupled_rectangular.opts at dx = 2 mm (5,250 particles), 40 steps
   baffled3d  cases/coupled_baffled_3d.opts at dx = 5 mm (8,400 particles), 4 steps
-  seed2d_slosh  (not by default) the seed's tank at dx = 5 mm for 1 s: how far the load imbalance drifts with
-             the cuts of the start (--cases seed2d_slosh --ranks 8)
+  seed2d_thin, baffled3d_thin  (not by default) seed2d and baffled3d with -fs_series_interval 1000: the
+             collectives a step with the time-series rows thinned out (scaling_model.py reads them)
+  seed2d_slosh  (not by default) the seed's tank at dx = 5 mm for 1 s: how far the load imbalance drifts as the
+             liquid moves, the cuts following it (--cases seed2d_slosh --ranks 8)
 
 With --timed it times instead, on 1 and 2 ranks (--repeats times, the load noted): the seed's tank at L/dx = 2000
 (dx = 0.35 mm, 172,000 particles, 20 steps) and the 3-D baffled tank 0.1 m wide at dx = 2.5 mm (134,400
@@ -36,6 +38,12 @@ CASES = {
     "dam3d": ["-fs_case", "dam_break", "-fs_dim", "3", "-fs_dx", "0.05", "-ts_max_steps", "6"],
     "seed2d": ["-options_file", str(ROOT / "cases/coupled_rectangular.opts"), "-fs_dx", "0.002", "-ts_max_steps", "40"],
     "baffled3d": ["-options_file", str(ROOT / "cases/coupled_baffled_3d.opts"), "-fs_dx", "0.005", "-ts_max_steps", "4"],
+    # the coupled tanks with the time-series rows thinned out (not by default): the collectives the model's
+    # "rows thinned" scenario takes
+    "seed2d_thin": ["-options_file", str(ROOT / "cases/coupled_rectangular.opts"), "-fs_dx", "0.002", "-ts_max_steps", "40",
+                    "-fs_series_interval", "1000"],
+    "baffled3d_thin": ["-options_file", str(ROOT / "cases/coupled_baffled_3d.opts"), "-fs_dx", "0.005", "-ts_max_steps",
+                       "4", "-fs_series_interval", "1000"],
     # the imbalance over a sloshing second with the cuts of the start (not in the default --cases: run it on 8 ranks)
     "seed2d_slosh": ["-options_file", str(ROOT / "cases/coupled_rectangular.opts"), "-fs_dx", "0.005", "-ts_max_time", "1"],
 }

@@ -18,6 +18,11 @@ efficiency of a run on 1 to 1,024 cores from
                                                                         V values each, mu: memory bandwidth)
     T(P) = steps T_step(P);  efficiency E(P) = T(1) / (P T(P))
 
+The wall pressure's sums are neighbour messages since issue 37 (r = 0 in the counts; their messages and bytes are
+in the halo's m and b). Scenarios beside the cuts on the particles: the cuts on the work (-fs_balance work, the
+default, replayed with the pairs' share standing for the work), the imbalance's drift over a sloshing run with the
+cuts following the liquid (--drift), and the collectives with the time-series rows thinned out (<case>_thin runs).
+
     /usr/bin/python3 bench/scaling_model.py --counts /tmp/scal/counted [--plot docs/images/scaling.png]
 """
 import argparse
@@ -59,8 +64,9 @@ def choose_grid(P, dim, length, minwidth):
     return grid
 
 
-def balance(x, lo, length, grid, minwidth):
-    """FSDecompBalance: per direction, cuts at the quantiles of a 4096-bin histogram, then the minimum width."""
+def balance(x, lo, length, grid, minwidth, weights=None):
+    """FSDecompBalance: per direction, cuts at the bin edge closest to each quantile of a 4096-bin histogram of the
+    particles (weights: of their work, -fs_balance work), then the minimum width."""
     dim = x.shape[1]
     cuts = []
     for d in range(dim):
@@ -68,13 +74,15 @@ def balance(x, lo, length, grid, minwidth):
         cut = lo[d] + length[d] * np.arange(n + 1) / n
         if n > 1:
             b = np.clip(((x[:, d] - lo[d]) / length[d] * NBINS).astype(np.int64), 0, NBINS - 1)
-            hist = np.bincount(b, minlength=NBINS)
+            hist = np.bincount(b, weights=weights, minlength=NBINS)
             total = hist.sum()
-            acc, k = 0, 1
+            acc, k = 0.0, 1
             for i in range(NBINS):
+                below = acc
                 acc += hist[i]
                 while k < n and acc * n >= total * k:
-                    cut[k] = lo[d] + length[d] * (i + 1) / NBINS
+                    before = i > 0 and total * k - below * n < acc * n - total * k
+                    cut[k] = lo[d] + length[d] * (i if before else i + 1) / NBINS
                     k += 1
                 if k >= n:
                     break
@@ -86,13 +94,14 @@ def balance(x, lo, length, grid, minwidth):
     return cuts
 
 
-def decompose(x, lo, hi, P, width, weights=None):
+def decompose(x, lo, hi, P, width, weights=None, on_work=False):
     """Per rank: owned particles, ghosts received, ranks sent to (FSHaloFindSends on the initial lattice), and with
-    weights the work (the sum of the owned particles' weights)."""
+    weights the work (the sum of the owned particles' weights); on_work: the cuts balance the weights instead of
+    the particles (-fs_balance work, with the pairs' share standing for a particle's work)."""
     dim = x.shape[1]
     length = [hi[d] - lo[d] for d in range(dim)]
     grid = choose_grid(P, dim, length, width)
-    cuts = balance(x, lo, length, grid, width)
+    cuts = balance(x, lo, length, grid, width, weights if on_work else None)
     c = np.empty_like(x, dtype=np.int64)
     low = np.empty(x.shape, dtype=bool)
     high = np.empty(x.shape, dtype=bool)
@@ -199,10 +208,10 @@ def rates(runs):
                 dx=s["dx"], pair_imbalance=imb)
 
 
-def decompositions(x, w, lo, hi, h, Ps):
+def decompositions(x, w, lo, hi, h, Ps, on_work=False):
     """The replayed decomposition on each P of Ps: {P: (grid, owned, ghosts, sendranks, work)}."""
     dlo, dhi = domain(lo, hi, h)
-    return {P: decompose(x, dlo, dhi, P, 2.5 * h, w) for P in Ps}  # the halo: support 2h plus the skin 0.5h
+    return {P: decompose(x, dlo, dhi, P, 2.5 * h, w, on_work) for P in Ps}  # the halo: support 2h plus the skin 0.5h
 
 
 def drift_at(drift, P):
@@ -238,17 +247,21 @@ def project(decs, dim, steps, cost, ghost_cost, r, wp_values, alpha=1.5e-6, beta
 
 def validate(counts_dir):
     """The replayed decomposition against the counted runs' first step: largest owned count, largest ghost count and
-    most ranks sent to, per rank count."""
-    print("replayed decomposition against the counted runs (first step): owned max, ghosts max, send ranks max")
-    for case, (x, lo, hi, _), h in [("seed2d", lattice_seed2d(0.002), 0.004),
+    most ranks sent to, per rank count; replayed with the cuts on the particles and on the pairs' share (the counted
+    runs balance -fs_balance's work, which also weighs the wall elements: neither replay is exact there)."""
+    print("replayed decomposition against the counted runs (first step): owned max, ghosts max, send ranks max"
+          " (measured / replayed on particles / replayed on pairs)")
+    for case, (x, lo, hi, w), h in [("seed2d", lattice_seed2d(0.002), 0.004),
                                     ("baffled3d", lattice_baffled3d(0.005, 0.05), 0.01)]:
         dlo, dhi = domain(lo, hi, h)
         for P, s in sorted(counted(counts_dir, case).items()):
             p = s["parallel"]
-            grid, owned, ghosts, sendranks = decompose(x, dlo, dhi, P, 2.5 * h)
+            grid, owned, ghosts, sendranks, _ = decompose(x, dlo, dhi, P, 2.5 * h, w)
+            _, owned_w, ghosts_w, sendranks_w, _ = decompose(x, dlo, dhi, P, 2.5 * h, w, on_work=True)
             print(f"  {case:9s} {P:3d} ranks: grid {'x'.join(str(int(g)) for g in p['grid'])} / {'x'.join(map(str, grid[:x.shape[1]]))}"
-                  f"  owned {max(p['owned_first']):6.0f} / {owned.max():6d}  ghosts {max(p['ghosts_first']):6.0f} / {ghosts.max():6d}"
-                  f"  send ranks {max(p['send_ranks']):3.0f} / {sendranks.max():3d}   (measured / replayed)")
+                  f"  owned {max(p['owned_first']):6.0f} / {owned.max():6d} / {owned_w.max():6d}"
+                  f"  ghosts {max(p['ghosts_first']):6.0f} / {ghosts.max():6d} / {ghosts_w.max():6d}"
+                  f"  send ranks {max(p['send_ranks']):3.0f} / {sendranks.max():3d} / {sendranks_w.max():3d}")
 
 
 def fmt_time(t):
@@ -267,12 +280,13 @@ def main():
     ap.add_argument("--steps3d", type=float, default=87000, help="steps of (b): 3 s")
     ap.add_argument("--wp3d", type=float, nargs=2, default=[589400, 0.0025], metavar=("VALUES", "DX"),
                     help="the 3-D tank's wall-pressure values per sum measured at DX (0.1 m wide; scaled by 1/dx^2)")
-    ap.add_argument("--drift", default="8:1.3",
-                    help="the imbalance's growth over a sloshing run with the cuts of the start (a scenario), measured "
-                         "on some rank counts (P:factor,...; bench_scaling.py --cases seed2d_slosh): interpolated in "
-                         "log2 P from 1 on one rank, the last one's beyond")
-    ap.add_argument("--collectives-series", type=float, default=35.4,
-                    help="collectives per step with -fs_series_interval 10 (a scenario)")
+    ap.add_argument("--drift", default="2:1.013,8:1.201",
+                    help="the pair lists' imbalance over a sloshing run, the cuts moving with the liquid (a scenario), "
+                         "measured on some rank counts (P:factor,...; bench_scaling.py --cases seed2d_slosh): "
+                         "interpolated in log2 P from 1 on one rank, the last one's beyond")
+    ap.add_argument("--collectives-series", type=float, default=None,
+                    help="collectives per step with the time-series rows thinned out (a scenario; default: counted, "
+                         "the largest of bench_scaling.py's <case>_thin runs in --counts)")
     ap.add_argument("--alpha", type=float, default=1.5e-6)
     ap.add_argument("--beta", type=float, default=10e9)
     ap.add_argument("--plot", help="PNG of the efficiencies")
@@ -294,6 +308,11 @@ def main():
             print(f"no counted runs of {case} in {a.counts}", file=sys.stderr)
             continue
         r = rates(runs)
+        thin = counted(a.counts, case + "_thin")
+        coll_thin = a.collectives_series or (rates(thin)["collectives"] if len(thin) > 1 else r["collectives"])
+        # over a sloshing run the lists' rebuilds, the migrations and the cuts' moves add their collectives
+        slosh = {P: s for P, s in counted(a.counts, "seed2d_slosh").items() if P > 1}
+        coll_slosh = max(rates(slosh)["collectives"], r["collectives"]) if slosh else r["collectives"]
         dx = h / 2
         if dim == 2:  # segments ~ 1/dx
             wp_values = r["wp_values"] * r["dx"] / dx
@@ -301,20 +320,25 @@ def main():
             wp_values = a.wp3d[0] * (a.wp3d[1] / dx) ** 2
         x, lo, hi, w = lat()
         decs = decompositions(x, w, lo, hi, h, Ps)
+        decs_work = decompositions(x, w, lo, hi, h, Ps, on_work=True)
         common = dict(dim=dim, steps=steps, cost=cost, ghost_cost=a.ghost_share * cost, r=r, wp_values=wp_values,
                       alpha=a.alpha, beta=a.beta)
         rows = project(decs, **common)
-        scen = {"drift": project(decs, drift=a.drift, **common),
-                "series": project(decs, collectives=a.collectives_series, **common),
-                "series_nowp": project(decs, collectives=a.collectives_series, wall_pressure=False, **common)}
+        scen = {"drift": project(decs, drift=a.drift, collectives=coll_slosh, **common),
+                "work": project(decs_work, **common),
+                "work_drift": project(decs_work, drift=a.drift, collectives=coll_slosh, **common),
+                "all": project(decs_work, drift=a.drift, collectives=coll_slosh - r["collectives"] + coll_thin,
+                               **common)}
         out[key] = dict(case=case, particles=len(x), steps=steps, cost=cost, rates=r, wp_values=wp_values, rows=rows,
+                        collectives_thinned=coll_thin, collectives_sloshing=coll_slosh,
                         scenarios=scen)
         print(f"\n({key}) {case}: {len(x)} particles, {steps:.0f} steps, {cost:.3g} s per particle-step on one core; "
               f"counted rates: {r['collectives']:.1f} collectives/step, {r['messages_per_sendrank']:.1f} messages/step "
               f"per rank sent to, {r['bytes_per_ghost']:.0f} bytes/ghost/step, {r['wp_reductions']:.0f} wall-pressure "
-              f"sums/step of {wp_values:.0f} values")
+              f"sums/step of {wp_values:.0f} values; {coll_thin:.2f} collectives/step with the rows thinned out, "
+              f"{coll_slosh:.2f} over a sloshing second (the drifted columns)")
         print("cores  grid       owned max  work imb.  ghosts max  send ranks  compute ms  halo ms  coll ms  wall-p ms"
-              "   step ms   wall time  efficiency | drifted  %.0f coll.  and no wall-p sum" % a.collectives_series)
+              "   step ms   wall time  efficiency | drifted  cuts on work  and drifted  and rows thinned")
         for k, w in enumerate(rows):
             print(f"{w['P']:5d}  {'x'.join(map(str, w['grid'])):9s} {w['owned_max']:10d} {w['work_imbalance']:9.3f}"
                   f" {w['ghosts_max']:10d} {w['sendranks_max']:10d} {1e3 * w['compute']:11.3f} {1e3 * w['halo']:8.3f}"
@@ -331,11 +355,11 @@ def main():
         for key, o in out.items():
             P = [w["P"] for w in o["rows"]]
             ax[0].loglog(P, [w["wall"] / 3600 for w in o["rows"]], "o-", label=f"({key}) {o['case']}, {o['particles']:,} particles")
-            line = ax[1].semilogx(P, [100 * w["efficiency"] for w in o["rows"]], "o-", label=f"({key}) as measured")
-            ax[1].semilogx(P, [100 * w["efficiency"] for w in o["scenarios"]["drift"]], "--", color=line[0].get_color(),
-                           label=f"({key}) imbalance drifted as in sloshing ({drift_label} ranks)")
-            ax[1].semilogx(P, [100 * w["efficiency"] for w in o["scenarios"]["series_nowp"]], ":", color=line[0].get_color(),
-                           label=f"({key}) {a.collectives_series:g} collectives, no global wall-pressure sum")
+            line = ax[1].semilogx(P, [100 * w["efficiency"] for w in o["rows"]], "o-", label=f"({key}) cuts on particles")
+            ax[1].semilogx(P, [100 * w["efficiency"] for w in o["scenarios"]["work"]], "s--", color=line[0].get_color(),
+                           label=f"({key}) cuts on work (-fs_balance work)")
+            ax[1].semilogx(P, [100 * w["efficiency"] for w in o["scenarios"]["all"]], ":", color=line[0].get_color(),
+                           label=f"({key}) cuts on work, drifted ({drift_label} ranks), rows thinned")
         for o in out.values():
             ax[0].loglog(P, [o["rows"][0]["wall"] / 3600 / p for p in P], "k:", lw=0.8)
         ax[0].set_xlabel("cores")
@@ -344,7 +368,7 @@ def main():
         ax[1].set_xlabel("cores")
         ax[1].set_ylabel("parallel efficiency (%)")
         ax[1].set_ylim(0, 105)
-        ax[1].legend(fontsize=8)
+        ax[1].legend(fontsize=7, loc="lower left")
         for axis in ax:
             axis.grid(True, which="both", lw=0.3)
         fig.suptitle(f"flexslosh projected (latency {a.alpha * 1e6:.1f} us, bandwidth {a.beta / 1e9:.0f} GB/s)", fontsize=10)
