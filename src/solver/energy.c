@@ -203,30 +203,28 @@ static PetscErrorCode FSSolverEnergyStructure(FSSolver s, const FSTankMotion *mo
   PetscFunctionReturn(0);
 }
 
-/*
-   The energies of the current state: the liquid's (every rank) and the structure's (rank 0):
-   liq[FS_E_*], st[0..2] structure kinetic, potential, L_s . (d, theta). Collective.
-*/
-static PetscErrorCode FSSolverEnergyCompute(FSSolver s, PetscReal liq[FS_E_NLIQ], PetscReal st[3])
+/* The liquid's energies of the current state summed over the ranks, liq[FS_E_*], and the tank's motion mo. Collective
+ */
+static PetscErrorCode FSSolverEnergyLiquid(FSSolver s, PetscReal liq[FS_E_NLIQ], FSTankMotion *mo)
 {
-  PetscReal    loc[FS_E_NLIQ];
-  FSTankMotion mo;
+  PetscReal loc[FS_E_NLIQ];
 
   PetscFunctionBegin;
-  PetscCall(FSSolverEnergyLocal(s, loc, &mo));
+  PetscCall(FSSolverEnergyLocal(s, loc, mo));
   PetscCallMPI(MPI_Allreduce(loc, liq, FS_E_NLIQ, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
-  PetscCall(FSSolverEnergyStructure(s, &mo, st));
   PetscFunctionReturn(0);
 }
 
 /* The liquid's energy (tank frame) and the whole system's energy of the current state (valid on rank 0). */
 static PetscErrorCode FSSolverEnergyTotals(FSSolver s, PetscReal e[2])
 {
-  PetscReal liq[FS_E_NLIQ], st[3], w;
+  PetscReal    liq[FS_E_NLIQ], st[3], w;
+  FSTankMotion mo;
 
   PetscFunctionBegin;
   PetscCall(FSCouplingGetWidth(s->coupling, &w));
-  PetscCall(FSSolverEnergyCompute(s, liq, st));
+  PetscCall(FSSolverEnergyLiquid(s, liq, &mo));
+  PetscCall(FSSolverEnergyStructure(s, &mo, st));
   e[0] = liq[FS_E_KIN] + liq[FS_E_POT] + liq[FS_E_COMP];
   e[1] = w * (liq[FS_E_KIN_ABS] + liq[FS_E_POT_ABS] + liq[FS_E_COMP]) + st[0] + st[1] + st[2];
   PetscFunctionReturn(0);
@@ -415,14 +413,13 @@ PetscErrorCode FSSolverEnergySummed(FSSolver s, const PetscReal liq[], const FST
 
    Collective
 */
-PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
+static PetscErrorCode FSSolverEnergyValues(FSSolver s, PetscReal vals[])
 {
-  PetscReal    loc[FS_E_NLIQ], liq[FS_E_NLIQ];
+  PetscReal    liq[FS_E_NLIQ];
   FSTankMotion mo;
 
   PetscFunctionBegin;
-  PetscCall(FSSolverEnergyLocal(s, loc, &mo));
-  PetscCallMPI(MPI_Allreduce(loc, liq, FS_E_NLIQ, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
+  PetscCall(FSSolverEnergyLiquid(s, liq, &mo));
   PetscCall(FSSolverEnergySummed(s, liq, &mo, vals));
   PetscFunctionReturn(0);
 }

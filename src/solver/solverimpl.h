@@ -425,7 +425,6 @@ enum {
   FS_ENERGY_NDOF
 };
 PETSC_INTERN PetscErrorCode FSSolverEnergyColumns(FSSolver, PetscInt *, const char *[]);
-PETSC_INTERN PetscErrorCode FSSolverEnergyValues(FSSolver, PetscReal[]);
 #define FS_ENERGY_NSUMS 5 /* the liquid's energies a rank sums (FSSolverEnergyLocal()) */
 PETSC_INTERN PetscErrorCode FSSolverEnergyLocal(FSSolver, PetscReal loc[], FSTankMotion *);
 PETSC_INTERN PetscErrorCode FSSolverEnergySummed(FSSolver, const PetscReal liq[], const FSTankMotion *, PetscReal[]);

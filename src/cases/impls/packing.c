@@ -131,6 +131,16 @@ static PetscErrorCode GridDestroy(Grid *gr)
   PetscFunctionReturn(0);
 }
 
+/* the distance of x from the plane of element el (its first corner FS_SEG_P0 / FS_TRI_P0, its normal n out of the
+   liquid): > 0 on the liquid's side */
+static inline PetscReal ElementPlaneDistance(PetscInt dim, const PetscReal el[], const PetscReal n[],
+                                             const PetscReal x[])
+{
+  PetscReal s = 0;
+  for (PetscInt d = 0; d < dim; d++) s += (el[d] - x[d]) * n[d];
+  return s;
+}
+
 /* e_i of the particle i (packing.c's header); push: the wall_pressure term's kappa and d0 (a length), whose f_ik
    weighs an element's share near contact as the run's wall term does under a uniform pressure */
 static void ParticleSum(const FSPackRegion *g, const Grid *pg, const Grid *eg, const FSKernel *k, PetscReal V,
@@ -173,9 +183,9 @@ static void ParticleSum(const FSPackRegion *g, const Grid *pg, const Grid *eg, c
         FSTriangleIntegrals(k->h, xi, el, PETSC_FALSE, &gk, &wint);
         n = el + FS_TRI_NORMAL;
       }
-      PetscReal dist = 0, f = 1; /* the wall term's weight (1 + f_ik)/2 under a uniform pressure (wall.c) */
+      PetscReal f = 1; /* the wall term's weight (1 + f_ik)/2 under a uniform pressure (wall.c) */
       if (push[0] > 0) {
-        for (PetscInt d = 0; d < dim; d++) dist += (el[d] - xi[d]) * n[d]; /* the first corner: FS_*_P0 */
+        const PetscReal dist = ElementPlaneDistance(dim, el, n, xi);
         if (dist > 0 && dist < push[1]) f += 0.5 * push[0] * (push[1] - dist) / push[1];
       }
       for (PetscInt d = 0; d < dim; d++) e[d] += f * wint * n[d];
@@ -192,9 +202,8 @@ static void KeepFromWalls(const FSPackRegion *g, const Grid *eg, PetscReal dmin,
   cell = CellOf(eg, x);
   for (PetscInt q = eg->start[cell]; q < eg->start[cell + 1]; q++) {
     const PetscReal *el = &g->el[eg->item[q] * g->stride], *n = el + (g->dim == 2 ? FS_SEG_NORMAL : FS_TRI_NORMAL);
-    const PetscReal *p = el; /* the first corner: FS_SEG_P0, FS_TRI_P0 */
-    PetscReal        s = 0, d2;
-    for (PetscInt d = 0; d < g->dim; d++) s += (p[d] - x[d]) * n[d]; /* > 0: x on the liquid side */
+    const PetscReal  s = ElementPlaneDistance(g->dim, el, n, x);
+    PetscReal        d2;
     if (s >= dmin || s <= -dmin) continue;
     d2 = g->dim == 2 ? FSSegmentDistance2(el, x)
                      : FSTriangleDistance2(el + FS_TRI_P0, el + FS_TRI_P1, el + FS_TRI_P2, x);
