@@ -61,8 +61,8 @@ static void Interact(FSTerm t, const FSParticles *P, const FSNeighbourhood *nb, 
   else InteractDim(t, P, nb, rate, 3);
 }
 
-/* the potential's constants for the run's dimension, smoothing length and density */
-/* the potential's constants and the stiffness check, once before the first right-hand side */
+/* the potential's constants for the run's dimension, smoothing length and density, and the stiffness check: once
+   before the first right-hand side (ops.setup) */
 static PetscErrorCode SetUp(FSTerm t, const FSParticles *P)
 {
   SurfaceTension *ctx = (SurfaceTension *)t->data;
