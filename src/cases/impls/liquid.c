@@ -156,14 +156,13 @@ PetscErrorCode FSCaseLatticeFits(FSSolver s, FSFillPackingType type, PetscBool a
 PetscErrorCode FSCaseRelaxedDensities(FSSolver s, PetscInt dim, PetscReal ysurf, PetscReal volume, PetscInt n,
                                       const PetscReal x[], PetscReal rho[], PetscReal m[])
 {
-  PetscReal g[3], gmag = 0, rho0, c0;
+  PetscReal g[3], gmag, rho0, c0;
   PetscInt  N = n;
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, NULL, NULL, &rho0, &c0, NULL));
-  for (PetscInt d = 0; d < dim; d++) gmag += g[d] * g[d];
-  gmag = PetscSqrtReal(gmag);
+  gmag = FSCaseHeadGravity(g, dim);
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &N, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)s)));
   for (PetscInt i = 0; i < n; i++) {
     rho[i] = rho0 + rho0 * gmag * (ysurf - x[dim * i + 1]) / (c0 * c0);
@@ -269,7 +268,7 @@ PetscErrorCode FSCaseFillLevelPolygon(FSSolver s, const FSWalls *w, PetscReal x0
   PetscFunctionBegin;
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, NULL, NULL, &p.rho0, &c0, NULL));
-  p.g_c02 = PetscSqrtReal(g[0] * g[0] + g[1] * g[1]) / (c0 * c0);
+  p.g_c02 = FSCaseHeadGravity(g, 2) / (c0 * c0);
   PetscCall(FSCaseFillLevel(s, PolygonLevelAt, &p, y0, y1, bymass, target, what, level));
   PetscFunctionReturn(0);
 }
@@ -291,7 +290,7 @@ static PetscErrorCode PolygonLatticePoints(FSSolver s, const FSWalls *w, PetscRe
   PetscFunctionBegin;
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, &dx, NULL, &rho0, &c0, NULL));
-  gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1]);
+  gmag = FSCaseHeadGravity(g, 2);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(LatticeSizeCheck(s, w, x0, x1, y0, ysurf, what));
@@ -368,7 +367,7 @@ static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0,
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, NULL, NULL, &rho0, &c0, NULL));
   PetscCall(FSSolverGetFillPacking(s, &pk));
-  gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1]);
+  gmag = FSCaseHeadGravity(g, 2);
   PolygonExactMass(w, x0, x1, y0, ysurf, rho0, gmag / (c0 * c0), &area, &mass);
   PetscCall(PolygonLatticePoints(s, w, x0, x1, y0, ysurf, what, 0.499, &n, &x, &rho, &m));
   PetscCall(FSCaseLatticeFits(s, pk.type, FSWallsAlongAxes(w), mass, n, m, &relax));

@@ -5,6 +5,15 @@
 /* the default -fs_terms of the cases with walls: the seed's delta-LES-SPH with boundary integrals */
 #define FS_WALL_CASE_TERMS \
   "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity"
+/* the gravity of the hydrostatic start rho = rho0 (1 + G (ysurf - y) / c0^2) below the surface y = ysurf: G = |g|
+   (the first dim components), negative where gravity points up (+y), where the liquid on the floor hangs in tension
+   from it (a tank falling faster than g; the standing wave case's Rayleigh-Taylor layer) */
+static inline PetscReal FSCaseHeadGravity(const PetscReal g[], PetscInt dim)
+{
+  PetscReal g2 = 0;
+  for (PetscInt d = 0; d < dim; d++) g2 += g[d] * g[d];
+  return g[1] > 0 ? -PetscSqrtReal(g2) : PetscSqrtReal(g2);
+}
 /* an initial velocity field for FSCaseFillLiquidWithVelocity: u at the point x (dim components) */
 typedef PetscErrorCode (*FSCaseVelocityFn)(const PetscReal x[], PetscReal u[], void *ctx);
 PETSC_INTERN PetscErrorCode FSCaseFillLiquid(FSSolver, FSWalls *, PetscReal x0, PetscReal x1, PetscReal y0,

@@ -142,7 +142,7 @@ PetscErrorCode FSCaseFillLevelMesh(FSSolver s, const FSMesh *m, const PetscReal 
   }
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, NULL, NULL, &p.rho0, &c0, NULL));
-  p.g_c02 = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]) / (c0 * c0);
+  p.g_c02 = FSCaseHeadGravity(g, 3) / (c0 * c0);
   PetscCall(FSCaseFillLevel(s, MeshLevelAt, &p, lo[1], hi[1], bymass, target, what, level));
   PetscFunctionReturn(0);
 }
@@ -163,7 +163,7 @@ static PetscErrorCode MeshLatticePoints(FSSolver s, const FSMesh *m, const Petsc
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, &dx, NULL, &rho0, &c0, NULL));
   PetscCall(MeshSizeCheck(s, m, lo, hi, vol, what)); /* before the counts are converted to PetscInt */
-  gmag  = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  gmag  = FSCaseHeadGravity(g, 3);
   ny    = (PetscInt)((hi[1] - lo[1]) / dx + 0.5);
   nz    = (PetscInt)((hi[2] - lo[2]) / dx + 0.5);
   nxmax = (PetscInt)((hi[0] - lo[0]) / dx + 0.5) + 1;
@@ -248,7 +248,7 @@ static PetscErrorCode MeshLattice(FSSolver s, FSMesh *m, const PetscReal lo[3], 
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, NULL, NULL, &rho0, &c0, NULL));
   PetscCall(FSSolverGetFillPacking(s, &pk));
-  gmag = PetscSqrtReal(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+  gmag = FSCaseHeadGravity(g, 3);
   MeshExactMass(m, lo, hi, rho0, gmag / (c0 * c0), &vol, &exact);
   PetscCall(MeshLatticePoints(s, m, lo, hi, vol, what, 0.499, &n, &x, &rho, &mass));
   PetscCall(FSCaseLatticeFits(s, pk.type, FSMeshAlongAxes(m), exact, n, mass, &relax));

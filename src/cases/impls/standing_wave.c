@@ -34,6 +34,10 @@
    cos(k_x x) cos(k_z z), k_x = n pi / L, k_z = m pi / Lz with m = -fs_sw_mode_z (0: the 2-D wave across
    the width), k = sqrt(k_x^2 + k_z^2) in the dispersion relation and the decay; the velocity is the
    gradient of phi = (g A / omega) cos(k_x x) cos(k_z z) cosh(k y) / cosh(k h) cos(omega t).
+   With gravity pointing up (-fs_gravity 0,g) the liquid hangs from the floor in tension (the hydrostatic start
+   p = rho0 g (y - h)) and its surface is Rayleigh-Taylor unstable: the mode grows, omega above is the growth rate
+   n = sqrt(g k tanh(k h)), and the linear columns are cosh(n t) and cosh^2(n t) in place of cos (the layer the seed's
+   tank holds while it falls faster than g: docs/seed-experiment.md, tests/python/test_hanging_layer.py).
    Defaults: dx = h/50, c0 = 10 sqrt(g h) (the waves' speeds are below 0.1 sqrt(g h)), the wall cases'
    terms (delta-LES-SPH with boundary integrals) and CFL 1.5, final time 20 sqrt(h/g).
 */
@@ -43,6 +47,7 @@
 typedef struct {
   PetscReal L, h, A, Re, k, kx, kz, omega, ke0, Lz;
   PetscInt  mode, modez, dim;
+  PetscBool growing; /* gravity up: omega is the Rayleigh-Taylor growth rate */
 } StandingWave;
 
 static PetscErrorCode SetFromOptions(FSSolver s, PetscOptionItems *PetscOptionsObject)
@@ -115,13 +120,15 @@ static PetscErrorCode SetUp(FSSolver s)
   PetscCall(FSSolverGetCaseData(s, &sw));
   PetscCall(FSSolverGetGravity(s, g));
   PetscCall(FSSolverGetParameters(s, NULL, NULL, &rho0, NULL, &nu));
-  PetscCheck(g[0] == 0 && g[1] < 0, comm, PETSC_ERR_ARG_OUTOFRANGE,
-             "Case standing_wave needs gravity pointing down (-fs_gravity 0,-g), not %g,%g", (double)g[0],
-             (double)g[1]);
-  sw->kx    = sw->mode * PETSC_PI / sw->L;
-  sw->kz    = sw->dim == 3 ? sw->modez * PETSC_PI / sw->Lz : 0;
-  sw->k     = PetscSqrtReal(sw->kx * sw->kx + sw->kz * sw->kz);
-  sw->omega = PetscSqrtReal(-g[1] * sw->k * PetscTanhReal(sw->k * sw->h));
+  PetscCheck(g[0] == 0 && g[1] != 0 && (sw->dim == 2 || g[2] == 0), comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "Case standing_wave needs gravity along y (-fs_gravity 0,-g: down; 0,g: up, the Rayleigh-Taylor layer), "
+             "not %g,%g,%g",
+             (double)g[0], (double)g[1], (double)g[2]);
+  sw->growing = (PetscBool)(g[1] > 0);
+  sw->kx      = sw->mode * PETSC_PI / sw->L;
+  sw->kz      = sw->dim == 3 ? sw->modez * PETSC_PI / sw->Lz : 0;
+  sw->k       = PetscSqrtReal(sw->kx * sw->kx + sw->kz * sw->kz);
+  sw->omega   = PetscSqrtReal(PetscAbsReal(g[1]) * sw->k * PetscTanhReal(sw->k * sw->h));
   PetscCall(FSWallsCreate(&w));
   PetscCall(FSWallsRectangularTank(&w, comm, sw->L, 1.5 * sw->h));
   PetscCall(FSWallsSetEdgeWall(&w, comm, 0, 0, "floor"));
@@ -146,10 +153,10 @@ static PetscErrorCode SetUp(FSSolver s)
   PetscCall(DMSwarmRestoreField(swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
   PetscCallMPI(MPI_Allreduce(&ke, &sw->ke0, 1, MPIU_REAL, MPI_SUM, comm));
   PetscCall(PetscInfo(s,
-                      "Standing wave: k = %g, omega = %g, period %g, kinetic energy decay rate 4 nu k^2 = %g, E_k(0) = "
+                      "Standing wave: k = %g, %s %g, period %g, kinetic energy decay rate 4 nu k^2 = %g, E_k(0) = "
                       "%g (linear theory %g)\n",
-                      (double)sw->k, (double)sw->omega, (double)(2 * PETSC_PI / sw->omega),
-                      (double)(4 * nu * sw->k * sw->k), (double)sw->ke0,
+                      (double)sw->k, sw->growing ? "growth rate" : "omega =", (double)sw->omega,
+                      (double)(2 * PETSC_PI / sw->omega), (double)(4 * nu * sw->k * sw->k), (double)sw->ke0,
                       (double)(rho0 * -g[1] * PetscSqr(sw->A * sw->h) * sw->L / 4)));
   PetscFunctionReturn(0);
 }
@@ -183,9 +190,15 @@ static PetscErrorCode Columns(FSSolver s, PetscReal t, PetscReal values[])
   PetscCall(DMSwarmRestoreField(swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&u));
   PetscCall(DMSwarmRestoreField(swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCallMPI(MPI_Allreduce(loc, sum, 2, MPIU_REAL, MPI_SUM, PetscObjectComm((PetscObject)s)));
-  values[0] = sw->ke0 * 0.5 * (1 + PetscCosReal(2 * sw->omega * t)) * PetscExpReal(-4 * nu * sw->k * sw->k * t);
+  if (sw->growing) { /* the Rayleigh-Taylor mode grows as cosh(omega t) */
+    const PetscReal c = PetscCoshReal(sw->omega * t);
+    values[0]         = sw->ke0 * c * c * PetscExpReal(-4 * nu * sw->k * sw->k * t);
+    values[2]         = c * PetscExpReal(-2 * nu * sw->k * sw->k * t);
+  } else {
+    values[0] = sw->ke0 * 0.5 * (1 + PetscCosReal(2 * sw->omega * t)) * PetscExpReal(-4 * nu * sw->k * sw->k * t);
+    values[2] = PetscCosReal(sw->omega * t) * PetscExpReal(-2 * nu * sw->k * sw->k * t);
+  }
   values[1] = sum[1] > 0 ? sum[0] / sum[1] : 0;
-  values[2] = PetscCosReal(sw->omega * t) * PetscExpReal(-2 * nu * sw->k * sw->k * t);
   PetscFunctionReturn(0);
 }
 
