@@ -1063,13 +1063,21 @@ MODAL_NUMERICS: list[Any] = ["-fs_structure_cfl", 0.05]
 SEED_TERMS = "continuity,delta,pressure,viscosity,les_viscosity,gravity,wall_continuity,wall_pressure,wall_viscosity"
 ARTIFICIAL_PRESSURE: list[Any] = ["-fs_terms", SEED_TERMS + ",tensile_control", "-fs_tensile_control_type",
                                   "artificial_pressure"]
+NO_TENSION: list[Any] = ["-fs_walls_tension", "false"]
 SEED_CONVERGENCE_RUNS = {
     "rectangular_msd": ("coupled_rectangular", "msd", []),
     "rectangular_msd_artificial_pressure": ("coupled_rectangular", "msd", ARTIFICIAL_PRESSURE),
-    "rectangular_msd_no_tension": ("coupled_rectangular", "msd", ["-fs_walls_tension", "false"]),
+    "rectangular_msd_no_tension": ("coupled_rectangular", "msd", NO_TENSION),
     "baffled_msd": ("coupled_baffled", "msd", []),
     "rectangular_modal": ("coupled_rectangular", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40] + MODAL_NUMERICS),
     "baffled_modal": ("coupled_baffled", "modal", ["-fs_modal_modes", 5, "-fs_modal_elements", 40] + MODAL_NUMERICS),
+    # walls that push only: the limit dx -> 0 of the seed's walls for a liquid in tension (docs/seed-experiment.md,
+    # "A layer hanging from a wall"), reached at every resolution
+    "baffled_msd_no_tension": ("coupled_baffled", "msd", NO_TENSION),
+    "rectangular_modal_no_tension": ("coupled_rectangular", "modal",
+                                     ["-fs_modal_modes", 5, "-fs_modal_elements", 40] + MODAL_NUMERICS + NO_TENSION),
+    "baffled_modal_no_tension": ("coupled_baffled", "modal",
+                                 ["-fs_modal_modes", 5, "-fs_modal_elements", 40] + MODAL_NUMERICS + NO_TENSION),
 }
 SEED_CONVERGENCE_NUMERICS = ["-fs_delta_split", "-fs_cfl", 0.8, "-fs_max_density_variation", 0.95,
                              "-fs_walls_bounce_distance", 0.3]
