@@ -197,6 +197,8 @@ class Context:
         ranks: MPI ranks per run (1: no mpirun).
         reuse: take a run whose folder holds the same command's finished run (its validate_run.json)
             instead of running it again.
+        ensemble: releases per run where a case measures its scatter (seed_convergence: the tip's preload
+            perturbed by 1e-4 of itself, SEED_ENSEMBLE_PRELOADS).
     """
 
     exe: Path
@@ -206,6 +208,7 @@ class Context:
     resolutions: dict[str, list[float]] = field(default_factory=dict)
     ranks: int = 1
     reuse: bool = False
+    ensemble: int = 1
 
     def dxs(self, case: str) -> list[float]:
         table = QUICK if self.quick else RESOLUTIONS
@@ -1079,6 +1082,11 @@ SEED_CONVERGENCE_RUNS = {
     "baffled_modal_no_tension": ("coupled_baffled", "modal",
                                  ["-fs_modal_modes", 5, "-fs_modal_elements", 40] + MODAL_NUMERICS + NO_TENSION),
 }
+#: The releases of an ensemble (--ensemble N takes the first N): the tip's preload (the case files' 0.04 m) perturbed by
+#: 1e-4 of itself. The small cycles are chaotic: at dx = 5 mm (push-only walls, five releases) the bands' zeta
+#: scatters by 0.11 / 0.19 / 0.35 / 0.40 / 0.60 / 0.90 %-points (standard deviation) from the largest band to the
+#: smallest, as much as 1 against 2 ranks (docs/seed-experiment.md).
+SEED_ENSEMBLE_PRELOADS = (0.04, 0.040004, 0.039996, 0.040008, 0.039992)
 SEED_CONVERGENCE_NUMERICS = ["-fs_delta_split", "-fs_cfl", 0.8, "-fs_max_density_variation", 0.95,
                              "-fs_walls_bounce_distance", 0.3]
 
@@ -1095,7 +1103,9 @@ def case_seed_convergence(ctx: Context, which: Optional[Sequence[str]] = None) -
                   f"{', '.join(f'{1e3 * d:g}' for d in dxs)} mm: the damping ratio per cycle averaged over the amplitude bands "
                   f"{bands} mm and the peak tip acceleration; per band the observed order of convergence from the three "
                   "finest, Richardson's estimate with its uncertainty (Roache's GCI, factor 1.25) and the change between the two "
-                  "finest, which is checked (at most 0.5 %-points: what separates 1 and 2 ranks at dx = 5 mm).",
+                  "finest, which is checked (at most 0.5 %-points: what separates 1 and 2 ranks at dx = 5 mm). "
+                  "With `--ensemble N` each run is N releases (the preload perturbed by 1e-4 of itself) and the bands are "
+                  "their mean, with its standard error beside it and beside the change.",
                   "Calderon-Sanchez et al. (the seed paper): the trend of Figs. 9-10 (2-5 % per cycle while the liquid "
                   "sloshes, back towards the structure's 1.5 %) and the peak of about 11 g; no tabulated numbers, so no data "
                   "file. docs/seed-experiment.md, \"The liquid leaving the floor and the resolution\".")
@@ -1103,26 +1113,44 @@ def case_seed_convergence(ctx: Context, which: Optional[Sequence[str]] = None) -
     fig, axs = _figure(11, 4.2, ncols=2)
     for label in which:
         case, structure, extra = SEED_CONVERGENCE_RUNS[label]
-        z, peaks = [], []
+        z, peaks, zse = [], [], []
         for dx in dxs:
-            args = ["-options_file", _case(case), "-fs_dx", dx, "-fs_structure", structure, "-ts_max_time", tmax,
-                    "-fs_output_interval", 0] + SEED_CONVERGENCE_NUMERICS + extra
-            r = ctx.run("seed_convergence", f"{label}_{_label(dx)}", args, sec.runs, checkpoints=5000)
-            c = damping_per_cycle(r.column("time"), r.column("tip_displacement"))
-            z.append(100 * band_damping(c))
-            peaks.append(float(np.max(np.abs(r.column("tip_acceleration")))) / G)
+            zs, ps = [], []
+            for e, preload in enumerate(SEED_ENSEMBLE_PRELOADS[:ctx.ensemble]):
+                args = ["-options_file", _case(case), "-fs_dx", dx, "-fs_structure", structure, "-ts_max_time", tmax,
+                        "-fs_output_interval", 0] + SEED_CONVERGENCE_NUMERICS + extra
+                args += ["-fs_beam_preload", preload] if e else []  # the first release is the case file's
+                r = ctx.run("seed_convergence", f"{label}_{_label(dx)}" + (f"_e{e}" if e else ""), args, sec.runs,
+                            checkpoints=5000)
+                c = damping_per_cycle(r.column("time"), r.column("tip_displacement"))
+                zs.append(100 * band_damping(c))
+                ps.append(float(np.max(np.abs(r.column("tip_acceleration")))) / G)
+            z.append(np.mean(zs, axis=0))
+            peaks.append(float(np.mean(ps)))
+            zse.append(np.std(zs, axis=0, ddof=1) / np.sqrt(len(zs)) if len(zs) > 1 else np.full(len(SEED_BANDS), np.nan))
         for k, dx in enumerate(dxs):
             axs[0].plot(range(len(SEED_BANDS)), z[k], "o-", ms=4, label=f"{label.replace('_', ', ')}, dx {1e3 * dx:g} mm")
         rows = [f"{label}: zeta per band (%) by dx, then the peak tip acceleration (g):", "",
                 "| dx (mm) | " + " | ".join(f"{1e3 * hi:g}-{1e3 * lo:g} mm" for hi, lo in SEED_BANDS) + " | peak (g) |",
                 "|---" * (len(SEED_BANDS) + 2) + "|"]
-        rows += [f"| {1e3 * dx:g} | " + " | ".join(f"{v:.2f}" for v in z[k]) + f" | {peaks[k]:.1f} |" for k, dx in enumerate(dxs)]
+        if ctx.ensemble > 1:
+            rows[0] = (f"{label}: zeta per band (%) by dx, the mean of {ctx.ensemble} releases +- its standard error, "
+                       "then the peak tip acceleration (g):")
+            rows += [f"| {1e3 * dx:g} | " + " | ".join(f"{v:.2f} +- {u:.2f}" for v, u in zip(z[k], zse[k]))
+                     + f" | {peaks[k]:.1f} |" for k, dx in enumerate(dxs)]
+        else:
+            rows += [f"| {1e3 * dx:g} | " + " | ".join(f"{v:.2f}" for v in z[k]) + f" | {peaks[k]:.1f} |"
+                     for k, dx in enumerate(dxs)]
         if len(dxs) >= 3:
             cv = convergence(z[-3], z[-2], z[-1], ratio=dxs[-2] / dxs[-1])
             cp = convergence(peaks[-3], peaks[-2], peaks[-1], ratio=dxs[-2] / dxs[-1])
             rows += ["| order | " + " | ".join(f"{v:.2f}" for v in cv.order) + f" | {cp.order[0]:.2f} |",
                      "| Richardson | " + " | ".join(f"{e:.2f} +- {u:.2f}" for e, u in zip(cv.extrapolated, cv.uncertainty))
                      + f" | {cp.extrapolated[0]:.1f} +- {cp.uncertainty[0]:.1f} |"]
+            if ctx.ensemble > 1:  # what the scatter of the releases alone would move the change by
+                noise = 2 * np.hypot(zse[-2], zse[-1])
+                rows.append("| change between the two finest, 2 x its standard error | "
+                            + " | ".join(f"{c:.2f}, {u:.2f}" for c, u in zip(cv.change, noise)) + " | |")
             axs[1].plot(range(len(SEED_BANDS)), cv.change, "s-", ms=4, label=label.replace("_", ", "))
             sec.checks.append(Check(f"{label}: largest change of a band's zeta between dx = {1e3 * dxs[-2]:g} and "
                                     f"{1e3 * dxs[-1]:g} mm (%-points)", float(np.nanmax(cv.change)), 0.5, fmt="{:.2f}"))
@@ -1372,6 +1400,9 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--resolution", action="append", default=[], metavar="CASE=dx1,dx2", help="the dx values of a case")
     p.add_argument("--ranks", type=int, default=1, help="MPI ranks per run (default 1)")
     p.add_argument("--build", default=os.environ.get("FLEXSLOSH_BUILD", str(REPO / "build")), help="the build folder")
+    p.add_argument("--ensemble", type=int, default=1,
+                   help="releases per seed_convergence run, the tip's preload perturbed by 1e-4 of itself (default 1; "
+                        f"at most {len(SEED_ENSEMBLE_PRELOADS)}): the bands' mean and its standard error")
     p.add_argument("--reuse", action="store_true",
                    help="read a run already in --work when it finished with the same command (its validate_run.json) "
                         "instead of running it again: to redo a section's checks and figure")
@@ -1397,8 +1428,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     if not exe.is_file():
         print(f"validate: {exe} not found: build first (make build)", file=sys.stderr)
         return 2
+    if not 1 <= args.ensemble <= len(SEED_ENSEMBLE_PRELOADS):
+        print(f"validate: --ensemble {args.ensemble}: expected 1 to {len(SEED_ENSEMBLE_PRELOADS)}", file=sys.stderr)
+        return 2
     ctx = Context(exe=exe.resolve(), work=Path(args.work).resolve(), out=Path(args.out).resolve(), quick=args.quick,
-                  resolutions=res, ranks=args.ranks, reuse=args.reuse)
+                  resolutions=res, ranks=args.ranks, reuse=args.reuse, ensemble=args.ensemble)
     for name in names:  # the report is rewritten after each case, so that an interrupted run keeps the cases done
         path = write_report(ctx.out, run_cases(ctx, [name]), args.quick)
     print(f"validate: wrote {path}")

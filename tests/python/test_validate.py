@@ -135,3 +135,21 @@ def test_an_interrupted_run_continues_from_its_checkpoint(tmp_path, capsys):
     assert "continuing from checkpoint_000010.h5" in capsys.readouterr().out
     assert (folder / "timeseries.csv").read_text() == whole
     assert json.loads((folder / "validate_run.json").read_text())["wall"] >= runs[0].wall > 0
+
+
+def test_seed_ensemble(tmp_path):
+    """--ensemble N: each seed_convergence run is N releases, the preload perturbed (the first the case file's), and
+    the bands are their mean with its standard error."""
+    assert validate.main(["--ensemble", "0"]) == 2 and validate.main(["--ensemble", "99"]) == 2
+    ctx = validate.Context(exe=build_dir() / "flexslosh", work=tmp_path, out=tmp_path, quick=True,
+                           resolutions={"seed_convergence": [0.01]}, ensemble=2)
+    sec = validate.case_seed_convergence(ctx)
+    commands = [r.command for r in sec.runs]
+    assert len(commands) == 2 and "-fs_beam_preload 0.040004" in commands[1] and "-fs_beam_preload" not in commands[0]
+    table = "\n".join(sec.notes)
+    assert "the mean of 2 releases +- its standard error" in table
+    # the releases differ (the slams are chaotic): a standard error that is not zero in some band
+    row = re.search(r"^\| 10 \| (.+) \|$", table, re.M).group(1).split(" | ")
+    assert len(row) == len(validate.SEED_BANDS) + 1, table  # the bands (nan beyond 0.5 s's cycles), the peak
+    se = [float(v.split("+-")[1]) for v in row[:-1] if "nan" not in v]
+    assert se and max(se) > 0, table
