@@ -686,6 +686,8 @@ LOBOVSKY_TITLE = "Dam break: impact pressures against Lobovsky et al. (2014), H 
 #: The window (t* = t sqrt(g/H)) of the pressure after the first impact: the water piled on the wall, before the
 #: plunging wave returns; the same as the Buchner section's.
 LOBOVSKY_PLATEAU = (3.0, 5.5)
+#: Sensor 4's peak in the experiment is the later wave's (the notes): its largest p* from this t* on is checked.
+LOBOVSKY_LATE = 4.0
 #: The tolerances: the first arrival (t*), the plateau's mean (relative).
 LOBOVSKY_TOL = {"arrival": 0.1, "plateau": 0.15}
 
@@ -716,7 +718,7 @@ def case_dam_break_lobovsky(ctx: Context) -> Section:
                   "at 20 kHz (the `_pressure_filtered` columns). Measured, as p* = p/(rho g H) against t* = t sqrt(g/H): "
                   "the first impact's peak per sensor (the largest p* within 1 of the arrival, the first t* with p* > 0.3) "
                   "against the median and the 2.5-97.5 % band of the peaks of the experiment's 100 repetitions (at sensor "
-                  "4 the run's largest p*: see the notes); the mean p* over t* in [3, 5.5] (the water piled on the wall "
+                  "4 the largest p* for t* >= 4, the later wave's: see the notes); the mean p* over t* in [3, 5.5] (the water piled on the wall "
                   "after the impact) and the arrival at sensor 1 against the one public record; the convergence of both "
                   "over three resolutions (H/dx = 20, 40, 80).",
                   "Lobovsky, Botia-Vera, Castellana, Mas-Soler & Souto-Iglesias (2014), Experimental investigation of "
@@ -747,7 +749,9 @@ def case_dam_break_lobovsky(ctx: Context) -> Section:
             ax.plot(ts, ps, "-", lw=0.8, label=f"flexslosh H/dx = {H / dx:.0f}")
             arrival, peak = first_impact(ts, ps)
             w = (ts >= LOBOVSKY_PLATEAU[0]) & (ts <= LOBOVSKY_PLATEAU[1])
+            late = ts >= LOBOVSKY_LATE
             got[k] = {"arrival": arrival, "peak": peak, "max": float(np.max(ps)),
+                      "late": float(np.max(ps[late])) if np.any(late) else math.nan,
                       "plateau": float(np.mean(ps[w])) if ts[-1] >= LOBOVSKY_PLATEAU[1] else math.nan}
         found[dx] = got
     for ax, (k, y) in zip(axes, LOBOVSKY_SENSORS.items()):
@@ -769,11 +773,11 @@ def case_dam_break_lobovsky(ctx: Context) -> Section:
     g = found[fine]
     for k, y in LOBOVSKY_SENSORS.items():
         med, lo, hi = band[k]
-        what = "the run's largest p*" if k == "sensor4" else "first impact's peak p*"
+        what, key = ("the later wave's peak p* (t* >= 4)", "late") if k == "sensor4" else ("first impact's peak p*", "peak")
         sec.checks.append(Check(f"{res}: {k} (y = {y * 1000:g} mm), {what} >= the experiment's 2.5 % percentile",
-                                g[k]["max" if k == "sensor4" else "peak"], lo, kind="min", fmt="{:.2f}"))
+                                g[k][key], lo, kind="min", fmt="{:.2f}"))
         sec.checks.append(Check(f"{res}: {k} (y = {y * 1000:g} mm), {what} <= the experiment's 97.5 % percentile",
-                                g[k]["max" if k == "sensor4" else "peak"], hi, fmt="{:.2f}"))
+                                g[k][key], hi, fmt="{:.2f}"))
     sec.checks.append(Check(f"{res}: sensor1 arrival t* (p* > 0.3), abs difference from the record's",
                             abs(g["sensor1"]["arrival"] - rec_arrival["sensor1"]), LOBOVSKY_TOL["arrival"], fmt="{:.3f}"))
     for k, y in LOBOVSKY_SENSORS.items():
@@ -788,6 +792,10 @@ def case_dam_break_lobovsky(ctx: Context) -> Section:
                     + " | ".join(f"{found[d][k]['peak']:.2f}" for d in dxs) + " |")
         rows.append(f"| {k}: the run's largest p* (t* <= 6.5) | record: {float(np.max(rec[f'p{k[-1]}_max'])):.2f} | "
                     + " | ".join(f"{found[d][k]['max']:.2f}" for d in dxs) + " |")
+        if k == "sensor4":
+            rows.append(f"| {k}: the later wave's peak p* (t* >= 4) | median {med:.2f} (2.5-97.5 %: {lo:.2f}-{hi:.2f}); "
+                        f"record: {float(np.max(rec['p4_max'][tr >= LOBOVSKY_LATE])):.2f} | "
+                        + " | ".join(f"{found[d][k]['late']:.2f}" for d in dxs) + " |")
         rows.append(f"| {k}: arrival t* (p* > 0.3) | record: {rec_arrival[k]:.3f} | "
                     + " | ".join(f"{found[d][k]['arrival']:.3f}" for d in dxs) + " |")
         rows.append(f"| {k}: mean p*, t* in [3, 5.5] | record: {rec_plateau[k]:.3f} | "
@@ -811,14 +819,14 @@ def case_dam_break_lobovsky(ctx: Context) -> Section:
 #: What the section's reference is and is not; fixed text, so that a rerun of the report keeps it.
 LOBOVSKY_NOTES = [
     "The experiment: a tank 1610 mm long, 600 mm high and 150 mm (H/2) wide, the column 600 mm long behind a gate "
-    "lifted in about 0.07 s (as quoted in the same warpSPH script); the sensors on the tank's centre line. The run is 2-D and releases the column at once, so "
+    "lifted in about 0.07 s (as the warpSPH script of the next note quotes it); the sensors on the tank's centre line. The run is 2-D and releases the column at once, so "
     "its t* = 0 is the gate's first motion only up to the lift; the record's t* = 0 is as the TNL-SPH files give it.",
     "The percentiles are the paper's Table 2 as quoted in wi-re/warpSPH (scripts/probe_acsphDambreakLobovsky.py, commit "
     "b471cf92), converted here with rho g H = 1000 x 9.81 x 0.3 Pa; that source notes that sensor 4's peak is the later "
     "wave's, not the first impact's. The one public record agrees: its first impact peaks at 3.04, 1.95 and 1.54 at "
     "sensors 1-3 (inside the bands, near the medians 3.11, 1.95 and 1.49), while at sensor 4 the pressure rises without "
     "a peak (p* 0.3 at t* = 2.86, 0.5 at 3.06) and its largest value, 0.84 at t* = 5.95, comes with the plunging wave's "
-    "return, inside that sensor's band (0.82-1.23). So sensor 4 is checked with the run's largest p*.",
+    "return, inside that sensor's band (0.82-1.23). So sensor 4 is checked with its largest p* for t* >= 4.",
     "The sensor's face, 4.2 mm across, is also second-hand (a project comparing with the H = 600 mm case quotes it); "
     "the 20 kHz rate is that of the record's samples; no filter bandwidth was found, so the probes have no cut-off. "
     "At H/dx = 80 the face spans about one wall element (dx = 3.75 mm).",
