@@ -737,8 +737,9 @@ def case_dam_break_lobovsky(ctx: Context) -> Section:
         med, lo, hi = band[k]
         j = k[-1]
         ax.plot(tr, rec[f"p{j}_mean"], "-", color="0.3", lw=0.8, label="experiment, one repetition (1 ms means)")
-        ax.axhspan(lo, hi, color="0.85", zorder=0, label="experiment's peaks: 2.5-97.5 % of 100")
-        ax.axhline(med, color="0.4", ls="--", lw=0.8, label="experiment's peaks: median")
+        span = (LOBOVSKY_LATE, 6.5) if k == "sensor4" else (2.2, 3.2)  # where the peak is compared
+        ax.fill_between(span, lo, hi, color="0.85", zorder=0, label="experiment's peaks: 2.5-97.5 % of 100")
+        ax.plot(span, (med, med), color="0.4", ls="--", lw=0.8, label="experiment's peaks: median")
     for dx in ctx.dxs(name):
         r = ctx.run(name, _label(dx), ["-options_file", _case(name), "-fs_dx", dx, "-ts_max_time", tmax,
                                        "-fs_output_interval", 0], sec.runs)
@@ -802,22 +803,38 @@ def case_dam_break_lobovsky(ctx: Context) -> Section:
                     + " | ".join(f"{found[d][k]['plateau']:.3f}" for d in dxs) + " |")
     sec.notes.append("\n".join(rows))
     if len(dxs) == 3:
-        conv = ["| quantity | observed order | change between the two finest | Richardson's estimate |", "|---|---|---|---|"]
+        conv = ["| quantity | observed order | change between the two finest |", "|---|---|---|"]
         for k in LOBOVSKY_SENSORS:
             for key, label in (("peak", "first impact's peak p*"), ("plateau", "mean p*, t* in [3, 5.5]"), ("arrival", "arrival t*")):
                 f = [found[d][k][key] for d in dxs]
                 c = convergence(*f)
-                conv.append(f"| {k}: {label} | {float(c.order[0]):.2f} | {float(c.change[0]):.3f} ({float(c.change[0]) / abs(f[2]):.0%}) | "
-                            f"{float(c.extrapolated[0]):.3f} |")
-        sec.notes.append("Convergence over H/dx = " + ", ".join(f"{H / d:.0f}" for d in dxs) + " (refined by 2; the order is "
-                         "blank (nan) where the changes do not shrink monotonically, i.e. the runs are not in the asymptotic "
+                conv.append(f"| {k}: {label} | {float(c.order[0]):.2f} | {float(c.change[0]):.3f} "
+                            f"({float(c.change[0]) / abs(f[2]):.0%} of the finest's) |")
+        sec.notes.append("Convergence over H/dx = " + ", ".join(f"{H / d:.0f}" for d in dxs) + " (refined by 2; the order "
+                         "is nan where the changes do not shrink monotonically: those runs are not in the asymptotic "
                          "range):\n\n" + "\n".join(conv))
     sec.notes += LOBOVSKY_NOTES
     return sec
 
 
-#: What the section's reference is and is not; fixed text, so that a rerun of the report keeps it.
+#: What the section's reference is and is not, and what the runs of 2026-12-05 (H/dx = 20, 40, 80) showed; fixed
+#: text, so that a rerun of the report keeps it.
 LOBOVSKY_NOTES = [
+    "What the runs of 2026-12-05 show. After the impact flexslosh converges to the 2-D single-phase solution, not "
+    "to the experiment: at H/dx = 80 its mean p* over t* in [3, 5.5] is 0.971 at y/H = 0.01 and 0.366 at y/H = "
+    "0.267, against 0.978 and 0.364 for De Courcy et al. (2024)'s H/dx = 400 run of the same 2-D problem (the "
+    "Buchner section's data, at the same y/H), within 1 %; the record reads 0.707 and 0.520. At y/H = 0.267 the "
+    "gap is the run's slower rise: over t* in [3, 4.3] it reads 0.296 against the record's 0.547, over [4.3, 5.5] "
+    "0.450 against 0.491 (-8 %); near the floor it reads about 37 % above the record in both halves. So the "
+    "plateau FAILs (30-37 %) measure the model class, as the Buchner section found (issue 14), not a fault of the solver. The first "
+    "impact's peaks at sensors 1-3 lie above the experiment's 97.5 % percentiles at every resolution (1.4-2.4 "
+    "times the medians at H/dx = 80) and do not converge (sensor 1: 4.62, 5.38, 7.64): a weakly compressible "
+    "run with c0 = 24 m/s resolves no 1-5 ms peak of a stiff impact, so these checks stay open FAILs that say a "
+    "design pressure cannot be read from one such run's peak. At sensor 4 the run reads a spike when the jet "
+    "thrown up the wall passes (t* = 2.48, where the experiment reads nothing until 2.7-2.86): it falls with "
+    "resolution (2.31, 1.48, 0.84) and is the passing jet's numerical noise; the later wave's peak there "
+    "(0.91, 1.03, 1.12) lies in the experiment's band at all three resolutions. The arrival at sensor 1 is "
+    "0.06-0.08 earlier than the record's: the run releases the column at once, the experiment lifts a gate.",
     "The experiment: a tank 1610 mm long, 600 mm high and 150 mm (H/2) wide, the column 600 mm long behind a gate "
     "lifted in about 0.07 s (as the warpSPH script of the next note quotes it); the sensors on the tank's centre line. The run is 2-D and releases the column at once, so "
     "its t* = 0 is the gate's first motion only up to the lift; the record's t* = 0 is as the TNL-SPH files give it.",
