@@ -57,6 +57,7 @@ RESOLUTIONS: dict[str, list[float]] = {
     "dam_break": [0.05, 0.025, 0.0125],
     "dam_break_3d": [0.01],
     "dam_break_pressure": [0.03, 0.015],
+    "dam_break_lobovsky": [0.015, 0.0075, 0.00375],
     "roll_tank": [0.0124, 0.0062, 0.0031],
     "beam": [0.0],
     "energy": [0.05],
@@ -80,6 +81,7 @@ QUICK: dict[str, list[float]] = {
     "dam_break": [0.1],
     "dam_break_3d": [0.025],
     "dam_break_pressure": [0.06],
+    "dam_break_lobovsky": [0.03],
     "roll_tank": [0.0248],
     "beam": [0.0],
     "energy": [0.1],
@@ -678,6 +680,182 @@ def case_dam_break_pressure(ctx: Context) -> Section:
     sec.notes.append("The experiment's curve is one digitized record (no median or percentile band).")
     sec.notes += DAM_BREAK_PRESSURE_NOTES
     return sec
+
+
+#: Lobovsky et al. (2014)'s H = 300 mm dam break (cases/dam_break_lobovsky.opts): its sensors as the case's probes
+#: (cases/data/lobovsky_sensors.txt), name -> height above the floor (m).
+LOBOVSKY_SENSORS = {"sensor1": 0.003, "sensor2": 0.015, "sensor3": 0.030, "sensor4": 0.080}
+LOBOVSKY_TITLE = "Dam break: impact pressures against Lobovsky et al. (2014), H = 300 mm"
+#: The window (t* = t sqrt(g/H)) of the pressure after the first impact: the water piled on the wall, before the
+#: plunging wave returns; the same as the Buchner section's.
+LOBOVSKY_PLATEAU = (3.0, 5.5)
+#: Sensor 4's peak in the experiment is the later wave's (the notes): its largest p* from this t* on is checked.
+LOBOVSKY_LATE = 4.0
+#: The tolerances: the first arrival (t*), the plateau's mean (relative).
+LOBOVSKY_TOL = {"arrival": 0.1, "plateau": 0.15}
+
+
+def first_impact(t: np.ndarray, p: np.ndarray, threshold: float = 0.3, window: float = 1.0) -> tuple[float, float]:
+    """The first impact of a wall pressure record p*(t*): its arrival (the first t* with p* > threshold) and its
+    peak (the largest p* over [arrival, arrival + window]); (nan, nan) where p* stays below the threshold."""
+    hit = np.nonzero(p > threshold)[0]
+    if not len(hit):
+        return math.nan, math.nan
+    ta = float(t[hit[0]])
+    return ta, float(np.max(p[(t >= ta) & (t <= ta + window)]))
+
+
+def case_dam_break_lobovsky(ctx: Context) -> Section:
+    """Lobovsky et al. (2014)'s dam break, H = 300 mm, in 2-D: the sensors' first impact peaks against the paper's
+    percentiles over 100 repetitions, the pressure after the impact against one public record (three resolutions)."""
+    name, H = "dam_break_lobovsky", 0.3
+    scale = 1000.0 * G * H  # Pa per unit p* (rho0 = 1000 as the case's water)
+    table, rec = _data("lobovsky_2014_peaks.csv"), _data("lobovsky_2014_record.csv")
+    band = {f"sensor{int(k)}": (m * 100 / scale, lo * 100 / scale, hi * 100 / scale)
+            for k, m, lo, hi in zip(table["sensor"], table["median_mbar"], table["p2_5_mbar"], table["p97_5_mbar"])}
+    sec = Section(name, LOBOVSKY_TITLE,
+                  "The H = 300 mm dam break of Lobovsky et al. (2014) in 2-D (cases/dam_break_lobovsky.opts): a column 2H "
+                  "long and H high in a tank 1.61 m (5.37 H) long, free-slip walls, released at once. The case's probes "
+                  "(cases/data/lobovsky_sensors.txt) read the downstream wall where the experiment's sensors 1-4 sit, "
+                  "y = 3, 15, 30 and 80 mm (y/H = 0.01, 0.05, 0.1, 0.267), each averaged over its 4.2 mm face and sampled "
+                  "at 20 kHz (the `_pressure_filtered` columns). Measured, as p* = p/(rho g H) against t* = t sqrt(g/H): "
+                  "the first impact's peak per sensor (the largest p* within 1 of the arrival, the first t* with p* > 0.3) "
+                  "against the median and the 2.5-97.5 % band of the peaks of the experiment's 100 repetitions (at sensor "
+                  "4 the largest p* for t* >= 4, the later wave's: see the notes); the mean p* over t* in [3, 5.5] (the water piled on the wall "
+                  "after the impact) and the arrival at sensor 1 against the one public record; the convergence of both "
+                  "over three resolutions (H/dx = 20, 40, 80).",
+                  "Lobovsky, Botia-Vera, Castellana, Mas-Soler & Souto-Iglesias (2014), Experimental investigation of "
+                  "dynamic pressure loads during dam break, J. Fluids Struct. 48, 407-434, doi:10.1016/j.jfluidstructs."
+                  "2014.03.009: the peaks' percentiles of its Table 2 as quoted by the warpSPH project (MIT; "
+                  "[data](data/lobovsky_2014_peaks.csv)), and one repetition's record at 20 kHz from TNL-SPH (MIT; "
+                  "[data](data/lobovsky_2014_record.csv), 1 ms means and maxima). The paper itself was not read "
+                  "([data/README.md](data/README.md)).")
+    tmax = round((3.0 if ctx.quick else 6.5) / math.sqrt(G / H), 4)
+    fig, _ = _figure(11, 7.5)
+    fig.clear()
+    axes = fig.subplots(2, 2).ravel()
+    tr = rec["t_star"]
+    found: dict[float, dict[str, dict[str, float]]] = {}
+    for ax, (k, y) in zip(axes, LOBOVSKY_SENSORS.items()):
+        med, lo, hi = band[k]
+        j = k[-1]
+        ax.plot(tr, rec[f"p{j}_mean"], "-", color="0.3", lw=0.8, label="experiment, one repetition (1 ms means)")
+        span = (LOBOVSKY_LATE, 6.5) if k == "sensor4" else (2.2, 3.2)  # where the peak is compared
+        ax.fill_between(span, lo, hi, color="0.85", zorder=0, label="experiment's peaks: 2.5-97.5 % of 100")
+        ax.plot(span, (med, med), color="0.4", ls="--", lw=0.8, label="experiment's peaks: median")
+    for dx in ctx.dxs(name):
+        r = ctx.run(name, _label(dx), ["-options_file", _case(name), "-fs_dx", dx, "-ts_max_time", tmax,
+                                       "-fs_output_interval", 0], sec.runs)
+        ts = r.column("time", "probes") * math.sqrt(G / H)
+        got: dict[str, dict[str, float]] = {}
+        for ax, k in zip(axes, LOBOVSKY_SENSORS):
+            ps = r.column(f"{k}_pressure_filtered[Pa]", "probes") / scale
+            ax.plot(ts, ps, "-", lw=0.8, label=f"flexslosh H/dx = {H / dx:.0f}")
+            arrival, peak = first_impact(ts, ps)
+            w = (ts >= LOBOVSKY_PLATEAU[0]) & (ts <= LOBOVSKY_PLATEAU[1])
+            late = ts >= LOBOVSKY_LATE
+            got[k] = {"arrival": arrival, "peak": peak, "max": float(np.max(ps)),
+                      "late": float(np.max(ps[late])) if np.any(late) else math.nan,
+                      "plateau": float(np.mean(ps[w])) if ts[-1] >= LOBOVSKY_PLATEAU[1] else math.nan}
+        found[dx] = got
+    for ax, (k, y) in zip(axes, LOBOVSKY_SENSORS.items()):
+        ax.set_xlim(1.5, 6.5)
+        ax.set_ylim(-0.3, max(2.0, 2.5 * band[k][2]))
+        ax.set_title(f"{k}: y = {y * 1000:g} mm (y/H = {y / H:.3g})", fontsize=9)
+        ax.set_xlabel("t* = t sqrt(g/H)")
+        ax.set_ylabel("p* = p / (rho g H)")
+    axes[0].legend(fontsize=6)
+    sec.figure = _save(fig, ctx, name)
+    sec.caption = ("Lobovsky et al. (2014), H = 300 mm: the pressure at the four sensors on the downstream wall, one "
+                   "experimental record, the band and median of the experiment's peaks, and flexslosh (axes cut)")
+    rec_arrival = {k: first_impact(tr, rec[f"p{k[-1]}_max"])[0] for k in LOBOVSKY_SENSORS}
+    w = (tr >= LOBOVSKY_PLATEAU[0]) & (tr <= LOBOVSKY_PLATEAU[1])
+    rec_plateau = {k: float(np.mean(rec[f"p{k[-1]}_mean"][w])) for k in LOBOVSKY_SENSORS}
+    dxs = sorted(found, reverse=True)  # coarse to fine
+    fine = dxs[-1]
+    res = f"H/dx = {H / fine:.0f}"
+    g = found[fine]
+    for k, y in LOBOVSKY_SENSORS.items():
+        med, lo, hi = band[k]
+        what, key = ("the later wave's peak p* (t* >= 4)", "late") if k == "sensor4" else ("first impact's peak p*", "peak")
+        sec.checks.append(Check(f"{res}: {k} (y = {y * 1000:g} mm), {what} >= the experiment's 2.5 % percentile",
+                                g[k][key], lo, kind="min", fmt="{:.2f}"))
+        sec.checks.append(Check(f"{res}: {k} (y = {y * 1000:g} mm), {what} <= the experiment's 97.5 % percentile",
+                                g[k][key], hi, fmt="{:.2f}"))
+    sec.checks.append(Check(f"{res}: sensor1 arrival t* (p* > 0.3), abs difference from the record's",
+                            abs(g["sensor1"]["arrival"] - rec_arrival["sensor1"]), LOBOVSKY_TOL["arrival"], fmt="{:.3f}"))
+    for k, y in LOBOVSKY_SENSORS.items():
+        if math.isfinite(g[k]["plateau"]):  # the run reached the window's end (not so with --quick)
+            sec.checks.append(Check(f"{res}: {k} (y = {y * 1000:g} mm), mean p* over t* in [3, 5.5] / the record's - 1 (abs)",
+                                    abs(g[k]["plateau"] / rec_plateau[k] - 1), LOBOVSKY_TOL["plateau"], fmt="{:.1%}"))
+    head = "| | experiment | " + " | ".join(f"H/dx = {H / d:.0f}" for d in dxs) + " |"
+    rows = [head, "|---|---|" + "---|" * len(dxs)]
+    for k, y in LOBOVSKY_SENSORS.items():
+        med, lo, hi = band[k]
+        rows.append(f"| {k} (y/H = {y / H:.3g}): first impact's peak p* | median {med:.2f} (2.5-97.5 %: {lo:.2f}-{hi:.2f}) | "
+                    + " | ".join(f"{found[d][k]['peak']:.2f}" for d in dxs) + " |")
+        rows.append(f"| {k}: the run's largest p* (t* <= 6.5) | record: {float(np.max(rec[f'p{k[-1]}_max'])):.2f} | "
+                    + " | ".join(f"{found[d][k]['max']:.2f}" for d in dxs) + " |")
+        if k == "sensor4":
+            rows.append(f"| {k}: the later wave's peak p* (t* >= 4) | median {med:.2f} (2.5-97.5 %: {lo:.2f}-{hi:.2f}); "
+                        f"record: {float(np.max(rec['p4_max'][tr >= LOBOVSKY_LATE])):.2f} | "
+                        + " | ".join(f"{found[d][k]['late']:.2f}" for d in dxs) + " |")
+        rows.append(f"| {k}: arrival t* (p* > 0.3) | record: {rec_arrival[k]:.3f} | "
+                    + " | ".join(f"{found[d][k]['arrival']:.3f}" for d in dxs) + " |")
+        rows.append(f"| {k}: mean p*, t* in [3, 5.5] | record: {rec_plateau[k]:.3f} | "
+                    + " | ".join(f"{found[d][k]['plateau']:.3f}" for d in dxs) + " |")
+    sec.notes.append("\n".join(rows))
+    if len(dxs) == 3:
+        conv = ["| quantity | observed order | change between the two finest |", "|---|---|---|"]
+        for k in LOBOVSKY_SENSORS:
+            for key, label in (("peak", "first impact's peak p*"), ("plateau", "mean p*, t* in [3, 5.5]"), ("arrival", "arrival t*")):
+                f = [found[d][k][key] for d in dxs]
+                c = convergence(*f)
+                conv.append(f"| {k}: {label} | {float(c.order[0]):.2f} | {float(c.change[0]):.3f} "
+                            f"({float(c.change[0]) / abs(f[2]):.0%} of the finest's) |")
+        sec.notes.append("Convergence over H/dx = " + ", ".join(f"{H / d:.0f}" for d in dxs) + " (refined by 2; the order "
+                         "is nan where the changes do not shrink monotonically: those runs are not in the asymptotic "
+                         "range):\n\n" + "\n".join(conv))
+    sec.notes += LOBOVSKY_NOTES
+    return sec
+
+
+#: What the section's reference is and is not, and what the runs of 2026-12-05 (H/dx = 20, 40, 80) showed; fixed
+#: text, so that a rerun of the report keeps it.
+LOBOVSKY_NOTES = [
+    "What the runs of 2026-12-05 show. After the impact flexslosh converges to the 2-D single-phase solution, not "
+    "to the experiment: at H/dx = 80 its mean p* over t* in [3, 5.5] is 0.971 at y/H = 0.01 and 0.366 at y/H = "
+    "0.267, against 0.978 and 0.364 for De Courcy et al. (2024)'s H/dx = 400 run of the same 2-D problem (the "
+    "Buchner section's data, at the same y/H), within 1 %; the record reads 0.707 and 0.520. At y/H = 0.267 the "
+    "gap is the run's slower rise: over t* in [3, 4.3] it reads 0.296 against the record's 0.547, over [4.3, 5.5] "
+    "0.450 against 0.491 (-8 %); near the floor it reads about 37 % above the record in both halves. So the "
+    "plateau FAILs (30-37 %) measure the model class, as the Buchner section found (issue 14), not a fault of the solver. The first "
+    "impact's peaks at sensors 1-3 lie above the experiment's 97.5 % percentiles at every resolution (1.4-2.4 "
+    "times the medians at H/dx = 80) and do not converge (sensor 1: 4.62, 5.38, 7.64): a weakly compressible "
+    "run with c0 = 24 m/s resolves no 1-5 ms peak of a stiff impact, so these checks stay open FAILs that say a "
+    "design pressure cannot be read from one such run's peak. At sensor 4 the run reads a spike when the jet "
+    "thrown up the wall passes (t* = 2.48, where the experiment reads nothing until 2.7-2.86): it falls with "
+    "resolution (2.31, 1.48, 0.84) and is the passing jet's numerical noise; the later wave's peak there "
+    "(0.91, 1.03, 1.12) lies in the experiment's band at all three resolutions. The arrival at sensor 1 is "
+    "0.06-0.08 earlier than the record's: the run releases the column at once, the experiment lifts a gate.",
+    "The experiment: a tank 1610 mm long, 600 mm high and 150 mm (H/2) wide, the column 600 mm long behind a gate "
+    "lifted in about 0.07 s (as the warpSPH script of the next note quotes it); the sensors on the tank's centre line. The run is 2-D and releases the column at once, so "
+    "its t* = 0 is the gate's first motion only up to the lift; the record's t* = 0 is as the TNL-SPH files give it.",
+    "The percentiles are the paper's Table 2 as quoted in wi-re/warpSPH (scripts/probe_acsphDambreakLobovsky.py, commit "
+    "b471cf92), converted here with rho g H = 1000 x 9.81 x 0.3 Pa; that source notes that sensor 4's peak is the later "
+    "wave's, not the first impact's. The one public record agrees: its first impact peaks at 3.04, 1.95 and 1.54 at "
+    "sensors 1-3 (inside the bands, near the medians 3.11, 1.95 and 1.49), while at sensor 4 the pressure rises without "
+    "a peak (p* 0.3 at t* = 2.86, 0.5 at 3.06) and its largest value, 0.84 at t* = 5.95, comes with the plunging wave's "
+    "return, inside that sensor's band (0.82-1.23). So sensor 4 is checked with its largest p* for t* >= 4.",
+    "The sensor's face, 4.2 mm across, is also second-hand (a project comparing with the H = 600 mm case quotes it); "
+    "the 20 kHz rate is that of the record's samples; no filter bandwidth was found, so the probes have no cut-off. "
+    "At H/dx = 80 the face spans about one wall element (dx = 3.75 mm).",
+    "The plateau gap is the one the Buchner section found at the same y/H (issue 14): 2-D single-phase SPH reads "
+    "higher than this experiment near the floor and lower at y/H = 0.27 (where De Courcy et al.'s H/dx = 400 run reads "
+    "0.364 against the record's 0.520). The first impact's peak of a weakly compressible run depends on c0 and on the "
+    "resolution, and a 2-D run has neither the air the experiment entraps nor its 3-D front; the peak checks measure "
+    "how far the model's single sample lands from the experiment's distribution, not a converged quantity.",
+]
 
 
 #: SPHERIC test 10 (lateral impact, water): windows (s) of the measured record holding one impact each
@@ -1286,6 +1464,7 @@ CASES: dict[str, Callable[[Context], Section]] = {
     "standing_wave_3d_10": case_standing_wave_3d_10,
     "dam_break": case_dam_break,
     "dam_break_pressure": case_dam_break_pressure,
+    "dam_break_lobovsky": case_dam_break_lobovsky,
     "dam_break_3d": case_dam_break_3d,
     "roll_tank": case_roll_tank,
     "beam": case_beam,
@@ -1307,6 +1486,7 @@ TITLES = {
     "standing_wave_3d_10": "Standing wave (3-D box, mode (1, 0))",
     "dam_break": "Dam break: surge front and column (Martin & Moyce 1952)",
     "dam_break_pressure": "Dam break: pressure on the downstream wall (Buchner 2002, De Courcy et al. 2024)",
+    "dam_break_lobovsky": LOBOVSKY_TITLE,
     "dam_break_3d": "Dam break: surge front and column (Martin & Moyce 1952) in 3-D",
     "roll_tank": "Forced sloshing: SPHERIC benchmark test 10 (rolled tank)",
     "beam": "Cantilever beam: modes and free decay",
