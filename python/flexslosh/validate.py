@@ -186,6 +186,12 @@ class Section:
         return "\n".join(out)
 
 
+#: The checkpoint interval (steps) of the runs that take from ten minutes to hours (the 3-D hydrostatic tank and standing
+#: waves, the rolled tank, Lobovsky's dam break; the seed studies have their own): an interrupted `make validate`
+#: continues them from their newest checkpoint (Context.run).
+LONG_RUN_CHECKPOINTS = 2000
+
+
 @dataclass
 class Context:
     """What a case function needs: where to run, at which resolutions, how.
@@ -356,7 +362,8 @@ def _hydrostatic(ctx: Context, name: str, what: str = "") -> Section:
                   "Exact: p(y) = rho0 g (H - y), wall load = weight (docs/validation.md): formulas, no data file.")
     dx = ctx.dxs(name)[0]
     tmax = 0.15 if ctx.quick else 1.1
-    r = ctx.run(name, _label(dx), ["-options_file", _case(name), "-fs_dx", dx, "-ts_max_time", tmax, "-fs_output_interval", tmax / 2], sec.runs)
+    r = ctx.run(name, _label(dx), ["-options_file", _case(name), "-fs_dx", dx, "-ts_max_time", tmax, "-fs_output_interval", tmax / 2], sec.runs,
+                checkpoints=LONG_RUN_CHECKPOINTS)
     H, rho0 = 0.03, 1000.0
     snap = read_snapshot(r.snapshots[-1][1])
     y = snap["position"][:, 1]
@@ -445,7 +452,8 @@ def _standing_wave(ctx: Context, name: str, dim: int, mode_z: int = 1, width: fl
     decays: list[tuple[float, float]] = []  # (dx, decay rate / rate_nu)
     for dx in dxs:
         r = ctx.run(name, _label(dx), ["-options_file", _case("standing_wave" if dim == 2 else "standing_wave_3d"), "-fs_dx", dx,
-                                       "-ts_max_time", tmax, "-fs_output_interval", 0] + extra, sec.runs)
+                                       "-ts_max_time", tmax, "-fs_output_interval", 0] + extra, sec.runs,
+                    checkpoints=LONG_RUN_CHECKPOINTS)
         t, ek = r.column("time"), r.column("kinetic_energy")
         amp = "mode_amplitude" in r.timeseries  # runs before the column: the kinetic energy's fit
         if first:
@@ -745,7 +753,7 @@ def case_dam_break_lobovsky(ctx: Context) -> Section:
         ax.plot(span, (med, med), color="0.4", ls="--", lw=0.8, label="experiment's peaks: median")
     for dx in ctx.dxs(name):
         r = ctx.run(name, _label(dx), ["-options_file", _case(name), "-fs_dx", dx, "-ts_max_time", tmax,
-                                       "-fs_output_interval", 0], sec.runs)
+                                       "-fs_output_interval", 0], sec.runs, checkpoints=LONG_RUN_CHECKPOINTS)
         ts = r.column("time", "probes") * math.sqrt(G / H)
         got: dict[str, dict[str, float]] = {}
         for ax, k in zip(axes, LOBOVSKY_SENSORS):
@@ -908,7 +916,7 @@ def case_roll_tank(ctx: Context) -> Section:
     pre_exp = float(np.mean(pe[(te >= PRE_IMPACT[0]) & (te <= PRE_IMPACT[1])]))
     for dx in ctx.dxs("roll_tank"):
         r = ctx.run("roll_tank", _label(dx), ["-options_file", _case("roll_tank"), "-fs_dx", dx, "-ts_max_time", tmax,
-                                              "-fs_output_interval", 0], sec.runs)
+                                              "-fs_output_interval", 0], sec.runs, checkpoints=LONG_RUN_CHECKPOINTS)
         t, p = r.column("time", "probes"), r.column("sensor1_pressure[Pa]", "probes")
         ax.plot(t, p / 1000, "-", lw=0.7, alpha=0.7, label=f"flexslosh, dx = {dx * 1000:g} mm ({r.particles} particles)")
         e = r.energy
