@@ -150,11 +150,14 @@ static PetscErrorCode FSSolverFillSnapshotField(void *ctx, PetscInt f, PetscReal
 
 /*
    FSSolverWriteSnapshot - writes the particles (position, velocity, density, pressure, strain_rate
-   ||D||, turbulent_viscosity, rank, id) to the next snapshot file, and updates the XDMF index.
-   The derived fields come from a fresh evaluation of the right-hand side at the current state. Each
-   field is made when the writer writes it, into one buffer (3 reals a particle, not 12).
+   ||D||, turbulent_viscosity, rank, id) to the writer's next snapshot file, and updates its XDMF index (the snapshots
+   monitor, src/monitor/impls/snapshots.c, owns the writer and says when). The derived fields come from a fresh
+   evaluation of the right-hand side at the current state. Each field is made when the writer writes it, into one
+   buffer (3 reals a particle, not 12).
+
+   Collective
 */
-PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
+PetscErrorCode FSSolverWriteSnapshot(FSSolver s, FSSnapshotWriter writer)
 {
   const PetscInt    dim = s->opt.dim, n = s->pw.nowned;
   const char *const names[FS_SNAP_N] = {
@@ -172,7 +175,6 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCall(FSSolverStructureSnapshot(s)); /* the structure's own output (e.g. the deflected shape) */
   if (s->pw.nglobal_particles == 0) {      /* a dry structure: no particle file */
-    s->mon.last_snapshot_time = t;
     PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
     PetscFunctionReturn(0);
   }
@@ -184,10 +186,9 @@ PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
   for (PetscInt f = 0; f < FS_SNAP_N; f++)
     fields[f] = (FSOutputField){
         .name = names[f], .bs = f < FS_SNAP_DENSITY ? dim : 1, .fill = FSSolverFillSnapshotField, .ctx = &c};
-  PetscCall(FSSnapshotWriterWrite(s->mon.snapshots, t, step, dim, n, FS_SNAP_N, fields));
+  PetscCall(FSSnapshotWriterWrite(writer, t, step, dim, n, FS_SNAP_N, fields));
   PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c.ids.pid));
   PetscCall(VecRestoreArrayRead(s->state.U, &c.u));
-  s->mon.last_snapshot_time = t;
   PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

@@ -1061,9 +1061,9 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSSolverSetOptionsChecked(s, 0, NULL));
   PetscCall(PetscFree2(s->sy, s->sydot));
   if (s->casedata) PetscCall(PetscFree(s->casedata));
-  PetscCall(FSSnapshotWriterDestroy(&s->mon.snapshots));
-  PetscCall(FSTimeSeriesDestroy(&s->mon.series));
-  PetscCall(FSTimeSeriesDestroy(&s->mon.energyseries));
+  PetscCall(FSSolverMonitorCancel(s)); /* the user's monitors and callbacks */
+  for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorDestroy(&s->mon.list[k])); /* the run's own */
+  s->mon.nlist = s->mon.nbuiltin = 0;
   PetscCall(FSSolverProbesDestroy(s));
   PetscCall(FSOutputDirUnlock(&s->mon.lock)); /* the output is closed: another run may write there */
   PetscCall(TSDestroy(&s->ts));

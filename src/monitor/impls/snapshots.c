@@ -1,0 +1,117 @@
+/*
+   The snapshots monitor: the particles (snapshot_*.h5, indexed by particles.xdmf) at the start of a new run, at every
+   multiple of -fs_output_interval and at the end. The fields are the solver's (FSSolverWriteSnapshot()); the monitor
+   owns the writer and when it writes.
+*/
+#include "monitor/monitorimpl.h"
+
+typedef struct {
+  FSSnapshotWriter writer;
+  PetscReal        interval; /* -fs_output_interval (0: the first and the last only) */
+  PetscReal        next;     /* the time of the next snapshot */
+  PetscReal        last;     /* the time of the last snapshot (PETSC_MIN_REAL: none yet) */
+  PetscBool        restart;  /* a restart: no snapshot at its start (the run it continues wrote it) */
+} FSMonitor_Snapshots;
+
+/* the first multiple of the output interval after t (one within 1e-9 of the interval is t's), computed rather than
+   counted up to, so that no interval loops however small it is against t; none without an interval */
+static PetscReal FSNextOutputTime(PetscReal t, PetscReal interval)
+{
+  return interval > 0 ? (PetscFloorReal(t / interval + 1e-9) + 1) * interval : PETSC_MAX_REAL;
+}
+
+static PetscErrorCode FSMonitorSnapshotWrite(FSMonitor m, FSSolver s, PetscReal t)
+{
+  FSMonitor_Snapshots *sn = (FSMonitor_Snapshots *)m->data;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverWriteSnapshot(s, sn->writer));
+  sn->last = t;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FSMonitorBegin_Snapshots(FSMonitor m, FSSolver s)
+{
+  FSMonitor_Snapshots   *sn = (FSMonitor_Snapshots *)m->data;
+  FSSolverOutputSettings o;
+  PetscReal              t;
+  PetscInt               step;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetOutputSettings(s, &o));
+  PetscCall(FSSolverGetTime(s, &t, &step));
+  sn->interval = o.output_interval;
+  sn->restart  = o.restart;
+  sn->next     = FSNextOutputTime(t, sn->interval); /* multiples of the interval, also after a restart */
+  sn->last     = PETSC_MIN_REAL;
+  PetscCall(FSSnapshotWriterCreate(PetscObjectComm((PetscObject)m), o.outdir, o.restart ? t : -1.0, &sn->writer));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FSMonitorStep_Snapshots(FSMonitor m, FSSolver s, PetscInt step, PetscReal t, PetscBool first)
+{
+  FSMonitor_Snapshots *sn = (FSMonitor_Snapshots *)m->data;
+
+  PetscFunctionBegin;
+  (void)step;
+  if (first) { /* the state a new run starts from */
+    if (!sn->restart) PetscCall(FSMonitorSnapshotWrite(m, s, t));
+    PetscFunctionReturn(0);
+  }
+  if (sn->interval > 0 && t >= sn->next - 1e-9 * sn->interval) {
+    PetscCall(FSMonitorSnapshotWrite(m, s, t));
+    sn->next = FSNextOutputTime(t, sn->interval);
+  }
+  PetscFunctionReturn(0);
+}
+
+/* the last state, unless a snapshot was written at its time */
+static PetscErrorCode FSMonitorEnd_Snapshots(FSMonitor m, FSSolver s)
+{
+  FSMonitor_Snapshots *sn = (FSMonitor_Snapshots *)m->data;
+  PetscReal            t;
+  PetscInt             step;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetTime(s, &t, &step));
+  if (sn->last < t) PetscCall(FSMonitorSnapshotWrite(m, s, t));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FSMonitorView_Snapshots(FSMonitor m, PetscViewer viewer)
+{
+  FSMonitor_Snapshots *sn = (FSMonitor_Snapshots *)m->data;
+
+  PetscFunctionBegin;
+  if (sn->interval > 0)
+    PetscCall(PetscViewerASCIIPrintf(viewer, "particle snapshots every %g s, the first and the last\n",
+                                     (double)sn->interval));
+  else PetscCall(PetscViewerASCIIPrintf(viewer, "particle snapshots: the first and the last\n"));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FSMonitorDestroy_Snapshots(FSMonitor m)
+{
+  FSMonitor_Snapshots *sn = (FSMonitor_Snapshots *)m->data;
+
+  PetscFunctionBegin;
+  PetscCall(FSSnapshotWriterDestroy(&sn->writer));
+  PetscCall(PetscFree(m->data));
+  PetscFunctionReturn(0);
+}
+
+/* FSMonitorCreate_Snapshots - the snapshots monitor (FSMONITORSNAPSHOTS): snapshot_*.h5 and particles.xdmf. */
+PetscErrorCode FSMonitorCreate_Snapshots(FSMonitor m)
+{
+  FSMonitor_Snapshots *sn;
+
+  PetscFunctionBegin;
+  PetscCall(PetscNew(&sn));
+  m->data         = sn;
+  m->ops->begin   = FSMonitorBegin_Snapshots;
+  m->ops->step    = FSMonitorStep_Snapshots;
+  m->ops->end     = FSMonitorEnd_Snapshots;
+  m->ops->view    = FSMonitorView_Snapshots;
+  m->ops->destroy = FSMonitorDestroy_Snapshots;
+  PetscFunctionReturn(0);
+}
