@@ -24,7 +24,7 @@ PETSC_EXTERN PetscErrorCode FSMonitorCreate_Checkpoints(FSMonitor);
    Not collective
 
    Input Parameters:
-+  name        - the name given to FSMonitorSetType() or -<prefix>fs_monitor_type
++  name        - the name given to FSMonitorSetType() or -<prefix>monitor_type
 .  description - one line
 -  create      - fills the monitor's ops and data (FSMonitorCreate_<Name>)
 
@@ -162,12 +162,13 @@ PetscErrorCode FSMonitorSetOptionsPrefix(FSMonitor m, const char prefix[])
    Collective
 
    Options Database Key:
-.  -<prefix>fs_monitor_type <type> - a registered monitor type (FSMonitorListView())
+.  -<prefix>monitor_type <type> - a registered monitor type (FSMonitorListView())
 
    Notes:
    The built-in monitors follow the run's output options, read by FSSolverSetFromOptions() (-fs_output_dir,
    -fs_series_interval, -fs_probes, -fs_probe_interval, -fs_output_interval, -fs_checkpoint_interval), and have no
-   options of their own.
+   options of their own; the solver does not call this for them. A user's monitor takes a prefix outside fs_: the
+   check of unused -fs_ options (FSSolverCheckOptions()) knows the options of the built-in objects only.
 */
 PetscErrorCode FSMonitorSetFromOptions(FSMonitor m)
 {
@@ -178,7 +179,7 @@ PetscErrorCode FSMonitorSetFromOptions(FSMonitor m)
   PetscValidHeaderSpecific(m, FSMONITOR_CLASSID, 1);
   PetscCall(FSMonitorRegisterAll());
   PetscObjectOptionsBegin((PetscObject)m);
-  PetscCall(PetscOptionsString("-fs_monitor_type", "The monitor's type", "FSMonitorSetType",
+  PetscCall(PetscOptionsString("-monitor_type", "The monitor's type", "FSMonitorSetType",
                                ((PetscObject)m)->type_name ? ((PetscObject)m)->type_name : "", type, sizeof(type),
                                &set));
   if (set && type[0]) PetscCall(FSMonitorSetType(m, type));
