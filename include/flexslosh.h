@@ -104,7 +104,32 @@ typedef PetscErrorCode (*FSMonitorCreateFn)(FSMonitor);
 /* a plain monitor (FSSolverMonitorSet()): called after each step with the step number and the time, and once before
    the first step */
 typedef PetscErrorCode (*FSSolverMonitorFn)(FSSolver, PetscInt, PetscReal, void *);
+/* What a monitor type does, the ops its create routine (FSMonitorCreateFn) fills with FSMonitorSetOps() (any may be
+   NULL; docs/architecture.md, "The monitor object"):
+   begin     - at the start of the run's output: open its files (collective)
+   rowsize   - a monitor with a row whose sums are reduced with the other monitors' in one reduction (FSMonitorRows()):
+               whether a row is due at this step and how many sums and maxima it takes;
+   rowlocal  - this rank's sums and maxima;  rowvalues - the row from them reduced over the ranks (a check here stops
+               the run before any row of the step is written);  rowwrite - its write
+   step      - after each step and once before the first (first true), at its own interval (collective)
+   end       - at the end of the run (collective) */
+typedef struct _FSMonitorOps {
+  PetscErrorCode (*setfromoptions)(FSMonitor, PetscOptionItems *);
+  PetscErrorCode (*setup)(FSMonitor, FSSolver);
+  PetscErrorCode (*begin)(FSMonitor, FSSolver);
+  PetscErrorCode (*rowsize)(FSMonitor, FSSolver, PetscBool *due, PetscInt *nsum, PetscInt *nmax);
+  PetscErrorCode (*rowlocal)(FSMonitor, FSSolver, PetscReal sum[], PetscReal max[]);
+  PetscErrorCode (*rowvalues)(FSMonitor, FSSolver, const PetscReal sum[], const PetscReal max[]);
+  PetscErrorCode (*rowwrite)(FSMonitor, FSSolver);
+  PetscErrorCode (*step)(FSMonitor, FSSolver, PetscInt step, PetscReal t, PetscBool first);
+  PetscErrorCode (*end)(FSMonitor, FSSolver);
+  PetscErrorCode (*view)(FSMonitor, PetscViewer);
+  PetscErrorCode (*destroy)(FSMonitor);
+} FSMonitorOps;
 PETSC_EXTERN PetscErrorCode FSMonitorRegister(const char[], const char[], FSMonitorCreateFn);
+PETSC_EXTERN PetscErrorCode FSMonitorSetOps(FSMonitor, const FSMonitorOps *);
+PETSC_EXTERN PetscErrorCode FSMonitorSetContext(FSMonitor, void *);
+PETSC_EXTERN PetscErrorCode FSMonitorGetContext(FSMonitor, void *);
 PETSC_EXTERN PetscErrorCode FSMonitorRegisterAll(void);
 PETSC_EXTERN PetscErrorCode FSMonitorListView(PetscViewer);
 PETSC_EXTERN PetscErrorCode FSMonitorCreate(MPI_Comm, FSMonitor *);

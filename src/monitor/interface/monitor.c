@@ -134,6 +134,45 @@ PetscErrorCode FSMonitorSetType(FSMonitor m, const char type[])
   PetscFunctionReturn(0);
 }
 
+/*
+   FSMonitorSetOps - the operations of the monitor's type, for the create routine of a type registered with
+   FSMonitorRegister() outside the library (a plug-in, a program): what each does is in include/flexslosh.h and
+   docs/architecture.md ("The monitor object").
+
+   Not collective
+
+   Input Parameters:
++  mon - the monitor, in its type's create routine
+-  ops - the operations (copied; any may be NULL)
+
+.seealso: FSMonitorRegister(), FSMonitorSetContext()
+*/
+PetscErrorCode FSMonitorSetOps(FSMonitor m, const FSMonitorOps *ops)
+{
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(m, FSMONITOR_CLASSID, 1);
+  *m->ops = *ops;
+  PetscFunctionReturn(0);
+}
+
+/* FSMonitorSetContext - the data of the monitor's type (its destroy op frees it). Not collective */
+PetscErrorCode FSMonitorSetContext(FSMonitor m, void *ctx)
+{
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(m, FSMONITOR_CLASSID, 1);
+  m->data = ctx;
+  PetscFunctionReturn(0);
+}
+
+/* FSMonitorGetContext - the data of the monitor's type (ctx: the address of a pointer). Not collective */
+PetscErrorCode FSMonitorGetContext(FSMonitor m, void *ctx)
+{
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(m, FSMONITOR_CLASSID, 1);
+  *(void **)ctx = m->data;
+  PetscFunctionReturn(0);
+}
+
 /* FSMonitorGetType - the monitor's type name (NULL before FSMonitorSetType()). Not collective */
 PetscErrorCode FSMonitorGetType(FSMonitor m, const char *type[])
 {

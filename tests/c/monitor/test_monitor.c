@@ -1,14 +1,14 @@
 /*
-   Unit test of the monitors (src/monitor/): a plain monitor function (FSSolverMonitorSet(), the way a user's monitor
-   plugs in) called once before the first step and after every step, with the state timeseries.csv's rows are made
-   from (its kinetic energy from the fields equals the file's column); a monitor type of its own registered with
-   FSMonitorRegister() and attached with FSSolverMonitorAdd() before the run, after the built-in ones, whose row's sum
-   (the particles' mass) is reduced with the built-in rows' and equals the fields'; FSSolverMonitorCancel() and the
-   contexts' destroy; an unknown type's error.
+   Unit test of the monitors (src/monitor/), through the public API only, as a user's program: a plain monitor function
+   (FSSolverMonitorSet(), the way a user's monitor plugs in) called once before the first step and after every step,
+   with the state timeseries.csv's rows are made from (its kinetic energy from the fields equals the file's column); a
+   monitor type of its own registered with FSMonitorRegister() and attached with FSSolverMonitorAdd() before the run,
+   after the built-in ones, whose row's sum (the particles' mass) is reduced with the built-in rows' and equals the
+   fields'; FSSolverMonitorCancel() and the contexts' destroy; an unknown type's error.
 
    Usage: mpirun -n <1..3> test_monitor     Prints "test_monitor: OK" and returns 0 on success.
 */
-#include "monitor/monitorimpl.h"
+#include <flexslosh.h>
 #include "../tempdir.h"
 
 #define TCHECK(comm, cond, ...) PetscCheck(cond, comm, PETSC_ERR_PLIB, "test_monitor: " __VA_ARGS__)
@@ -102,9 +102,10 @@ static PetscErrorCode MassRowLocal(FSMonitor m, FSSolver s, PetscReal sum[], Pet
 
 static PetscErrorCode MassRowValues(FSMonitor m, FSSolver s, const PetscReal sum[], const PetscReal max[])
 {
-  MassData *d = (MassData *)m->data;
+  MassData *d;
 
   PetscFunctionBegin;
+  PetscCall(FSMonitorGetContext(m, &d));
   d->mass    = sum[0];
   d->maxmass = max[0];
   PetscFunctionReturn(0);
@@ -112,16 +113,20 @@ static PetscErrorCode MassRowValues(FSMonitor m, FSSolver s, const PetscReal sum
 
 static PetscErrorCode MassRowWrite(FSMonitor m, FSSolver s)
 {
+  MassData *d;
+
   PetscFunctionBegin;
-  ((MassData *)m->data)->rows++;
+  PetscCall(FSMonitorGetContext(m, &d));
+  d->rows++;
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode MassStep(FSMonitor m, FSSolver s, PetscInt step, PetscReal t, PetscBool first)
 {
-  MassData *d = (MassData *)m->data;
+  MassData *d;
 
   PetscFunctionBegin;
+  PetscCall(FSMonitorGetContext(m, &d));
   PetscCheck(first == (d->steps == 0), PETSC_COMM_SELF, PETSC_ERR_PLIB, "test_monitor: first is %d at call %d",
              (int)first, (int)d->steps);
   d->steps++;
@@ -130,32 +135,38 @@ static PetscErrorCode MassStep(FSMonitor m, FSSolver s, PetscInt step, PetscReal
 
 static PetscErrorCode MassEnd(FSMonitor m, FSSolver s)
 {
+  MassData *d;
+
   PetscFunctionBegin;
-  ((MassData *)m->data)->ends++;
+  PetscCall(FSMonitorGetContext(m, &d));
+  d->ends++;
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode MassDestroy(FSMonitor m)
 {
   PetscFunctionBegin;
-  LastMass = (MassData *)m->data; /* freed by the test */
+  PetscCall(FSMonitorGetContext(m, &LastMass)); /* freed by the test */
   PetscFunctionReturn(0);
 }
 
+/* the type's create routine, as a plug-in's: the ops and the context through the public API */
 static PetscErrorCode FSMonitorCreate_Mass(FSMonitor m)
 {
-  MassData *d;
+  MassData    *d;
+  FSMonitorOps ops = {0};
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&d));
-  m->data           = d;
-  m->ops->rowsize   = MassRowSize;
-  m->ops->rowlocal  = MassRowLocal;
-  m->ops->rowvalues = MassRowValues;
-  m->ops->rowwrite  = MassRowWrite;
-  m->ops->step      = MassStep;
-  m->ops->end       = MassEnd;
-  m->ops->destroy   = MassDestroy;
+  ops.rowsize   = MassRowSize;
+  ops.rowlocal  = MassRowLocal;
+  ops.rowvalues = MassRowValues;
+  ops.rowwrite  = MassRowWrite;
+  ops.step      = MassStep;
+  ops.end       = MassEnd;
+  ops.destroy   = MassDestroy;
+  PetscCall(FSMonitorSetOps(m, &ops));
+  PetscCall(FSMonitorSetContext(m, d));
   PetscFunctionReturn(0);
 }
 
@@ -244,7 +255,8 @@ static PetscErrorCode TestRun(MPI_Comm comm, const char dir[])
   /* the mass monitor's row, reduced with the others' */
   {
     const PetscReal *m;
-    MassData        *d = (MassData *)mons[3]->data;
+    MassData        *d;
+    PetscCall(FSMonitorGetContext(mons[3], &d));
     PetscCall(FSSolverGetField(s, "mass", &n, NULL, &m));
     fieldmass = 0;
     for (PetscInt k = 0; k < n; k++) fieldmass += m[k];
