@@ -41,5 +41,14 @@ PETSC_INTERN PetscErrorCode FSSolverEnergySummed(FSSolver, const PetscReal liq[]
 PETSC_INTERN PetscErrorCode FSSolverProbesColumns(FSSolver, PetscInt *interval, PetscInt *n, const char *names[]);
 PETSC_INTERN PetscErrorCode FSSolverProbesRecord(FSSolver, PetscReal *time, const PetscReal **values);
 
-/* a snapshot of the particles into the writer (src/solver/output.c) */
-PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver, FSSnapshotWriter);
+/* a snapshot's fields (src/solver/output.c): a particle field into the writer's buffer (FSSolverGetField() without
+   the copy), the evaluation at the state the derived fields come from (collective: made before the writer fills
+   the fields rank by rank), the particles over the ranks, the structure's own output at a snapshot time */
+PETSC_INTERN PetscErrorCode FSSolverFillField(FSSolver, const char[], PetscInt *bs, PetscReal values[]);
+PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
+PETSC_INTERN PetscErrorCode FSSolverGetGlobalSize(FSSolver, PetscInt64 *);
+PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
+
+/* the write status of the monitors' csv rows, carried to every rank and raised before another file is written
+   (src/solver/monitor.c) */
+PETSC_INTERN PetscErrorCode FSSolverWriteStatusCheck(FSSolver);

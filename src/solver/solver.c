@@ -732,6 +732,14 @@ PetscErrorCode FSSolverGetParameters(FSSolver s, PetscReal *dx, PetscReal *h, Pe
   PetscFunctionReturn(0);
 }
 
+/* FSSolverGetGlobalSize - the particles over every rank. Not collective */
+PetscErrorCode FSSolverGetGlobalSize(FSSolver s, PetscInt64 *n)
+{
+  PetscFunctionBegin;
+  *n = s->pw.nglobal_particles;
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverGetGravity - the body force per unit mass (-fs_gravity, or the case's default).
 

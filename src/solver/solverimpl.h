@@ -344,7 +344,6 @@ PETSC_INTERN PetscErrorCode FSSolverOpenOutputDir(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscReal      FSSolverWriteStatus(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteStatusRaise(FSSolver, PetscReal);
-PETSC_INTERN PetscErrorCode FSSolverWriteStatusCheck(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
 #define FS_CHECK_N    5   /* the values FSSolverCheckStateLocal() gives to be reduced (MPI_MAX) */
@@ -403,7 +402,6 @@ PETSC_INTERN PetscInt       FSRKL2Stages(PetscReal z);
 PETSC_INTERN PetscErrorCode FSSolverEnergyAddTermWork(FSSolver, FSTerm, PetscReal);
 PETSC_INTERN PetscReal      FSSolverCompressibilityEnergy(FSSolver, PetscReal rho);
 PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool count);
-PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
 
 /* The energy block of the global DOFs: the time integrals of P_ext, of the start-up relaxation's
    power, of the structure's damping power (negative: energy lost) and of the coupling's power (the work
@@ -462,7 +460,6 @@ PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverOwnedMaxSpeed2(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);
-PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureSummary(FSSolver, FSJSON);
 
 /* u_j - u_i and V_j of the n neighbours j[] of particle i, for the terms (FSNeighbourhood) */
