@@ -9,6 +9,8 @@
      FSCase    the set-up of a run (domain, particles, initial fields, default parameters)
      FSStructure  the structure that carries the tank (mass-spring-damper, modal beam, ...)
      FSBoundary   the walls (boundary integrals on polygons, ...): the Shepard factor, the wall terms' view
+     FSMonitor    what a run reports after its steps (time series, energy budget, probes, snapshots,
+                  checkpoints, or a user's own), attached to the solver as TS monitors are
 
    Implementations of terms, cases and structures are registered in tables (FSTermRegister,
    FSCaseRegister, FSStructureRegister) and chosen by name at run time (-fs_terms, -fs_case,
@@ -26,8 +28,10 @@ typedef struct _p_FSSolver    *FSSolver;
 typedef struct _p_FSTerm      *FSTerm;
 typedef struct _p_FSStructure *FSStructure;
 typedef struct _p_FSBoundary  *FSBoundary;
+typedef struct _p_FSMonitor   *FSMonitor;
 
 PETSC_EXTERN PetscClassId FSSOLVER_CLASSID;
+PETSC_EXTERN PetscClassId FSMONITOR_CLASSID;
 
 /* ---------- library ---------- */
 PETSC_EXTERN PetscErrorCode FSInitializePackage(void);
@@ -88,6 +92,64 @@ PETSC_EXTERN PetscErrorCode FSSolverGetLiquidMass(FSSolver, PetscReal *);
 #define FS_PROBE_MAX_VALUES 5 /* values of one probe (pressure, velocity, filtered pressure) or gauge (elevation) */
 PETSC_EXTERN PetscErrorCode FSSolverGetProbes(FSSolver, PetscInt *, const char *[], PetscInt[], PetscReal[]);
 PETSC_EXTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
+
+/* ---------- monitors (src/monitor/): what a run reports, each an object attached to the solver ---------- */
+/* the built-in monitors (FSMonitorSetType()) */
+#define FSMONITORTIMESERIES  "timeseries"  /* timeseries.csv */
+#define FSMONITORENERGY      "energy"      /* energy.csv, the energy budget */
+#define FSMONITORPROBES      "probes"      /* probes.csv, -fs_probes */
+#define FSMONITORSNAPSHOTS   "snapshots"   /* snapshot_*.h5 and particles.xdmf, -fs_output_interval */
+#define FSMONITORCHECKPOINTS "checkpoints" /* checkpoint_*.h5, -fs_checkpoint_interval */
+typedef PetscErrorCode (*FSMonitorCreateFn)(FSMonitor);
+/* a plain monitor (FSSolverMonitorSet()): called after each step with the step number and the time, and once before
+   the first step */
+typedef PetscErrorCode (*FSSolverMonitorFn)(FSSolver, PetscInt, PetscReal, void *);
+/* What a monitor type does, the ops its create routine (FSMonitorCreateFn) fills with FSMonitorSetOps() (any may be
+   NULL; docs/architecture.md, "The monitor object"):
+   begin     - at the start of the run's output: open its files (collective)
+   rowsize   - a monitor with a row whose sums are reduced with the other monitors' in one reduction (FSMonitorRows()):
+               whether a row is due at this step and how many sums and maxima it takes;
+   rowlocal  - this rank's sums and maxima;  rowvalues - the row from them reduced over the ranks (a check here stops
+               the run before any row of the step is written);  rowwrite - its write
+   step      - after each step and once before the first (first true), at its own interval (collective)
+   end       - at the end of the run (collective) */
+typedef struct _FSMonitorOps {
+  PetscErrorCode (*setfromoptions)(FSMonitor, PetscOptionItems *);
+  PetscErrorCode (*setup)(FSMonitor, FSSolver);
+  PetscErrorCode (*begin)(FSMonitor, FSSolver);
+  PetscErrorCode (*rowsize)(FSMonitor, FSSolver, PetscBool *due, PetscInt *nsum, PetscInt *nmax);
+  PetscErrorCode (*rowlocal)(FSMonitor, FSSolver, PetscReal sum[], PetscReal max[]);
+  PetscErrorCode (*rowvalues)(FSMonitor, FSSolver, const PetscReal sum[], const PetscReal max[]);
+  PetscErrorCode (*rowwrite)(FSMonitor, FSSolver);
+  PetscErrorCode (*step)(FSMonitor, FSSolver, PetscInt step, PetscReal t, PetscBool first);
+  PetscErrorCode (*end)(FSMonitor, FSSolver);
+  PetscErrorCode (*view)(FSMonitor, PetscViewer);
+  PetscErrorCode (*destroy)(FSMonitor);
+} FSMonitorOps;
+PETSC_EXTERN PetscErrorCode FSMonitorRegister(const char[], const char[], FSMonitorCreateFn);
+PETSC_EXTERN PetscErrorCode FSMonitorSetOps(FSMonitor, const FSMonitorOps *);
+PETSC_EXTERN PetscErrorCode FSMonitorSetContext(FSMonitor, void *);
+PETSC_EXTERN PetscErrorCode FSMonitorGetContext(FSMonitor, void *);
+PETSC_EXTERN PetscErrorCode FSMonitorRegisterAll(void);
+PETSC_EXTERN PetscErrorCode FSMonitorListView(PetscViewer);
+PETSC_EXTERN PetscErrorCode FSMonitorCreate(MPI_Comm, FSMonitor *);
+PETSC_EXTERN PetscErrorCode FSMonitorSetType(FSMonitor, const char[]);
+PETSC_EXTERN PetscErrorCode FSMonitorGetType(FSMonitor, const char *[]);
+PETSC_EXTERN PetscErrorCode FSMonitorSetOptionsPrefix(FSMonitor, const char[]);
+PETSC_EXTERN PetscErrorCode FSMonitorSetFromOptions(FSMonitor);
+PETSC_EXTERN PetscErrorCode FSMonitorSetUp(FSMonitor, FSSolver);
+PETSC_EXTERN PetscErrorCode FSMonitorBegin(FSMonitor, FSSolver);
+PETSC_EXTERN PetscErrorCode FSMonitorRows(PetscInt, const FSMonitor[], FSSolver);
+PETSC_EXTERN PetscErrorCode FSMonitorStep(FSMonitor, FSSolver);
+PETSC_EXTERN PetscErrorCode FSMonitorEnd(FSMonitor, FSSolver);
+PETSC_EXTERN PetscErrorCode FSMonitorGetWriteStatus(FSMonitor, PetscInt *, PetscBool *);
+PETSC_EXTERN PetscErrorCode FSMonitorRaiseWriteStatus(FSMonitor, PetscInt);
+PETSC_EXTERN PetscErrorCode FSMonitorView(FSMonitor, PetscViewer);
+PETSC_EXTERN PetscErrorCode FSMonitorDestroy(FSMonitor *);
+PETSC_EXTERN PetscErrorCode FSSolverMonitorAdd(FSSolver, FSMonitor);
+PETSC_EXTERN PetscErrorCode FSSolverMonitorSet(FSSolver, FSSolverMonitorFn, void *, PetscErrorCode (*)(void **));
+PETSC_EXTERN PetscErrorCode FSSolverMonitorCancel(FSSolver);
+PETSC_EXTERN PetscErrorCode FSSolverGetMonitors(FSSolver, PetscInt *, const FSMonitor *[]);
 
 /* ---------- terms ---------- */
 /* What a term needs the core to compute in the first pass over neighbour pairs. */

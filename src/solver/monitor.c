@@ -1,68 +1,28 @@
 /*
-   Monitors: the per-step time series (energy, mass, momentum, extremes, dissipated energies), the
-   energy budget (energy.csv, src/coupling/energy.c),
-   particle snapshots at the output interval, checkpoints, the progress line and the summary.
+   The solver's monitors: the list of FSMonitor objects (src/monitor/; the built-in ones, time series, energy budget,
+   probes, snapshots and checkpoints, attached as a user's are) and plain callbacks (FSSolverMonitorSet()), called
+   after every step; the deferred write status of their csv rows; the output directory; the progress line and the
+   summary.
 */
 #include <errno.h>
 #include <sys/stat.h>
 #include "solver/solverimpl.h"
 
-#define FS_MAX_WALL_COLUMNS  16 /* walls whose loads go into the time series */
-#define FS_MAX_FLUID_COLUMNS (32 + FS_CASE_MAX_COLUMNS + FS_MAX_TERMS)
-#define FS_MAX_COLUMNS       (FS_MAX_FLUID_COLUMNS + FS_STRUCTURE_MAX_COLUMNS + 6 * FS_MAX_WALL_COLUMNS)
-
-/* This rank's sums for the row's diagnostics: kinetic energy, mass, momentum (3), and its largest |u|^2. */
-static PetscErrorCode FSSolverDiagnosticsLocal(FSSolver s, PetscReal loc[5], PetscReal *v2max)
-{
-  const PetscInt     dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride;
-  const PetscScalar *u;
-  PetscReal          vmax = 0;
-
-  PetscFunctionBegin;
-  for (PetscInt k = 0; k < 5; k++) loc[k] = 0;
-  PetscCall(VecGetArrayRead(s->state.U, &u));
-  for (PetscInt p = 0; p < s->pw.nowned; p++) {
-    const PetscReal m  = s->pw.rec[p * S + 2 * dim + 1];
-    PetscReal       v2 = 0;
-    for (PetscInt d = 0; d < dim; d++) {
-      const PetscReal v = u[p * US + dim + d];
-      v2 += v * v;
-      loc[2 + d] += m * v;
-    }
-    loc[0] += 0.5 * m * v2;
-    loc[1] += m;
-    vmax = PetscMax(vmax, v2);
-  }
-  PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  *v2max = vmax;
-  PetscFunctionReturn(0);
-}
-
-/* the csv files whose write status is deferred (FSTimeSeriesSetDeferred()), in the order of FSSolverWriteStatus() */
-static void FSSolverDeferredFiles(FSSolver s, FSTimeSeries f[3])
-{
-  f[0] = s->mon.series;
-  f[1] = s->mon.energyseries;
-  f[2] = s->mon.probes.series;
-}
-
 /*
-   FSSolverWriteStatus - rank 0's first failed write of timeseries.csv, energy.csv or probes.csv not yet raised, as one
-   real for a maximum over the ranks that a collective of the run carries (the step's reduction,
-   FSSolverWriteStatusCheck()): 0 when none (always on the other ranks), else 4 (2 errno + torn) + 1 + the file.
+   FSSolverWriteStatus - rank 0's first failed write of a monitor's csv file (timeseries.csv, energy.csv, probes.csv)
+   not yet raised, as one real for a maximum over the ranks that a collective of the run carries (the step's
+   reduction, FSSolverWriteStatusCheck()): 0 when none (always on the other ranks), else 1 + the monitor's place in the
+   list + FS_MAX_MONITORS (its status - 1) (FSMonitorGetWriteStatus()).
 
    Not collective
 */
 PetscReal FSSolverWriteStatus(FSSolver s)
 {
-  FSTimeSeries f[3];
-
-  FSSolverDeferredFiles(s, f);
-  for (int k = 0; k < 3; k++) {
-    int       err = 0;
-    PetscBool torn;
-    if (f[k] && !FSTimeSeriesGetFailure(f[k], &err, &torn) && err)
-      return (PetscReal)(4 * (2 * err + (torn ? 1 : 0)) + 1 + k);
+  for (PetscInt k = 0; k < s->mon.nlist; k++) {
+    PetscInt  status = 0;
+    PetscBool unchecked;
+    if (FSMonitorGetWriteStatus(s->mon.list[k], &status, &unchecked)) return 0; /* not a failed write */
+    if (status) return (PetscReal)(1 + k + FS_MAX_MONITORS * (status - 1));
   }
   return 0;
 }
@@ -75,15 +35,14 @@ PetscReal FSSolverWriteStatus(FSSolver s)
 */
 PetscErrorCode FSSolverWriteStatusRaise(FSSolver s, PetscReal status)
 {
-  const int    code = (int)status;
-  FSTimeSeries f[3];
+  const PetscInt code = (PetscInt)status;
 
   PetscFunctionBegin;
-  s->mon.rows_unchecked = PETSC_FALSE;
+  for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorRaiseWriteStatus(s->mon.list[k], 0));
   if (!code) PetscFunctionReturn(0);
-  FSSolverDeferredFiles(s, f);
-  PetscCheck(f[(code - 1) % 4], PetscObjectComm((PetscObject)s), PETSC_ERR_PLIB, "Write status %d names no file", code);
-  PetscCall(FSTimeSeriesRaiseFailure(f[(code - 1) % 4], (code - 1) / 8, (PetscBool)(((code - 1) / 4) % 2)));
+  PetscCheck((code - 1) % FS_MAX_MONITORS < s->mon.nlist, PetscObjectComm((PetscObject)s), PETSC_ERR_PLIB,
+             "Write status %" PetscInt_FMT " names no monitor", code);
+  PetscCall(FSMonitorRaiseWriteStatus(s->mon.list[(code - 1) % FS_MAX_MONITORS], 1 + (code - 1) / FS_MAX_MONITORS));
   PetscFunctionReturn(0);
 }
 
@@ -97,9 +56,16 @@ PetscErrorCode FSSolverWriteStatusRaise(FSSolver s, PetscReal status)
 PetscErrorCode FSSolverWriteStatusCheck(FSSolver s)
 {
   PetscReal status;
+  PetscBool unchecked = PETSC_FALSE;
 
   PetscFunctionBegin;
-  if (!s->mon.rows_unchecked) PetscFunctionReturn(0);
+  for (PetscInt k = 0; k < s->mon.nlist; k++) {
+    PetscInt  st;
+    PetscBool u;
+    PetscCall(FSMonitorGetWriteStatus(s->mon.list[k], &st, &u));
+    unchecked = (PetscBool)(unchecked || u);
+  }
+  if (!unchecked) PetscFunctionReturn(0);
   status = FSSolverWriteStatus(s);
   PetscCallMPI(MPI_Bcast(&status, 1, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
   PetscCall(FSSolverWriteStatusRaise(s, status));
@@ -107,97 +73,149 @@ PetscErrorCode FSSolverWriteStatusCheck(FSSolver s)
 }
 
 /*
-   A row of timeseries.csv and energy.csv: a local pass fills one buffer with this rank's sums (the diagnostics, the
-   walls' loads of the last right-hand side, the liquid's energies) and its largest speed, one reduction
-   (FSSolverReduceSumMax) sums them over the ranks, then the rows are made and written by rank 0, their write status
-   left for the next step's reduction (FSSolverWriteStatus()).
+   FSSolverMonitorAdd - attaches a monitor to the solver: after every step (and once before the first) it writes what
+   it reports, after the monitors attached before it. The solver keeps a reference; FSSolverDestroy() and
+   FSSolverMonitorCancel() give it back.
 
-   Collective
+   Logically collective
+
+   Input Parameters:
++  s   - the solver
+-  mon - the monitor, with its type set (FSMonitorSetType())
+
+   Notes:
+   The run's own output is made of built-in monitors (FSMONITORTIMESERIES, FSMONITORENERGY, FSMONITORPROBES,
+   FSMONITORSNAPSHOTS, FSMONITORCHECKPOINTS), which the solver attaches first when the run's output begins (unless
+   -fs_write_output 0). A monitor attached after the run began begins at once; its first call is after the next step.
+   At most 16 monitors.
+
+.seealso: FSSolverMonitorSet(), FSSolverMonitorCancel(), FSMonitorCreate(), FSMonitorRegister()
 */
-static PetscErrorCode FSSolverAppendSeries(FSSolver s)
+PetscErrorCode FSSolverMonitorAdd(FSSolver s, FSMonitor mon)
 {
-  PetscReal        vals[FS_MAX_COLUMNS], evals[FS_ENERGY_MAX_COLUMNS], buf[64], *sum = buf, v2max, t, dt;
-  const PetscReal *wloc = NULL, *esum = NULL, *wsum = NULL;
-  PetscInt         k = 0, step, nwalls = 0, nsum = 5;
-  PetscMPIInt      rank;
-  FSTankMotion     mo;
-
   PetscFunctionBegin;
-  if (!s->mon.series) PetscFunctionReturn(0);
-  if (s->boundary) PetscCall(FSBoundaryGetLoadsLocal(s->boundary, &nwalls, &wloc));
-  nsum += FS_WALL_LOAD_STRIDE * nwalls + (s->mon.energyseries ? FS_ENERGY_NSUMS : 0);
-  if (nsum > (PetscInt)PETSC_STATIC_ARRAY_LENGTH(buf)) PetscCall(PetscMalloc1(nsum, &sum));
-  PetscCall(FSSolverDiagnosticsLocal(s, sum, &v2max));
-  if (nwalls) PetscCall(PetscArraycpy(sum + 5, wloc, FS_WALL_LOAD_STRIDE * nwalls));
-  if (s->mon.energyseries) PetscCall(FSSolverEnergyLocal(s, sum + 5 + FS_WALL_LOAD_STRIDE * nwalls, &mo));
-  PetscCall(FSSolverReduceSumMax(s, nsum, sum, 1, &v2max)); /* the row's one reduction */
-  wsum = sum + 5;
-  esum = wsum + FS_WALL_LOAD_STRIDE * nwalls;
-
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-  PetscCall(TSGetTime(s->ts, &t));
-  PetscCall(TSGetStepNumber(s->ts, &step));
-  if (step > s->mon.step0) { /* the step just taken (TS's own time step is its proposal for the next one) */
-    PetscReal tprev;
-    PetscCall(TSGetPrevTime(s->ts, &tprev));
-    dt = t - tprev;
-  } else PetscCall(TSGetTimeStep(s->ts, &dt));
-  vals[k++] = t;
-  vals[k++] = dt;
-  vals[k++] = (PetscReal)s->state.dt_limit;
-  vals[k++] = sum[0];
-  vals[k++] = sum[1];
-  for (PetscInt d = 0; d < s->opt.dim; d++) vals[k++] = sum[2 + d];
-  vals[k++] = PetscSqrtReal(v2max);
-  vals[k++] = s->state.max_variation;
-  if (!rank && s->state.ndiss) { /* the dissipated energies */
-    const PetscScalar *u;
-    PetscCall(VecGetArrayRead(s->state.U, &u));
-    for (PetscInt g = s->state.gdiss; g < s->state.gdiss + s->state.ndiss; g++)
-      vals[k++] = u[s->pw.nowned * s->state.ustride + g];
-    PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  } else k += s->state.ndiss;
-  if (s->caseops.columns) {
-    PetscCall((*s->caseops.columns)(s, t, &vals[k]));
-    k += s->caseops.ncolumns;
-  }
-  if (s->boundary) { /* the liquid's loads on each wall, from the step's last right-hand side */
-    const PetscReal *L;
-    PetscCall(FSBoundaryGetWallLoadsSummed(s->boundary, wsum, &nwalls, &L)); /* each moment about its wall's point */
-    for (PetscInt w = 0; w < PetscMin(nwalls, FS_MAX_WALL_COLUMNS); w++) {
-      const PetscReal *Lw = &L[FS_WALL_LOAD_STRIDE * w];
-      if (s->opt.dim == 3) { /* force and moment vectors */
-        for (PetscInt c = 0; c < FS_WALL_LOAD_STRIDE; c++) vals[k++] = Lw[c];
-      } else { /* the in-plane force and the moment about z */
-        vals[k++] = Lw[FS_WALL_LOAD_FORCE];
-        vals[k++] = Lw[FS_WALL_LOAD_FORCE + 1];
-        vals[k++] = Lw[FS_WALL_LOAD_MOMENT + 2];
-      }
-    }
-  }
-  if (s->structure) { /* the structure's motion, loads and the model's own columns */
-    const char *names[FS_MAX_COLUMNS];
-    PetscInt    nc;
-    PetscCall(FSSolverStructureColumns(s, &nc, names));
-    PetscCall(FSSolverStructureValues(s, &vals[k]));
-    k += nc;
-  }
-  /* energy.csv's row, the energy budget (src/solver/energy.c), first: its check of the structure's energy stops the
-     run before either row of the step is written */
-  if (s->mon.energyseries) PetscCall(FSSolverEnergySummed(s, esum, &mo, evals));
-  if (sum != buf) PetscCall(PetscFree(sum));
-  PetscCall(FSTimeSeriesAppend(s->mon.series, step, vals));
-  /* rank 0: energy.csv's row only where timeseries.csv's was written, as when a failed row stopped the run at once */
-  if (s->mon.energyseries && !FSSolverWriteStatus(s)) PetscCall(FSTimeSeriesAppend(s->mon.energyseries, step, evals));
-  s->mon.rows_unchecked = PETSC_TRUE;
+  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
+  PetscCheck(s->mon.nlist < FS_MAX_MONITORS, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+             "FSSolverMonitorAdd(): the solver holds %d monitors already, the most it can", FS_MAX_MONITORS);
+  PetscCall(PetscObjectReference((PetscObject)mon));
+  s->mon.list[s->mon.nlist++] = mon;
+  if (s->mon.monitoring) PetscCall(FSMonitorBegin(mon, s));
   PetscFunctionReturn(0);
 }
 
-/* the first multiple of the output interval after t (one within 1e-9 of the interval is t's), computed rather than
-   counted up to, so that no interval loops however small it is against t; none without an interval */
-static PetscReal FSNextOutputTime(PetscReal t, PetscReal interval)
+/*
+   FSSolverMonitorSet - adds a plain monitor, as TSMonitorSet(): a function called after every step (and once before
+   the first) with the step number and the time, after the monitor objects (FSSolverMonitorAdd()).
+
+   Logically collective
+
+   Input Parameters:
++  s       - the solver
+.  fn      - the function: PetscErrorCode fn(FSSolver s, PetscInt step, PetscReal t, void *ctx)
+.  ctx     - its context (may be NULL)
+-  destroy - frees the context when the solver is destroyed or the monitors cancelled (may be NULL)
+
+   Notes:
+   The function may read the run through the public API (FSSolverGetField(), FSSolverGetEnergy(),
+   FSSolverGetWallLoads(), FSSolverGetProbes(), ...), collectively where those are. At most 16.
+
+.seealso: FSSolverMonitorAdd(), FSSolverMonitorCancel()
+*/
+PetscErrorCode FSSolverMonitorSet(FSSolver s, FSSolverMonitorFn fn, void *ctx, PetscErrorCode (*destroy)(void **))
 {
-  return interval > 0 ? (PetscFloorReal(t / interval + 1e-9) + 1) * interval : PETSC_MAX_REAL;
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
+  PetscCheck(s->mon.nfn < FS_MAX_MONITORS, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+             "FSSolverMonitorSet(): the solver holds %d monitor functions already, the most it can", FS_MAX_MONITORS);
+  s->mon.fn[s->mon.nfn]        = fn;
+  s->mon.fnctx[s->mon.nfn]     = ctx;
+  s->mon.fndestroy[s->mon.nfn] = destroy;
+  s->mon.nfn++;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverMonitorCancel - removes the monitors a user attached (FSSolverMonitorAdd(), FSSolverMonitorSet()), freeing
+   their contexts; the run's own (the built-in monitors) stay.
+
+   Logically collective
+
+.seealso: FSSolverMonitorAdd(), FSSolverMonitorSet()
+*/
+PetscErrorCode FSSolverMonitorCancel(FSSolver s)
+{
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
+  for (PetscInt k = s->mon.nbuiltin; k < s->mon.nlist; k++) PetscCall(FSMonitorDestroy(&s->mon.list[k]));
+  s->mon.nlist = s->mon.nbuiltin;
+  for (PetscInt k = 0; k < s->mon.nfn; k++)
+    if (s->mon.fndestroy[k]) PetscCall((*s->mon.fndestroy[k])(&s->mon.fnctx[k]));
+  s->mon.nfn = 0;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetMonitors - the monitor objects attached to the solver, the built-in ones first.
+
+   Not collective
+
+   Output Parameters:
++  n    - their number
+-  mons - the monitors (owned by the solver)
+*/
+PetscErrorCode FSSolverGetMonitors(FSSolver s, PetscInt *n, const FSMonitor *mons[])
+{
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
+  if (n) *n = s->mon.nlist;
+  if (mons) *mons = s->mon.list;
+  PetscFunctionReturn(0);
+}
+
+/* the built-in monitors of the run's output, put first in the list (before those a user attached before the run) */
+static PetscErrorCode FSSolverAddBuiltinMonitors(FSSolver s)
+{
+  const char *types[5];
+  PetscInt    n = 0, nuser = s->mon.nlist;
+  FSMonitor   user[FS_MAX_MONITORS];
+
+  PetscFunctionBegin;
+  types[n++] = FSMONITORTIMESERIES;
+  types[n++] = FSMONITORENERGY;
+  if (s->mon.probes.n) types[n++] = FSMONITORPROBES;
+  types[n++] = FSMONITORSNAPSHOTS;
+  if (s->opt.checkpoint_interval > 0) types[n++] = FSMONITORCHECKPOINTS;
+  PetscCheck(nuser + n <= FS_MAX_MONITORS, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
+             "The run's %" PetscInt_FMT " output monitors and the %" PetscInt_FMT
+             " a user attached are more than the %d a solver holds",
+             n, nuser, FS_MAX_MONITORS);
+  for (PetscInt k = 0; k < nuser; k++) user[k] = s->mon.list[k];
+  s->mon.nlist = 0;
+  for (PetscInt k = 0; k < n; k++) {
+    FSMonitor m;
+    PetscCall(FSMonitorCreate(PetscObjectComm((PetscObject)s), &m));
+    PetscCall(FSMonitorSetType(m, types[k]));
+    PetscCall(FSMonitorSetUp(m, s));
+    s->mon.list[s->mon.nlist++] = m;
+  }
+  for (PetscInt k = 0; k < nuser; k++) s->mon.list[s->mon.nlist++] = user[k];
+  s->mon.nbuiltin = n;
+  PetscFunctionReturn(0);
+}
+
+/* the monitors and the plain callbacks at this step (the rows, then each monitor in order, then the callbacks) */
+static PetscErrorCode FSSolverMonitorsStep(FSSolver s)
+{
+  PetscReal t;
+  PetscInt  step;
+
+  PetscFunctionBegin;
+  PetscCall(TSGetTime(s->ts, &t));
+  PetscCall(TSGetStepNumber(s->ts, &step));
+  PetscCall(FSMonitorRows(s->mon.nlist, s->mon.list, s)); /* timeseries.csv and energy.csv: one reduction */
+  for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorStep(s->mon.list[k], s));
+  for (PetscInt k = 0; k < s->mon.nfn; k++) PetscCall((*s->mon.fn[k])(s, step, t, s->mon.fnctx[k]));
+  PetscFunctionReturn(0);
 }
 
 /*
@@ -265,17 +283,14 @@ PetscErrorCode FSSolverOpenOutputDir(FSSolver s)
 }
 
 /*
-   FSSolverMonitorBegin - opens the output (directory, walls.h5 + walls.xdmf, time series, snapshots) and records the
-   initial state. Called by FSSolverSolve, or by the first FSSolverStep before its step.
+   FSSolverMonitorBegin - opens the output (directory, walls.h5 + walls.xdmf, the built-in monitors: time series,
+   energy budget, probes, snapshots, checkpoints) and records the initial state with every monitor. Called by
+   FSSolverSolve, or by the first FSSolverStep before its step.
 */
 PetscErrorCode FSSolverMonitorBegin(FSSolver s)
 {
-  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
-  const char        *names[FS_MAX_COLUMNS];
-  char               namebuf[FS_MAX_TERMS][80], wallbuf[6 * FS_MAX_WALL_COLUMNS][80], path[PETSC_MAX_PATH_LEN];
-  PetscInt           k = 0, step;
-  PetscReal          t;
-  static const char *mom[] = {"momentum_x", "momentum_y", "momentum_z"};
+  PetscInt  step;
+  PetscReal t;
 
   PetscFunctionBegin;
   if (s->mon.monitoring) PetscFunctionReturn(0);
@@ -294,67 +309,23 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.pair_visits    = 0;
   PetscCall(FSParallelStatsBegin(s));
   PetscCall(FSSolverRestCheckBegin(s)); /* a liquid at rest too shallow in particles: warned here */
-  /* snapshots at multiples of the interval, also after a restart */
-  s->mon.next_output        = FSNextOutputTime(t, s->opt.output_interval);
-  s->mon.last_snapshot_time = PETSC_MIN_REAL; /* no snapshot yet */
   if (!s->opt.restart[0])
     PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
-  if (!s->opt.write_output) PetscFunctionReturn(0);
-  PetscCall(FSSolverCheckState(s)); /* before the output is touched: a restart refused leaves it as it was */
-  PetscCall(FSSolverOpenOutputDir(s));
-  /* the walls beside the snapshots, for ParaView and the movie (the geometry view has written them) */
-  if (s->boundary && !s->opt.geometry_view) PetscCall(FSBoundaryWriteGeometry(s->boundary, s->opt.outdir, PETSC_FALSE));
-  names[k++] = "time";
-  names[k++] = "dt";
-  names[k++] = "dt_limit"; /* what set the step: FSDtLimit, its names in summary.json's dt_limit_steps order */
-  names[k++] = "kinetic_energy";
-  names[k++] = "mass";
-  for (PetscInt d = 0; d < s->opt.dim; d++) names[k++] = mom[d];
-  names[k++] = "max_velocity";
-  names[k++] = "max_density_variation";
-  for (PetscInt g = 0, q = 0; g < s->terms.nterms; g++)
-    if (s->terms.term[g]->has_power) {
-      PetscCall(PetscSNPrintf(namebuf[q], sizeof(namebuf[q]), "dissipated_%s", s->terms.term[g]->name));
-      names[k++] = namebuf[q++];
-    }
-  if (s->caseops.columns)
-    for (PetscInt c = 0; c < s->caseops.ncolumns; c++) names[k++] = s->caseops.column_names[c];
-  if (s->boundary) {
-    static const char *part2[] = {"force_x", "force_y", "moment"};
-    static const char *part3[] = {"force_x", "force_y", "force_z", "moment_x", "moment_y", "moment_z"};
-    const PetscInt     np      = s->opt.dim == 3 ? 6 : 3;
-    const char *const *wname;
-    PetscInt           nwalls;
-    PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &wname));
-    for (PetscInt w = 0; w < PetscMin(nwalls, FS_MAX_WALL_COLUMNS); w++)
-      for (PetscInt c = 0; c < np; c++) {
-        PetscCall(PetscSNPrintf(wallbuf[np * w + c], sizeof(wallbuf[0]), "wall_%s_%s", wname[w],
-                                np == 6 ? part3[c] : part2[c]));
-        names[k++] = wallbuf[np * w + c];
-      }
+  if (s->opt.write_output) {
+    PetscCall(FSSolverCheckState(s)); /* before the output is touched: a restart refused leaves it as it was */
+    PetscCall(FSSolverOpenOutputDir(s));
+    /* the walls beside the snapshots, for ParaView and the movie (the geometry view has written them) */
+    if (s->boundary && !s->opt.geometry_view)
+      PetscCall(FSBoundaryWriteGeometry(s->boundary, s->opt.outdir, PETSC_FALSE));
+    PetscCall(FSSolverAddBuiltinMonitors(s));
   }
-  {
-    PetscInt nc;
-    PetscCall(FSSolverStructureColumns(s, &nc, &names[k]));
-    k += nc;
-  }
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/timeseries.csv", s->opt.outdir));
-  PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->opt.restart[0] ? step : -1, &s->mon.series));
-  PetscCall(FSSolverEnergyColumns(s, &k, names));
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/energy.csv", s->opt.outdir));
-  PetscCall(FSTimeSeriesCreate(comm, path, k, names, s->opt.restart[0] ? step : -1, &s->mon.energyseries));
-  /* a row's write status rides on the next step's reduction (FSSolverWriteStatus()), not on a broadcast of its own */
-  PetscCall(FSTimeSeriesSetDeferred(s->mon.series, PETSC_TRUE));
-  PetscCall(FSTimeSeriesSetDeferred(s->mon.energyseries, PETSC_TRUE));
-  PetscCall(FSSnapshotWriterCreate(comm, s->opt.outdir, s->opt.restart[0] ? t : -1.0, &s->mon.snapshots));
-  PetscCall(FSSolverAppendSeries(s)); /* on restart, the series was cut just before this row */
-  PetscCall(FSSolverProbesBegin(s));  /* probes.csv, as the series */
-  if (!s->opt.restart[0]) PetscCall(FSSolverWriteSnapshot(s));
+  for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorBegin(s->mon.list[k], s)); /* files opened */
+  PetscCall(FSSolverMonitorsStep(s)); /* the state the run starts from (on a restart, the files were cut before it) */
   PetscFunctionReturn(0);
 }
 
-/* FSSolverMonitor - called after every step: time series (every -fs_series_interval steps and at the last step),
-   snapshots, checkpoints, progress. */
+/* FSSolverMonitor - called after every step: the monitors (time series and energy budget every -fs_series_interval
+   steps and at the last step, probes, snapshots, checkpoints, the user's), the at-rest check, progress. */
 PetscErrorCode FSSolverMonitor(FSSolver s)
 {
   PetscReal      t, tmax, dt;
@@ -366,16 +337,9 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
   if (!s->mon.monitoring) PetscCall(FSSolverMonitorBegin(s));
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
-  PetscCall(FSSolverAtEnd(s, &end)); /* the last step's row is written whatever the interval */
-  if ((step - s->mon.step0) % s->opt.series_interval == 0 || end) PetscCall(FSSolverAppendSeries(s));
-  PetscCall(FSSolverProbesMonitor(s));
+  PetscCall(FSSolverAtEnd(s, &end));
+  PetscCall(FSSolverMonitorsStep(s));
   PetscCall(FSSolverRestCheck(s)); /* the first steps: a liquid at rest that moves, a step that collapses */
-  if (s->opt.write_output && s->opt.output_interval > 0 && t >= s->mon.next_output - 1e-9 * s->opt.output_interval) {
-    PetscCall(FSSolverWriteSnapshot(s));
-    s->mon.next_output = FSNextOutputTime(t, s->opt.output_interval);
-  }
-  if (s->opt.write_output && s->opt.checkpoint_interval > 0 && step % s->opt.checkpoint_interval == 0)
-    PetscCall(FSSolverWriteCheckpoint(s));
   PetscCall(PetscTime(&now));
   if (s->opt.progress && now - s->mon.wall_last_progress >= s->opt.progress_interval) {
     PetscReal frac, eta;
@@ -392,17 +356,13 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
   PetscFunctionReturn(0);
 }
 
-/* FSSolverMonitorEnd - the last snapshot and the run's summary.json. */
+/* FSSolverMonitorEnd - the monitors' end (the last snapshot) and the run's summary.json. */
 PetscErrorCode FSSolverMonitorEnd(FSSolver s)
 {
-  PetscReal t;
-
   PetscFunctionBegin;
   if (!s->mon.monitoring) PetscFunctionReturn(0);
-  PetscCall(TSGetTime(s->ts, &t));
   PetscCall(FSSolverWriteStatusCheck(s)); /* the last rows' write status, when no step carried it */
-  if (s->opt.write_output && s->mon.last_snapshot_time < t)
-    PetscCall(FSSolverWriteSnapshot(s)); /* unless one was written at t */
+  for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorEnd(s->mon.list[k], s));
   if (s->opt.write_output) PetscCall(FSSolverWriteSummary(s));
   PetscFunctionReturn(0);
 }

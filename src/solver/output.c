@@ -79,19 +79,6 @@ static PetscErrorCode FSSolverDerivedFields(FSSolver s, PetscReal p[], PetscReal
   PetscFunctionReturn(0);
 }
 
-/* the snapshot's fields, in FSSolverWriteSnapshot's order */
-enum {
-  FS_SNAP_POSITION,
-  FS_SNAP_VELOCITY,
-  FS_SNAP_DENSITY,
-  FS_SNAP_PRESSURE,
-  FS_SNAP_STRAIN_RATE,
-  FS_SNAP_TURBULENT_VISCOSITY,
-  FS_SNAP_RANK,
-  FS_SNAP_ID,
-  FS_SNAP_N
-};
-
 typedef struct {
   const PetscInt *pid;
   PetscInt        n;
@@ -108,92 +95,66 @@ static PetscErrorCode FSSolverFillIds(void *ctx, PetscInt f, PetscReal values[])
   PetscFunctionReturn(0);
 }
 
-typedef struct {
-  FSSolver           s;
-  const PetscScalar *u;
-  FSIdsFill          ids;
-  PetscMPIInt        rank;
-} FSSnapshotFill;
-
-/* a snapshot field of the owned particles into values, when the writer writes it (one field at a time) */
-static PetscErrorCode FSSolverFillSnapshotField(void *ctx, PetscInt f, PetscReal values[])
-{
-  const FSSnapshotFill *c   = (const FSSnapshotFill *)ctx;
-  FSSolver              s   = c->s;
-  const PetscInt        dim = s->opt.dim, n = s->pw.nowned, US = s->state.ustride;
-
-  PetscFunctionBegin;
-  switch (f) {
-  case FS_SNAP_POSITION:
-    for (PetscInt k = 0; k < n; k++) {
-      for (PetscInt d = 0; d < dim; d++) values[k * dim + d] = c->u[k * US + d];
-      FSSolverWrapPeriodic(s, &values[k * dim]); /* between rebuilds a particle may have crossed a periodic side */
-    }
-    break;
-  case FS_SNAP_VELOCITY:
-    for (PetscInt k = 0; k < n; k++)
-      for (PetscInt d = 0; d < dim; d++) values[k * dim + d] = c->u[k * US + dim + d];
-    break;
-  case FS_SNAP_DENSITY:
-    for (PetscInt k = 0; k < n; k++) values[k] = c->u[k * US + 2 * dim];
-    break;
-  case FS_SNAP_PRESSURE: PetscCall(FSSolverDerivedFields(s, values, NULL, NULL)); break;
-  case FS_SNAP_STRAIN_RATE: PetscCall(FSSolverDerivedFields(s, NULL, values, NULL)); break;
-  case FS_SNAP_TURBULENT_VISCOSITY: PetscCall(FSSolverDerivedFields(s, NULL, NULL, values)); break;
-  case FS_SNAP_RANK:
-    for (PetscInt k = 0; k < n; k++) values[k] = c->rank;
-    break;
-  case FS_SNAP_ID: PetscCall(FSSolverFillIds((void *)&c->ids, f, values)); break;
-  }
-  PetscFunctionReturn(0);
-}
-
-/*
-   FSSolverWriteSnapshot - writes the particles (position, velocity, density, pressure, strain_rate
-   ||D||, turbulent_viscosity, rank, id) to the next snapshot file, and updates the XDMF index.
-   The derived fields come from a fresh evaluation of the right-hand side at the current state. Each
-   field is made when the writer writes it, into one buffer (3 reals a particle, not 12).
-*/
-PetscErrorCode FSSolverWriteSnapshot(FSSolver s)
-{
-  const PetscInt    dim = s->opt.dim, n = s->pw.nowned;
-  const char *const names[FS_SNAP_N] = {
-      "position", "velocity", "density", "pressure", "strain_rate", "turbulent_viscosity", "rank", "id"};
-  FSOutputField  fields[FS_SNAP_N];
-  FSSnapshotFill c;
-  PetscReal      t;
-  PetscInt       step;
-
-  PetscFunctionBegin;
-  PetscCall(FSSolverWriteStatusCheck(s)); /* a failed csv row is reported before another file is written */
-  PetscCall(PetscLogEventBegin(FS_Output, 0, 0, 0, 0));
-  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &c.rank));
-  PetscCall(TSGetTime(s->ts, &t));
-  PetscCall(TSGetStepNumber(s->ts, &step));
-  PetscCall(FSSolverStructureSnapshot(s)); /* the structure's own output (e.g. the deflected shape) */
-  if (s->pw.nglobal_particles == 0) {      /* a dry structure: no particle file */
-    s->mon.last_snapshot_time = t;
-    PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(FSSolverEvaluateAtState(s, t)); /* before the state is read: the derived fields evaluate at it */
-  c.s     = s;
-  c.ids.n = n;
-  PetscCall(VecGetArrayRead(s->state.U, &c.u));
-  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c.ids.pid));
-  for (PetscInt f = 0; f < FS_SNAP_N; f++)
-    fields[f] = (FSOutputField){
-        .name = names[f], .bs = f < FS_SNAP_DENSITY ? dim : 1, .fill = FSSolverFillSnapshotField, .ctx = &c};
-  PetscCall(FSSnapshotWriterWrite(s->mon.snapshots, t, step, dim, n, FS_SNAP_N, fields));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c.ids.pid));
-  PetscCall(VecRestoreArrayRead(s->state.U, &c.u));
-  s->mon.last_snapshot_time = t;
-  PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
-  PetscFunctionReturn(0);
-}
-
 static const char *FSFieldNames[] = {
     "position", "velocity", "density", "mass", "pressure", "strain_rate", "turbulent_viscosity", "id", "rank"};
+
+/*
+   FSSolverFillField - one per-particle field of this rank's owned particles at the current state into values, in the
+   swarm's local order (FSSolverGetField() without the copy's allocation: the snapshots monitor fills its writer's
+   buffer with it, src/monitor/impls/snapshots.c).
+
+   Collective (the derived fields evaluate a right-hand side; the others are local)
+
+   Input Parameters:
++  s      - the solver, set up
+.  name   - a field of FSSolverGetField()
+-  values - room for the owned particles' values (bs each), or NULL for bs only
+
+   Output Parameter:
+.  bs - the values per particle (may be NULL)
+*/
+PetscErrorCode FSSolverFillField(FSSolver s, const char name[], PetscInt *bs, PetscReal values[])
+{
+  const PetscInt dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride, np = s->pw.nowned;
+  PetscInt       k = 0, b = 1, off = -1;
+  PetscReal     *v    = values;
+  MPI_Comm       comm = PetscObjectComm((PetscObject)s);
+
+  PetscFunctionBegin;
+  PetscCheck(s->setupcalled, comm, PETSC_ERR_ARG_WRONGSTATE, "FSSolverGetField(): call FSSolverSetUp() first");
+  while (k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames) && strcmp(name, FSFieldNames[k])) k++;
+  PetscCheck(k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames), comm, PETSC_ERR_ARG_UNKNOWN_TYPE,
+             "Unknown particle field \"%s\": expected position, velocity, density, mass, pressure, strain_rate, "
+             "turbulent_viscosity, id or rank",
+             name);
+  if (k < 2) b = dim;
+  if (bs) *bs = b;
+  if (!v) PetscFunctionReturn(0);
+  if (k <= 2) off = k * dim; /* the packed state: position, velocity, density */
+  if (off >= 0) {
+    const PetscScalar *u;
+    PetscCall(VecGetArrayRead(s->state.U, &u));
+    for (PetscInt i = 0; i < np; i++)
+      for (PetscInt d = 0; d < b; d++) v[i * b + d] = u[i * US + off + d];
+    if (k == 0) /* inside the periodic domain: between rebuilds a particle may have crossed a periodic side */
+      for (PetscInt i = 0; i < np; i++) FSSolverWrapPeriodic(s, &v[i * dim]);
+    PetscCall(VecRestoreArrayRead(s->state.U, &u));
+  } else if (k == 3) { /* the mass, from the particle records */
+    for (PetscInt i = 0; i < np; i++) v[i] = s->pw.rec[i * S + 2 * dim + 1];
+  } else if (k <= 6) {
+    PetscCall(FSSolverDerivedFields(s, k == 4 ? v : NULL, k == 5 ? v : NULL, k == 6 ? v : NULL));
+  } else if (k == 7) {
+    FSIdsFill ids = {.n = np};
+    PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&ids.pid));
+    PetscCall(FSSolverFillIds(&ids, 0, v));
+    PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&ids.pid));
+  } else {
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(comm, &rank));
+    for (PetscInt i = 0; i < np; i++) v[i] = rank;
+  }
+  PetscFunctionReturn(0);
+}
 
 /*
    FSSolverGetField - a copy of one per-particle field of this rank's owned particles at the current
@@ -217,48 +178,18 @@ static const char *FSFieldNames[] = {
    at the current state, as in the snapshots; it also refreshes what the last right-hand side left
    (the wall loads of FSSolverGetWallLoads()). id and rank are returned as reals, as in the snapshots.
 
-.seealso: FSSolverRestoreField(), FSSolverGetSwarm(), FSSolverWriteSnapshot()
+.seealso: FSSolverRestoreField(), FSSolverGetSwarm(), FSSolverFillField()
 */
 PetscErrorCode FSSolverGetField(FSSolver s, const char name[], PetscInt *n, PetscInt *bs, const PetscReal *values[])
 {
-  const PetscInt dim = s->opt.dim, US = s->state.ustride, S = s->pw.stride, np = s->pw.nowned;
-  PetscInt       k = 0, b = 1, off = -1;
-  PetscReal     *v;
-  MPI_Comm       comm = PetscObjectComm((PetscObject)s);
+  PetscInt   b;
+  PetscReal *v;
 
   PetscFunctionBegin;
-  PetscCheck(s->setupcalled, comm, PETSC_ERR_ARG_WRONGSTATE, "FSSolverGetField(): call FSSolverSetUp() first");
-  while (k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames) && strcmp(name, FSFieldNames[k])) k++;
-  PetscCheck(k < (PetscInt)PETSC_STATIC_ARRAY_LENGTH(FSFieldNames), comm, PETSC_ERR_ARG_UNKNOWN_TYPE,
-             "Unknown particle field \"%s\": expected position, velocity, density, mass, pressure, strain_rate, "
-             "turbulent_viscosity, id or rank",
-             name);
-  if (k < 2) b = dim;
-  PetscCall(PetscMalloc1(np * b + 1, &v));
-  if (k <= 2) off = k * dim; /* the packed state: position, velocity, density */
-  if (off >= 0) {
-    const PetscScalar *u;
-    PetscCall(VecGetArrayRead(s->state.U, &u));
-    for (PetscInt i = 0; i < np; i++)
-      for (PetscInt d = 0; d < b; d++) v[i * b + d] = u[i * US + off + d];
-    if (k == 0)
-      for (PetscInt i = 0; i < np; i++) FSSolverWrapPeriodic(s, &v[i * dim]); /* inside the periodic domain */
-    PetscCall(VecRestoreArrayRead(s->state.U, &u));
-  } else if (k == 3) { /* the mass, from the particle records */
-    for (PetscInt i = 0; i < np; i++) v[i] = s->pw.rec[i * S + 2 * dim + 1];
-  } else if (k <= 6) {
-    PetscCall(FSSolverDerivedFields(s, k == 4 ? v : NULL, k == 5 ? v : NULL, k == 6 ? v : NULL));
-  } else if (k == 7) {
-    PetscInt *pid;
-    PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
-    for (PetscInt i = 0; i < np; i++) v[i] = pid[i];
-    PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&pid));
-  } else {
-    PetscMPIInt rank;
-    PetscCallMPI(MPI_Comm_rank(comm, &rank));
-    for (PetscInt i = 0; i < np; i++) v[i] = rank;
-  }
-  if (n) *n = np;
+  PetscCall(FSSolverFillField(s, name, &b, NULL));
+  PetscCall(PetscMalloc1(s->pw.nowned * b + 1, &v));
+  PetscCall(FSSolverFillField(s, name, NULL, v));
+  if (n) *n = s->pw.nowned;
   if (bs) *bs = b;
   *values = v;
   PetscFunctionReturn(0);

@@ -635,50 +635,43 @@ static PetscErrorCode FSProbesSample(FSSolver s)
 }
 
 /*
-   FSSolverProbesBegin - opens probes.csv (cut after the restart step on a restart) and records the
-   state the run starts from. Called by FSSolverMonitorBegin().
+   FSSolverProbesColumns - probes.csv's columns after "time" (the probes monitor, src/monitor/impls/probes.c, owns the
+   file) and the steps between its rows (-fs_probe_interval).
 
-   Collective
+   Not collective
+
+   Output Parameters:
++  interval - -fs_probe_interval
+.  n        - the number of columns: 0 without -fs_probes
+-  names    - (n of them, or NULL) the columns' names, owned by the solver
 */
-PetscErrorCode FSSolverProbesBegin(FSSolver s)
+PetscErrorCode FSSolverProbesColumns(FSSolver s, PetscInt *interval, PetscInt *n, const char *names[])
 {
-  FSProbeSet  *ps = &s->mon.probes;
-  char         path[PETSC_MAX_PATH_LEN];
-  const char  *names[1 + 4 * 256];
-  const char **cols = names;
-  PetscInt     step;
+  const FSProbeSet *ps = &s->mon.probes;
 
   PetscFunctionBegin;
-  if (!ps->n || !s->opt.write_output) PetscFunctionReturn(0);
-  PetscCall(TSGetStepNumber(s->ts, &step));
-  if (ps->nvalues + 1 > (PetscInt)(sizeof(names) / sizeof(names[0]))) PetscCall(PetscMalloc1(ps->nvalues + 1, &cols));
-  cols[0] = "time";
-  for (PetscInt c = 0; c < ps->nvalues; c++) cols[1 + c] = ps->colname[c];
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/probes.csv", s->opt.outdir));
-  PetscCall(FSTimeSeriesCreate(PetscObjectComm((PetscObject)s), path, ps->nvalues + 1, cols,
-                               s->opt.restart[0] ? step : -1, &ps->series));
-  PetscCall(FSTimeSeriesSetDeferred(ps->series, PETSC_TRUE)); /* its write status as timeseries.csv's */
-  if (cols != names) PetscCall(PetscFree(cols));
-  PetscCall(FSSolverProbesMonitor(s));
+  *interval = ps->interval;
+  *n        = ps->n ? ps->nvalues : 0;
+  for (PetscInt c = 0; names && c < *n; c++) names[c] = ps->colname[c];
   PetscFunctionReturn(0);
 }
 
 /*
-   FSSolverProbesMonitor - at the end of a step (and at the start of the run): every -fs_probe_interval
-   steps, the values at the current state into probes.csv.
+   FSSolverProbesRecord - the values of a row of probes.csv at the current state: the probes and gauges sampled, and
+   the sensors' time response (their filters and sample-and-hold) advanced to this sample, which only the rows of
+   probes.csv do.
 
    Collective
+
+   Output Parameters:
++  time   - the time of the sample
+-  values - the values (FSSolverProbesColumns()'s n of them), owned by the solver
 */
-PetscErrorCode FSSolverProbesMonitor(FSSolver s)
+PetscErrorCode FSSolverProbesRecord(FSSolver s, PetscReal *time, const PetscReal **values)
 {
   FSProbeSet *ps = &s->mon.probes;
-  PetscReal   row[1 + 4 * 256], *r = row;
-  PetscInt    step;
 
   PetscFunctionBegin;
-  if (!ps->series) PetscFunctionReturn(0);
-  PetscCall(TSGetStepNumber(s->ts, &step));
-  if (step % ps->interval) PetscFunctionReturn(0);
   PetscCall(FSProbesSample(s));
   for (PetscInt k = 0; k < ps->n; k++) { /* the sensors' time response: only the samples of probes.csv */
     FSProbe *it = &ps->item[k];
@@ -686,12 +679,8 @@ PetscErrorCode FSSolverProbesMonitor(FSSolver s)
       ps->values[ps->offset[k] + 1 + s->opt.dim] = FSSensorFilterUpdate(&it->filter, ps->time,
                                                                         ps->values[ps->offset[k]]);
   }
-  if (ps->nvalues + 1 > (PetscInt)(sizeof(row) / sizeof(row[0]))) PetscCall(PetscMalloc1(ps->nvalues + 1, &r));
-  r[0] = ps->time;
-  PetscCall(PetscArraycpy(r + 1, ps->values, ps->nvalues));
-  PetscCall(FSTimeSeriesAppend(ps->series, step, r));
-  s->mon.rows_unchecked = PETSC_TRUE;
-  if (r != row) PetscCall(PetscFree(r));
+  *time   = ps->time;
+  *values = ps->values;
   PetscFunctionReturn(0);
 }
 
@@ -701,7 +690,6 @@ PetscErrorCode FSSolverProbesDestroy(FSSolver s)
   FSProbeSet *ps = &s->mon.probes;
 
   PetscFunctionBegin;
-  PetscCall(FSTimeSeriesDestroy(&ps->series));
   PetscCall(PetscFree(ps->item));
   PetscCall(PetscFree2(ps->elem, ps->ewt));
   PetscCall(PetscFree2(ps->offset, ps->names));

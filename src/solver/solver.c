@@ -732,6 +732,14 @@ PetscErrorCode FSSolverGetParameters(FSSolver s, PetscReal *dx, PetscReal *h, Pe
   PetscFunctionReturn(0);
 }
 
+/* FSSolverGetGlobalSize - the particles over every rank. Not collective */
+PetscErrorCode FSSolverGetGlobalSize(FSSolver s, PetscInt64 *n)
+{
+  PetscFunctionBegin;
+  *n = s->pw.nglobal_particles;
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverGetGravity - the body force per unit mass (-fs_gravity, or the case's default).
 
@@ -1061,9 +1069,9 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSSolverSetOptionsChecked(s, 0, NULL));
   PetscCall(PetscFree2(s->sy, s->sydot));
   if (s->casedata) PetscCall(PetscFree(s->casedata));
-  PetscCall(FSSnapshotWriterDestroy(&s->mon.snapshots));
-  PetscCall(FSTimeSeriesDestroy(&s->mon.series));
-  PetscCall(FSTimeSeriesDestroy(&s->mon.energyseries));
+  PetscCall(FSSolverMonitorCancel(s)); /* the user's monitors and callbacks */
+  for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorDestroy(&s->mon.list[k])); /* the run's own */
+  s->mon.nlist = s->mon.nbuiltin = 0;
   PetscCall(FSSolverProbesDestroy(s));
   PetscCall(FSOutputDirUnlock(&s->mon.lock)); /* the output is closed: another run may write there */
   PetscCall(TSDestroy(&s->ts));

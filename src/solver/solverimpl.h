@@ -17,6 +17,7 @@
 #include "coupling/fscoupling.h"
 #include "io/fsoutput.h"
 #include "boundary/fsboundary.h"
+#include "solver/fssolver.h"
 
 #define FS_MAX_GLOBAL 64
 
@@ -225,9 +226,8 @@ typedef struct {
   PetscInt  *elem;   /* the wall elements of the probes on walls */
   PetscReal *ewt;    /* their weights: the area (length in 2-D) of the element within the probe's face */
   char (*colname)[FS_PROBE_NAME_LEN + 32];
-  const char **names;  /* the items' names, for FSSolverGetProbes */
-  FSTimeSeries series; /* probes.csv */
-  PetscInt     step;   /* the step of values (-1: none yet) */
+  const char **names; /* the items' names, for FSSolverGetProbes */
+  PetscInt     step;  /* the step of values (-1: none yet) */
   PetscReal    time;
 } FSProbeSet;
 
@@ -262,27 +262,32 @@ typedef struct {
   PetscReal dt0;      /* the step's limit at the start */
 } FSRestCheck;
 
-/* The monitors and output writers, and the run's statistics. */
+#define FS_MAX_MONITORS 16 /* monitors of each form a solver holds (FSSolverMonitorAdd(), FSSolverMonitorSet()) */
+
+/* The monitors (src/monitor/, FSSolverMonitorAdd(); the built-in ones first) and the plain callbacks
+   (FSSolverMonitorSet()), the output directory, and the run's statistics. */
 typedef struct {
-  FSSnapshotWriter snapshots;
-  FSTimeSeries     series;
-  FSTimeSeries     energyseries; /* energy.csv */
-  PetscReal        next_output;
-  PetscLogDouble   wall_start, wall_last_progress;
-  PetscInt         step0;
-  PetscInt64       pair_visits, particle_steps;
-  PetscInt         nmigrations, nrhs;
-  PetscInt         steps_taken; /* steps taken since set-up (this process) */
-  PetscInt         nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
-  PetscInt         nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
-  PetscBool        monitoring;
-  PetscBool        rows_unchecked; /* csv rows whose write status is not yet carried (FSSolverWriteStatus) */
-  FSOutputLock     lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
-  PetscReal        t0, last_snapshot_time;
-  FSProbeSet       probes; /* -fs_probes */
-  char            *setup;  /* the record of what defines the run, for the checkpoints (setuprecord.c) */
-  FSParallelStats  par;    /* summary.json's "parallel" */
-  FSRestCheck      rest;   /* the at-rest check */
+  FSMonitor         list[FS_MAX_MONITORS];
+  PetscInt          nlist;
+  PetscInt          nbuiltin; /* the built-in monitors the solver attached (FSSolverMonitorBegin()) */
+  FSSolverMonitorFn fn[FS_MAX_MONITORS];
+  void             *fnctx[FS_MAX_MONITORS];
+  PetscErrorCode (*fndestroy[FS_MAX_MONITORS])(void **);
+  PetscInt        nfn;
+  PetscLogDouble  wall_start, wall_last_progress;
+  PetscInt        step0;
+  PetscInt64      pair_visits, particle_steps;
+  PetscInt        nmigrations, nrhs;
+  PetscInt        steps_taken; /* steps taken since set-up (this process) */
+  PetscInt        nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
+  PetscInt        nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
+  PetscBool       monitoring;
+  FSOutputLock    lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
+  PetscReal       t0;
+  FSProbeSet      probes; /* -fs_probes */
+  char           *setup;  /* the record of what defines the run, for the checkpoints (setuprecord.c) */
+  FSParallelStats par;    /* summary.json's "parallel" */
+  FSRestCheck     rest;   /* the at-rest check */
 } FSMonitorData;
 
 typedef struct _FSSolverOps *FSSolverOps;
@@ -339,7 +344,6 @@ PETSC_INTERN PetscErrorCode FSSolverOpenOutputDir(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscReal      FSSolverWriteStatus(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteStatusRaise(FSSolver, PetscReal);
-PETSC_INTERN PetscErrorCode FSSolverWriteStatusCheck(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverResize(FSSolver, PetscBool);
 PETSC_INTERN PetscErrorCode FSSolverCheckState(FSSolver);
 #define FS_CHECK_N    5   /* the values FSSolverCheckStateLocal() gives to be reduced (MPI_MAX) */
@@ -363,16 +367,13 @@ PETSC_INTERN PetscErrorCode FSSolverRebuildNeeded(FSSolver, PetscBool *rebuild, 
 PETSC_INTERN PetscErrorCode FSSolverRebuildNeededLocal(FSSolver, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverRebuildDecide(FSSolver, const PetscReal[], PetscReal, PetscInt, PetscBool *,
                                                   PetscBool *);
-PETSC_INTERN PetscErrorCode FSSolverReduceSumMax(FSSolver, PetscInt, PetscReal[], PetscInt, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRebalance(FSSolver, PetscInt step, PetscBool *moved);
 PETSC_INTERN PetscErrorCode FSSolverBalanceWork(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetWorkSum(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverPartitionWalls(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverWriteSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverAtEnd(FSSolver, PetscBool *);
 PETSC_INTERN PetscErrorCode FSParallelStatsBegin(FSSolver);
 PETSC_INTERN void           FSParallelStatsStepBegin(FSSolver);
 PETSC_INTERN void           FSParallelStatsStepEnd(FSSolver);
@@ -385,8 +386,6 @@ PETSC_INTERN PetscErrorCode FSSolverOptionsRestCheck(FSSolver, PetscOptionItems 
 PETSC_INTERN PetscErrorCode FSSolverRestCheckBegin(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverRestCheck(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesSetUp(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverProbesBegin(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverProbesMonitor(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverProbesDestroy(FSSolver);
 PETSC_INTERN PetscReal      FSSensorSegmentOverlap(PetscReal, PetscReal, PetscReal);
 PETSC_INTERN PetscReal      FSSensorDiscTriangleArea(PetscReal, const PetscReal[3][2]);
@@ -403,7 +402,6 @@ PETSC_INTERN PetscInt       FSRKL2Stages(PetscReal z);
 PETSC_INTERN PetscErrorCode FSSolverEnergyAddTermWork(FSSolver, FSTerm, PetscReal);
 PETSC_INTERN PetscReal      FSSolverCompressibilityEnergy(FSSolver, PetscReal rho);
 PETSC_INTERN PetscErrorCode FSSolverEvaluateRates(FSSolver, const PetscReal *u, PetscReal *f, PetscBool count);
-PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
 
 /* The energy block of the global DOFs: the time integrals of P_ext, of the start-up relaxation's
    power, of the structure's damping power (negative: energy lost) and of the coupling's power (the work
@@ -424,10 +422,6 @@ enum {
   FS_ENERGY_TOTAL0,
   FS_ENERGY_NDOF
 };
-PETSC_INTERN PetscErrorCode FSSolverEnergyColumns(FSSolver, PetscInt *, const char *[]);
-#define FS_ENERGY_NSUMS 5 /* the liquid's energies a rank sums (FSSolverEnergyLocal()) */
-PETSC_INTERN PetscErrorCode FSSolverEnergyLocal(FSSolver, PetscReal loc[], FSTankMotion *);
-PETSC_INTERN PetscErrorCode FSSolverEnergySummed(FSSolver, const PetscReal liq[], const FSTankMotion *, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverEnergyInitial(FSSolver);
 typedef struct {
   FSTankMotion mo;
@@ -466,7 +460,6 @@ PETSC_INTERN PetscErrorCode FSSolverStructureDt(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverOwnedMaxSpeed2(FSSolver, PetscReal *);
 PETSC_INTERN PetscErrorCode FSSolverStructureColumns(FSSolver, PetscInt *, const char *[]);
 PETSC_INTERN PetscErrorCode FSSolverStructureValues(FSSolver, PetscReal vals[]);
-PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverStructureSummary(FSSolver, FSJSON);
 
 /* u_j - u_i and V_j of the n neighbours j[] of particle i, for the terms (FSNeighbourhood) */

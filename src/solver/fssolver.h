@@ -1,0 +1,54 @@
+/*
+   The solver's interface to the monitors (src/monitor/): what a monitor reads of a run besides the public API. The
+   quantities of an output row (the diagnostics, the walls' loads, the energy budget, the probes' samples, the
+   snapshots' fields) are computed here, in the solver's folder; the monitors own the files, when they are written
+   and the reductions that batch a row's sums (FSSolverReduceSumMax()).
+*/
+#pragma once
+#include <flexslosh.h>
+#include "coupling/fscoupling.h"
+#include "io/fsoutput.h"
+
+/* the settings of the run's output that the built-in monitors follow (options of the solver: -fs_output_dir, ...) */
+typedef struct {
+  const char *outdir;              /* -fs_output_dir, or the run's own directory */
+  PetscBool   restart;             /* the run continues from a checkpoint (-fs_restart): the files are cut, not new */
+  PetscReal   output_interval;     /* -fs_output_interval: simulated time between snapshots (0: first and last) */
+  PetscInt    checkpoint_interval; /* -fs_checkpoint_interval: steps between checkpoints (0: none) */
+  PetscInt    series_interval;     /* -fs_series_interval: steps between the rows of timeseries.csv and energy.csv */
+  PetscInt    step0;               /* the step the run's monitors began at */
+} FSSolverOutputSettings;
+PETSC_INTERN PetscErrorCode FSSolverGetOutputSettings(FSSolver, FSSolverOutputSettings *);
+PETSC_INTERN PetscErrorCode FSSolverAtEnd(FSSolver, PetscBool *);
+PETSC_INTERN PetscErrorCode FSSolverReduceSumMax(FSSolver, PetscInt, PetscReal[], PetscInt, PetscReal[]);
+
+/* timeseries.csv's row (src/solver/series.c) */
+#define FS_SERIES_MAX_COLUMNS 256
+#define FS_SERIES_NAME_LEN    80
+PETSC_INTERN PetscErrorCode FSSolverSeriesColumns(FSSolver, PetscInt *, const char *[], char[][FS_SERIES_NAME_LEN]);
+PETSC_INTERN PetscErrorCode FSSolverSeriesSize(FSSolver, PetscInt *nsum);
+PETSC_INTERN PetscErrorCode FSSolverSeriesLocal(FSSolver, PetscReal sum[], PetscReal *v2max);
+PETSC_INTERN PetscErrorCode FSSolverSeriesValues(FSSolver, const PetscReal sum[], PetscReal v2max, PetscReal vals[]);
+
+/* energy.csv's row, the energy budget (src/solver/energy.c) */
+#define FS_ENERGY_NSUMS 5 /* the liquid's energies a rank sums (FSSolverEnergyLocal()) */
+PETSC_INTERN PetscErrorCode FSSolverEnergyColumns(FSSolver, PetscInt *, const char *[]);
+PETSC_INTERN PetscErrorCode FSSolverEnergyLocal(FSSolver, PetscReal loc[], FSTankMotion *);
+PETSC_INTERN PetscErrorCode FSSolverEnergySummed(FSSolver, const PetscReal liq[], const FSTankMotion *, PetscReal[]);
+
+/* probes.csv's row (src/solver/probes.c): its columns after "time", and the values of a sample at the current state
+   with the sensors' time response applied (names NULL: n only; n is 0 without -fs_probes) */
+PETSC_INTERN PetscErrorCode FSSolverProbesColumns(FSSolver, PetscInt *interval, PetscInt *n, const char *names[]);
+PETSC_INTERN PetscErrorCode FSSolverProbesRecord(FSSolver, PetscReal *time, const PetscReal **values);
+
+/* a snapshot's fields (src/solver/output.c): a particle field into the writer's buffer (FSSolverGetField() without
+   the copy), the evaluation at the state the derived fields come from (collective: made before the writer fills
+   the fields rank by rank), the particles over the ranks, the structure's own output at a snapshot time */
+PETSC_INTERN PetscErrorCode FSSolverFillField(FSSolver, const char[], PetscInt *bs, PetscReal values[]);
+PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
+PETSC_INTERN PetscErrorCode FSSolverGetGlobalSize(FSSolver, PetscInt64 *);
+PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
+
+/* the write status of the monitors' csv rows, carried to every rank and raised before another file is written
+   (src/solver/monitor.c) */
+PETSC_INTERN PetscErrorCode FSSolverWriteStatusCheck(FSSolver);
