@@ -334,6 +334,8 @@ typedef struct {
   char              cache[PETSC_MAX_PATH_LEN];     /* -fs_fill_packing_cache: a folder of packings, "" none */
   PetscReal         repulsion, repulsion_distance; /* the wall_pressure term's push near contact (-fs_walls_repulsion;
                                                       its distance in dx), which the relaxation balances */
+  PetscBool visall; /* -fs_walls_visibility all: every wall element within the support counts, those that
+                       face away included (the run's wall terms count them), else the facing ones */
 } FSFillPacking;
 PETSC_EXTERN PetscErrorCode FSSolverGetFillPacking(FSSolver, FSFillPacking *);
 PETSC_EXTERN PetscErrorCode FSSolverGetParameters(FSSolver, PetscReal *dx, PetscReal *h, PetscReal *rho0, PetscReal *c0,

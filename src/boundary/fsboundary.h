@@ -70,6 +70,7 @@ PETSC_INTERN PetscErrorCode FSBoundaryHasNoSlip(FSBoundary, PetscBool *);
 PETSC_INTERN PetscErrorCode FSBoundaryGetView(FSBoundary, const FSWallView **, const PetscInt **wstart,
                                               const PetscInt **wk, const PetscReal **wW);
 PETSC_INTERN PetscErrorCode FSBoundaryGetBounce(FSBoundary, PetscBool *);
+PETSC_INTERN PetscErrorCode FSBoundaryGetVisibilityOption(PetscObject, PetscBool *all);
 PETSC_INTERN PetscErrorCode FSBoundaryBounce(FSBoundary, PetscInt n, PetscReal x[], PetscReal v[], const PetscReal m[],
                                              FSParticleEnergyFn, void *, PetscReal de[2]);
 PETSC_INTERN PetscErrorCode FSBoundaryGetLoads(FSBoundary, PetscInt *nwalls, const PetscReal **loads);

@@ -694,8 +694,9 @@ PetscErrorCode FSSolverSetDomain(FSSolver s, const PetscReal lo[], const PetscRe
 
 /*
    FSSolverGetFillPacking - how the cases place the liquid's particles: -fs_fill_packing (auto, lattice or relaxed)
-   and the relaxation's settings, with the wall_pressure term's push near contact (-fs_walls_repulsion), which the
-   relaxation balances so that its particles start in the equilibrium of the run's own wall terms.
+   and the relaxation's settings, with the wall_pressure term's push near contact (-fs_walls_repulsion) and the walls'
+   visibility (-fs_walls_visibility), which the relaxation balances so that its particles start in the equilibrium of
+   the run's own wall terms.
 
    Not collective
 
@@ -716,6 +717,7 @@ PetscErrorCode FSSolverGetFillPacking(FSSolver s, FSFillPacking *p)
   *p = s->opt.packing;
   for (PetscInt t = 0; t < s->terms.nterms && !p->repulsion; t++)
     PetscCall(FSTermWallPressureGetRepulsion(s->terms.term[t], &p->repulsion, &p->repulsion_distance));
+  PetscCall(FSBoundaryGetVisibilityOption((PetscObject)s, &p->visall));
   PetscFunctionReturn(0);
 }
 

@@ -109,14 +109,17 @@ PetscErrorCode FSBoundarySetType(FSBoundary b, const char type[])
   PetscFunctionReturn(0);
 }
 
+/* -fs_walls_visibility's values, in the order of b->visall */
+static const char *const FSBoundaryVisibilities[] = {"cut", "all"};
+
 /* the options every boundary method shares (FSBoundarySetFromOptions, FSBoundaryHelpAll) */
 static PetscErrorCode FSBoundaryOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
 {
-  const char *const visnames[] = {"cut", "all"};
-  PetscInt          vis        = b->visall ? 1 : 0;
-  PetscInt          np         = 4;
-  PetscReal         lp[4]      = {b->loadpoint[0], b->loadpoint[1], b->loadpoint[2], 0};
-  PetscBool         set;
+  const char *const *visnames = FSBoundaryVisibilities;
+  PetscInt           vis      = b->visall ? 1 : 0;
+  PetscInt           np       = 4;
+  PetscReal          lp[4]    = {b->loadpoint[0], b->loadpoint[1], b->loadpoint[2], 0};
+  PetscBool          set;
 
   PetscFunctionBegin;
   for (PetscInt k = 0; k < b->nnoslipname; k++) PetscCall(PetscFree(b->noslipname[k]));
@@ -613,6 +616,24 @@ void FSBoundaryBounceParticle(FSBoundary b, const PetscReal n[], PetscReal d, Pe
   de[0] += e1[0] - e0[0];
   de[1] += e1[1] - e0[1];
   b->nbounce++;
+}
+
+/*
+   FSBoundaryGetVisibilityOption - whether -fs_walls_visibility is all in the options database of obj (with its
+   prefix), before a boundary reads it at set-up (FSBoundarySetFromOptions): the relaxed packing, which a case builds
+   before that, balances the wall elements that the run's wall terms will count (src/cases/impls/packing.c).
+
+   Not collective
+*/
+PetscErrorCode FSBoundaryGetVisibilityOption(PetscObject obj, PetscBool *all)
+{
+  PetscInt vis = 0;
+
+  PetscFunctionBegin;
+  PetscCall(
+      PetscOptionsGetEList(obj->options, obj->prefix, "-fs_walls_visibility", FSBoundaryVisibilities, 2, &vis, NULL));
+  *all = (PetscBool)(vis == 1);
+  PetscFunctionReturn(0);
 }
 
 /* FSBoundaryGetBounce - whether particles bounce off the walls (-fs_walls_bounce_distance > 0). Not collective. */

@@ -12,7 +12,10 @@
    own discretization. With -fs_walls_repulsion kappa the wall term weighs a particle's own pressure f_ik = 1 +
    kappa (d0 - d_ik)/d0 times within d0 of an element (wall.c), so an element's share in e_i is weighed (1 + f_ik)/2
    here: without it the relaxed particles that sit closer than d0 to a wall start pushed off it (a 3-D box turned
-   30 degrees rang at 0.015 sqrt(gH), docs/walls.md). This is the background-pressure relaxation of SPHinXsys (Zhu,
+   30 degrees rang at 0.015 sqrt(gH), docs/walls.md). With -fs_walls_visibility all the run's wall terms count every
+   element within the support, those that face away (a rib's far face, seen through the rib with the particles
+   beyond it) with their signed distance, and so does e_i here; counting only the facing ones left a rib's nearest
+   rows pulled towards it at 0.3 g (docs/own-tank.md). This is the background-pressure relaxation of SPHinXsys (Zhu,
    Zhang & Hu 2021), with the boundary integrals in place of its level set's kernel integral: each iteration moves a
    particle by -step h^2 e_i (at most dx/10), keeping it at least dx/4 from the walls and the fill level. The fill level
    is a wall during the relaxation (a lid), so that the free surface stays flat at the fill level; the lid is dropped
@@ -142,9 +145,10 @@ static inline PetscReal ElementPlaneDistance(PetscInt dim, const PetscReal el[],
 }
 
 /* e_i of the particle i (packing.c's header); push: the wall_pressure term's kappa and d0 (a length), whose f_ik
-   weighs an element's share near contact as the run's wall term does under a uniform pressure */
+   weighs an element's share near contact as the run's wall term does under a uniform pressure; all: every element
+   within the support counts, those facing away too (-fs_walls_visibility all), else the facing ones */
 static void ParticleSum(const FSPackRegion *g, const Grid *pg, const Grid *eg, const FSKernel *k, PetscReal V,
-                        const PetscReal push[2], const PetscReal X[], PetscInt i, PetscReal e[])
+                        const PetscReal push[2], PetscBool all, const PetscReal X[], PetscInt i, PetscReal e[])
 {
   const PetscInt   dim  = g->dim;
   const PetscReal *xi   = &X[dim * i];
@@ -177,10 +181,10 @@ static void ParticleSum(const FSPackRegion *g, const Grid *pg, const Grid *eg, c
       const PetscReal *el = &g->el[eg->item[q] * g->stride], *n;
       PetscReal        gk, wint;
       if (dim == 2) {
-        FSSegmentIntegrals(k->h, xi, el, PETSC_FALSE, &gk, &wint);
+        FSSegmentIntegrals(k->h, xi, el, all, &gk, &wint);
         n = el + FS_SEG_NORMAL;
       } else {
-        FSTriangleIntegrals(k->h, xi, el, PETSC_FALSE, &gk, &wint);
+        FSTriangleIntegrals(k->h, xi, el, all, &gk, &wint);
         n = el + FS_TRI_NORMAL;
       }
       PetscReal f = 1; /* the wall term's weight (1 + f_ik)/2 under a uniform pressure (wall.c) */
@@ -241,6 +245,7 @@ static PetscErrorCode CachePath(const FSFillPacking *opt, const FSPackRegion *g,
     h = Hash(h, &opt->repulsion, sizeof(opt->repulsion));
     h = Hash(h, &opt->repulsion_distance, sizeof(opt->repulsion_distance));
   }
+  if (opt->visall) h = Hash(h, &opt->visall, sizeof(opt->visall)); /* the elements facing away (none: as before) */
   h = Hash(h, g->el, sizeof(PetscReal) * g->nel * g->stride);
   h = Hash(h, X, sizeof(PetscReal) * g->dim * N);
   PetscCall(PetscSNPrintf(path, len, "%s/packing-%016llx.bin", opt->cache, (unsigned long long)h));
@@ -375,7 +380,7 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
       PetscCall(GridFillPoints(&pg, N, X, cellof));
       for (PetscInt i = i0; i < i0 + n; i++) {
         PetscReal e[3], e2 = 0, move = 0, *xn = &Xn[dim * i];
-        ParticleSum(g, &pg, &eg, &k, V, push, X, i, e);
+        ParticleSum(g, &pg, &eg, &k, V, push, opt.visall, X, i, e);
         for (PetscInt d = 0; d < dim; d++) e2 += e[d] * e[d];
         if (first || last) { /* |e_i| dx: its largest and its mean square */
           resmax[last] = PetscMax(resmax[last], PetscSqrtReal(e2) * dx);
