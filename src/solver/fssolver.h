@@ -6,6 +6,7 @@
 */
 #pragma once
 #include <flexslosh.h>
+#include "particles/fsparticles.h"
 #include "coupling/fscoupling.h"
 #include "io/fsoutput.h"
 
@@ -36,10 +37,22 @@ PETSC_INTERN PetscErrorCode FSSolverEnergyColumns(FSSolver, PetscInt *, const ch
 PETSC_INTERN PetscErrorCode FSSolverEnergyLocal(FSSolver, PetscReal loc[], FSTankMotion *);
 PETSC_INTERN PetscErrorCode FSSolverEnergySummed(FSSolver, const PetscReal liq[], const FSTankMotion *, PetscReal[]);
 
-/* probes.csv's row (src/solver/probes.c): its columns after "time", and the values of a sample at the current state
-   with the sensors' time response applied (names NULL: n only; n is 0 without -fs_probes) */
-PETSC_INTERN PetscErrorCode FSSolverProbesColumns(FSSolver, PetscInt *interval, PetscInt *n, const char *names[]);
-PETSC_INTERN PetscErrorCode FSSolverProbesRecord(FSSolver, PetscReal *time, const PetscReal **values);
+/* what the probes (src/monitor/impls/probes/) sample: this rank's owned particles' records, volumes and pressures as
+   the last evaluation left them (FSSolverEvaluateAtState()), the kernel, the walls and the coupling's body field, the
+   domain, and the options they follow (src/solver/output.c) */
+typedef struct {
+  PetscInt         dim, stride, nowned;  /* a record is stride reals: position, velocity, density, ... */
+  PetscInt64       nglobal;              /* the particles over the ranks */
+  const PetscReal *rec, *vol, *pressure; /* nowned records, volumes, pressures */
+  const FSKernel  *kernel;
+  FSBoundary       boundary; /* NULL without walls */
+  FSCoupling       coupling;
+  PetscReal        lo[3], hi[3]; /* the domain */
+  PetscReal        dx, background_pressure;
+  const char      *probes;         /* -fs_probes ("" without) */
+  PetscInt         probe_interval; /* -fs_probe_interval */
+} FSSolverParticleView;
+PETSC_INTERN PetscErrorCode FSSolverGetParticleView(FSSolver, FSSolverParticleView *);
 
 /* a snapshot's fields (src/solver/output.c): a particle field into the writer's buffer (FSSolverGetField() without
    the copy), the evaluation at the state the derived fields come from (collective: made before the writer fills

@@ -644,3 +644,35 @@ PetscErrorCode FSSolverGetWallLoads(FSSolver s, PetscInt *nwalls, const char *na
   if (loads) PetscCall(FSBoundaryGetWallLoads(s->boundary, nwalls, loads));
   PetscFunctionReturn(0);
 }
+
+/*
+   FSSolverGetParticleView - what the probes sample (src/monitor/impls/probes/): this rank's owned particles as the
+   last evaluation left them (FSSolverEvaluateAtState() first for the current state), the kernel, the walls, the
+   coupling, the domain and the probes' options. The pointers are the solver's, valid until its next step or
+   evaluation.
+
+   Not collective
+*/
+PetscErrorCode FSSolverGetParticleView(FSSolver s, FSSolverParticleView *v)
+{
+  PetscFunctionBegin;
+  v->dim                 = s->opt.dim;
+  v->stride              = s->pw.stride;
+  v->nowned              = s->pw.nowned;
+  v->nglobal             = s->pw.nglobal_particles;
+  v->rec                 = s->pw.rec;
+  v->vol                 = s->pw.vol;
+  v->pressure            = s->pw.pressure;
+  v->kernel              = &s->pw.kernel;
+  v->boundary            = s->boundary;
+  v->coupling            = s->coupling;
+  v->dx                  = s->opt.dx;
+  v->background_pressure = s->opt.background_pressure;
+  v->probes              = s->mon.probes_file;
+  v->probe_interval      = s->mon.probe_interval;
+  for (PetscInt d = 0; d < 3; d++) {
+    v->lo[d] = s->pw.lo[d];
+    v->hi[d] = s->pw.hi[d];
+  }
+  PetscFunctionReturn(0);
+}
