@@ -62,6 +62,28 @@ PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
 PETSC_INTERN PetscErrorCode FSSolverGetGlobalSize(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
 
+/* a checkpoint's content (src/solver/output.c), which the checkpoints monitor writes (FSMonitorCheckpointsWrite()):
+   the header (time, step, dt, the global DOFs, the viscosity bound and the step's limit, the set-up record, the
+   domain's split) and this rank's particle fields, the solver's arrays lent from FSSolverGetCheckpoint() to
+   FSSolverRestoreCheckpoint() */
+/* The most values a checkpoint's layout holds: the step of the last balance and the process grid's cuts
+   (FSDecompLayoutSize: 6 + the ranks per direction, summed) */
+#define FS_LAYOUT_MAX         4096
+#define FS_CHECKPOINT_NFIELDS 6
+typedef struct {
+  const PetscInt *pid; /* the ids, written as reals (FSOutputField.fill) */
+  PetscInt        n;
+} FSSolverIds;
+typedef struct {
+  FSCheckpointHeader hdr;
+  PetscInt           n; /* this rank's particles */
+  FSOutputField      fields[FS_CHECKPOINT_NFIELDS];
+  PetscReal          layout[FS_LAYOUT_MAX];
+  FSSolverIds        ids;
+} FSSolverCheckpoint;
+PETSC_INTERN PetscErrorCode FSSolverGetCheckpoint(FSSolver, FSSolverCheckpoint *);
+PETSC_INTERN PetscErrorCode FSSolverRestoreCheckpoint(FSSolver, FSSolverCheckpoint *);
+
 /* the write status of the monitors' csv rows, carried to every rank and raised before another file is written
    (src/solver/monitor.c) */
 PETSC_INTERN PetscErrorCode FSSolverWriteStatusCheck(FSSolver);

@@ -190,6 +190,46 @@ PetscErrorCode FSSolverGetProbes(FSSolver s, PetscInt *n, const char *names[], P
 }
 
 /*
+   FSSolverWriteCheckpoint - writes <output_dir>/checkpoint_<step>.h5 with the whole state (FSMonitorCheckpointsWrite(),
+   through the run's checkpoints monitor, or one made for this checkpoint without -fs_checkpoint_interval). A run
+   started with -fs_restart on that file continues exactly as the uninterrupted run.
+
+   Collective
+
+   Notes:
+   The run writes one every -fs_checkpoint_interval steps (its checkpoints monitor); a driver may write one
+   at any step of a run whose output is open (after its first step), as the Python package does when
+   a run is interrupted (KeyboardInterrupt).
+
+.seealso: FSMonitorCheckpointsWrite(), docs/running.md
+*/
+PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
+{
+  FSMonitor ck = NULL;
+
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
+  PetscCheck(s->mon.monitoring, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
+             "FSSolverWriteCheckpoint(): the run's output is not open: take a step first");
+  for (PetscInt k = 0; k < s->mon.nbuiltin && !ck; k++) {
+    PetscBool same;
+    PetscCall(PetscObjectTypeCompare((PetscObject)s->mon.list[k], FSMONITORCHECKPOINTS, &same));
+    if (same) {
+      ck = s->mon.list[k];
+      PetscCall(PetscObjectReference((PetscObject)ck));
+    }
+  }
+  if (!ck) {
+    PetscCall(FSMonitorCreate(PetscObjectComm((PetscObject)s), &ck));
+    PetscCall(FSMonitorSetType(ck, FSMONITORCHECKPOINTS));
+    PetscCall(FSMonitorSetUp(ck, s));
+  }
+  PetscCall(FSMonitorCheckpointsWrite(ck, s));
+  PetscCall(FSMonitorDestroy(&ck));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverGetMonitors - the monitor objects attached to the solver, the built-in ones first.
 
    Not collective

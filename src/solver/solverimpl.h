@@ -33,10 +33,6 @@ typedef struct {
   PetscInt offset, n;
 } FSGlobalBlock;
 
-/* The most values a checkpoint's layout holds: the step of the last balance and the process grid's cuts
-   (FSDecompLayoutSize: 6 + the ranks per direction, summed) */
-#define FS_LAYOUT_MAX 4096
-
 /* The run's options (-fs_*), read by FSSolverSetFromOptions() and the cases' defaults. */
 typedef struct {
   char          casename[64];
