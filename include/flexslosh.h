@@ -146,6 +146,11 @@ PETSC_EXTERN PetscErrorCode FSMonitorGetWriteStatus(FSMonitor, PetscInt *, Petsc
 PETSC_EXTERN PetscErrorCode FSMonitorRaiseWriteStatus(FSMonitor, PetscInt);
 PETSC_EXTERN PetscErrorCode FSMonitorView(FSMonitor, PetscViewer);
 PETSC_EXTERN PetscErrorCode FSMonitorDestroy(FSMonitor *);
+/* the probes monitor's values (FSSolverGetProbes() for the solver's own), the checkpoints monitor's write (for
+   FSSolverWriteCheckpoint()) */
+PETSC_EXTERN PetscErrorCode FSMonitorCheckpointsWrite(FSMonitor, FSSolver);
+PETSC_EXTERN PetscErrorCode FSMonitorProbesGetValues(FSMonitor, FSSolver, PetscInt *, const char *[], PetscInt[],
+                                                     PetscReal[]);
 PETSC_EXTERN PetscErrorCode FSSolverMonitorAdd(FSSolver, FSMonitor);
 PETSC_EXTERN PetscErrorCode FSSolverMonitorSet(FSSolver, FSSolverMonitorFn, void *, PetscErrorCode (*)(void **));
 PETSC_EXTERN PetscErrorCode FSSolverMonitorCancel(FSSolver);

@@ -6,6 +6,7 @@
 */
 #pragma once
 #include <flexslosh.h>
+#include "particles/fsparticles.h"
 #include "coupling/fscoupling.h"
 #include "io/fsoutput.h"
 
@@ -36,10 +37,22 @@ PETSC_INTERN PetscErrorCode FSSolverEnergyColumns(FSSolver, PetscInt *, const ch
 PETSC_INTERN PetscErrorCode FSSolverEnergyLocal(FSSolver, PetscReal loc[], FSTankMotion *);
 PETSC_INTERN PetscErrorCode FSSolverEnergySummed(FSSolver, const PetscReal liq[], const FSTankMotion *, PetscReal[]);
 
-/* probes.csv's row (src/solver/probes.c): its columns after "time", and the values of a sample at the current state
-   with the sensors' time response applied (names NULL: n only; n is 0 without -fs_probes) */
-PETSC_INTERN PetscErrorCode FSSolverProbesColumns(FSSolver, PetscInt *interval, PetscInt *n, const char *names[]);
-PETSC_INTERN PetscErrorCode FSSolverProbesRecord(FSSolver, PetscReal *time, const PetscReal **values);
+/* what the probes (src/monitor/impls/probes/) sample: this rank's owned particles' records, volumes and pressures as
+   the last evaluation left them (FSSolverEvaluateAtState()), the kernel, the walls and the coupling's body field, the
+   domain, and the options they follow (src/solver/output.c) */
+typedef struct {
+  PetscInt         dim, stride, nowned;  /* a record is stride reals: position, velocity, density, ... */
+  PetscInt64       nglobal;              /* the particles over the ranks */
+  const PetscReal *rec, *vol, *pressure; /* nowned records, volumes, pressures */
+  const FSKernel  *kernel;
+  FSBoundary       boundary; /* NULL without walls */
+  FSCoupling       coupling;
+  PetscReal        lo[3], hi[3]; /* the domain */
+  PetscReal        dx, background_pressure;
+  const char      *probes;         /* -fs_probes ("" without) */
+  PetscInt         probe_interval; /* -fs_probe_interval */
+} FSSolverParticleView;
+PETSC_INTERN PetscErrorCode FSSolverGetParticleView(FSSolver, FSSolverParticleView *);
 
 /* a snapshot's fields (src/solver/output.c): a particle field into the writer's buffer (FSSolverGetField() without
    the copy), the evaluation at the state the derived fields come from (collective: made before the writer fills
@@ -48,6 +61,28 @@ PETSC_INTERN PetscErrorCode FSSolverFillField(FSSolver, const char[], PetscInt *
 PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
 PETSC_INTERN PetscErrorCode FSSolverGetGlobalSize(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
+
+/* a checkpoint's content (src/solver/output.c), which the checkpoints monitor writes (FSMonitorCheckpointsWrite()):
+   the header (time, step, dt, the global DOFs, the viscosity bound and the step's limit, the set-up record, the
+   domain's split) and this rank's particle fields, the solver's arrays lent from FSSolverGetCheckpoint() to
+   FSSolverRestoreCheckpoint() */
+/* The most values a checkpoint's layout holds: the step of the last balance and the process grid's cuts
+   (FSDecompLayoutSize: 6 + the ranks per direction, summed) */
+#define FS_LAYOUT_MAX         4096
+#define FS_CHECKPOINT_NFIELDS 6
+typedef struct {
+  const PetscInt *pid; /* the ids, written as reals (FSOutputField.fill) */
+  PetscInt        n;
+} FSSolverIds;
+typedef struct {
+  FSCheckpointHeader hdr;
+  PetscInt           n; /* this rank's particles */
+  FSOutputField      fields[FS_CHECKPOINT_NFIELDS];
+  PetscReal          layout[FS_LAYOUT_MAX];
+  FSSolverIds        ids;
+} FSSolverCheckpoint;
+PETSC_INTERN PetscErrorCode FSSolverGetCheckpoint(FSSolver, FSSolverCheckpoint *);
+PETSC_INTERN PetscErrorCode FSSolverRestoreCheckpoint(FSSolver, FSSolverCheckpoint *);
 
 /* the write status of the monitors' csv rows, carried to every rank and raised before another file is written
    (src/solver/monitor.c) */

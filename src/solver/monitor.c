@@ -155,6 +155,81 @@ PetscErrorCode FSSolverMonitorCancel(FSSolver s)
 }
 
 /*
+   FSSolverGetProbes - the values of the probes and wave gauges (-fs_probes) at the current state.
+
+   Collective
+
+   Input Parameter:
+.  s - the solver, set up
+
+   Output Parameters:
++  n       - the number of probes and gauges, in the order of the file (0 without -fs_probes)
+.  names   - their names (an array of n pointers, or NULL); owned by the solver
+.  offsets - (an array of n+1, or NULL) item k's values are values[offsets[k] .. offsets[k+1]): a probe's
+             pressure then its velocity (dim values), then with a cut-off or a rate its filtered pressure (the
+             reading of the last sample of probes.csv), a gauge's elevation
+-  values  - (an array of at most FS_PROBE_MAX_VALUES n reals, or NULL) the values, as the columns of
+             probes.csv
+
+   Notes:
+   The values are those of the current state: sampled at this step by the run's output, or computed now
+   (one evaluation of the right-hand side). Pass NULL for names, offsets and values to get n only. The probes are
+   the probes monitor's, which the set-up makes (FSMonitorProbesGetValues()).
+
+.seealso: FSSolverStep(), FSMonitorProbesGetValues(), docs/running.md, "Probes and wave gauges"
+*/
+PetscErrorCode FSSolverGetProbes(FSSolver s, PetscInt *n, const char *names[], PetscInt offsets[], PetscReal values[])
+{
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
+  PetscCheck(s->setupcalled, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
+             "FSSolverGetProbes(): call FSSolverSetUp() first");
+  if (s->mon.probes) PetscCall(FSMonitorProbesGetValues(s->mon.probes, s, n, names, offsets, values));
+  else if (n) *n = 0;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverWriteCheckpoint - writes <output_dir>/checkpoint_<step>.h5 with the whole state (FSMonitorCheckpointsWrite(),
+   through the run's checkpoints monitor, or one made for this checkpoint without -fs_checkpoint_interval). A run
+   started with -fs_restart on that file continues exactly as the uninterrupted run.
+
+   Collective
+
+   Notes:
+   The run writes one every -fs_checkpoint_interval steps (its checkpoints monitor); a driver may write one
+   at any step of a run whose output is open (after its first step), as the Python package does when
+   a run is interrupted (KeyboardInterrupt).
+
+.seealso: FSMonitorCheckpointsWrite(), docs/running.md
+*/
+PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
+{
+  FSMonitor ck = NULL;
+
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
+  PetscCheck(s->mon.monitoring, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
+             "FSSolverWriteCheckpoint(): the run's output is not open: take a step first");
+  for (PetscInt k = 0; k < s->mon.nbuiltin && !ck; k++) {
+    PetscBool same;
+    PetscCall(PetscObjectTypeCompare((PetscObject)s->mon.list[k], FSMONITORCHECKPOINTS, &same));
+    if (same) {
+      ck = s->mon.list[k];
+      PetscCall(PetscObjectReference((PetscObject)ck));
+    }
+  }
+  if (!ck) {
+    PetscCall(FSMonitorCreate(PetscObjectComm((PetscObject)s), &ck));
+    PetscCall(FSMonitorSetType(ck, FSMONITORCHECKPOINTS));
+    PetscCall(FSMonitorSetUp(ck, s));
+  }
+  PetscCall(FSMonitorCheckpointsWrite(ck, s));
+  PetscCall(FSMonitorDestroy(&ck));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverGetMonitors - the monitor objects attached to the solver, the built-in ones first.
 
    Not collective
@@ -178,11 +253,16 @@ static PetscErrorCode FSSolverAddBuiltinMonitors(FSSolver s)
   const char *types[5];
   PetscInt    n = 0, nuser = s->mon.nlist;
   FSMonitor   user[FS_MAX_MONITORS];
+  PetscInt    nprobes = 0, kprobes = -1;
 
   PetscFunctionBegin;
+  if (s->mon.probes) PetscCall(FSMonitorProbesGetValues(s->mon.probes, s, &nprobes, NULL, NULL, NULL));
   types[n++] = FSMONITORTIMESERIES;
   types[n++] = FSMONITORENERGY;
-  if (s->mon.probes.n) types[n++] = FSMONITORPROBES;
+  if (nprobes) { /* the set-up's (a file without items: none) */
+    kprobes    = n;
+    types[n++] = FSMONITORPROBES;
+  }
   types[n++] = FSMONITORSNAPSHOTS;
   if (s->opt.checkpoint_interval > 0) types[n++] = FSMONITORCHECKPOINTS;
   PetscCheck(nuser + n <= FS_MAX_MONITORS, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
@@ -193,9 +273,14 @@ static PetscErrorCode FSSolverAddBuiltinMonitors(FSSolver s)
   s->mon.nlist = 0;
   for (PetscInt k = 0; k < n; k++) {
     FSMonitor m;
-    PetscCall(FSMonitorCreate(PetscObjectComm((PetscObject)s), &m));
-    PetscCall(FSMonitorSetType(m, types[k]));
-    PetscCall(FSMonitorSetUp(m, s));
+    if (k == kprobes) { /* made and set up by the solver's set-up */
+      m = s->mon.probes;
+      PetscCall(PetscObjectReference((PetscObject)m));
+    } else {
+      PetscCall(FSMonitorCreate(PetscObjectComm((PetscObject)s), &m));
+      PetscCall(FSMonitorSetType(m, types[k]));
+      PetscCall(FSMonitorSetUp(m, s));
+    }
     s->mon.list[s->mon.nlist++] = m;
   }
   for (PetscInt k = 0; k < nuser; k++) s->mon.list[s->mon.nlist++] = user[k];

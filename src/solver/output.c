@@ -79,15 +79,10 @@ static PetscErrorCode FSSolverDerivedFields(FSSolver s, PetscReal p[], PetscReal
   PetscFunctionReturn(0);
 }
 
-typedef struct {
-  const PetscInt *pid;
-  PetscInt        n;
-} FSIdsFill;
-
 /* the particles' ids as reals, when a snapshot or a checkpoint writes them */
 static PetscErrorCode FSSolverFillIds(void *ctx, PetscInt f, PetscReal values[])
 {
-  const FSIdsFill *c = (const FSIdsFill *)ctx;
+  const FSSolverIds *c = (const FSSolverIds *)ctx;
 
   PetscFunctionBegin;
   (void)f;
@@ -144,7 +139,7 @@ PetscErrorCode FSSolverFillField(FSSolver s, const char name[], PetscInt *bs, Pe
   } else if (k <= 6) {
     PetscCall(FSSolverDerivedFields(s, k == 4 ? v : NULL, k == 5 ? v : NULL, k == 6 ? v : NULL));
   } else if (k == 7) {
-    FSIdsFill ids = {.n = np};
+    FSSolverIds ids = {.n = np};
     PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&ids.pid));
     PetscCall(FSSolverFillIds(&ids, 0, v));
     PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&ids.pid));
@@ -214,93 +209,87 @@ PetscErrorCode FSSolverRestoreField(FSSolver s, const char name[], PetscInt *n, 
 }
 
 /*
-   FSSolverWriteCheckpoint - writes <output_dir>/checkpoint_<step>.h5 with the whole state: particles
-   (position, velocity, density, mass, id, and the positions at the last build of the lists, from which
-   a restart rebuilds the same lists), time, step, dt and the global DOFs (the structure's
-   state, the dissipated energies), then the viscosity bound of the next step with its source, the
-   limit that set the last step, and the number of structure DOFs (to refuse a restart with another
-   structure), and the record of the run's set-up (FSSolverSetUpRecord()). A run started with
-   -fs_restart on that file continues exactly as the uninterrupted run.
+   FSSolverGetCheckpoint - a checkpoint's content at the current state, for the checkpoints monitor
+   (src/monitor/impls/checkpoints.c, FSMonitorCheckpointsWrite()), which writes it: the whole state, the particles
+   (position, velocity, density, mass, id, and the positions at the last build of the lists, from which a restart
+   rebuilds the same lists), time, step, dt and the global DOFs (the structure's state, the dissipated energies), then
+   the viscosity bound of the next step with its source, the limit that set the last step, and the number of
+   structure DOFs (to refuse a restart with another structure), the record of the run's set-up
+   (FSSolverSetUpRecord()) and the domain's split. The particle fields are the swarm's, lent until
+   FSSolverRestoreCheckpoint().
 
    Collective
-
-   Notes:
-   The run writes one every -fs_checkpoint_interval steps (FSSolverMonitor()); a driver may write one
-   at any step of a run whose output is open (after its first step), as the Python package does when
-   a run is interrupted (KeyboardInterrupt).
 */
-PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
+PetscErrorCode FSSolverGetCheckpoint(FSSolver s, FSSolverCheckpoint *c)
 {
-  const PetscInt     dim = s->opt.dim, n = s->pw.nowned;
-  FSCheckpointHeader hdr;
-  FSOutputField      fields[6];
-  PetscReal         *x, *v, *rho, *m, *xb;
-  FSIdsFill          ids;
-  char               path[PETSC_MAX_PATH_LEN];
-  PetscMPIInt        rank;
+  const PetscInt      dim = s->opt.dim;
+  FSCheckpointHeader *hdr = &c->hdr;
+  PetscReal          *x, *v, *rho, *m, *xb;
+  PetscMPIInt         rank;
 
   PetscFunctionBegin;
-  PetscCheck(s->mon.monitoring, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
-             "FSSolverWriteCheckpoint(): the run's output is not open: take a step first");
-  PetscCall(FSSolverWriteStatusCheck(s)); /* a failed csv row is reported before the checkpoint is written */
-  PetscCall(PetscLogEventBegin(FS_Output, 0, 0, 0, 0));
   PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-  PetscCall(PetscMemzero(&hdr, sizeof(hdr)));
-  PetscCall(TSGetTime(s->ts, &hdr.time));
-  PetscCall(TSGetStepNumber(s->ts, &hdr.step));
-  PetscCall(TSGetTimeStep(s->ts, &hdr.dt));
+  PetscCall(PetscMemzero(hdr, sizeof(*hdr)));
+  PetscCall(TSGetTime(s->ts, &hdr->time));
+  PetscCall(TSGetStepNumber(s->ts, &hdr->step));
+  PetscCall(TSGetTimeStep(s->ts, &hdr->dt));
   /* the global DOFs, the viscosity bound of the next step and its source, the limit that set the last step,
      the structure's DOF count */
-  hdr.nglobal = s->state.nglobaldofs + 4;
+  hdr->nglobal = s->state.nglobaldofs + 4;
   if (!rank && s->state.nglobaldofs) {
     const PetscScalar *u;
     PetscInt           nl;
     PetscCall(VecGetLocalSize(s->state.U, &nl));
     PetscCall(VecGetArrayRead(s->state.U, &u));
-    for (PetscInt g = 0; g < s->state.nglobaldofs; g++) hdr.global[g] = u[nl - s->state.nglobaldofs + g];
+    for (PetscInt g = 0; g < s->state.nglobaldofs; g++) hdr->global[g] = u[nl - s->state.nglobaldofs + g];
     PetscCall(VecRestoreArrayRead(s->state.U, &u));
   }
-  PetscCallMPI(MPI_Bcast(hdr.global, (PetscMPIInt)s->state.nglobaldofs, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
+  PetscCallMPI(
+      MPI_Bcast(hdr->global, (PetscMPIInt)s->state.nglobaldofs, MPIU_REAL, 0, PetscObjectComm((PetscObject)s)));
   {
     PetscReal nu;
     PetscInt  source;
     PetscCall(FSSolverViscosityBound(s, &nu, &source));
-    hdr.global[s->state.nglobaldofs]     = nu;
-    hdr.global[s->state.nglobaldofs + 1] = (PetscReal)source;
-    hdr.global[s->state.nglobaldofs + 2] = (PetscReal)s->state.dt_limit;
-    hdr.global[s->state.nglobaldofs + 3] = (PetscReal)(s->state.gdiss - s->state.gstruct);
+    hdr->global[s->state.nglobaldofs]     = nu;
+    hdr->global[s->state.nglobaldofs + 1] = (PetscReal)source;
+    hdr->global[s->state.nglobaldofs + 2] = (PetscReal)s->state.dt_limit;
+    hdr->global[s->state.nglobaldofs + 3] = (PetscReal)(s->state.gdiss - s->state.gstruct);
   }
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&ids.pid));
+  PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c->ids.pid));
   PetscCall(DMSwarmGetField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
-  ids.n     = n;
-  fields[0] = (FSOutputField){.name = FS_FIELD_POSITION, .bs = dim, .data = x};
-  fields[1] = (FSOutputField){.name = FS_FIELD_VELOCITY, .bs = dim, .data = v};
-  fields[2] = (FSOutputField){.name = FS_FIELD_DENSITY, .bs = 1, .data = rho};
-  fields[3] = (FSOutputField){.name = FS_FIELD_MASS, .bs = 1, .data = m};
-  fields[4] = (FSOutputField){.name = FS_FIELD_ID, .bs = 1, .fill = FSSolverFillIds, .ctx = &ids};
-  fields[5] = (FSOutputField){.name = FS_FIELD_BUILD, .bs = dim, .data = xb};
-  hdr.setup = s->mon.setup;
+  c->n         = s->pw.nowned;
+  c->ids.n     = c->n;
+  c->fields[0] = (FSOutputField){.name = FS_FIELD_POSITION, .bs = dim, .data = x};
+  c->fields[1] = (FSOutputField){.name = FS_FIELD_VELOCITY, .bs = dim, .data = v};
+  c->fields[2] = (FSOutputField){.name = FS_FIELD_DENSITY, .bs = 1, .data = rho};
+  c->fields[3] = (FSOutputField){.name = FS_FIELD_MASS, .bs = 1, .data = m};
+  c->fields[4] = (FSOutputField){.name = FS_FIELD_ID, .bs = 1, .fill = FSSolverFillIds, .ctx = &c->ids};
+  c->fields[5] = (FSOutputField){.name = FS_FIELD_BUILD, .bs = dim, .data = xb};
+  hdr->setup   = s->mon.setup;
   /* the split of the domain (the cuts move with -fs_rebalance_threshold) and the step it was last balanced at */
-  PetscReal layout[FS_LAYOUT_MAX];
-  hdr.nlayout = 1 + FSDecompLayoutSize(&s->pw.decomp);
-  PetscCheck(hdr.nlayout <= FS_LAYOUT_MAX, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%" PetscInt_FMT " layout values",
-             hdr.nlayout);
-  layout[0] = (PetscReal)s->pw.balance_step;
-  PetscCall(FSDecompGetLayout(&s->pw.decomp, layout + 1));
-  hdr.layout = layout;
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/checkpoint_%06" PetscInt_FMT ".h5", s->opt.outdir, hdr.step));
-  PetscCall(FSCheckpointWrite(PetscObjectComm((PetscObject)s), path, &hdr, n, 6, fields));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&xb));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&ids.pid));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&m));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&rho));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&v));
-  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&x));
-  PetscCall(PetscLogEventEnd(FS_Output, 0, 0, 0, 0));
+  hdr->nlayout = 1 + FSDecompLayoutSize(&s->pw.decomp);
+  PetscCheck(hdr->nlayout <= FS_LAYOUT_MAX, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%" PetscInt_FMT " layout values",
+             hdr->nlayout);
+  c->layout[0] = (PetscReal)s->pw.balance_step;
+  PetscCall(FSDecompGetLayout(&s->pw.decomp, c->layout + 1));
+  hdr->layout = c->layout;
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverRestoreCheckpoint - gives back the particle fields FSSolverGetCheckpoint() lent. */
+PetscErrorCode FSSolverRestoreCheckpoint(FSSolver s, FSSolverCheckpoint *c)
+{
+  PetscFunctionBegin;
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_BUILD, NULL, NULL, (void **)&c->fields[5].data));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_ID, NULL, NULL, (void **)&c->ids.pid));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_MASS, NULL, NULL, (void **)&c->fields[3].data));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_DENSITY, NULL, NULL, (void **)&c->fields[2].data));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_VELOCITY, NULL, NULL, (void **)&c->fields[1].data));
+  PetscCall(DMSwarmRestoreField(s->swarm, FS_FIELD_POSITION, NULL, NULL, (void **)&c->fields[0].data));
   PetscFunctionReturn(0);
 }
 
@@ -642,5 +631,37 @@ PetscErrorCode FSSolverGetWallLoads(FSSolver s, PetscInt *nwalls, const char *na
   if (names)
     for (PetscInt w = 0; w < *nwalls; w++) names[w] = wname[w];
   if (loads) PetscCall(FSBoundaryGetWallLoads(s->boundary, nwalls, loads));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetParticleView - what the probes sample (src/monitor/impls/probes/): this rank's owned particles as the
+   last evaluation left them (FSSolverEvaluateAtState() first for the current state), the kernel, the walls, the
+   coupling, the domain and the probes' options. The pointers are the solver's, valid until its next step or
+   evaluation.
+
+   Not collective
+*/
+PetscErrorCode FSSolverGetParticleView(FSSolver s, FSSolverParticleView *v)
+{
+  PetscFunctionBegin;
+  v->dim                 = s->opt.dim;
+  v->stride              = s->pw.stride;
+  v->nowned              = s->pw.nowned;
+  v->nglobal             = s->pw.nglobal_particles;
+  v->rec                 = s->pw.rec;
+  v->vol                 = s->pw.vol;
+  v->pressure            = s->pw.pressure;
+  v->kernel              = &s->pw.kernel;
+  v->boundary            = s->boundary;
+  v->coupling            = s->coupling;
+  v->dx                  = s->opt.dx;
+  v->background_pressure = s->opt.background_pressure;
+  v->probes              = s->mon.probes_file;
+  v->probe_interval      = s->mon.probe_interval;
+  for (PetscInt d = 0; d < 3; d++) {
+    v->lo[d] = s->pw.lo[d];
+    v->hi[d] = s->pw.hi[d];
+  }
   PetscFunctionReturn(0);
 }

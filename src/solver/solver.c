@@ -51,9 +51,8 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.balance               = FS_BALANCE_WORK;
   s->opt.rebuild               = FS_REBUILD_AUTO;
   s->opt.candidates            = 0; /* auto */
-  s->mon.probes.interval       = 1;
+  s->mon.probe_interval        = 1;
   s->opt.series_interval       = 1;
-  s->mon.probes.step           = -1;
   s->opt.final_time            = 1.0;
   s->opt.structure_cfl         = 0.02;
   s->opt.options_check         = PETSC_TRUE;
@@ -468,9 +467,9 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
       "File of pressure probes and wave gauges (\"probe NAME x y [z] [diameter D] [cutoff HZ] [order 1|2] "
       "[rate HZ]\", "
       "\"gauge NAME x0 y0 [z0] x1 y1 [z1]\"): their values into <output_dir>/probes.csv",
-      "FSSolverGetProbes", s->mon.probes.file, s->mon.probes.file, sizeof(s->mon.probes.file), NULL));
+      "FSSolverGetProbes", s->mon.probes_file, s->mon.probes_file, sizeof(s->mon.probes_file), NULL));
   PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_probe_interval", "Steps between the samples of the probes and gauges",
-                         "FSSolverGetProbes", &s->mon.probes.interval, NULL, 1, PETSC_MAX_INT));
+                         "FSSolverGetProbes", &s->mon.probe_interval, NULL, 1, PETSC_MAX_INT));
   PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_series_interval",
                          "Steps between the rows of timeseries.csv and energy.csv (the last step's is always written): "
                          "each row takes about a dozen reductions over the ranks",
@@ -907,7 +906,11 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscCall(TSSetTimeStep(s->ts, dt));
     PetscCall(FSSolverStructureDtAdvice(s)); /* a mode's period that sets the step: said, with what to do */
   }
-  PetscCall(FSSolverProbesSetUp(s));
+  if (s->mon.probes_file[0] && !s->mon.probes) { /* the probe file read and checked here: its errors are set-up's */
+    PetscCall(FSMonitorCreate(PetscObjectComm((PetscObject)s), &s->mon.probes));
+    PetscCall(FSMonitorSetType(s->mon.probes, FSMONITORPROBES));
+    PetscCall(FSMonitorSetUp(s->mon.probes, s));
+  }
   PetscCall(FSSolverCheckOptions(s, PETSC_TRUE)); /* every object has read its options: before the first step */
   s->setupcalled = PETSC_TRUE;
   if (s->opt.geometry_view) { /* into a folder of its own: a run's results in the output directory stay as they are */
@@ -1074,7 +1077,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSSolverMonitorCancel(s)); /* the user's monitors and callbacks */
   for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorDestroy(&s->mon.list[k])); /* the run's own */
   s->mon.nlist = s->mon.nbuiltin = 0;
-  PetscCall(FSSolverProbesDestroy(s));
+  PetscCall(FSMonitorDestroy(&s->mon.probes));
   PetscCall(FSOutputDirUnlock(&s->mon.lock)); /* the output is closed: another run may write there */
   PetscCall(TSDestroy(&s->ts));
   PetscCall(VecDestroy(&s->state.U));

@@ -1,4 +1,4 @@
-"""Probes that read like the sensor (-fs_probes: diameter, cutoff, order, rate; src/solver/sensor.c).
+"""Probes that read like the sensor (-fs_probes: diameter, cutoff, order, rate; src/monitor/impls/probes/sensor.c).
 
 The face: a wall probe with a diameter averages the boundary integrals' wall pressure (one value per element) over
 its face, each element weighted by its exact overlap with the face. In a hydrostatic tank the reading is the face
@@ -11,7 +11,7 @@ the surface +2.2 % of 16.7 Pa, one 3 mm lower -1.8 % of 34.8 Pa, a 12 mm disc un
 The time response: the filtered column of a run (variable steps) equals the exact response of the filter
 (first order with a sample-and-hold, second-order Butterworth) to the raw column taken linear between samples,
 computed here independently with the matrix exponential of the augmented system (x, u, du/dt): 1e-9.
-The filters' exactness against closed-form solutions (steps, ramps, sines) is tests/c/solver/test_sensor.c.
+The filters' exactness against closed-form solutions (steps, ramps, sines) is tests/c/monitor/test_sensor.c.
 """
 import numpy as np
 import pytest

@@ -308,6 +308,33 @@ static PetscErrorCode TestUnknownType(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
+/* the probes monitor's values, and the checkpoints monitor's write, asked of another type: an error naming it */
+static PetscErrorCode TestWrongType(MPI_Comm comm)
+{
+  FSMonitor      m;
+  PetscErrorCode ierr;
+  PetscInt       n   = -1;
+  char          *msg = NULL;
+
+  PetscFunctionBegin;
+  PetscCall(FSMonitorCreate(comm, &m));
+  PetscCall(FSMonitorSetType(m, FSMONITORENERGY));
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = FSMonitorProbesGetValues(m, NULL, &n, NULL, NULL, NULL);
+  PetscCall(PetscPopErrorHandler());
+  PetscCall(PetscErrorMessage(ierr, NULL, &msg));
+  TCHECK(comm, ierr == PETSC_ERR_ARG_WRONGSTATE && n == -1 && msg && strstr(msg, "not a probes monitor (energy)"),
+         "FSMonitorProbesGetValues() of an energy monitor gave %d (%s)", (int)ierr, msg ? msg : "");
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = FSMonitorCheckpointsWrite(m, NULL);
+  PetscCall(PetscPopErrorHandler());
+  PetscCall(PetscErrorMessage(ierr, NULL, &msg));
+  TCHECK(comm, ierr == PETSC_ERR_ARG_WRONGSTATE && msg && strstr(msg, "not a checkpoints monitor (energy)"),
+         "FSMonitorCheckpointsWrite() of an energy monitor gave %d (%s)", (int)ierr, msg ? msg : "");
+  PetscCall(FSMonitorDestroy(&m));
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
   MPI_Comm    comm;
@@ -322,6 +349,7 @@ int main(int argc, char **argv)
   PetscCallMPI(MPI_Bcast(dir, sizeof(dir), MPI_CHAR, 0, comm));
   PetscCall(TestRun(comm, dir));
   PetscCall(TestUnknownType(comm));
+  PetscCall(TestWrongType(comm));
   PetscCallMPI(MPI_Barrier(comm));
   if (!rank) PetscCall(FSTestRemoveTree(dir));
   PetscCall(PetscPrintf(comm, "test_monitor: OK (%d ranks)\n", (int)size));

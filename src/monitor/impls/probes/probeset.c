@@ -1,8 +1,8 @@
 /*
-   Probes and wave gauges (-fs_probes FILE, -fs_probe_interval N): the pressure and velocity of the
-   liquid at points, and the free-surface elevation along lines, every N steps into probes.csv and
-   through FSSolverGetProbes(). docs/running.md, "Probes and wave gauges", has the file format and the
-   interpolation.
+   The probe set of the probes monitor (-fs_probes FILE, -fs_probe_interval N): the pressure and velocity of the
+   liquid at points, and the free-surface elevation along lines, every N steps into probes.csv (probes.c) and
+   through FSSolverGetProbes(); the solver's data come through FSSolverGetParticleView(). docs/running.md, "Probes
+   and wave gauges", has the file format and the interpolation.
 
    Each sample evaluates the right-hand side once at the current state (as the snapshots' pressure
    does), so that the particles' volumes and pressures, the body field of the tank's frame and the wall
@@ -10,7 +10,7 @@
    pressure averaged over its face, and a probe with a cut-off or a rate adds its sensor's reading, the raw
    pressure through the sensor's time response (sensor.c).
 */
-#include "solver/solverimpl.h"
+#include "monitor/impls/probes/probesimpl.h"
 #include <ctype.h>
 #include <sys/stat.h>
 
@@ -73,15 +73,13 @@ static PetscBool FSProbesNumber(const char *tok, PetscReal *v)
 }
 
 /* Parses the probe file's text into the set's items, checking each line. */
-static PetscErrorCode FSProbesParse(FSSolver s, char *text)
+static PetscErrorCode FSProbesParse(FSProbeSet *ps, const FSSolverParticleView *pv, MPI_Comm comm, char *text)
 {
-  MPI_Comm                 comm   = PetscObjectComm((PetscObject)s);
-  FSProbeSet              *ps     = &s->mon.probes;
-  const PetscInt           dim    = s->opt.dim;
+  const PetscInt           dim    = pv->dim;
   const char              *path   = ps->file;
   PetscInt                 lineno = 0, cap = 0;
   char                    *line, *next     = text;
-  const PetscReal          span = PetscMax(s->pw.hi[0] - s->pw.lo[0], s->pw.hi[1] - s->pw.lo[1]), tol = 1e-9 * span;
+  const PetscReal          span = PetscMax(pv->hi[0] - pv->lo[0], pv->hi[1] - pv->lo[1]), tol = 1e-9 * span;
   static const char *const axis[] = {"x", "y", "z"};
 
   PetscFunctionBegin;
@@ -167,9 +165,9 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
       it->filter.omega = 2 * PETSC_PI * it->cutoff;
       it->filter.rate  = it->rate;
       for (PetscInt d = 0; d < dim; d++)
-        PetscCheck(it->x0[d] >= s->pw.lo[d] - tol && it->x0[d] <= s->pw.hi[d] + tol, comm, PETSC_ERR_FILE_UNEXPECTED,
+        PetscCheck(it->x0[d] >= pv->lo[d] - tol && it->x0[d] <= pv->hi[d] + tol, comm, PETSC_ERR_FILE_UNEXPECTED,
                    "%s:%" PetscInt_FMT ": probe \"%s\" is outside the domain: its %s = %g is not in [%g, %g]", path,
-                   lineno, it->name, axis[d], (double)it->x0[d], (double)s->pw.lo[d], (double)s->pw.hi[d]);
+                   lineno, it->name, axis[d], (double)it->x0[d], (double)pv->lo[d], (double)pv->hi[d]);
     } else {
       PetscBool ok = (PetscBool)(ntok == 2 + 2 * dim);
       PetscReal L2 = 0;
@@ -180,13 +178,13 @@ static PetscErrorCode FSProbesParse(FSSolver s, char *text)
                  " numbers: the line's start, then its end)",
                  path, lineno, it->name, dim == 3 ? " z0" : "", dim == 3 ? " z1" : "", 2 * dim);
       for (PetscInt d = 0; d < dim; d++) /* a gauge samples every dx/4 along its length: no further than the domain */
-        PetscCheck(it->x0[d] >= s->pw.lo[d] - tol && it->x0[d] <= s->pw.hi[d] + tol && it->x1[d] >= s->pw.lo[d] - tol &&
-                       it->x1[d] <= s->pw.hi[d] + tol,
+        PetscCheck(it->x0[d] >= pv->lo[d] - tol && it->x0[d] <= pv->hi[d] + tol && it->x1[d] >= pv->lo[d] - tol &&
+                       it->x1[d] <= pv->hi[d] + tol,
                    comm, PETSC_ERR_FILE_UNEXPECTED,
                    "%s:%" PetscInt_FMT ": gauge \"%s\" reaches outside the domain: the %s of its ends, %g and %g, is "
                    "not in [%g, %g]",
-                   path, lineno, it->name, axis[d], (double)it->x0[d], (double)it->x1[d], (double)s->pw.lo[d],
-                   (double)s->pw.hi[d]);
+                   path, lineno, it->name, axis[d], (double)it->x0[d], (double)it->x1[d], (double)pv->lo[d],
+                   (double)pv->hi[d]);
       for (PetscInt d = 0; d < dim; d++) L2 += PetscSqr(it->x1[d] - it->x0[d]);
       PetscCheck(PetscSqrtReal(L2) > tol, comm, PETSC_ERR_FILE_UNEXPECTED,
                  "%s:%" PetscInt_FMT ": gauge \"%s\" has zero length: its two ends are the same point", path, lineno,
@@ -298,11 +296,9 @@ static PetscErrorCode FSProbesFace(const FSWallView *B, const FSProbe *it, Petsc
    something: inside the container's closed walls and outside every wall's solid (FSBoundaryLocate), or on a wall
    (onwall: a probe within dx/2 of a wall element; a gauge's end within dx/2 of a wall). Otherwise an error naming the
    file, the line, the item and the nearest wall. */
-static PetscErrorCode FSProbesCheckInLiquid(FSSolver s, const FSProbe *it, const PetscReal x[], PetscBool onwall,
-                                            const char what[])
+static PetscErrorCode FSProbesCheckInLiquid(const FSProbeSet *ps, const FSSolverParticleView *pv, MPI_Comm comm,
+                                            const FSProbe *it, const PetscReal x[], PetscBool onwall, const char what[])
 {
-  MPI_Comm           comm = PetscObjectComm((PetscObject)s);
-  const FSProbeSet  *ps   = &s->mon.probes;
   PetscBool          in;
   PetscInt           wall, nwalls;
   PetscReal          dist, lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
@@ -311,13 +307,12 @@ static PetscErrorCode FSProbesCheckInLiquid(FSSolver s, const FSProbe *it, const
   char               at[128];
 
   PetscFunctionBegin;
-  PetscCall(FSBoundaryLocate(s->boundary, x, &in, &wall, &dist));
-  if (in || onwall || (it->gauge && dist <= 0.5 * s->opt.dx)) PetscFunctionReturn(0);
-  PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &names));
-  PetscCall(FSBoundaryGetBoundingBox(s->boundary, lo, hi));
-  for (PetscInt d = 0; d < s->opt.dim; d++) inbox = (PetscBool)(inbox && x[d] >= lo[d] && x[d] <= hi[d]);
-  if (s->opt.dim == 3)
-    PetscCall(PetscSNPrintf(at, sizeof(at), "(%g, %g, %g)", (double)x[0], (double)x[1], (double)x[2]));
+  PetscCall(FSBoundaryLocate(pv->boundary, x, &in, &wall, &dist));
+  if (in || onwall || (it->gauge && dist <= 0.5 * pv->dx)) PetscFunctionReturn(0);
+  PetscCall(FSBoundaryGetWallNames(pv->boundary, &nwalls, &names));
+  PetscCall(FSBoundaryGetBoundingBox(pv->boundary, lo, hi));
+  for (PetscInt d = 0; d < pv->dim; d++) inbox = (PetscBool)(inbox && x[d] >= lo[d] && x[d] <= hi[d]);
+  if (pv->dim == 3) PetscCall(PetscSNPrintf(at, sizeof(at), "(%g, %g, %g)", (double)x[0], (double)x[1], (double)x[2]));
   else PetscCall(PetscSNPrintf(at, sizeof(at), "(%g, %g)", (double)x[0], (double)x[1]));
   SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
           "%s:%" PetscInt_FMT ": %s \"%s\"%s at %s is not in the liquid region: %s; the nearest wall, \"%s\", is %g m "
@@ -326,7 +321,7 @@ static PetscErrorCode FSProbesCheckInLiquid(FSSolver s, const FSProbe *it, const
           ps->file, it->line, what, it->name, it->gauge ? (x == it->x0 ? " (its start)" : " (its end)") : "", at,
           inbox ? "it lies beyond the tank's walls or inside a wall's thickness (a baffle, a rib, an obstacle)"
                 : "it lies outside the tank's walls (their bounding box)",
-          wall >= 0 && wall < nwalls ? names[wall] : "?", (double)dist, (double)(0.5 * s->opt.dx));
+          wall >= 0 && wall < nwalls ? names[wall] : "?", (double)dist, (double)(0.5 * pv->dx));
 }
 
 /* the signed distance of x from element e's plane, positive on the solid's side (the normal points out of the liquid)
@@ -342,60 +337,67 @@ static PetscReal FSProbesSide(const FSWallView *B, PetscInt e, const PetscReal x
 /* a probe on a wall (its nearest element near) strictly inside a wall's solid and within dx/2 of two opposite faces
    (a baffle or a rib thinner than dx): which side it should read is not known, an error. On a face itself it reads
    that face. */
-static PetscErrorCode FSProbesCheckFaces(FSSolver s, const FSProbe *it, const FSWallView *B, PetscInt near)
+static PetscErrorCode FSProbesCheckFaces(const FSProbeSet *ps, const FSSolverParticleView *pv, MPI_Comm comm,
+                                         const FSProbe *it, const FSWallView *B, PetscInt near)
 {
-  const PetscInt     dim = s->opt.dim;
-  const PetscReal   *nn = &B->element[near * B->stride + B->normal], tol = 1e-6 * s->opt.dx;
+  const PetscInt     dim = pv->dim;
+  const PetscReal   *nn = &B->element[near * B->stride + B->normal], tol = 1e-6 * pv->dx;
   PetscInt           nwalls;
   const char *const *names;
 
   PetscFunctionBegin;
   if (FSProbesSide(B, near, it->x0) <= tol) PetscFunctionReturn(0);
-  PetscCall(FSBoundaryGetWallNames(s->boundary, &nwalls, &names));
+  PetscCall(FSBoundaryGetWallNames(pv->boundary, &nwalls, &names));
   for (PetscInt e = 0; e < B->nelements; e++) {
     const PetscReal *n = &B->element[e * B->stride + B->normal];
     PetscReal        dn, lat, nn_n = 0;
     PetscBool        over;
-    FSProbesElementDistance(B, e, it->x0, 0.5 * s->opt.dx, &dn, &over, &lat);
+    FSProbesElementDistance(B, e, it->x0, 0.5 * pv->dx, &dn, &over, &lat);
     for (PetscInt a = 0; a < dim; a++) nn_n += nn[a] * n[a];
-    PetscCheck(!(over && dn < 0.5 * s->opt.dx && nn_n < 0 && FSProbesSide(B, e, it->x0) > tol),
-               PetscObjectComm((PetscObject)s), PETSC_ERR_FILE_UNEXPECTED,
-               "%s:%" PetscInt_FMT ": probe \"%s\" lies inside the thickness of a wall, within dx/2 = %g of two "
-               "opposite faces (of walls \"%s\" and \"%s\"): which side it should read is not known. Put it on "
-               "the face it should read",
-               s->mon.probes.file, it->line, it->name, (double)(0.5 * s->opt.dx), names[B->elementwall[near]],
-               names[B->elementwall[e]]);
+    PetscCheck(
+        !(over && dn < 0.5 * pv->dx && nn_n < 0 && FSProbesSide(B, e, it->x0) > tol), comm, PETSC_ERR_FILE_UNEXPECTED,
+        "%s:%" PetscInt_FMT ": probe \"%s\" lies inside the thickness of a wall, within dx/2 = %g of two "
+        "opposite faces (of walls \"%s\" and \"%s\"): which side it should read is not known. Put it on "
+        "the face it should read",
+        ps->file, it->line, it->name, (double)(0.5 * pv->dx), names[B->elementwall[near]], names[B->elementwall[e]]);
   }
   PetscFunctionReturn(0);
 }
 
 /*
-   FSSolverProbesSetUp - reads -fs_probes, checks the items against the domain, finds the wall elements
+   FSProbeSetSetUp - reads -fs_probes, checks the items against the domain, finds the wall elements
    of the probes on walls and the samples of the gauges with the walls' Shepard factor at each. Called
-   by FSSolverSetUp().
+   by the probes monitor's set-up, which the solver's set-up calls.
 
    Collective
 */
-PetscErrorCode FSSolverProbesSetUp(FSSolver s)
+PetscErrorCode FSProbeSetSetUp(FSProbeSet *ps, FSSolver s)
 {
-  MPI_Comm          comm = PetscObjectComm((PetscObject)s);
-  FSProbeSet       *ps   = &s->mon.probes;
-  const PetscInt    dim  = s->opt.dim;
-  const PetscReal   dx   = s->opt.dx;
-  const FSWallView *B    = NULL;
-  char             *text = NULL;
-  PetscInt          nv = 0, cap = 0, nbare = 0, firstbare = -1;
-  PetscReal         bare_area = 0;
+  MPI_Comm                    comm = PetscObjectComm((PetscObject)s);
+  FSSolverParticleView        view;
+  const FSSolverParticleView *pv = &view;
+  PetscInt                    dim;
+  PetscReal                   dx;
+  const FSWallView           *B    = NULL;
+  char                       *text = NULL;
+  PetscInt                    nv = 0, cap = 0, nbare = 0, firstbare = -1;
+  PetscReal                   bare_area = 0;
 
   PetscFunctionBegin;
+  PetscCall(FSSolverGetParticleView(s, &view));
+  dim          = view.dim;
+  dx           = view.dx;
+  ps->interval = view.probe_interval;
+  PetscCall(PetscStrncpy(ps->file, view.probes, sizeof(ps->file)));
+  ps->step = -1;
   if (!ps->file[0]) PetscFunctionReturn(0);
   PetscCall(FSProbesReadFile(comm, ps->file, &text));
-  PetscCall(FSProbesParse(s, text));
+  PetscCall(FSProbesParse(ps, pv, comm, text));
   PetscCall(PetscFree(text));
-  if (s->boundary) {
+  if (pv->boundary) {
     const PetscInt  *wstart, *wk;
     const PetscReal *wW;
-    PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
+    PetscCall(FSBoundaryGetView(pv->boundary, &B, &wstart, &wk, &wW));
   }
   /* the probes on walls: the nearest element, or the elements within the face */
   for (PetscInt k = 0; k < ps->n; k++) {
@@ -403,9 +405,9 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
     it->estart = it->eend = ps->nelem;
     if (it->gauge) {
       PetscReal L = 0, dev = 0;
-      if (s->boundary) {
-        PetscCall(FSProbesCheckInLiquid(s, it, it->x0, PETSC_FALSE, "gauge"));
-        PetscCall(FSProbesCheckInLiquid(s, it, it->x1, PETSC_FALSE, "gauge"));
+      if (pv->boundary) {
+        PetscCall(FSProbesCheckInLiquid(ps, pv, comm, it, it->x0, PETSC_FALSE, "gauge"));
+        PetscCall(FSProbesCheckInLiquid(ps, pv, comm, it, it->x1, PETSC_FALSE, "gauge"));
       }
       for (PetscInt d = 0; d < dim; d++) L += PetscSqr(it->x1[d] - it->x0[d]);
       L = PetscSqrtReal(L);
@@ -431,7 +433,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
         }
       }
       if (near >= 0 && best < 0.5 * dx) {
-        PetscCall(FSProbesCheckFaces(s, it, B, near));
+        PetscCall(FSProbesCheckFaces(ps, pv, comm, it, B, near));
         if (it->diameter > 0) PetscCall(FSProbesFace(B, it, near, dx, ps, &cap));
         if (ps->nelem == it->estart) { /* no diameter, or no element within the face */
           PetscCall(FSProbesAddElement(ps, &cap, near, B->element[near * B->stride + B->measure]));
@@ -443,7 +445,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
       }
       it->eend = ps->nelem;
     }
-    if (s->boundary) PetscCall(FSProbesCheckInLiquid(s, it, it->x0, it->eend > it->estart, "probe"));
+    if (pv->boundary) PetscCall(FSProbesCheckInLiquid(ps, pv, comm, it, it->x0, it->eend > it->estart, "probe"));
   }
   if (nbare) { /* a probe on a wall without a diameter: the pressure of one element (dx long in 2-D, edge h in 3-D) */
     const PetscReal mean = bare_area / nbare, across = dim == 2 ? mean : PetscSqrtReal(4 * mean / PETSC_PI);
@@ -502,7 +504,7 @@ PetscErrorCode FSSolverProbesSetUp(FSSolver s)
         if (over && dn < 1e-9 * dx)
           for (PetscInt d = 0; d < dim; d++) x[d] -= 1e-6 * dx * nrm[d];
       }
-      PetscCall(FSBoundaryShepardAt(s->boundary, x, gam));
+      PetscCall(FSBoundaryShepardAt(pv->boundary, x, gam));
     }
   }
   ps->step = -1;
@@ -517,36 +519,48 @@ static inline void FSProbesBody(const FSFrameField *body, PetscInt dim, const Pe
 }
 
 /*
-   FSProbesSample - the probes' and gauges' values at the current state: one evaluation of the
+   FSProbeSetSample - the probes' and gauges' values at the current state: one evaluation of the
    right-hand side, this rank's sums over its owned particles, one MPI_Allreduce of all the sums.
 
    Collective
 */
-static PetscErrorCode FSProbesSample(FSSolver s)
+PetscErrorCode FSProbeSetSample(FSProbeSet *ps, FSSolver s)
 {
-  FSProbeSet         *ps  = &s->mon.probes;
-  const PetscInt      dim = s->opt.dim, S = s->pw.stride, PS = 3 + dim, n = s->pw.nowned;
-  const PetscReal     R = s->pw.kernel.support, R2 = s->pw.kernel.support2;
-  const FSFrameField *body;
-  PetscReal          *sum = ps->sums, *ssum = ps->sums + ps->n * PS;
-  const FSWallView   *B = NULL;
+  FSSolverParticleView        view;
+  const FSSolverParticleView *pv = &view;
+  PetscInt                    dim, S, PS, n;
+  PetscReal                   R, R2;
+  const FSFrameField         *body;
+  PetscReal                  *sum, *ssum;
+  const FSWallView           *B = NULL;
 
   PetscFunctionBegin;
-  PetscCall(TSGetTime(s->ts, &ps->time));
-  PetscCall(TSGetStepNumber(s->ts, &ps->step));
-  PetscCall(PetscArrayzero(ps->sums, ps->n * PS + ps->nsamples));
+  PetscCall(FSSolverGetTime(s, &ps->time, &ps->step));
+  PetscCall(FSSolverGetParticleView(s, &view));
   /* the records, volumes, pressures, body field and wall pressure of the state */
-  if (s->pw.nglobal_particles > 0) PetscCall(FSSolverEvaluateAtState(s, ps->time));
-  PetscCall(FSCouplingGetBody(s->coupling, &body));
+  if (view.nglobal > 0) {
+    PetscCall(FSSolverEvaluateAtState(s, ps->time));
+    PetscCall(FSSolverGetParticleView(s, &view)); /* the arrays as the evaluation left them */
+  }
+  dim  = view.dim;
+  S    = view.stride;
+  PS   = 3 + dim;
+  n    = view.nowned;
+  R    = view.kernel->support;
+  R2   = view.kernel->support2;
+  sum  = ps->sums;
+  ssum = ps->sums + ps->n * PS;
+  PetscCall(PetscArrayzero(ps->sums, ps->n * PS + ps->nsamples));
+  PetscCall(FSCouplingGetBody(pv->coupling, &body));
   for (PetscInt i = 0; i < n; i++) {
-    const PetscReal *xi = &s->pw.rec[i * S], rho = xi[2 * dim], V = s->pw.vol[i], p = s->pw.pressure[i];
+    const PetscReal *xi = &pv->rec[i * S], rho = xi[2 * dim], V = pv->vol[i], p = pv->pressure[i];
     for (PetscInt k = 0; k < ps->n; k++) {
       const FSProbe *it = &ps->item[k];
       if (!it->gauge) {
         PetscReal r2 = 0, W, g[3], mid[3], gx = 0, *sk = &sum[k * PS];
         for (PetscInt a = 0; a < dim; a++) r2 += PetscSqr(it->x0[a] - xi[a]);
         if (r2 >= R2) continue;
-        W = FSKernelW(&s->pw.kernel, PetscSqrtReal(r2)) * V;
+        W = FSKernelW(pv->kernel, PetscSqrtReal(r2)) * V;
         for (PetscInt a = 0; a < dim; a++) mid[a] = 0.5 * (it->x0[a] + xi[a]);
         FSProbesBody(body, dim, mid, g);
         for (PetscInt a = 0; a < dim; a++) gx += g[a] * (it->x0[a] - xi[a]);
@@ -569,23 +583,23 @@ static PetscErrorCode FSProbesSample(FSSolver s)
           PetscReal r2 = 0;
           for (PetscInt a = 0; a < dim; a++)
             r2 += PetscSqr(it->x0[a] + (it->x1[a] - it->x0[a]) * q / (it->nsample - 1) - xi[a]);
-          if (r2 < R2) ssum[it->sample + q] += FSKernelW(&s->pw.kernel, PetscSqrtReal(r2)) * V;
+          if (r2 < R2) ssum[it->sample + q] += FSKernelW(pv->kernel, PetscSqrtReal(r2)) * V;
         }
       }
     }
   }
-  if (s->boundary) { /* a probe on a wall: the wall pressure times the area of the elements this rank owns (their
+  if (pv->boundary) { /* a probe on a wall: the wall pressure times the area of the elements this rank owns (their
                        wall pressure is known on their owner), summed over the ranks with the rest */
     const PetscInt  *wstart, *wk;
     const PetscReal *wW;
-    PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
+    PetscCall(FSBoundaryGetView(pv->boundary, &B, &wstart, &wk, &wW));
     for (PetscInt k = 0; k < ps->n && B && B->pressure; k++) {
       const FSProbe *it = &ps->item[k];
       if (it->gauge) continue;
       for (PetscInt q = it->estart; q < it->eend; q++) {
         const PetscInt e = ps->elem[q];
         PetscBool      owns;
-        PetscCall(FSBoundaryOwnsElement(s->boundary, e, &owns));
+        PetscCall(FSBoundaryOwnsElement(pv->boundary, e, &owns));
         if (owns) sum[k * PS + 2 + dim] += B->pressure[e] * ps->ewt[q];
       }
     }
@@ -601,7 +615,7 @@ static PetscErrorCode FSProbesSample(FSSolver s)
         v[0] = sk[0] / sk[1 + dim];
         for (PetscInt a = 0; a < dim; a++) v[1 + a] = sk[1 + a] / sk[1 + dim];
       } else { /* no liquid within the support */
-        v[0] = s->opt.background_pressure;
+        v[0] = pv->background_pressure;
         for (PetscInt a = 0; a < dim; a++) v[1 + a] = 0;
       }
       if (it->eend > it->estart && B && B->pressure) { /* on a wall: the wall pressure, averaged over the face */
@@ -635,60 +649,30 @@ static PetscErrorCode FSProbesSample(FSSolver s)
 }
 
 /*
-   FSSolverProbesColumns - probes.csv's columns after "time" (the probes monitor, src/monitor/impls/probes.c, owns the
-   file) and the steps between its rows (-fs_probe_interval).
-
-   Not collective
-
-   Output Parameters:
-+  interval - -fs_probe_interval
-.  n        - the number of columns: 0 without -fs_probes
--  names    - (n of them, or NULL) the columns' names, owned by the solver
-*/
-PetscErrorCode FSSolverProbesColumns(FSSolver s, PetscInt *interval, PetscInt *n, const char *names[])
-{
-  const FSProbeSet *ps = &s->mon.probes;
-
-  PetscFunctionBegin;
-  *interval = ps->interval;
-  *n        = ps->n ? ps->nvalues : 0;
-  for (PetscInt c = 0; names && c < *n; c++) names[c] = ps->colname[c];
-  PetscFunctionReturn(0);
-}
-
-/*
-   FSSolverProbesRecord - the values of a row of probes.csv at the current state: the probes and gauges sampled, and
-   the sensors' time response (their filters and sample-and-hold) advanced to this sample, which only the rows of
-   probes.csv do.
+   FSProbeSetRecord - the values of a row of probes.csv at the current state (in ps->time, ps->values): the probes and
+   gauges sampled, and the sensors' time response (their filters and sample-and-hold) advanced to this sample, which
+   only the rows of probes.csv do.
 
    Collective
-
-   Output Parameters:
-+  time   - the time of the sample
--  values - the values (FSSolverProbesColumns()'s n of them), owned by the solver
 */
-PetscErrorCode FSSolverProbesRecord(FSSolver s, PetscReal *time, const PetscReal **values)
+PetscErrorCode FSProbeSetRecord(FSProbeSet *ps, FSSolver s)
 {
-  FSProbeSet *ps = &s->mon.probes;
+  PetscInt dim;
 
   PetscFunctionBegin;
-  PetscCall(FSProbesSample(s));
+  PetscCall(FSProbeSetSample(ps, s));
+  PetscCall(FSSolverGetDimension(s, &dim));
   for (PetscInt k = 0; k < ps->n; k++) { /* the sensors' time response: only the samples of probes.csv */
     FSProbe *it = &ps->item[k];
     if (it->filtered)
-      ps->values[ps->offset[k] + 1 + s->opt.dim] = FSSensorFilterUpdate(&it->filter, ps->time,
-                                                                        ps->values[ps->offset[k]]);
+      ps->values[ps->offset[k] + 1 + dim] = FSSensorFilterUpdate(&it->filter, ps->time, ps->values[ps->offset[k]]);
   }
-  *time   = ps->time;
-  *values = ps->values;
   PetscFunctionReturn(0);
 }
 
-/* FSSolverProbesDestroy - frees the probes and closes probes.csv. */
-PetscErrorCode FSSolverProbesDestroy(FSSolver s)
+/* FSProbeSetDestroy - frees the probes. */
+PetscErrorCode FSProbeSetDestroy(FSProbeSet *ps)
 {
-  FSProbeSet *ps = &s->mon.probes;
-
   PetscFunctionBegin;
   PetscCall(PetscFree(ps->item));
   PetscCall(PetscFree2(ps->elem, ps->ewt));
@@ -696,53 +680,5 @@ PetscErrorCode FSSolverProbesDestroy(FSSolver s)
   PetscCall(PetscFree(ps->colname));
   PetscCall(PetscFree3(ps->values, ps->sgamma, ps->sums));
   ps->n = ps->nvalues = ps->nsamples = ps->nelem = 0;
-  PetscFunctionReturn(0);
-}
-
-/*
-   FSSolverGetProbes - the values of the probes and wave gauges (-fs_probes) at the current state.
-
-   Collective
-
-   Input Parameter:
-.  s - the solver, set up
-
-   Output Parameters:
-+  n       - the number of probes and gauges, in the order of the file (0 without -fs_probes)
-.  names   - their names (an array of n pointers, or NULL); owned by the solver
-.  offsets - (an array of n+1, or NULL) item k's values are values[offsets[k] .. offsets[k+1]): a probe's
-             pressure then its velocity (dim values), then with a cut-off or a rate its filtered pressure (the
-             reading of the last sample of probes.csv), a gauge's elevation
--  values  - (an array of at most FS_PROBE_MAX_VALUES n reals, or NULL) the values, as the columns of
-             probes.csv
-
-   Notes:
-   The values are those of the current state: sampled at this step by the run's output, or computed now
-   (one evaluation of the right-hand side). Pass NULL for names, offsets and values to get n only.
-
-.seealso: FSSolverStep(), docs/running.md, "Probes and wave gauges"
-*/
-PetscErrorCode FSSolverGetProbes(FSSolver s, PetscInt *n, const char *names[], PetscInt offsets[], PetscReal values[])
-{
-  FSProbeSet *ps = &s->mon.probes;
-  PetscReal   t;
-  PetscInt    step;
-
-  PetscFunctionBegin;
-  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
-  PetscCheck(s->setupcalled, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
-             "FSSolverGetProbes(): call FSSolverSetUp() first");
-  if (n) *n = ps->n;
-  if (!values || !ps->n) {
-    for (PetscInt k = 0; names && k < ps->n; k++) names[k] = ps->names[k];
-    for (PetscInt k = 0; offsets && k <= ps->n; k++) offsets[k] = ps->offset[k];
-    PetscFunctionReturn(0);
-  }
-  PetscCall(TSGetTime(s->ts, &t));
-  PetscCall(TSGetStepNumber(s->ts, &step));
-  if (ps->step != step || ps->time != t) PetscCall(FSProbesSample(s));
-  for (PetscInt k = 0; names && k < ps->n; k++) names[k] = ps->names[k];
-  for (PetscInt k = 0; offsets && k <= ps->n; k++) offsets[k] = ps->offset[k];
-  PetscCall(PetscArraycpy(values, ps->values, ps->nvalues));
   PetscFunctionReturn(0);
 }

@@ -1,5 +1,5 @@
 /*
-   Unit tests of the sensor model of the pressure probes (src/solver/sensor.c):
+   Unit tests of the sensor model of the pressure probes (src/monitor/impls/probes/sensor.c):
    - the face: the area of a disc intersected with a triangle against exact areas (a triangle inside the disc, the
      disc inside a triangle, a quarter and a half disc, the disc below a chord, a fan of triangles around an
      off-centre point that tiles a square holding the disc, either orientation), and a segment's overlap;
@@ -11,7 +11,7 @@
      sample-and-hold of a ramp reads the filtered ramp at the last instant k/rate.
 */
 #include <math.h>
-#include "solver/solverimpl.h"
+#include "monitor/impls/probes/probesimpl.h"
 
 #define CHECK(cond, ...) PetscCheck(cond, PETSC_COMM_SELF, PETSC_ERR_PLIB, "test_sensor: " __VA_ARGS__)
 

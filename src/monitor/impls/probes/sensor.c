@@ -1,5 +1,5 @@
 /*
-   The sensor model of a pressure probe (-fs_probes, src/solver/probes.c): what a physical pressure sensor adds
+   The sensor model of a pressure probe (-fs_probes, probeset.c): what a physical pressure sensor adds
    to the pressure at a point.
 
    - Its face: the wall pressure averaged over the sensor's face, a disc of diameter D on the wall in 3-D, a
@@ -15,7 +15,7 @@
      signal passes exactly, whatever the steps, and a sampling instant between two samples reads the filter at
      that instant.
 */
-#include "solver/solverimpl.h"
+#include "monitor/impls/probes/probesimpl.h"
 #include <math.h>
 
 /*
