@@ -40,7 +40,7 @@ class Mutation:
 
 MUTATIONS = [
     Mutation("pressure_sign", "the pressure term's pair sum p_i + p_j becomes p_i - p_j",
-             "src/terms/impls/pressure.c", "f = (pi + p[j]) * V[j]", "f = (pi - p[j]) * V[j]",
+             "src/terms/impls/pressure.c", "f = (pi + p[j]) * nb->Vj[k]", "f = (pi - p[j]) * nb->Vj[k]",
              ctest=["terms_match_inline", "test_terms"],
              pytest=["test_taylor_green.py::test_taylor_green_decay_rate_converges",
                      "test_walls.py::test_hydrostatic_tank_stays_quiet"]),
@@ -87,7 +87,8 @@ MUTATIONS = [
              ctest=["terms_match_inline"],
              pytest=["test_energy.py::test_taylor_green", "test_energy.py::test_dam_break_dt"]),
     Mutation("restart_time", "a restart resumes one step later than the checkpoint's time",
-             "src/io/checkpoint.c", "h.time = (PetscReal)t;", "h.time = (PetscReal)(t + dt);",
+             "src/solver/solver.c", "TSSetTime(s->ts, s->state.restart_hdr.time)",
+             "TSSetTime(s->ts, s->state.restart_hdr.time + s->state.restart_hdr.dt)",
              pytest=["test_restart.py::test_restart_same_ranks_is_exact",
                      "test_coupling.py::test_coupled_restart_is_exact"]),
     Mutation("viscosity_factor", "the viscous term's K = 2(dim + 2) becomes 2(dim + 1)",
