@@ -116,7 +116,24 @@ def test_defaults_at_three_particles_deep_warn(tank):
     assert v[k] > 0.25 and (v[:k] <= 0.25).all() and 0 < t < 0.04, (v[:k + 1], t)
     assert settings in speed
     collapse = [l for l in lines if "collapsed" in l][0]
-    m = re.search(r"its limit is ([\d.e-]+) s, ([\d.]+) of the start's ([\d.e-]+) s \(below -fs_rest_check_dt 0\.998\)",
-                  collapse)
+    m = re.search(r"its limit \(acoustic\) is ([\d.e-]+) s, ([\d.]+) of the start's ([\d.e-]+) s \(below "
+                  r"-fs_rest_check_dt 0\.998\)", collapse)
     assert m and float(m[2]) <= 0.998 and float(m[1]) < float(m[3]) and float(m[3]) == pytest.approx(s["dt"][1], rel=1e-3), collapse
+    assert settings in collapse  # a liquid the case started at rest: the set-up's settings
     assert warned(2, tank)[0] == lines
+
+
+def test_a_flow_started_in_motion_is_not_told_to_settle(tmp_path):
+    """A dam break's step collapses at its impact: the warning names the limit that set it (the density diffusion,
+    which grows with the strain rate) and the speed against c0, with what to do about each, and does not offer the
+    at-rest settings of cases/own_tank.opts (the liquid was never meant to be at rest). Measured (H = 0.3 m,
+    H/dx = 20): at t = 0.436 s, the delta limit 0.048 of the start's, 3.62 m/s = 0.149 c0."""
+    p = run_flexslosh(["-options_file", REPO_ROOT / "cases" / "dam_break_lobovsky.opts", "-fs_dx", 0.015,
+                       "-ts_max_time", 0.5, "-fs_output_interval", 0, "-fs_output_dir", tmp_path / "db"])
+    lines = [l for l in p.stdout.splitlines() if l.startswith("Warning")]
+    assert len(lines) == 1 and "the time step collapsed" in lines[0], lines
+    m = re.search(r"\(t = ([\d.]+) s\) its limit \(delta\) is .* the largest speed is [\d.]+ m/s, ([\d.]+) of -fs_c0",
+                  lines[0])
+    assert m and 0.40 < float(m[1]) < 0.46 and float(m[2]) > 0.1, lines[0]
+    assert "raise -fs_c0" in lines[0] and "-fs_delta_split" in lines[0], lines[0]
+    assert "own_tank" not in lines[0] and "leak" not in lines[0], lines[0]
