@@ -197,29 +197,27 @@ PetscErrorCode FSSolverRestCheck(FSSolver s)
     const char *limit;
     r->warned_dt = PETSC_TRUE;
     PetscCall(FSSolverDtLimitName(s, s->state.dt_limit, &limit));
+    (void)snprintf(text, sizeof(text),
+                   "Warning: the time step collapsed: at step %" PetscInt_FMT
+                   " (t = %.4g s) its limit (%s) is %.3g s, %.3g of the start's %.3g s (below -fs_rest_check_dt %g); "
+                   "the largest speed is %.3g m/s, %.3g of -fs_c0 %g.",
+                   step, (double)t, limit, (double)s->state.dt_stable, (double)(s->state.dt_stable / r->dt0),
+                   (double)r->dt0, (double)r->dt_ratio, (double)umax, (double)(umax / s->opt.c0), (double)s->opt.c0);
     if (r->depth > 0) { /* a liquid the case started at rest: something is wrong with the set-up */
       PetscCall(FSRestAdvice(s, advice, sizeof(advice)));
-      (void)snprintf(text, sizeof(text),
-                     "Warning: the time step collapsed: at step %" PetscInt_FMT
-                     " (t = %.4g s) its limit (%s) is %.3g s, %.3g of the start's %.3g s (below -fs_rest_check_dt %g); "
-                     "the largest speed is %.3g m/s, %.3g of -fs_c0 %g. The liquid moves far faster than the set-up "
-                     "allows: check the walls (a leak, -fs_geometry_view) and the motion, or try %s",
-                     step, (double)t, limit, (double)s->state.dt_stable, (double)(s->state.dt_stable / r->dt0),
-                     (double)r->dt0, (double)r->dt_ratio, (double)umax, (double)(umax / s->opt.c0), (double)s->opt.c0,
-                     advice);
-    } else { /* a flow started in motion (a dam break, a release): impacts shorten the step; say which limit */
-      (void)snprintf(text, sizeof(text),
-                     "Warning: the time step collapsed: at step %" PetscInt_FMT
-                     " (t = %.4g s) its limit (%s) is %.3g s, %.3g of the start's %.3g s (below -fs_rest_check_dt %g); "
-                     "the largest speed is %.3g m/s, %.3g of -fs_c0 %g.%s%s",
-                     step, (double)t, limit, (double)s->state.dt_stable, (double)(s->state.dt_stable / r->dt0),
-                     (double)r->dt0, (double)r->dt_ratio, (double)umax, (double)(umax / s->opt.c0), (double)s->opt.c0,
-                     umax > 0.1 * s->opt.c0 ? " The liquid moves faster than c0/10: raise -fs_c0 for this flow." : "",
-                     s->state.dt_limit >= FS_DT_TERM
-                         ? " A term's diffusivity sets the step (it grows with the strain rate): "
-                           "-fs_delta_split takes the density diffusion out of the step "
-                           "(docs/performance.md)."
-                         : "");
+      PetscCall(PetscStrlcat(text,
+                             " The liquid moves far faster than the set-up allows: check the walls (a leak, "
+                             "-fs_geometry_view) and the motion, or try ",
+                             sizeof(text)));
+      PetscCall(PetscStrlcat(text, advice, sizeof(text)));
+    } else { /* a flow started in motion (a dam break, a release): impacts shorten the step; what to do about it */
+      if (umax > 0.1 * s->opt.c0)
+        PetscCall(PetscStrlcat(text, " The liquid moves faster than c0/10: raise -fs_c0 for this flow.", sizeof(text)));
+      if (s->state.dt_limit >= FS_DT_TERM)
+        PetscCall(PetscStrlcat(text,
+                               " A term's diffusivity sets the step (it grows with the strain rate): -fs_delta_split "
+                               "takes the density diffusion out of the step (docs/performance.md).",
+                               sizeof(text)));
     }
     PetscCall(PetscPrintf(comm, "%s\n", text));
   }
