@@ -78,6 +78,27 @@ def rectangular_sway_mass(length: float, depth: float, omega: float, n: int = 64
     return float(1 + np.sum(mn * omega**2 / (wn**2 - omega**2)))
 
 
+def faraday_modes(lengths: Sequence[float], depth: float, omega: float, gamma: float, n: int = 64,
+                  g: float = G) -> list[tuple[tuple[int, ...], float]]:
+    """The sloshing modes of a rectangular liquid (free surface lengths L_x or L_x, L_z; depth h) that a heave at
+    omega with Gamma = A omega^2 / g excites parametrically: those inside Mathieu's first instability tongue
+    |omega / 2 - omega_k| < Gamma omega_k / 4 (undamped), omega_k^2 = g k tanh(k h), k = pi |(m / L_x, n / L_z)|.
+    Returns [((m,) or (m, n), omega_k)] with m, n < n, lowest first: a flat surface in such a heave is unstable
+    and a Faraday wave grows from any disturbance (docs/equivalent.md)."""
+    if not (all(L > 0 for L in lengths) and depth > 0 and len(lengths) in (1, 2)):
+        raise ValueError(f"faraday_modes: lengths {list(lengths)} and depth {depth} must be positive (one or two lengths)")
+    idx = [np.arange(n)] * len(lengths)
+    found = []
+    for mode in np.array(np.meshgrid(*idx, indexing="ij")).reshape(len(lengths), -1).T:
+        if not mode.any():
+            continue
+        k = np.pi * math.hypot(*(m / L for m, L in zip(mode, lengths)))
+        wk = math.sqrt(g * k * math.tanh(k * depth))
+        if abs(omega / 2 - wk) < gamma * wk / 4:
+            found.append((tuple(int(m) for m in mode), wk))
+    return sorted(found, key=lambda f: f[1])
+
+
 # ----------------------------------------------------------------------------- per-cycle analysis
 
 
@@ -170,11 +191,22 @@ def _change(prev: Cycle, cur: Cycle, amplitude: float) -> float:
     return max(abs(cur.first - prev.first) / scale, abs(cur.energy - prev.energy) / (np.pi * amplitude * scale))
 
 
-def settled_window(cycles: Sequence[Cycle], amplitude: float, tol: float = 0.01, settle: int = 3) -> int | None:
+def _growing(cycles: Sequence[Cycle], growth: float) -> bool:
+    """Whether E_d is positive on every cycle and grows by more than the factor 1 + growth from each to the next:
+    a response growing exponentially from a small start (a parametric instability: the Faraday wave of a heaved
+    tank), which is not periodic however small its changes measured against pi A |F_1| still are."""
+    e = [c.energy for c in cycles]
+    return all(a > 0 and b > (1 + growth) * a for a, b in zip(e[:-1], e[1:]))
+
+
+def settled_window(cycles: Sequence[Cycle], amplitude: float, tol: float = 0.01, settle: int = 3,
+                   growth: float = 0.1) -> int | None:
     """The first cycle k from which ``settle`` consecutive changes (``_change``: cycles k..k+settle) all stay
-    below tol; None when the cycles have no such window."""
+    below tol and E_d does not grow by more than the factor 1 + growth on every one of them (``_growing``);
+    None when the cycles have no such window."""
     for k in range(len(cycles) - settle):
-        if all(_change(cycles[j], cycles[j + 1], amplitude) < tol for j in range(k, k + settle)):
+        window = cycles[k:k + settle + 1]
+        if all(_change(a, b, amplitude) < tol for a, b in zip(window[:-1], window[1:])) and not _growing(window, growth):
             return k
     return None
 
@@ -198,6 +230,8 @@ class Description:
     settled_from: int | None = None
     settle: int = 3
     tol: float = 0.01
+    growth: float = 0.1
+    faraday: list = field(default_factory=list)  # heave: faraday_modes of the liquid's rectangle ([(mode, omega_k)])
     output_dir: str = ""
 
     @property
@@ -255,35 +289,38 @@ def _check_direction(direction: str, amplitude: float, frequency: float) -> None
         raise ValueError(f"frequency {frequency}: expected a positive finite number (Hz)")
 
 
-def _liquid_geometry(s, direction: str, point) -> tuple[float, float, float]:
-    """(the liquid's mass, its extent along the motion, the reference mass) at set-up: kg (2-D: times the tank's
-    width), m, kg or kg m^2 (the rigid moment of inertia about the roll point)."""
+def _liquid_geometry(s, direction: str, point) -> tuple[float, float, float, list[float]]:
+    """(the liquid's mass, its extent along the motion, the reference mass, its extents along x, y (, z)) at set-up:
+    kg (2-D: times the tank's width), m, kg or kg m^2 (the rigid moment of inertia about the roll point), m (the
+    particles' span plus dx; empty on ranks other than 0)."""
     core = s._core
     mass = core.ffi.new("PetscReal *")
     s._call("FSSolverGetLiquidMass", mass)
     x, m = s.positions(gather=True), s.field("mass", gather=True)
-    extent, ref = float("nan"), mass[0]
+    extent, ref, box = float("nan"), mass[0], []
     if x is not None:
+        box = [float(x[:, a].max() - x[:, a].min() + s.options.getReal("fs_dx", 0.0)) for a in range(x.shape[1])]
         width = mass[0] / float(m.sum())  # 2-D: the tank's width (1 in 3-D)
         comp = DIRECTIONS[direction][0]
         if comp in "xyz":
             axis = "xyz".index(comp)
-            extent = float(x[:, axis].max() - x[:, axis].min() + s.options.getReal("fs_dx", 0.0))
+            extent = box[axis]
         else:
             r = x[:, :2] - np.asarray(point, float)[:2]
             ref = float(width * np.sum(m * np.sum(r * r, axis=1)))
-    return float(mass[0]), extent, ref
+    return float(mass[0]), extent, ref, box
 
 
 def describe(options: Mapping[str, Any] | None = None, direction: str = "sway", amplitude: float = 0.001,
              frequency: float = 1.0, options_file: str | os.PathLike | None = None, point: Sequence[float] | None = None,
-             ramp_cycles: float = 6.0, cycles_max: int = 12, settle: int = 3, tol: float = 0.01,
+             ramp_cycles: float = 6.0, cycles_max: int = 12, settle: int = 3, tol: float = 0.01, growth: float = 0.1,
              window: int = 1, free: float | None = None, comm=None, progress: Callable[[str], Any] | None = print, label: str = "") -> Description:
     """Shakes the tank of ``options`` (a Solver's options; ``options_file`` its case) harmonically along
     ``direction`` (heave y, sway x, surge z in 3-D, roll or pitch: the rotation about z through ``point``, x,y in
     the tank's frame, default the middle of the floor) with X = amplitude sin(2 pi frequency t) (m; roll, pitch:
     rad; Hz), started by the rig's ramp over ``ramp_cycles`` periods, cycle after cycle until ``settle``
-    consecutive changes from one cycle to the next stay below ``tol`` (``settled_window``) or ``cycles_max``
+    consecutive changes from one cycle to the next stay below ``tol`` while E_d does not grow by more than
+    1 + ``growth`` from each cycle to the next (``settled_window``) or ``cycles_max``
     cycles after the ramp have run (then the run is reported not settled). The cycles start when the ramp and
     the start-up relaxation (-fs_relax_time) have ended. window: a "cycle" of the analysis is that many forcing
     periods; free: the frequency (rad/s) near which a free oscillation left by the start is fitted and removed
@@ -320,11 +357,19 @@ def describe(options: Mapping[str, Any] | None = None, direction: str = "sway", 
         if comp == "roll" and point is None:
             raise ValueError(f"direction {direction}: give the point the tank turns about (point x,y in the tank's frame)")
         relax = o.getReal("fs_relax_time", 0.0)
-        mass, extent, ref = _liquid_geometry(s, direction, point)
+        mass, extent, ref, box = _liquid_geometry(s, direction, point)
         d = Description(direction, float(amplitude), float(frequency), ref, mass, extent, o.getReal("fs_dx", float("nan")), dim,
-                        settle=settle, tol=tol, output_dir=str(out))
+                        settle=settle, tol=tol, growth=growth, output_dir=str(out))
         start = math.ceil(max(ramp_cycles * period, relax) / period - 1e-9) * period
         rank = s.comm.Get_rank()
+        if direction == "heave" and box:
+            d.faraday = faraday_modes(box[0::2], box[1], d.omega, d.nondimensional_amplitude())
+            if d.faraday and progress:
+                (mode, wk), *_ = d.faraday
+                progress(f"{label}heave at Gamma {d.nondimensional_amplitude():.3g}: {len(d.faraday)} sloshing mode(s) of the "
+                         f"liquid's rectangle ({' x '.join(f'{b:.4g}' for b in box)} m) in Mathieu's first tongue, the lowest "
+                         f"{mode} at omega {wk:.4g} rad/s (forcing/2 {d.omega / 2:.4g}): a Faraday wave grows from any "
+                         f"disturbance, so the run goes all {cycles_max} cycles and the criterion judges its last {settle + 1}")
         for k in range(cycles_max):
             s.run(until=start + (k + 1) * window * period)
             if rank == 0:
@@ -333,7 +378,11 @@ def describe(options: Mapping[str, Any] | None = None, direction: str = "sway", 
                 work = np.interp(ts["time"], en["time"], en["work_motion"]) if "work_motion" in en else None
                 d.cycles = analyse_cycles(ts["time"], -ts[load], work, amplitude, 2 * np.pi * frequency, start, window,
                                           free)
-                d.settled_from = settled_window(d.cycles, amplitude, tol, settle)
+                if not d.faraday:
+                    d.settled_from = settled_window(d.cycles, amplitude, tol, settle, growth)
+                elif k == cycles_max - 1 and len(d.cycles) > settle:  # only the run's end can be the periodic state
+                    last = len(d.cycles) - settle - 1
+                    d.settled_from = last if settled_window(d.cycles[last:], amplitude, tol, settle, growth) == 0 else None
                 c = d.cycles[-1] if d.cycles else None
                 if progress and c:
                     progress(f"{label}cycle {c.index + 1}/{cycles_max} t {c.start + window * period:.4g} s: m_eff/M {c.m_eff / ref:.4f} "
@@ -354,7 +403,7 @@ COLUMNS = [
     ("point", "-"), ("case", "-"), ("dim", "-"), ("dx", "m"), ("revision", "-"), ("direction", "-"), ("fill", "-"),
     ("amplitude", "m or rad"), ("frequency", "Hz"), ("omega", "rad/s"), ("nondim_amplitude", "-"),
     ("liquid_mass", "kg"), ("reference_mass", "kg or kg m^2"), ("extent", "m"), ("settled", "-"),
-    ("cycles_run", "-"), ("settled_from", "-"), ("last_change", "-"), ("m_eff", "kg or kg m^2"),
+    ("faraday_modes", "-"), ("cycles_run", "-"), ("settled_from", "-"), ("last_change", "-"), ("m_eff", "kg or kg m^2"),
     ("m_eff_spread", "kg or kg m^2"), ("m_eff_ratio", "-"), ("energy", "J"), ("energy_spread", "J"),
     ("energy_work", "J"), ("c_eq", "N s/m or N m s/rad"), ("c_eq_spread", "N s/m or N m s/rad"), ("c_eq_nd", "-"),
     ("higher", "-"), ("higher_spread", "-"), ("output_dir", "-"),
@@ -366,7 +415,8 @@ def _row(index: int, case: str, fill, d: Description, revision: str) -> dict[str
     row = {"point": index, "case": case, "dim": d.dim, "dx": d.dx, "revision": revision, "direction": d.direction,
            "fill": fill, "amplitude": d.amplitude, "frequency": d.frequency, "omega": d.omega,
            "nondim_amplitude": d.nondimensional_amplitude(), "liquid_mass": d.liquid_mass,
-           "reference_mass": d.reference_mass, "extent": d.extent, "settled": d.settled, "cycles_run": len(d.cycles),
+           "reference_mass": d.reference_mass, "extent": d.extent, "settled": d.settled,
+           "faraday_modes": len(d.faraday), "cycles_run": len(d.cycles),
            "settled_from": -1 if d.settled_from is None else d.settled_from, "output_dir": d.output_dir}
     row.update({k: s[k] for k, _ in COLUMNS if k in s})
     return row
@@ -563,6 +613,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--cycles", type=int, default=12, help="at most this many cycles after the ramp (12)")
     p.add_argument("--settle", type=int, default=3, help="consecutive cycle-to-cycle changes below --tol (3)")
     p.add_argument("--tol", type=float, default=0.01, help="the largest change from one cycle to the next (0.01)")
+    p.add_argument("--growth", type=float, default=0.1,
+                   help="a window whose E_d grows by more than this fraction every cycle is not settled (0.1)")
     p.add_argument("--out", default="output/equivalent", help="the table, the figures, runs/ and points/ (resumed)")
     p.add_argument("--no-figures", action="store_true")
     p.add_argument("--mpi", action="store_true", help="spread the points over MPI.COMM_WORLD's ranks (mpirun)")
@@ -574,6 +626,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         p.error(f"--cycles {args.cycles}: expected at least --settle + 1 = {args.settle + 1}")
     if not (args.tol > 0):
         p.error(f"--tol {args.tol}: expected a positive number")
+    if not (args.growth > 0):
+        p.error(f"--growth {args.growth}: expected a positive number")
     amplitudes = [math.radians(a) for a in args.amplitude] if args.direction in ("roll", "pitch") else args.amplitude
     comm = None
     if args.mpi:
@@ -583,7 +637,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         rows = grid(args.options_file, args.direction, args.fill or [None], amplitudes, args.frequency, base, args.out,
                     comm=comm, figures=not args.no_figures, point=args.point, ramp_cycles=args.ramp_cycles,
-                    cycles_max=args.cycles, settle=args.settle, tol=args.tol,
+                    cycles_max=args.cycles, settle=args.settle, tol=args.tol, growth=args.growth,
                     progress=lambda line: print(line, flush=True))
     except ValueError as e:
         print(f"flexslosh.equivalent: {e}", file=sys.stderr)

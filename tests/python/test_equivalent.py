@@ -86,6 +86,40 @@ def test_growing_response_is_not_settled():
     assert eq.settled_window(cycles, A, tol=0.2, settle=3) == 0
 
 
+def test_dissipation_growing_from_nothing_is_not_settled():
+    """A rigidly carried liquid (F = m a) whose dissipation grows 1.5-fold per cycle from a loss angle of 1e-5 (a
+    Faraday wave growing from noise): its changes measured against pi A |F_1| stay below 1e-3, the growth shows."""
+    omega, A, m = 6.0, 0.01, 2.0
+    period = 2 * np.pi / omega
+    t = np.arange(0, 10 * period, 1e-3)
+    c = 1e-5 * m * omega * 1.5 ** (t / period)  # c_eq / (m omega) 1e-5 growing x 1.5 per cycle
+    F = -m * A * omega**2 * np.sin(omega * t) + c * A * omega * np.cos(omega * t)
+    cycles = eq.analyse_cycles(t, F, None, A, omega, 0.0)
+    assert max(eq._change(a, b, A) for a, b in zip(cycles[:6], cycles[1:6])) < 1e-3
+    assert eq.settled_window(cycles[:6], A, tol=0.01, settle=3) is None
+    assert eq.settled_window(cycles[:6], A, tol=0.01, settle=3, growth=0.6) == 0  # growth below 60 %/cycle allowed
+
+
+def test_faraday_modes_of_a_heaved_rectangle():
+    """omega_k^2 = g k tanh(k h): heaved at twice a mode's frequency, that mode is unstable at any Gamma and its
+    neighbours only inside the tongue; the seed's tank (0.7 m, 30 mm) at 5.7 Hz, Gamma = 0.5: modes 8-10, the
+    mode 9 within 1.7 % of half the forcing; the test tank below at 1.5 Hz: none; a square box: the 2-D modes
+    along both sides and the diagonal ones."""
+    k3 = 3 * np.pi / 0.5
+    w3 = math.sqrt(9.81 * k3 * math.tanh(k3 * 0.1))
+    assert [m for m, _ in eq.faraday_modes([0.5], 0.1, 2 * w3, 1e-3)] == [(3,)]
+    assert eq.faraday_modes([0.5], 0.1, 2 * w3 * 1.01, 1e-3) == []
+    seed = eq.faraday_modes([0.7], 0.03, 2 * np.pi * 5.7, 0.5)
+    assert [m for m, _ in seed] == [(8,), (9,), (10,)]
+    assert seed[1][1] / (np.pi * 5.7) == pytest.approx(1.017, abs=1e-3)
+    assert eq.faraday_modes([L], H, 2 * np.pi * 1.5, 0.5) == []
+    box = [m for m, _ in eq.faraday_modes([0.5, 0.5], 0.1, 2 * w3, 1e-3)]
+    assert sorted(box) == [(0, 3), (3, 0)]
+    k = np.pi * math.hypot(2 / 0.5, 1 / 0.4)
+    box = [m for m, _ in eq.faraday_modes([0.5, 0.4], 0.1, 2 * math.sqrt(9.81 * k * math.tanh(k * 0.1)), 1e-3)]
+    assert box == [(2, 1)]
+
+
 def test_grid_resumes_and_writes_the_table(tmp_path, monkeypatch):
     """A grid point whose record is complete is not run again; the table carries units and one row per point."""
     calls = []
@@ -148,6 +182,21 @@ def test_heave_below_gamma_one_carries_the_liquid_rigidly(tmp_path):
     assert abs(s["energy"]) / (np.pi * A * first) < 1e-3
     assert s["energy_work"] == pytest.approx(s["energy"], abs=1e-3 * np.pi * A * first)
     assert s["higher"] < 0.02
+    assert d.faraday == []  # no sloshing mode near half the forcing: the criterion may stop the run early
+
+
+def test_heave_in_a_faraday_tongue_runs_all_its_cycles(tmp_path):
+    """The seed's tank heaved at 5.7 Hz, Gamma = 0.5 (dx = 1 cm): its flat surface is unstable (mode 9), so the
+    run is not stopped while the wave is still too small to show (the plain criterion settled it after 4 cycles
+    at a loss angle of 3e-4, a tenth of a percent of the saturated wave's): it goes all its cycles."""
+    A = 0.5 * 9.81 / (2 * np.pi * 5.7) ** 2
+    opts = {"fs_dx": 0.01, "fs_c0": 20, "fs_relax_time": 0.1, "fs_output_dir": str(tmp_path / "heave")}
+    d = eq.describe(opts, "heave", A, 5.7, options_file=str(REPO_ROOT / "cases" / "tank_rectangular.opts"),
+                    ramp_cycles=3, cycles_max=6, settle=3, tol=0.01, progress=None)
+    assert [m for m, _ in d.faraday] == [(8,), (9,), (10,)]
+    assert len(d.cycles) == 6
+    assert eq.settled_window(d.cycles, A, 0.01, 3) == 0  # what the plain criterion said
+    assert d.settled_from in (None, 2)  # judged on the last four cycles alone
 
 
 def test_sway_below_the_first_mode_follows_potential_theory(tmp_path):
