@@ -42,6 +42,7 @@ import numpy as np
 from .output import code_revision
 
 __all__ = ["DIRECTIONS", "Cycle", "Description", "describe", "analyse_cycles", "settled_window", "grid",
+           "faraday_modes", "write_liquid_table",
            "rectangular_modes", "rectangular_sway_mass", "write_table", "plot_maps", "main"]
 
 G = 9.81
@@ -498,6 +499,39 @@ def grid(options_file: str | os.PathLike | None, direction: str, fills: Sequence
     return rows
 
 
+def write_liquid_table(rows: Sequence[Mapping[str, Any]], path: str | os.PathLike) -> Path:
+    """The reduced model's table (``-fs_msd_liquid_table``, docs/equivalent.md "The reduced model") from a heave
+    grid's rows at one frequency and one fill: one line 'A m_eff c_eq' (m, kg, N s/m) per settled row, by increasing
+    amplitude, after a comment naming the frequency, the liquid's mass (``-fs_msd_liquid_mass``) and the rows
+    left out (not settled). Raises ValueError when the rows are not heave, mix frequencies or fills, or fewer than
+    two settled."""
+    rows = list(rows)
+    if not rows or any(r["direction"] != "heave" for r in rows):
+        raise ValueError("the reduced model's table: expected the rows of a heave grid (the tank moves with the beam's tip)")
+    for key in ("frequency", "fill"):
+        values = {repr(r[key]) for r in rows}
+        if len(values) > 1:
+            raise ValueError(f"the reduced model's table: the rows have {len(values)} values of {key} "
+                             f"({', '.join(sorted(values))}): give the grid one (the table is at one {key})")
+    use = sorted((r for r in rows if r["settled"]), key=lambda r: r["amplitude"])
+    left = sorted(r["amplitude"] for r in rows if not r["settled"])
+    if len(use) < 2:
+        raise ValueError(f"the reduced model's table: {len(use)} settled rows of {len(rows)}: at least two are needed "
+                         "(run more cycles, --cycles, or see the criterion in docs/equivalent.md)")
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    lines = [f"# the liquid's heave describing function at {rows[0]['frequency']!r} Hz, fill {rows[0]['fill']!r}, "
+             f"dx {rows[0]['dx']!r} m, revision {rows[0]['revision']}",
+             f"# -fs_msd_liquid_mass {rows[0]['liquid_mass']!r}",
+             f"# not settled, left out: A = {', '.join(repr(a) for a in left) or 'none'}",
+             "# A (m)  m_eff (kg)  c_eq (N s/m)"]
+    lines += [f"{r['amplitude']!r} {r['m_eff']!r} {max(r['c_eq'], 0.0)!r}" for r in use]
+    tmp = path.with_suffix(path.suffix + ".tmp")
+    tmp.write_text("\n".join(lines) + "\n")
+    os.replace(tmp, path)
+    return path
+
+
 def write_table(rows: Sequence[Mapping[str, Any]], out: str | os.PathLike) -> tuple[Path, Path]:
     """The rows to <out>/equivalent.csv (a header of name[unit]) and <out>/equivalent.json ({"units": ...,
     "rows": [...]}, NaN as null)."""
@@ -617,6 +651,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                    help="a window whose E_d grows by more than this fraction every cycle is not settled (0.1)")
     p.add_argument("--out", default="output/equivalent", help="the table, the figures, runs/ and points/ (resumed)")
     p.add_argument("--no-figures", action="store_true")
+    p.add_argument("--liquid-table", default=None,
+                   help="heave: also write the reduced model's table (-fs_msd_liquid_table) to this file")
     p.add_argument("--mpi", action="store_true", help="spread the points over MPI.COMM_WORLD's ranks (mpirun)")
     args, rest = p.parse_known_args(argv)
     base = _petsc_options(rest)
@@ -645,6 +681,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     if rows is not None:
         print(f"[equivalent] {len(rows)} points, {sum(bool(r['settled']) for r in rows)} settled: "
               f"{Path(args.out) / 'equivalent.csv'}", flush=True)
+        if args.liquid_table:
+            try:
+                print(f"[equivalent] the reduced model's table: {write_liquid_table(rows, args.liquid_table)}", flush=True)
+            except ValueError as e:
+                print(f"flexslosh.equivalent: {e}", file=sys.stderr)
+                return 2
     return 0
 
 

@@ -80,6 +80,7 @@ ACCEPT = {
     "-fs_modal_damping": {"0": "undamped modes"},
     "-fs_msd_mass": {"0": "the sum of the named parts", "1e300": "the structure stands still"},
     "-fs_msd_stiffness": {"0": "3 EI/a^3 from the beam", "1e300": "a rigid support"},
+    "-fs_msd_liquid_mass": {"0": "no reduced model (the default): the liquid is the particles'"},
     "-fs_delta_c": {"0": "no density diffusion", "1e300": "only bounds the time step"},
     "-fs_delta_constant": {"0": "the delta-LES delta", "1e300": "only bounds the time step"},
     "-fs_delta_min": {"0": "no floor", "1e300": "only bounds the time step"},
@@ -152,6 +153,8 @@ NAMES = {
     "-fs_tank_file": (["-fs_tank_shape", "file", "-fs_tank_file", "/nonexistent.walls"], "/nonexistent.walls"),
     "-fs_tank_stl_scale": (["nosuch"], None),
     "-fs_tank_stl": (TANK3[4:] + ["-fs_dim", "3", "-fs_tank_shape", "stl", "-fs_tank_stl", "/nonexistent.stl"], "/nonexistent.stl"),
+    "-fs_msd_liquid_table": (["-fs_case", "beam", "-fs_options_check", "0", "-fs_structure", "msd", "-fs_msd_liquid_mass", "2",
+                              "-fs_msd_liquid_table", "/nonexistent.table"], "/nonexistent.table"),
     "-fs_probes": (["/nonexistent.probes"], "/nonexistent.probes"),
     "-fs_restart": (["/nonexistent.h5"], "/nonexistent.h5"),
     "-fs_output_dir": None,  # an unwritable directory: test_bad_input.py's test_unwritable_output_dir
