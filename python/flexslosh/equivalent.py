@@ -42,7 +42,7 @@ import numpy as np
 from .output import code_revision
 
 __all__ = ["DIRECTIONS", "Cycle", "Description", "describe", "analyse_cycles", "settled_window", "grid",
-           "faraday_modes", "write_liquid_table",
+           "faraday_modes", "write_liquid_table", "petsc_options",
            "rectangular_modes", "rectangular_sway_mass", "write_table", "plot_maps", "main"]
 
 G = 9.81
@@ -604,7 +604,7 @@ def _numbers(text: str, what: str) -> list[float]:
     return values
 
 
-def _petsc_options(words: Sequence[str]) -> dict[str, Any]:
+def petsc_options(words: Sequence[str]) -> dict[str, Any]:
     """-name value pairs (a name followed by another -name, or last, is a flag) as a dict."""
     opts: dict[str, Any] = {}
     i = 0
@@ -655,7 +655,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                    help="heave: also write the reduced model's table (-fs_msd_liquid_table) to this file")
     p.add_argument("--mpi", action="store_true", help="spread the points over MPI.COMM_WORLD's ranks (mpirun)")
     args, rest = p.parse_known_args(argv)
-    base = _petsc_options(rest)
+    base = petsc_options(rest)
     if args.point is not None and len(args.point) != 2:
         p.error(f"--point {args.point}: expected two numbers x,y")
     if args.cycles < args.settle + 1:

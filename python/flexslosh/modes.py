@@ -30,7 +30,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from .equivalent import _petsc_options, rectangular_modes
+from .equivalent import petsc_options, rectangular_modes
 
 __all__ = ["Mode", "Analysis", "analyse", "tank_geometry", "pulse_motion", "sloshing_modes", "main"]
 
@@ -374,7 +374,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args, petsc = ap.parse_known_args(argv)
     if args.modes < 1:
         ap.error(f"--modes {args.modes}: expected at least 1")
-    opts = _petsc_options(petsc)
+    opts = petsc_options(petsc)
     if args.fill is not None:
         opts["fs_fill"] = args.fill
     try:

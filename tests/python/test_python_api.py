@@ -332,7 +332,7 @@ def test_sweep_over_two_ranks_equals_sequence(two_ranks, tmp_path):
 # ------------------------------------------------------------------ examples
 
 
-@pytest.mark.parametrize("example", ["run_and_plot", "fill_sweep", "custom_structure", "sway_mass"])
+@pytest.mark.parametrize("example", ["run_and_plot", "fill_sweep", "custom_structure", "sway_mass", "tank_table"])
 def test_examples_run_tiny(example, tmp_path):
     proc = _python([REPO_ROOT / "python" / "examples" / f"{example}.py", "--tiny", "--out", tmp_path], cwd=tmp_path)
     assert "wrote" in proc.stdout
@@ -340,6 +340,9 @@ def test_examples_run_tiny(example, tmp_path):
         assert (tmp_path / "pressure.png").stat().st_size > 1000
     elif example == "sway_mass":
         assert len((tmp_path / "equivalent.csv").read_text().splitlines()) == 3
+    elif example == "tank_table":  # the box's liquid 60 x 30 mm: f_1 from the rectangle, the forcing at 0.8 of it
+        assert "liquid 0.06 m long, 0.03 m deep, f_1 3.454 Hz (rectangle); forcing at 2.764 Hz" in proc.stdout
+        assert len((tmp_path / "equivalent.csv").read_text().splitlines()) == 2
     else:
         with open(tmp_path / "damping.csv") as fp:
             assert len(fp.readlines()) >= 3
