@@ -520,7 +520,9 @@ def write_liquid_table(rows: Sequence[Mapping[str, Any]], path: str | os.PathLik
                          "(run more cycles, --cycles, or see the criterion in docs/equivalent.md)")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    lines = [f"# the liquid's heave describing function at {rows[0]['frequency']!r} Hz, fill {rows[0]['fill']!r}, "
+    fill = rows[0]["fill"]
+    fill = "the case's" if fill is None or (isinstance(fill, float) and not math.isfinite(fill)) else repr(fill)
+    lines = [f"# the liquid's heave describing function at {rows[0]['frequency']!r} Hz, fill {fill}, "
              f"dx {rows[0]['dx']!r} m, revision {rows[0]['revision']}",
              f"# -fs_msd_liquid_mass {rows[0]['liquid_mass']!r}",
              f"# not settled, left out: A = {', '.join(repr(a) for a in left) or 'none'}",

@@ -81,6 +81,7 @@ ACCEPT = {
     "-fs_msd_mass": {"0": "the sum of the named parts", "1e300": "the structure stands still"},
     "-fs_msd_stiffness": {"0": "3 EI/a^3 from the beam", "1e300": "a rigid support"},
     "-fs_msd_liquid_mass": {"0": "no reduced model (the default): the liquid is the particles'"},
+    "-fs_msd_liquid_lag": {"0": "the reduced model looks up the current amplitude (the default)"},
     "-fs_delta_c": {"0": "no density diffusion", "1e300": "only bounds the time step"},
     "-fs_delta_constant": {"0": "the delta-LES delta", "1e300": "only bounds the time step"},
     "-fs_delta_min": {"0": "no floor", "1e300": "only bounds the time step"},

@@ -59,6 +59,27 @@ def test_amplitude_dependent_damper(tmp_path):
     assert np.allclose(small, low, rtol=0.03), (small, low)
 
 
+def test_lag_keeps_the_damping_of_larger_amplitudes(tmp_path):
+    """-fs_msd_liquid_lag tau: the table is looked up at the amplitude seen through a first-order lag, so the damper
+    that switches off below 10 mm still acts on the first cycles below it (their amplitude lags above), and
+    without the lag it does not; a constant table is the same with or without the lag."""
+    rows = [(0.002, M, 0.0), (0.010, M, 0.0), (0.020, M, 20.0), (0.05, M, 20.0)]
+    z = {}
+    for lag in (0, 0.3):
+        out, _ = reduced(tmp_path, f"lag{lag}", rows, ["-ts_max_time", 4.0, "-fs_msd_liquid_lag", lag])
+        ts = read_series(out)
+        cyc = damping_per_cycle(ts["time"], ts["tip_displacement"])
+        z[lag] = cyc.zeta[np.flatnonzero(cyc.amplitude < 0.009)[0]]
+    st = read_summary(out)["structure"]
+    own = st["damping_coefficient"] / (2 * math.sqrt(st["stiffness"] * (st["mass"] + M)))
+    assert z[0] == pytest.approx(own, rel=1e-3)
+    assert z[0.3] - own > 7e-4, z  # measured 1.1e-3: its lagged amplitude about 11 mm, c_eq about 2 N s/m
+    const = [(0.001, M, 3.0), (0.05, M, 3.0)]
+    a, _ = reduced(tmp_path, "c0", const)
+    b, _ = reduced(tmp_path, "c1", const, ["-fs_msd_liquid_lag", 0.3])
+    assert np.allclose(read_series(a)["tip_displacement"], read_series(b)["tip_displacement"], rtol=0, atol=1e-12)
+
+
 def test_bad_tables_and_options_are_named(tmp_path):
     _, p = reduced(tmp_path, "neg", [(0.001, M, 1.0), (0.01, M, -1.0)], check=False)
     assert p.returncode != 0 and "-fs_msd_liquid_table" in p.output and "row 2" in p.output and "c_eq -1" in p.output
@@ -71,6 +92,8 @@ def test_bad_tables_and_options_are_named(tmp_path):
     p = run_flexslosh(SEED + ["-fs_msd_liquid_table", tmp_path / "ok.txt", "-fs_output_dir", tmp_path / "y"],
                       cwd=tmp_path, check=False)
     assert p.returncode != 0 and "needs -fs_msd_liquid_mass" in p.output
+    p = run_flexslosh(SEED + ["-fs_msd_liquid_lag", 0.2, "-fs_output_dir", tmp_path / "w"], cwd=tmp_path, check=False)
+    assert p.returncode != 0 and "-fs_msd_liquid_lag 0.2" in p.output and "-fs_msd_liquid_table" in p.output
     p = run_flexslosh(["-options_file", "cases/coupled_rectangular.opts", "-fs_dx", 0.02, "-ts_max_time", 0.01,
                        "-fs_msd_liquid_table", tmp_path / "ok.txt", "-fs_msd_liquid_mass", M,
                        "-fs_output_dir", tmp_path / "z"], check=False, cwd=eq.Path(__file__).parents[2])

@@ -15,8 +15,11 @@
    heave describing function, an effective mass and a damper that depend on the motion's amplitude,
      (m + m_eff(A)) w'' + (c + c_eq(A)) w' + K w = F_p,   A = sqrt(w^2 + (w' / omega_0)^2),
    omega_0 = sqrt(K / (m + M)) with the liquid (mass M) carried rigidly: A is the amplitude of the harmonic
-   motion through the current state, the describing function's own assumption, and needs no memory. m_eff and
-   c_eq are interpolated linearly in A between the table's rows and held at its first and last rows outside.
+   motion through the current state, the describing function's own assumption, and needs no memory. With
+   -fs_msd_liquid_lag tau > 0 the table is looked up at A_tau instead, A seen through a first-order lag,
+   A_tau' = (A - A_tau) / tau (a third state, starting at A): a liquid whose response builds up and dies out over
+   about tau. m_eff and c_eq are interpolated linearly between the table's rows and held at its first and last
+   rows outside.
 */
 #include <flexslosh.h>
 #include "beamfe.h"
@@ -30,14 +33,20 @@ typedef struct {
   PetscReal      table_mass;  /* M: the liquid's mass the table stands for (kg) */
   FSMotionSeries table[2];    /* m_eff(A), c_eq(A): the rows' points (table[0].n = 0: no table) */
   PetscReal      table_omega; /* omega_0 */
+  PetscReal      lag;         /* tau (s); 0: none */
 } MSD;
 
 /* m_eff and c_eq at the amplitude of the state (w, w'): linear between the rows, held outside */
+static PetscReal HarmonicAmplitude(const MSD *p, const PetscReal y[])
+{
+  return PetscSqrtReal(y[0] * y[0] + PetscSqr(y[1] / p->table_omega));
+}
+
 static void LiquidTable(const MSD *p, const PetscReal y[], PetscReal *meff, PetscReal *ceq)
 {
   const FSMotionSeries *s = p->table;
   const PetscInt        n = s[0].n;
-  const PetscReal       A = PetscSqrtReal(y[0] * y[0] + PetscSqr(y[1] / p->table_omega));
+  const PetscReal       A = p->lag > 0 ? y[2] : HarmonicAmplitude(p, y);
   PetscInt              k = 0;
   PetscReal             f;
 
@@ -82,6 +91,10 @@ static PetscErrorCode SetFromOptions(FSStructure st, PetscOptionItems *PetscOpti
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_msd_liquid_mass",
                           "The liquid's mass M (kg) of -fs_msd_liquid_table: the payload's share and omega_0", "",
                           &p->table_mass, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_msd_liquid_lag",
+                          "The reduced model's lag tau (s): the table looked up at the amplitude seen through a "
+                          "first-order lag (0: the current amplitude)",
+                          "", &p->lag, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }
@@ -117,10 +130,13 @@ static PetscErrorCode SetUp(FSStructure st)
                  "and m_eff, c_eq >= 0",
                  p->table_file, k + 1, (double)p->table[0].t[k], (double)p->table[0].y[k], (double)p->table[1].y[k]);
     liquid_mass = p->table_mass;
-  } else
+  } else {
     PetscCheck(p->table_mass == 0, st->comm, PETSC_ERR_ARG_WRONG,
                "-fs_msd_liquid_mass %g is the mass of -fs_msd_liquid_table's liquid: give the table too",
                (double)p->table_mass);
+    PetscCheck(p->lag == 0, st->comm, PETSC_ERR_ARG_WRONG,
+               "-fs_msd_liquid_lag %g is the reduced model's: give -fs_msd_liquid_table too", (double)p->lag);
+  }
   PetscCall(FSBeamParamsResolvePayload(&p->beam, st->comm, liquid_mass));
   p->m = p->mass_given > 0 ? p->mass_given : p->beam_fraction * b->mlin * b->L + b->tank_mass + b->ballast_mass;
   PetscCheck(p->m > 0, st->comm, PETSC_ERR_ARG_OUTOFRANGE,
@@ -132,7 +148,7 @@ static PetscErrorCode SetUp(FSStructure st)
   p->c           = 2 * b->xi * p->omega * p->m;
   p->force_eq    = b->force * FSBeamInfluence(b, b->force_position, b->a) / FSBeamInfluence(b, b->a, b->a);
   p->table_omega = PetscSqrtReal(p->K / (p->m + p->table_mass));
-  st->ndof       = 2;
+  st->ndof       = p->lag > 0 ? 3 : 2;
   st->min_period = 2 * PETSC_PI / p->omega;
   if (p->table[0].n) { /* the shortest period: the smallest effective mass */
     PetscReal mmin = PETSC_MAX_REAL;
@@ -149,6 +165,7 @@ static PetscErrorCode Initial(FSStructure st, PetscReal y[])
   PetscFunctionBegin;
   y[0] = p->beam.preload;
   y[1] = 0;
+  if (p->lag > 0) y[2] = HarmonicAmplitude(p, y);
   PetscFunctionReturn(0);
 }
 
@@ -159,6 +176,7 @@ static PetscErrorCode RHS(FSStructure st, PetscReal t, const PetscReal y[], cons
 
   PetscFunctionBegin;
   LiquidTable(p, y, &meff, &ceq);
+  if (p->lag > 0) ydot[2] = (HarmonicAmplitude(p, y) - y[2]) / p->lag;
   ydot[0] = y[1];
   ydot[1] = (loads->force[1] + p->force_eq - (p->c + ceq) * y[1] - p->K * y[0]) / (p->m + meff);
   PetscFunctionReturn(0);
