@@ -63,6 +63,7 @@ RESOLUTIONS: dict[str, list[float]] = {
     "energy": [0.05],
     "seed": [0.005],
     "seed_convergence": [0.005, 0.0025, 0.00125],
+    "reduced_model": [0.01, 0.005],
     "seed_slams": [0.002, 0.001, 0.0007],
     "seed_slams_finest": [0.00035],
     "shapes_at_rest": [0.005, 0.0035, 0.0025],
@@ -87,6 +88,7 @@ QUICK: dict[str, list[float]] = {
     "energy": [0.1],
     "seed": [0.01],
     "seed_convergence": [0.01, 0.00707, 0.005],
+    "reduced_model": [0.01],
     "seed_slams": [0.01, 0.005],
     "seed_slams_finest": [0.0035],
     "shapes_at_rest": [0.005],
@@ -1366,6 +1368,98 @@ def case_seed_convergence(ctx: Context, which: Optional[Sequence[str]] = None) -
     return sec
 
 
+#: The reduced model's heave grid (docs/equivalent.md, "The reduced model"): the seed's rectangular tank shaken at the
+#: coupled beam's frequency (its period 0.165 s at dx = 5 mm) over amplitudes that span the free decay's bands, 3 ramp
+#: periods, 16 cycles after them, the last 5 within 30 % of each other (the impacting liquid's cycles scatter by
+#: 10-20 %). The releases of the coupled runs it is compared with, and the lags of the amplitude it is looked up at.
+REDUCED_FREQUENCY = 6.05
+REDUCED_AMPLITUDES = (0.002, 0.003, 0.004, 0.005, 0.0065, 0.008, 0.010, 0.0125, 0.015, 0.020, 0.025, 0.032, 0.040, 0.046)
+REDUCED_GRID = {"ramp_cycles": 3, "cycles_max": 16, "settle": 4, "tol": 0.3}
+REDUCED_RELEASES = 5
+REDUCED_LAGS = (0.0, 0.2)
+
+
+def case_reduced_model(ctx: Context) -> Section:
+    """The seed's rectangular tank on the msd beam with its liquid replaced by the heave describing function measured
+    at the same resolution and numerics (-fs_msd_liquid_table): the damping per band against the coupled runs'
+    (an ensemble of releases) and the two runs' wall times."""
+    from . import equivalent as eq
+
+    dxs = sorted(ctx.dxs("reduced_model"), reverse=True)
+    releases = 1 if ctx.quick else REDUCED_RELEASES
+    amplitudes = (0.01, 0.02, 0.04) if ctx.quick else REDUCED_AMPLITUDES
+    grid_kw = dict(REDUCED_GRID, cycles_max=8) if ctx.quick else REDUCED_GRID
+    tmax = 1.0 if ctx.quick else 3.0
+    numerics = ["-fs_delta_max", 0.5, "-fs_delta_cfl", 0.1875] + SEED_CONVERGENCE_NUMERICS + NO_TENSION
+    sec = Section("reduced_model", TITLES["reduced_model"],
+                  "The seed's rectangular tank on the msd beam released from a 0.04 m tip deflection (3 s): the coupled run "
+                  f"({releases} release(s), the preload perturbed by 1e-4 of itself, push-only walls and the seed_convergence "
+                  "numerics) against the reduced model (`-fs_case beam -fs_msd_liquid_table`), whose table is the liquid's heave "
+                  f"describing function at {REDUCED_FREQUENCY} Hz from `flexslosh.equivalent` at the same dx and numerics "
+                  f"(amplitudes {', '.join(f'{1e3 * a:g}' for a in amplitudes)} mm). Compared: the damping ratio per cycle "
+                  "averaged over the seed's amplitude bands, the reduced model's minus the releases' mean (checked within "
+                  "0.3 %-points at the finest dx, the memoryless model), and the wall times.",
+                  "The coupled runs themselves (issue 36 item 4: each band within 0.3 %-points, at least 1,000 times "
+                  "cheaper); docs/equivalent.md, \"The reduced model\".")
+    fig, ax = _figure(7, 4.2)
+    rows = ["| dx (mm) | run | " + " | ".join(f"{1e3 * hi:g}-{1e3 * lo:g} mm" for hi, lo in SEED_BANDS) + " | wall (s) |",
+            "|---|---" + "|---" * len(SEED_BANDS) + "|---|"]
+    for dx in dxs:
+        base = {"fs_dx": dx, "fs_c0": 20, "fs_relax_time": 0.1, "fs_tank_width": 0.1}
+        base.update(eq.petsc_options([str(a) for a in numerics]))
+        t0 = time.time()
+        grid_rows = eq.grid(_case("tank_rectangular"), "heave", [None], list(amplitudes), [REDUCED_FREQUENCY], base,
+                            ctx.work / "reduced_model" / f"heave_{_label(dx)}", figures=False, progress=None, **grid_kw)
+        table = eq.write_liquid_table(grid_rows, ctx.work / "reduced_model" / f"table_{_label(dx)}.txt")
+        sec.notes.append(f"dx = {1e3 * dx:g} mm: the heave grid's rows, m_eff / M and c_eq / (M omega) by amplitude (mm): "
+                         + "; ".join(f"{1e3 * r['amplitude']:g}: " + (f"{r['m_eff_ratio']:.3f}, {r['c_eq_nd']:.3f}"
+                                                                          if r["settled"] else "not settled")
+                                     for r in grid_rows)
+                         + f" ({time.time() - t0:.0f} s here, 0 when its points were read back).")
+        zs, walls = [], []
+        for e, preload in enumerate(SEED_ENSEMBLE_PRELOADS[:releases]):
+            args = ["-options_file", _case("coupled_rectangular"), "-fs_dx", dx, "-fs_structure", "msd", "-ts_max_time", tmax,
+                    "-fs_output_interval", 0] + SEED_CONVERGENCE_NUMERICS + NO_TENSION
+            args += ["-fs_beam_preload", preload] if e else []
+            r = ctx.run("seed_convergence", f"rectangular_msd_no_tension_{_label(dx)}" + (f"_e{e}" if e else "")
+                        + ("_quick" if ctx.quick else ""), args, sec.runs, checkpoints=5000)
+            zs.append(100 * band_damping(damping_per_cycle(r.column("time"), r.column("tip_displacement"))))
+            walls.append(sec.runs[-1].wall)
+        zc = np.mean(zs, axis=0)
+        se = np.std(zs, axis=0, ddof=1) / np.sqrt(len(zs)) if len(zs) > 1 else np.full(len(SEED_BANDS), np.nan)
+        rows.append(f"| {1e3 * dx:g} | coupled, {len(zs)} release(s), mean +- SE | " + " | ".join(
+            f"{v:.2f} +- {u:.2f}" for v, u in zip(zc, se)) + f" | {np.mean(walls):.0f} |")
+        ax.errorbar(range(len(SEED_BANDS)), zc, yerr=se, fmt="o-", ms=4, label=f"coupled, dx {1e3 * dx:g} mm")
+        mass = float(grid_rows[0]["liquid_mass"])
+        for lag in REDUCED_LAGS:
+            args = ["-fs_case", "beam", "-fs_structure", "msd", "-fs_beam_tank_mass", 5.0, "-fs_beam_payload_mass", 3.36,
+                    "-fs_beam_preload", 0.04, "-fs_beam_damping", 0.015, "-ts_max_time", tmax, "-fs_output_interval", 0,
+                    "-fs_msd_liquid_table", table, "-fs_msd_liquid_mass", mass, "-fs_msd_liquid_lag", lag]
+            r = ctx.run("reduced_model", f"reduced_{_label(dx)}_lag{lag:g}", args, sec.runs)
+            zr = 100 * band_damping(damping_per_cycle(r.column("time"), r.column("tip_displacement")))
+            wall = float(r.summary.get("wall_time", sec.runs[-1].wall))
+            rows.append(f"| {1e3 * dx:g} | reduced, lag {lag:g} s (its difference) | " + " | ".join(
+                f"{v:.2f} ({v - c:+.2f})" for v, c in zip(zr, zc)) + f" | {wall:.3f} |")
+            ax.plot(range(len(SEED_BANDS)), zr, "s--" if lag else "s-", ms=4, label=f"reduced, lag {lag:g} s, dx {1e3 * dx:g} mm")
+            if dx == dxs[-1] and lag == 0:
+                for k, (hi, lo) in enumerate(SEED_BANDS):
+                    sec.checks.append(Check(f"dx = {1e3 * dx:g} mm, band {1e3 * hi:g}-{1e3 * lo:g} mm: reduced minus coupled "
+                                            "(%-points, abs)", abs(float(zr[k] - zc[k])), 0.3, fmt="{:.2f}"))
+                sec.checks.append(Check(f"dx = {1e3 * dx:g} mm: the coupled run's wall time over the reduced model's "
+                                        "(the solver's own, summary.json)", float(np.mean(walls)) / max(wall, 1e-9), 1000,
+                                        kind="min", fmt="{:.0f}"))
+    sec.notes.insert(0, "\n".join(rows))
+    ax.set_xticks(range(len(SEED_BANDS)))
+    ax.set_xticklabels([f"{1e3 * hi:g}-{1e3 * lo:g}" for hi, lo in SEED_BANDS], fontsize=7)
+    ax.set_xlabel("cycle amplitude band (mm)")
+    ax.set_ylabel("zeta per cycle (%)")
+    ax.axhline(1.5, color="k", lw=1)
+    ax.legend(fontsize=6)
+    sec.figure = _save(fig, ctx, "reduced_model")
+    sec.caption = "The damping per band: the coupled runs (mean and standard error) and the reduced model (lines)"
+    return sec
+
+
 #: The seed's tanks through the release and the first slams: label -> (case file, structure, extra options).
 SEED_SLAMS_RUNS = {
     "rectangular_msd": ("coupled_rectangular", "msd", []),
@@ -1485,6 +1579,7 @@ CASES: dict[str, Callable[[Context], Section]] = {
     "energy": case_energy,
     "seed": case_seed,
     "seed_convergence": case_seed_convergence,
+    "reduced_model": case_reduced_model,
     "seed_slams": case_seed_slams,
     "shapes_at_rest": case_shapes_at_rest,
 }
@@ -1508,6 +1603,7 @@ TITLES = {
     "seed": "The seed's experiment: damping per cycle against amplitude",
     "seed_convergence": "The seed's experiment: the damping per cycle converging with resolution",
     "seed_slams": "The seed's tanks through the first slams, down to L/dx = 2000",
+    "reduced_model": "The seed's experiment without particles: the reduced model against the coupled runs",
 }
 
 
