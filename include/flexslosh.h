@@ -137,6 +137,7 @@ PETSC_EXTERN PetscErrorCode FSMonitorSetType(FSMonitor, const char[]);
 PETSC_EXTERN PetscErrorCode FSMonitorGetType(FSMonitor, const char *[]);
 PETSC_EXTERN PetscErrorCode FSMonitorSetOptionsPrefix(FSMonitor, const char[]);
 PETSC_EXTERN PetscErrorCode FSMonitorSetFromOptions(FSMonitor);
+PETSC_EXTERN PetscErrorCode FSMonitorSetFromOptionItems(FSMonitor, PetscOptionItems *);
 PETSC_EXTERN PetscErrorCode FSMonitorSetUp(FSMonitor, FSSolver);
 PETSC_EXTERN PetscErrorCode FSMonitorBegin(FSMonitor, FSSolver);
 PETSC_EXTERN PetscErrorCode FSMonitorRows(PetscInt, const FSMonitor[], FSSolver);
@@ -147,8 +148,9 @@ PETSC_EXTERN PetscErrorCode FSMonitorRaiseWriteStatus(FSMonitor, PetscInt);
 PETSC_EXTERN PetscErrorCode FSMonitorView(FSMonitor, PetscViewer);
 PETSC_EXTERN PetscErrorCode FSMonitorDestroy(FSMonitor *);
 /* the probes monitor's values (FSSolverGetProbes() for the solver's own), the checkpoints monitor's write (for
-   FSSolverWriteCheckpoint()) */
+   FSSolverWriteCheckpoint()) and interval (whether the run attaches it) */
 PETSC_EXTERN PetscErrorCode FSMonitorCheckpointsWrite(FSMonitor, FSSolver);
+PETSC_EXTERN PetscErrorCode FSMonitorCheckpointsGetInterval(FSMonitor, PetscInt *);
 PETSC_EXTERN PetscErrorCode FSMonitorProbesGetValues(FSMonitor, FSSolver, PetscInt *, const char *[], PetscInt[],
                                                      PetscReal[]);
 PETSC_EXTERN PetscErrorCode FSSolverMonitorAdd(FSSolver, FSMonitor);

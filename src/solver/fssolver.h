@@ -10,14 +10,12 @@
 #include "coupling/fscoupling.h"
 #include "io/fsoutput.h"
 
-/* the settings of the run's output that the built-in monitors follow (options of the solver: -fs_output_dir, ...) */
+/* the settings of the run's output that the built-in monitors follow (options of the solver: -fs_output_dir, ...;
+   each monitor reads its own, -fs_output_interval, ...) */
 typedef struct {
-  const char *outdir;              /* -fs_output_dir, or the run's own directory */
-  PetscBool   restart;             /* the run continues from a checkpoint (-fs_restart): the files are cut, not new */
-  PetscReal   output_interval;     /* -fs_output_interval: simulated time between snapshots (0: first and last) */
-  PetscInt    checkpoint_interval; /* -fs_checkpoint_interval: steps between checkpoints (0: none) */
-  PetscInt    series_interval;     /* -fs_series_interval: steps between the rows of timeseries.csv and energy.csv */
-  PetscInt    step0;               /* the step the run's monitors began at */
+  const char *outdir;  /* -fs_output_dir, or the run's own directory */
+  PetscBool   restart; /* the run continues from a checkpoint (-fs_restart): the files are cut, not new */
+  PetscInt    step0;   /* the step the run's monitors began at */
 } FSSolverOutputSettings;
 PETSC_INTERN PetscErrorCode FSSolverGetOutputSettings(FSSolver, FSSolverOutputSettings *);
 PETSC_INTERN PetscErrorCode FSSolverAtEnd(FSSolver, PetscBool *);
@@ -39,7 +37,7 @@ PETSC_INTERN PetscErrorCode FSSolverEnergySummed(FSSolver, const PetscReal liq[]
 
 /* what the probes (src/monitor/impls/probes/) sample: this rank's owned particles' records, volumes and pressures as
    the last evaluation left them (FSSolverEvaluateAtState()), the kernel, the walls and the coupling's body field, the
-   domain, and the options they follow (src/solver/output.c) */
+   domain (src/solver/output.c) */
 typedef struct {
   PetscInt         dim, stride, nowned;  /* a record is stride reals: position, velocity, density, ... */
   PetscInt64       nglobal;              /* the particles over the ranks */
@@ -49,8 +47,6 @@ typedef struct {
   FSCoupling       coupling;
   PetscReal        lo[3], hi[3]; /* the domain */
   PetscReal        dx, background_pressure;
-  const char      *probes;         /* -fs_probes ("" without) */
-  PetscInt         probe_interval; /* -fs_probe_interval */
 } FSSolverParticleView;
 PETSC_INTERN PetscErrorCode FSSolverGetParticleView(FSSolver, FSSolverParticleView *);
 

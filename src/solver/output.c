@@ -637,8 +637,7 @@ PetscErrorCode FSSolverGetWallLoads(FSSolver s, PetscInt *nwalls, const char *na
 /*
    FSSolverGetParticleView - what the probes sample (src/monitor/impls/probes/): this rank's owned particles as the
    last evaluation left them (FSSolverEvaluateAtState() first for the current state), the kernel, the walls, the
-   coupling, the domain and the probes' options. The pointers are the solver's, valid until its next step or
-   evaluation.
+   coupling and the domain. The pointers are the solver's, valid until its next step or evaluation.
 
    Not collective
 */
@@ -657,8 +656,6 @@ PetscErrorCode FSSolverGetParticleView(FSSolver s, FSSolverParticleView *v)
   v->coupling            = s->coupling;
   v->dx                  = s->opt.dx;
   v->background_pressure = s->opt.background_pressure;
-  v->probes              = s->mon.probes_file;
-  v->probe_interval      = s->mon.probe_interval;
   for (PetscInt d = 0; d < 3; d++) {
     v->lo[d] = s->pw.lo[d];
     v->hi[d] = s->pw.hi[d];

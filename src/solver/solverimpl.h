@@ -50,11 +50,8 @@ typedef struct {
   PetscReal     halo_skin; /* extra halo width, in units of h */
   PetscReal     max_density_variation;
   PetscReal     final_time;
-  PetscReal     output_interval;
-  PetscInt      checkpoint_interval;
   PetscBool     progress, write_output;
   PetscReal     progress_interval;
-  PetscInt      series_interval; /* -fs_series_interval: steps between the time series' rows */
   PetscBool     terms_view;
   PetscBool     geometry_view; /* -fs_geometry_view: write the set-up's picture and walls, then stop */
   PetscInt      sort_interval;
@@ -221,23 +218,23 @@ typedef struct {
   FSSolverMonitorFn fn[FS_MAX_MONITORS];
   void             *fnctx[FS_MAX_MONITORS];
   PetscErrorCode (*fndestroy[FS_MAX_MONITORS])(void **);
-  PetscInt        nfn;
-  PetscLogDouble  wall_start, wall_last_progress;
-  PetscInt        step0;
-  PetscInt64      pair_visits, particle_steps;
-  PetscInt        nmigrations, nrhs;
-  PetscInt        steps_taken; /* steps taken since set-up (this process) */
-  PetscInt        nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
-  PetscInt        nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
-  PetscBool       monitoring;
-  FSOutputLock    lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
-  PetscReal       t0;
-  char            probes_file[PETSC_MAX_PATH_LEN]; /* -fs_probes */
-  PetscInt        probe_interval;                  /* -fs_probe_interval */
-  FSMonitor       probes; /* the probes monitor, made by the set-up with -fs_probes (FSSolverGetProbes() reads it) */
-  char           *setup;  /* the record of what defines the run, for the checkpoints (setuprecord.c) */
-  FSParallelStats par;    /* summary.json's "parallel" */
-  FSRestCheck     rest;   /* the at-rest check */
+  PetscInt       nfn;
+  PetscLogDouble wall_start, wall_last_progress;
+  PetscInt       step0;
+  PetscInt64     pair_visits, particle_steps;
+  PetscInt       nmigrations, nrhs;
+  PetscInt       steps_taken; /* steps taken since set-up (this process) */
+  PetscInt       nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
+  PetscInt       nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
+  PetscBool      monitoring;
+  FSOutputLock   lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
+  PetscReal      t0;
+  /* the built-in monitors, made with their options by FSSolverSetFromOptions() and set up by FSSolverSetUp(); the
+     run's output attaches those it writes (FSSolverMonitorBegin()); FSSolverGetProbes() reads the probes */
+  FSMonitor       series, energy, probes, snapshots, checkpoints;
+  char           *setup; /* the record of what defines the run, for the checkpoints (setuprecord.c) */
+  FSParallelStats par;   /* summary.json's "parallel" */
+  FSRestCheck     rest;  /* the at-rest check */
 } FSMonitorData;
 
 typedef struct _FSSolverOps *FSSolverOps;
@@ -290,6 +287,9 @@ PETSC_INTERN PetscErrorCode FSSolverViscosityBound(FSSolver, PetscReal *, PetscI
 PETSC_INTERN PetscErrorCode FSSolverDtLimitName(FSSolver, PetscInt, const char **);
 PETSC_INTERN PetscErrorCode FSSolverMonitor(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorBegin(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverBuiltinMonitorsCreate(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverBuiltinMonitorsSetUp(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverBuiltinMonitorsDestroy(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverOpenOutputDir(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscReal      FSSolverWriteStatus(FSSolver);

@@ -204,10 +204,12 @@ PetscErrorCode FSMonitorSetOptionsPrefix(FSMonitor m, const char prefix[])
 .  -<prefix>monitor_type <type> - a registered monitor type (FSMonitorListView())
 
    Notes:
-   The built-in monitors follow the run's output options, read by FSSolverSetFromOptions() (-fs_output_dir,
-   -fs_series_interval, -fs_probes, -fs_probe_interval, -fs_output_interval, -fs_checkpoint_interval), and have no
-   options of their own; the solver does not call this for them. A user's monitor takes a prefix outside fs_: the
-   check of unused -fs_ options (FSSolverCheckOptions()) knows the options of the built-in objects only.
+   The solver reads the options of its built-in monitors (-fs_series_interval, -fs_probes, -fs_probe_interval,
+   -fs_output_interval, -fs_checkpoint_interval) inside its own options block (FSMonitorSetFromOptionItems()), so
+   that -help lists them with the run's; it does not call this for them. A user's monitor takes a prefix outside
+   fs_: the check of unused -fs_ options (FSSolverCheckOptions()) knows the options of the built-in objects only.
+
+.seealso: FSMonitorSetFromOptionItems()
 */
 PetscErrorCode FSMonitorSetFromOptions(FSMonitor m)
 {
@@ -224,6 +226,27 @@ PetscErrorCode FSMonitorSetFromOptions(FSMonitor m)
   if (set && type[0]) PetscCall(FSMonitorSetType(m, type));
   if (m->ops->setfromoptions) PetscCall((*m->ops->setfromoptions)(m, PetscOptionsObject));
   PetscOptionsEnd();
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSMonitorSetFromOptionItems - the options of the monitor's type, read inside an options block its caller opened
+   (as TSAdaptSetFromOptions() inside TSSetFromOptions()): FSSolverSetFromOptions() reads its built-in monitors'
+   options this way, so that -help lists them in the run's block, each where it always was.
+
+   Collective
+
+   Input Parameters:
++  mon   - the monitor, with its type set
+-  items - the caller's options block (PetscOptionsObject)
+
+.seealso: FSMonitorSetFromOptions()
+*/
+PetscErrorCode FSMonitorSetFromOptionItems(FSMonitor m, PetscOptionItems *items)
+{
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(m, FSMONITOR_CLASSID, 1);
+  if (m->ops->setfromoptions) PetscCall((*m->ops->setfromoptions)(m, items));
   PetscFunctionReturn(0);
 }
 
