@@ -100,6 +100,8 @@ PETSC_EXTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 #define FSMONITORPROBES      "probes"      /* probes.csv, -fs_probes */
 #define FSMONITORSNAPSHOTS   "snapshots"   /* snapshot_*.h5 and particles.xdmf, -fs_output_interval */
 #define FSMONITORCHECKPOINTS "checkpoints" /* checkpoint_*.h5, -fs_checkpoint_interval */
+#define FSMONITORPROGRESS    "progress"    /* the progress line on the terminal, -fs_progress */
+#define FSMONITORSUMMARY     "summary"     /* summary.json */
 typedef PetscErrorCode (*FSMonitorCreateFn)(FSMonitor);
 /* a plain monitor (FSSolverMonitorSet()): called after each step with the step number and the time, and once before
    the first step */

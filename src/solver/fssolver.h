@@ -13,9 +13,11 @@
 /* the settings of the run's output that the built-in monitors follow (options of the solver: -fs_output_dir, ...;
    each monitor reads its own, -fs_output_interval, ...) */
 typedef struct {
-  const char *outdir;  /* -fs_output_dir, or the run's own directory */
-  PetscBool   restart; /* the run continues from a checkpoint (-fs_restart): the files are cut, not new */
-  PetscInt    step0;   /* the step the run's monitors began at */
+  const char    *outdir;     /* -fs_output_dir, or the run's own directory */
+  PetscBool      restart;    /* the run continues from a checkpoint (-fs_restart): the files are cut, not new */
+  PetscInt       step0;      /* the step the run's monitors began at */
+  PetscReal      t0;         /* the time they began at */
+  PetscLogDouble wall_start; /* the wall time they began at (PetscTime()) */
 } FSSolverOutputSettings;
 PETSC_INTERN PetscErrorCode FSSolverGetOutputSettings(FSSolver, FSSolverOutputSettings *);
 PETSC_INTERN PetscErrorCode FSSolverAtEnd(FSSolver, PetscBool *);
@@ -57,6 +59,10 @@ PETSC_INTERN PetscErrorCode FSSolverFillField(FSSolver, const char[], PetscInt *
 PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
 PETSC_INTERN PetscErrorCode FSSolverGetGlobalSize(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
+
+/* summary.json's content (src/solver/output.c), which the summary monitor writes at the end of the run: what ran, how
+   long, how fast, with which options (collective: the ranks' sums) */
+PETSC_INTERN PetscErrorCode FSSolverSummaryWrite(FSSolver, FSJSON);
 
 /* a checkpoint's content (src/solver/output.c), which the checkpoints monitor writes (FSMonitorCheckpointsWrite()):
    the header (time, step, dt, the global DOFs, the viscosity bound and the step's limit, the set-up record, the

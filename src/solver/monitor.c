@@ -1,8 +1,8 @@
 /*
    The solver's monitors: the list of FSMonitor objects (src/monitor/; the built-in ones, time series, energy budget,
-   probes, snapshots and checkpoints, made with their options by the solver and attached as a user's are) and plain
-   callbacks (FSSolverMonitorSet()), called after every step; the deferred write status of their csv rows; the output
-   directory; the progress line and the summary.
+   probes, snapshots, checkpoints, progress line and summary, made with their options by the solver and attached as a
+   user's are) and plain callbacks (FSSolverMonitorSet()), called after every step; the deferred write status of
+   their csv rows; the output directory.
 */
 #include <errno.h>
 #include <sys/stat.h>
@@ -85,9 +85,9 @@ PetscErrorCode FSSolverWriteStatusCheck(FSSolver s)
 
    Notes:
    The run's own output is made of built-in monitors (FSMONITORTIMESERIES, FSMONITORENERGY, FSMONITORPROBES,
-   FSMONITORSNAPSHOTS, FSMONITORCHECKPOINTS), which the solver attaches first when the run's output begins (unless
-   -fs_write_output 0). A monitor attached after the run began begins at once; its first call is after the next step.
-   At most 16 monitors.
+   FSMONITORSNAPSHOTS, FSMONITORCHECKPOINTS, FSMONITORPROGRESS, FSMONITORSUMMARY), which the solver attaches first
+   when the run's output begins (with -fs_output 0 the progress line only). A monitor attached after the run began
+begins at once; its first call is after the next step. At most 16 monitors.
 
 .seealso: FSSolverMonitorSet(), FSSolverMonitorCancel(), FSMonitorCreate(), FSMonitorRegister()
 */
@@ -231,17 +231,18 @@ PetscErrorCode FSSolverGetMonitors(FSSolver s, PetscInt *n, const FSMonitor *mon
 }
 
 /*
-   FSSolverBuiltinMonitorsCreate - the built-in monitors (time series, energy budget, probes, snapshots, checkpoints),
-   made once, without their options: FSSolverSetFromOptions() has each read its own inside the solver's options block
-   (FSMonitorSetFromOptionItems()), so that -help lists them where it always did.
+   FSSolverBuiltinMonitorsCreate - the built-in monitors (time series, energy budget, probes, snapshots, checkpoints,
+   progress line, summary), made once, without their options: FSSolverSetFromOptions() has each read its own inside the
+   solver's options block (FSMonitorSetFromOptionItems()), so that -help lists them where it always did.
 
    Collective
 */
 PetscErrorCode FSSolverBuiltinMonitorsCreate(FSSolver s)
 {
-  FSMonitor  *mons[]  = {&s->mon.series, &s->mon.energy, &s->mon.probes, &s->mon.snapshots, &s->mon.checkpoints};
-  const char *types[] = {FSMONITORTIMESERIES, FSMONITORENERGY, FSMONITORPROBES, FSMONITORSNAPSHOTS,
-                         FSMONITORCHECKPOINTS};
+  FSMonitor  *mons[]  = {&s->mon.series,      &s->mon.energy,   &s->mon.probes, &s->mon.snapshots,
+                         &s->mon.checkpoints, &s->mon.progress, &s->mon.summary};
+  const char *types[] = {FSMONITORTIMESERIES,  FSMONITORENERGY,   FSMONITORPROBES, FSMONITORSNAPSHOTS,
+                         FSMONITORCHECKPOINTS, FSMONITORPROGRESS, FSMONITORSUMMARY};
 
   PetscFunctionBegin;
   for (size_t k = 0; k < PETSC_STATIC_ARRAY_LENGTH(mons); k++) {
@@ -259,7 +260,8 @@ PetscErrorCode FSSolverBuiltinMonitorsSetUp(FSSolver s)
   PetscFunctionBegin;
   PetscCall(FSSolverBuiltinMonitorsCreate(s));
   {
-    FSMonitor mons[] = {s->mon.series, s->mon.energy, s->mon.probes, s->mon.snapshots, s->mon.checkpoints};
+    FSMonitor mons[] = {s->mon.series,      s->mon.energy,   s->mon.probes, s->mon.snapshots,
+                        s->mon.checkpoints, s->mon.progress, s->mon.summary};
     for (size_t k = 0; k < PETSC_STATIC_ARRAY_LENGTH(mons); k++) PetscCall(FSMonitorSetUp(mons[k], s));
   }
   PetscFunctionReturn(0);
@@ -274,15 +276,18 @@ PetscErrorCode FSSolverBuiltinMonitorsDestroy(FSSolver s)
   PetscCall(FSMonitorDestroy(&s->mon.probes));
   PetscCall(FSMonitorDestroy(&s->mon.snapshots));
   PetscCall(FSMonitorDestroy(&s->mon.checkpoints));
+  PetscCall(FSMonitorDestroy(&s->mon.progress));
+  PetscCall(FSMonitorDestroy(&s->mon.summary));
   PetscFunctionReturn(0);
 }
 
-/* the built-in monitors that the run's output writes, put first in the list (before those a user attached before the
-   run): the time series, the energy budget, the probes with a file of items, the snapshots, the checkpoints with an
-   interval */
+/* the run's built-in monitors, put first in the list (before those a user attached before the run): with the output
+   (-fs_output) the time series, the energy budget, the probes with a file of items, the snapshots, the checkpoints
+   with an interval; the progress line; with the output the summary, last, so that it counts what the others' ends
+   cost */
 static PetscErrorCode FSSolverAddBuiltinMonitors(FSSolver s)
 {
-  FSMonitor add[5];
+  FSMonitor add[7];
   PetscInt  n = 0, nuser = s->mon.nlist, nprobes = 0, ckinterval = 0;
   FSMonitor user[FS_MAX_MONITORS];
 
@@ -290,11 +295,15 @@ static PetscErrorCode FSSolverAddBuiltinMonitors(FSSolver s)
   PetscCall(FSSolverBuiltinMonitorsSetUp(s)); /* done by the set-up already: nothing new */
   PetscCall(FSMonitorProbesGetValues(s->mon.probes, s, &nprobes, NULL, NULL, NULL));
   PetscCall(FSMonitorCheckpointsGetInterval(s->mon.checkpoints, &ckinterval));
-  add[n++] = s->mon.series;
-  add[n++] = s->mon.energy;
-  if (nprobes) add[n++] = s->mon.probes; /* a file without items: none */
-  add[n++] = s->mon.snapshots;
-  if (ckinterval > 0) add[n++] = s->mon.checkpoints;
+  if (s->opt.write_output) {
+    add[n++] = s->mon.series;
+    add[n++] = s->mon.energy;
+    if (nprobes) add[n++] = s->mon.probes; /* a file without items: none */
+    add[n++] = s->mon.snapshots;
+    if (ckinterval > 0) add[n++] = s->mon.checkpoints;
+  }
+  add[n++] = s->mon.progress;
+  if (s->opt.write_output) add[n++] = s->mon.summary;
   PetscCheck(nuser + n <= FS_MAX_MONITORS, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
              "The run's %" PetscInt_FMT " output monitors and the %" PetscInt_FMT
              " a user attached are more than the %d a solver holds",
@@ -404,7 +413,6 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   PetscCall(FSSolverSetUp(s));
   s->mon.monitoring = PETSC_TRUE;
   PetscCall(PetscTime(&s->mon.wall_start));
-  s->mon.wall_last_progress = s->mon.wall_start;
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
   s->mon.step0          = step;
@@ -424,52 +432,34 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
     /* the walls beside the snapshots, for ParaView and the movie (the geometry view has written them) */
     if (s->boundary && !s->opt.geometry_view)
       PetscCall(FSBoundaryWriteGeometry(s->boundary, s->opt.outdir, PETSC_FALSE));
-    PetscCall(FSSolverAddBuiltinMonitors(s));
   }
+  PetscCall(FSSolverAddBuiltinMonitors(s));
   for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorBegin(s->mon.list[k], s)); /* files opened */
   PetscCall(FSSolverMonitorsStep(s)); /* the state the run starts from (on a restart, the files were cut before it) */
   PetscFunctionReturn(0);
 }
 
 /* FSSolverMonitor - called after every step: the monitors (time series and energy budget every -fs_series_interval
-   steps and at the last step, probes, snapshots, checkpoints, the user's), the at-rest check, progress. */
+   steps and at the last step, probes, snapshots, checkpoints, the progress line, the user's), the at-rest check. */
 PetscErrorCode FSSolverMonitor(FSSolver s)
 {
-  PetscReal      t, tmax, dt;
-  PetscInt       step;
-  PetscBool      end;
-  PetscLogDouble now;
+  PetscBool end;
 
   PetscFunctionBegin;
   if (!s->mon.monitoring) PetscCall(FSSolverMonitorBegin(s));
-  PetscCall(TSGetTime(s->ts, &t));
-  PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCall(FSSolverAtEnd(s, &end));
   PetscCall(FSSolverMonitorsStep(s));
   PetscCall(FSSolverRestCheck(s)); /* the first steps: a liquid at rest that moves, a step that collapses */
-  PetscCall(PetscTime(&now));
-  if (s->opt.progress && now - s->mon.wall_last_progress >= s->opt.progress_interval) {
-    PetscReal frac, eta;
-    PetscCall(TSGetMaxTime(s->ts, &tmax));
-    PetscCall(TSGetTimeStep(s->ts, &dt));
-    frac = tmax > s->mon.t0 ? (t - s->mon.t0) / (tmax - s->mon.t0) : 1;
-    eta  = frac > 0 ? (now - s->mon.wall_start) * (1 - frac) / frac : 0;
-    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s),
-                          "step %6" PetscInt_FMT "  t = %-11.5g dt = %-10.4g %5.1f%%  elapsed %7.1f s  left ~%7.1f s\n",
-                          step, (double)t, (double)dt, (double)(100 * frac), now - s->mon.wall_start, (double)eta));
-    s->mon.wall_last_progress = now;
-  }
   if (end) PetscCall(FSSolverWriteStatusCheck(s)); /* the last rows' write status: no step's reduction carries it */
   PetscFunctionReturn(0);
 }
 
-/* FSSolverMonitorEnd - the monitors' end (the last snapshot) and the run's summary.json. */
+/* FSSolverMonitorEnd - the monitors' end (the last snapshot, the run's summary.json). */
 PetscErrorCode FSSolverMonitorEnd(FSSolver s)
 {
   PetscFunctionBegin;
   if (!s->mon.monitoring) PetscFunctionReturn(0);
   PetscCall(FSSolverWriteStatusCheck(s)); /* the last rows' write status, when no step carried it */
   for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorEnd(s->mon.list[k], s));
-  if (s->opt.write_output) PetscCall(FSSolverWriteSummary(s));
   PetscFunctionReturn(0);
 }

@@ -1,6 +1,7 @@
 /*
    The solver's side of the output: which fields go into snapshots and checkpoints, restarting
-   from a checkpoint, and the run summary. The file formats live in src/io/.
+   from a checkpoint, and the run summary's content (the monitors in src/monitor/ write the files). The file formats
+   live in src/io/.
 */
 #include "solver/solverimpl.h"
 #include <sys/resource.h>
@@ -516,12 +517,16 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   PetscFunctionReturn(0);
 }
 
-/* FSSolverWriteSummary - <output_dir>/summary.json: what ran, how long, how fast, with which options. */
-PetscErrorCode FSSolverWriteSummary(FSSolver s)
+/*
+   FSSolverSummaryWrite - summary.json's content into js (the summary monitor's file): what ran, how long (since the
+   monitors began), how fast, with which options.
+
+   Collective
+*/
+PetscErrorCode FSSolverSummaryWrite(FSSolver s, FSJSON js)
 {
   MPI_Comm       comm = PetscObjectComm((PetscObject)s);
-  FSJSON         js;
-  char           path[PETSC_MAX_PATH_LEN], *opts;
+  char          *opts;
   PetscLogDouble now, wall;
   PetscReal      t, dt, mem, memsum;
   PetscInt       step;
@@ -540,8 +545,6 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   getrusage(RUSAGE_SELF, &ru);
   mem = (PetscReal)ru.ru_maxrss * 1024.0;
   PetscCallMPI(MPI_Allreduce(&mem, &memsum, 1, MPIU_REAL, MPI_SUM, comm));
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/summary.json", s->opt.outdir));
-  PetscCall(FSJSONCreate(comm, path, &js));
   PetscCall(FSJSONWriteString(js, "program", "flexslosh " FLEXSLOSH_VERSION));
   PetscCall(FSJSONWriteString(js, "case", s->opt.casename));
   PetscCall(FSJSONWriteInt(js, "dim", s->opt.dim));
@@ -593,7 +596,6 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(PetscOptionsGetAll(NULL, &opts));
   PetscCall(FSJSONWriteString(js, "options", opts));
   PetscCall(PetscFree(opts));
-  PetscCall(FSJSONDestroy(&js));
   PetscFunctionReturn(0);
 }
 

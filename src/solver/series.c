@@ -45,9 +45,11 @@ static PetscErrorCode FSSolverDiagnosticsLocal(FSSolver s, PetscReal loc[5], Pet
 PetscErrorCode FSSolverGetOutputSettings(FSSolver s, FSSolverOutputSettings *o)
 {
   PetscFunctionBegin;
-  o->outdir  = s->opt.outdir;
-  o->restart = (PetscBool)(s->opt.restart[0] != 0);
-  o->step0   = s->mon.step0;
+  o->outdir     = s->opt.outdir;
+  o->restart    = (PetscBool)(s->opt.restart[0] != 0);
+  o->step0      = s->mon.step0;
+  o->t0         = s->mon.t0;
+  o->wall_start = s->mon.wall_start;
   PetscFunctionReturn(0);
 }
 

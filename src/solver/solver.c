@@ -40,8 +40,6 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.cfl_force             = 0.25;
   s->opt.halo_skin             = 0.5;
   s->opt.max_density_variation = 0.3;
-  s->opt.progress              = PETSC_TRUE;
-  s->opt.progress_interval     = 5.0;
   s->opt.write_output          = PETSC_TRUE;
   s->opt.sort_interval         = 1;
   s->opt.rebalance_threshold   = 1.2;
@@ -491,10 +489,7 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                                  "Print the set-up after FSSolverSetUp() (the executable; a viewer may follow)",
                                  "FSSolverView", view, view, sizeof(view), NULL));
   }
-  PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor",
-                             s->opt.progress, &s->opt.progress, NULL));
-  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_progress_interval", "Seconds between progress lines",
-                          "FSSolverMonitor", &s->opt.progress_interval, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSMonitorSetFromOptionItems(s->mon.progress, PetscOptionsObject)); /* -fs_progress, its interval */
 
   PetscFunctionReturn(0);
 }
@@ -563,9 +558,9 @@ output/<case>) .  -fs_output_interval <t>         - simulated time between parti
 -  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
 
    Notes:
-   -fs_output_interval, -fs_checkpoint_interval, -fs_probes, -fs_probe_interval and -fs_series_interval are the
-   built-in monitors' options (src/monitor/impls/): the solver makes those monitors here and each reads its own in
-   this options block (FSMonitorSetFromOptionItems()).
+   -fs_output_interval, -fs_checkpoint_interval, -fs_probes, -fs_probe_interval, -fs_series_interval, -fs_progress
+   and -fs_progress_interval are the built-in monitors' options (src/monitor/impls/): the solver makes those monitors
+here and each reads its own in this options block (FSMonitorSetFromOptionItems()).
 */
 PetscErrorCode FSSolverSetFromOptions(FSSolver s)
 {

@@ -4,7 +4,7 @@
    Data flow of one run:  options -> case set-up (domain, particles) -> decomposition ->
    TS loop [ halo refresh -> cell list and neighbour lists -> first pass (correction matrix,
    density gradient, strain rate) -> ghost refresh of those -> pair pass of the terms ] ->
-   monitors (time series, snapshots, checkpoints, progress, blow-up checks).
+   monitors (src/monitor/: time series, snapshots, checkpoints, progress, summary; the blow-up checks).
 */
 #pragma once
 #include <flexslosh.h>
@@ -50,8 +50,7 @@ typedef struct {
   PetscReal     halo_skin; /* extra halo width, in units of h */
   PetscReal     max_density_variation;
   PetscReal     final_time;
-  PetscBool     progress, write_output;
-  PetscReal     progress_interval;
+  PetscBool     write_output;
   PetscBool     terms_view;
   PetscBool     geometry_view; /* -fs_geometry_view: write the set-up's picture and walls, then stop */
   PetscInt      sort_interval;
@@ -219,7 +218,7 @@ typedef struct {
   void             *fnctx[FS_MAX_MONITORS];
   PetscErrorCode (*fndestroy[FS_MAX_MONITORS])(void **);
   PetscInt       nfn;
-  PetscLogDouble wall_start, wall_last_progress;
+  PetscLogDouble wall_start;
   PetscInt       step0;
   PetscInt64     pair_visits, particle_steps;
   PetscInt       nmigrations, nrhs;
@@ -231,7 +230,7 @@ typedef struct {
   PetscReal      t0;
   /* the built-in monitors, made with their options by FSSolverSetFromOptions() and set up by FSSolverSetUp(); the
      run's output attaches those it writes (FSSolverMonitorBegin()); FSSolverGetProbes() reads the probes */
-  FSMonitor       series, energy, probes, snapshots, checkpoints;
+  FSMonitor       series, energy, probes, snapshots, checkpoints, progress, summary;
   char           *setup; /* the record of what defines the run, for the checkpoints (setuprecord.c) */
   FSParallelStats par;   /* summary.json's "parallel" */
   FSRestCheck     rest;  /* the at-rest check */
@@ -323,7 +322,6 @@ PETSC_INTERN PetscErrorCode FSSolverBalanceWork(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetWorkSum(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverPartitionWalls(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
 PETSC_INTERN PetscErrorCode FSParallelStatsBegin(FSSolver);
 PETSC_INTERN void           FSParallelStatsStepBegin(FSSolver);
 PETSC_INTERN void           FSParallelStatsStepEnd(FSSolver);

@@ -156,6 +156,26 @@ def test_summary_json(run, tmp_path):
     assert len(snapshot_files(out)) == 2
 
 
+def test_progress_line(run, tmp_path):
+    """The progress monitor: with -fs_progress_interval 0 a line after each step (none for the start), the time and
+    the share of -ts_max_time growing, with the output files or without (-fs_output 0); none with -fs_progress 0; and
+    summary.json (the summary monitor) only with the output."""
+    for k, extra in enumerate(([], ["-fs_output", "0"])):
+        out = tmp_path / f"out{k}"
+        proc = run(TG + ["-fs_dx", "0.1", "-ts_max_steps", "3", "-ts_max_time", "1", "-fs_progress_interval", "0",
+                         "-fs_output_dir", out] + extra, progress=True)
+        lines = re.findall(r"^step +(\d+)  t = (\S+) +dt = (\S+) +([\d.]+)%  elapsed +[\d.]+ s  left ~ *[\d.]+ s$",
+                           proc.stdout, re.M)
+        assert [int(l[0]) for l in lines] == [1, 2, 3], proc.stdout
+        t = [float(l[1]) for l in lines]
+        assert 0 < t[0] < t[1] < t[2] < 1
+        assert [float(l[3]) for l in lines] == pytest.approx([100 * x for x in t], abs=0.06)
+        assert (out / "summary.json").exists() == (not extra)
+    proc = run(TG + ["-fs_dx", "0.1", "-ts_max_steps", "3", "-fs_progress_interval", "0", "-fs_progress", "0",
+                     "-fs_output", "0"], progress=True)
+    assert not re.search(r"^step ", proc.stdout, re.M)
+
+
 @pytest.mark.parametrize("opts", sorted(p.name for p in (REPO_ROOT / "cases").glob("*.opts")))
 def test_case_files_run(tmp_path, opts):
     """Every case file in cases/ sets up and takes a few steps as written (its resolution included), from
