@@ -100,6 +100,7 @@ PETSC_EXTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 #define FSMONITORPROBES      "probes"      /* probes.csv, -fs_probes */
 #define FSMONITORSNAPSHOTS   "snapshots"   /* snapshot_*.h5 and particles.xdmf, -fs_output_interval */
 #define FSMONITORCHECKPOINTS "checkpoints" /* checkpoint_*.h5, -fs_checkpoint_interval */
+#define FSMONITORRESTCHECK   "restcheck"   /* the at-rest check's warnings, -fs_rest_check_* */
 #define FSMONITORPROGRESS    "progress"    /* the progress line on the terminal, -fs_progress */
 #define FSMONITORSUMMARY     "summary"     /* summary.json */
 typedef PetscErrorCode (*FSMonitorCreateFn)(FSMonitor);

@@ -60,6 +60,23 @@ PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
 PETSC_INTERN PetscErrorCode FSSolverGetGlobalSize(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
 
+/* what the at-rest check (src/monitor/impls/restcheck.c) watches (src/solver/output.c): the liquid the case started
+   at rest (FSSolverSetLiquidAtRest()), the particles' step limit and what set it, and the largest speed over the
+   ranks (collective) */
+typedef struct {
+  PetscInt    dim;
+  PetscReal   dx, c0, g;     /* spacing, speed of sound, |gravity| */
+  PetscBool   at_rest;       /* the case starts its liquid at rest */
+  PetscReal   depth;         /* its depth, as the case gave it */
+  PetscBool   structure;     /* a structure carries the tank */
+  PetscInt64  nglobal;       /* the particles over the ranks */
+  PetscReal   dt_stable;     /* the particles' step limit from the state at the start of the last step */
+  const char *dt_limit;      /* the limit that set it */
+  PetscBool   dt_limit_term; /* a term's (its diffusivity) */
+} FSSolverRestView;
+PETSC_INTERN PetscErrorCode FSSolverGetRestView(FSSolver, FSSolverRestView *);
+PETSC_INTERN PetscErrorCode FSSolverMaxSpeed2(FSSolver, PetscReal *);
+
 /* summary.json's content (src/solver/output.c), which the summary monitor writes at the end of the run: what ran, how
    long, how fast, with which options (collective: the ranks' sums) */
 PETSC_INTERN PetscErrorCode FSSolverSummaryWrite(FSSolver, FSJSON);

@@ -1,8 +1,8 @@
 /*
    The solver's monitors: the list of FSMonitor objects (src/monitor/; the built-in ones, time series, energy budget,
-   probes, snapshots, checkpoints, progress line and summary, made with their options by the solver and attached as a
-   user's are) and plain callbacks (FSSolverMonitorSet()), called after every step; the deferred write status of
-   their csv rows; the output directory.
+   probes, snapshots, checkpoints, at-rest check, progress line and summary, made with their options by the solver and
+   attached as a user's are) and plain callbacks (FSSolverMonitorSet()), called after every step; the deferred write
+   status of their csv rows; the output directory.
 */
 #include <errno.h>
 #include <sys/stat.h>
@@ -85,8 +85,9 @@ PetscErrorCode FSSolverWriteStatusCheck(FSSolver s)
 
    Notes:
    The run's own output is made of built-in monitors (FSMONITORTIMESERIES, FSMONITORENERGY, FSMONITORPROBES,
-   FSMONITORSNAPSHOTS, FSMONITORCHECKPOINTS, FSMONITORPROGRESS, FSMONITORSUMMARY), which the solver attaches first
-   when the run's output begins (with -fs_output 0 the progress line only). A monitor attached after the run began
+   FSMONITORSNAPSHOTS, FSMONITORCHECKPOINTS, FSMONITORRESTCHECK, FSMONITORPROGRESS, FSMONITORSUMMARY), which the
+   solver attaches first when the run's output begins (with -fs_output 0 the at-rest check and the progress line
+   only). A monitor attached after the run began
 begins at once; its first call is after the next step. At most 16 monitors.
 
 .seealso: FSSolverMonitorSet(), FSSolverMonitorCancel(), FSMonitorCreate(), FSMonitorRegister()
@@ -232,17 +233,17 @@ PetscErrorCode FSSolverGetMonitors(FSSolver s, PetscInt *n, const FSMonitor *mon
 
 /*
    FSSolverBuiltinMonitorsCreate - the built-in monitors (time series, energy budget, probes, snapshots, checkpoints,
-   progress line, summary), made once, without their options: FSSolverSetFromOptions() has each read its own inside the
-   solver's options block (FSMonitorSetFromOptionItems()), so that -help lists them where it always did.
+   at-rest check, progress line, summary), made once, without their options: FSSolverSetFromOptions() has each read its
+   own inside the solver's options block (FSMonitorSetFromOptionItems()), so that -help lists them where it always did.
 
    Collective
 */
 PetscErrorCode FSSolverBuiltinMonitorsCreate(FSSolver s)
 {
-  FSMonitor  *mons[]  = {&s->mon.series,      &s->mon.energy,   &s->mon.probes, &s->mon.snapshots,
-                         &s->mon.checkpoints, &s->mon.progress, &s->mon.summary};
-  const char *types[] = {FSMONITORTIMESERIES,  FSMONITORENERGY,   FSMONITORPROBES, FSMONITORSNAPSHOTS,
-                         FSMONITORCHECKPOINTS, FSMONITORPROGRESS, FSMONITORSUMMARY};
+  FSMonitor  *mons[]  = {&s->mon.series,      &s->mon.energy,    &s->mon.probes,   &s->mon.snapshots,
+                         &s->mon.checkpoints, &s->mon.restcheck, &s->mon.progress, &s->mon.summary};
+  const char *types[] = {FSMONITORTIMESERIES,  FSMONITORENERGY,    FSMONITORPROBES,   FSMONITORSNAPSHOTS,
+                         FSMONITORCHECKPOINTS, FSMONITORRESTCHECK, FSMONITORPROGRESS, FSMONITORSUMMARY};
 
   PetscFunctionBegin;
   for (size_t k = 0; k < PETSC_STATIC_ARRAY_LENGTH(mons); k++) {
@@ -260,8 +261,8 @@ PetscErrorCode FSSolverBuiltinMonitorsSetUp(FSSolver s)
   PetscFunctionBegin;
   PetscCall(FSSolverBuiltinMonitorsCreate(s));
   {
-    FSMonitor mons[] = {s->mon.series,      s->mon.energy,   s->mon.probes, s->mon.snapshots,
-                        s->mon.checkpoints, s->mon.progress, s->mon.summary};
+    FSMonitor mons[] = {s->mon.series,      s->mon.energy,    s->mon.probes,   s->mon.snapshots,
+                        s->mon.checkpoints, s->mon.restcheck, s->mon.progress, s->mon.summary};
     for (size_t k = 0; k < PETSC_STATIC_ARRAY_LENGTH(mons); k++) PetscCall(FSMonitorSetUp(mons[k], s));
   }
   PetscFunctionReturn(0);
@@ -276,6 +277,7 @@ PetscErrorCode FSSolverBuiltinMonitorsDestroy(FSSolver s)
   PetscCall(FSMonitorDestroy(&s->mon.probes));
   PetscCall(FSMonitorDestroy(&s->mon.snapshots));
   PetscCall(FSMonitorDestroy(&s->mon.checkpoints));
+  PetscCall(FSMonitorDestroy(&s->mon.restcheck));
   PetscCall(FSMonitorDestroy(&s->mon.progress));
   PetscCall(FSMonitorDestroy(&s->mon.summary));
   PetscFunctionReturn(0);
@@ -283,11 +285,11 @@ PetscErrorCode FSSolverBuiltinMonitorsDestroy(FSSolver s)
 
 /* the run's built-in monitors, put first in the list (before those a user attached before the run): with the output
    (-fs_output) the time series, the energy budget, the probes with a file of items, the snapshots, the checkpoints
-   with an interval; the progress line; with the output the summary, last, so that it counts what the others' ends
-   cost */
+   with an interval; the at-rest check and the progress line; with the output the summary, last, so that it counts what
+   the others' ends cost */
 static PetscErrorCode FSSolverAddBuiltinMonitors(FSSolver s)
 {
-  FSMonitor add[7];
+  FSMonitor add[8];
   PetscInt  n = 0, nuser = s->mon.nlist, nprobes = 0, ckinterval = 0;
   FSMonitor user[FS_MAX_MONITORS];
 
@@ -302,6 +304,7 @@ static PetscErrorCode FSSolverAddBuiltinMonitors(FSSolver s)
     add[n++] = s->mon.snapshots;
     if (ckinterval > 0) add[n++] = s->mon.checkpoints;
   }
+  add[n++] = s->mon.restcheck;
   add[n++] = s->mon.progress;
   if (s->opt.write_output) add[n++] = s->mon.summary;
   PetscCheck(nuser + n <= FS_MAX_MONITORS, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
@@ -423,7 +426,6 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.nrebalances    = 0;
   s->mon.pair_visits    = 0;
   PetscCall(FSParallelStatsBegin(s));
-  PetscCall(FSSolverRestCheckBegin(s)); /* a liquid at rest too shallow in particles: warned here */
   if (!s->opt.restart[0])
     PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
   if (s->opt.write_output) {
@@ -440,7 +442,7 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
 }
 
 /* FSSolverMonitor - called after every step: the monitors (time series and energy budget every -fs_series_interval
-   steps and at the last step, probes, snapshots, checkpoints, the progress line, the user's), the at-rest check. */
+   steps and at the last step, probes, snapshots, checkpoints, the at-rest check, the progress line, the user's). */
 PetscErrorCode FSSolverMonitor(FSSolver s)
 {
   PetscBool end;
@@ -449,7 +451,6 @@ PetscErrorCode FSSolverMonitor(FSSolver s)
   if (!s->mon.monitoring) PetscCall(FSSolverMonitorBegin(s));
   PetscCall(FSSolverAtEnd(s, &end));
   PetscCall(FSSolverMonitorsStep(s));
-  PetscCall(FSSolverRestCheck(s)); /* the first steps: a liquid at rest that moves, a step that collapses */
   if (end) PetscCall(FSSolverWriteStatusCheck(s)); /* the last rows' write status: no step's reduction carries it */
   PetscFunctionReturn(0);
 }

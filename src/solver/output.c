@@ -637,6 +637,69 @@ PetscErrorCode FSSolverGetWallLoads(FSSolver s, PetscInt *nwalls, const char *na
 }
 
 /*
+   FSSolverSetLiquidAtRest - says that the case starts its liquid at rest in equilibrium under gravity (a tank
+   filled to a level), and how deep it is, so that the at-rest check (the restcheck monitor) watches it when nothing
+   forces it.
+
+   Logically collective
+
+   Input Parameters:
++  s       - the solver, from the case's setup
+.  at_rest - whether the liquid starts at rest
+-  depth   - the liquid's depth, from the lowest point of the container to the free surface
+
+   Options Database Keys:
++  -fs_rest_check_time T  - the simulated time watched from the start (0.5 s; 0: no check)
+.  -fs_rest_check_speed F - warn when the largest speed exceeds F sqrt(g H), H the liquid's depth (0.25)
+-  -fs_rest_check_dt F    - warn when the time step's limit falls below F of the start's (0.25)
+
+.seealso: FSSolverSetUp()
+*/
+PetscErrorCode FSSolverSetLiquidAtRest(FSSolver s, PetscBool at_rest, PetscReal depth)
+{
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
+  s->mon.at_rest    = at_rest;
+  s->mon.rest_depth = depth;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetRestView - what the at-rest check watches (src/monitor/impls/restcheck.c): the liquid the case started
+   at rest, the particles' step limit from the state at the start of the last step and what set it.
+
+   Not collective
+*/
+PetscErrorCode FSSolverGetRestView(FSSolver s, FSSolverRestView *v)
+{
+  PetscReal g = 0;
+
+  PetscFunctionBegin;
+  for (PetscInt d = 0; d < s->opt.dim; d++) g += s->opt.gravity[d] * s->opt.gravity[d];
+  v->dim           = s->opt.dim;
+  v->dx            = s->opt.dx;
+  v->c0            = s->opt.c0;
+  v->g             = PetscSqrtReal(g);
+  v->at_rest       = s->mon.at_rest;
+  v->depth         = s->mon.rest_depth;
+  v->structure     = (PetscBool)(s->structure != NULL);
+  v->nglobal       = s->pw.nglobal_particles;
+  v->dt_stable     = s->state.dt_stable;
+  v->dt_limit_term = (PetscBool)(s->state.dt_limit >= FS_DT_TERM);
+  PetscCall(FSSolverDtLimitName(s, s->state.dt_limit, &v->dt_limit));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverMaxSpeed2 - the largest squared speed of the particles in the state, over the ranks. Collective */
+PetscErrorCode FSSolverMaxSpeed2(FSSolver s, PetscReal *v2)
+{
+  PetscFunctionBegin;
+  PetscCall(FSSolverOwnedMaxSpeed2(s, v2));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v2, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverGetParticleView - what the probes sample (src/monitor/impls/probes/): this rank's owned particles as the
    last evaluation left them (FSSolverEvaluateAtState() first for the current state), the kernel, the walls, the
    coupling and the domain. The pointers are the solver's, valid until its next step or evaluation.

@@ -53,9 +53,6 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.packing.type          = FS_FILL_PACKING_AUTO;
   s->opt.packing.iterations    = 200;
   s->opt.packing.step          = 0.3;
-  s->mon.rest.time             = 0.5; /* the at-rest check (docs/own-tank.md: the thresholds measured) */
-  s->mon.rest.speed            = 0.25;
-  s->mon.rest.dt_ratio         = 0.25;
   PetscCall(PetscStrncpy(s->opt.structname, "none", sizeof(s->opt.structname)));
   PetscCall(FSCouplingCreate(comm, &s->coupling));
   s->pw.halo.rectype = MPI_DATATYPE_NULL;
@@ -558,9 +555,9 @@ output/<case>) .  -fs_output_interval <t>         - simulated time between parti
 -  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
 
    Notes:
-   -fs_output_interval, -fs_checkpoint_interval, -fs_probes, -fs_probe_interval, -fs_series_interval, -fs_progress
-   and -fs_progress_interval are the built-in monitors' options (src/monitor/impls/): the solver makes those monitors
-here and each reads its own in this options block (FSMonitorSetFromOptionItems()).
+   -fs_output_interval, -fs_checkpoint_interval, -fs_probes, -fs_probe_interval, -fs_series_interval, -fs_rest_check_*,
+   -fs_progress and -fs_progress_interval are the built-in monitors' options (src/monitor/impls/): the solver makes
+those monitors here and each reads its own in this options block (FSMonitorSetFromOptionItems()).
 */
 PetscErrorCode FSSolverSetFromOptions(FSSolver s)
 {
@@ -591,7 +588,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       "FSSolverStructureDt", &s->opt.structure_cfl, NULL, 0, 1, FS_RANGE_OPEN_LOWER));
   PetscCall(FSSolverOptionsNumerics(s, PetscOptionsObject));
   PetscCall(FSSolverOptionsOutput(s, PetscOptionsObject));
-  PetscCall(FSSolverOptionsRestCheck(s, PetscOptionsObject));
+  PetscCall(FSMonitorSetFromOptionItems(s->mon.restcheck, PetscOptionsObject)); /* -fs_rest_check_* */
   PetscCall(FSSolverCreateTerms(s, PetscOptionsObject, terms));
   /* the structure */
   PetscCall(FSStructureDestroy(&s->structure));

@@ -193,19 +193,6 @@ typedef struct {
   PetscInt   ghosts_first, owned_first, nbuilds0;
 } FSParallelStats;
 
-/* The at-rest check (-fs_rest_check_*, src/solver/restcheck.c): its options and what it watches in this run */
-typedef struct {
-  PetscReal time;                  /* -fs_rest_check_time: the simulated time watched from the start (0: none) */
-  PetscReal speed;                 /* -fs_rest_check_speed: the largest speed of a liquid at rest, over sqrt(g H) */
-  PetscReal dt_ratio;              /* -fs_rest_check_dt: the step's limit allowed down to this of the start's */
-  PetscBool at_rest;               /* the case starts its liquid at rest (FSSolverSetLiquidAtRest) */
-  PetscBool watch_speed, watch_dt; /* what this run's check watches (FSSolverRestCheckBegin) */
-  PetscBool warned_speed, warned_dt;
-  PetscReal depth0;   /* the liquid's depth the case gives (FSSolverSetLiquidAtRest) */
-  PetscReal depth, g; /* the liquid's depth in a run the check watches (else 0), |g| */
-  PetscReal dt0;      /* the step's limit at the start */
-} FSRestCheck;
-
 #define FS_MAX_MONITORS 16 /* monitors of each form a solver holds (FSSolverMonitorAdd(), FSSolverMonitorSet()) */
 
 /* The monitors (src/monitor/, FSSolverMonitorAdd(); the built-in ones first) and the plain callbacks
@@ -230,10 +217,11 @@ typedef struct {
   PetscReal      t0;
   /* the built-in monitors, made with their options by FSSolverSetFromOptions() and set up by FSSolverSetUp(); the
      run's output attaches those it writes (FSSolverMonitorBegin()); FSSolverGetProbes() reads the probes */
-  FSMonitor       series, energy, probes, snapshots, checkpoints, progress, summary;
-  char           *setup; /* the record of what defines the run, for the checkpoints (setuprecord.c) */
-  FSParallelStats par;   /* summary.json's "parallel" */
-  FSRestCheck     rest;  /* the at-rest check */
+  FSMonitor       series, energy, probes, snapshots, checkpoints, restcheck, progress, summary;
+  PetscBool       at_rest;    /* the case starts its liquid at rest (FSSolverSetLiquidAtRest()), for the check */
+  PetscReal       rest_depth; /* its depth */
+  char           *setup;      /* the record of what defines the run, for the checkpoints (setuprecord.c) */
+  FSParallelStats par;        /* summary.json's "parallel" */
 } FSMonitorData;
 
 typedef struct _FSSolverOps *FSSolverOps;
@@ -330,9 +318,6 @@ PETSC_INTERN PetscErrorCode FSSolverWriteMemory(FSSolver, FSJSON, PetscReal peak
 PETSC_INTERN PetscErrorCode FSSolverSetUpRecord(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCheckSetUp(FSSolver, const char[]);
 PETSC_INTERN PetscErrorCode FSSolverCheckRanksAgree(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverOptionsRestCheck(FSSolver, PetscOptionItems *);
-PETSC_INTERN PetscErrorCode FSSolverRestCheckBegin(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverRestCheck(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetParticles(FSSolver, FSParticles *);
 PETSC_INTERN PetscErrorCode FSSolverGatherRecordsBegin(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverGatherRecordsEnd(FSSolver);

@@ -1,9 +1,9 @@
 /*
    FSMonitor: what a run reports after its steps, as an object with an ops table (monitorimpl.h) and a registry of
    implementations, as PETSc's TS monitors: the built-in ones (time series, energy budget, probes, snapshots,
-   checkpoints, progress line, summary) are registered and attached to the solver (FSSolverMonitorAdd()) the way a
-   user's are. This file dispatches to the implementation, batches the rows' reductions (FSMonitorRows()) and keeps the
-   write status of a monitor's csv file.
+   checkpoints, at-rest check, progress line, summary) are registered and attached to the solver (FSSolverMonitorAdd())
+   the way a user's are. This file dispatches to the implementation, batches the rows' reductions (FSMonitorRows()) and
+   keeps the write status of a monitor's csv file.
 */
 #include "monitor/monitorimpl.h"
 #include "sys/fssys.h"
@@ -17,6 +17,7 @@ PETSC_EXTERN PetscErrorCode FSMonitorCreate_Energy(FSMonitor);
 PETSC_EXTERN PetscErrorCode FSMonitorCreate_Probes(FSMonitor);
 PETSC_EXTERN PetscErrorCode FSMonitorCreate_Snapshots(FSMonitor);
 PETSC_EXTERN PetscErrorCode FSMonitorCreate_Checkpoints(FSMonitor);
+PETSC_EXTERN PetscErrorCode FSMonitorCreate_RestCheck(FSMonitor);
 PETSC_EXTERN PetscErrorCode FSMonitorCreate_Progress(FSMonitor);
 PETSC_EXTERN PetscErrorCode FSMonitorCreate_Summary(FSMonitor);
 
@@ -61,6 +62,10 @@ PetscErrorCode FSMonitorRegisterAll(void)
                               FSMonitorCreate_Snapshots));
   PetscCall(FSMonitorRegister(FSMONITORCHECKPOINTS, "checkpoints to restart from (-fs_checkpoint_interval)",
                               FSMonitorCreate_Checkpoints));
+  PetscCall(FSMonitorRegister(FSMONITORRESTCHECK,
+                              "the at-rest check: a liquid at rest that moves, a time step that collapses "
+                              "(-fs_rest_check_time)",
+                              FSMonitorCreate_RestCheck));
   PetscCall(FSMonitorRegister(FSMONITORPROGRESS, "the progress line on the terminal (-fs_progress)",
                               FSMonitorCreate_Progress));
   PetscCall(FSMonitorRegister(FSMONITORSUMMARY, "summary.json at the end of the run", FSMonitorCreate_Summary));
@@ -109,7 +114,7 @@ PetscErrorCode FSMonitorCreate(MPI_Comm comm, FSMonitor *mon)
    Input Parameters:
 +  mon  - the monitor, not yet set up
 -  type - FSMONITORTIMESERIES, FSMONITORENERGY, FSMONITORPROBES, FSMONITORSNAPSHOTS, FSMONITORCHECKPOINTS,
-          FSMONITORPROGRESS, FSMONITORSUMMARY or a type of FSMonitorRegister()
+          FSMONITORRESTCHECK, FSMONITORPROGRESS, FSMONITORSUMMARY or a type of FSMonitorRegister()
 
 .seealso: FSMonitorRegister()
 */
@@ -210,10 +215,10 @@ PetscErrorCode FSMonitorSetOptionsPrefix(FSMonitor m, const char prefix[])
 
    Notes:
    The solver reads the options of its built-in monitors (-fs_series_interval, -fs_probes, -fs_probe_interval,
-   -fs_output_interval, -fs_checkpoint_interval, -fs_progress, -fs_progress_interval) inside its own options block
-(FSMonitorSetFromOptionItems()), so that -help lists them with the run's; it does not call this for them. A user's
-monitor takes a prefix outside fs_: the check of unused -fs_ options (FSSolverCheckOptions()) knows the options of the
-built-in objects only.
+   -fs_output_interval, -fs_checkpoint_interval, -fs_rest_check_*, -fs_progress, -fs_progress_interval) inside its own
+options block (FSMonitorSetFromOptionItems()), so that -help lists them with the run's; it does not call this for them.
+A user's monitor takes a prefix outside fs_: the check of unused -fs_ options (FSSolverCheckOptions()) knows the options
+of the built-in objects only.
 
 .seealso: FSMonitorSetFromOptionItems()
 */
