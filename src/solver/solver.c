@@ -35,6 +35,8 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.rho0                  = 1000.0;
   s->opt.c0                    = 20.0;
   s->opt.nu                    = 1e-6;
+  s->opt.background_pressure   = 0;
+  s->opt.relax_time            = 0;   /* no start-up relaxation */
   s->opt.cfl                   = 0.4; /* cases may raise it (RK4 only, see below) */
   s->opt.cfl_visc              = 0.125;
   s->opt.cfl_force             = 0.25;

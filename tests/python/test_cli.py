@@ -69,6 +69,23 @@ def test_help_shows_defaults(help_output):
     assert re.search(r"-fs_terms <now continuity,delta,pressure,viscosity,les_viscosity,gravity", help_output)
 
 
+def test_help_shows_monitor_defaults(help_output):
+    """The built-in monitors' options (src/monitor/impls/, read in the solver's options block): -help shows each with
+    the default its monitor's create routine gives (0 where none: PetscNew)."""
+    checked = {}
+    for path in sorted((REPO_ROOT / "src" / "monitor" / "impls").rglob("*.c")):
+        src = path.read_text()
+        for kind, opt, field in re.findall(r'FSOptions(Real|Int)\(\s*PetscOptionsObject,\s*"(-fs_\w+)"\s*,\s*(?:"(?:[^"\\]|\\.)*"\s*)+'
+                                           r',\s*"[^"]*"\s*,\s*&\w+->(\w+)\s*,', src):
+            m = re.search(r"\w+->(?:\w+\.)?" + field + r"\s*=\s*([-+]?[0-9.]+(?:[eE][-+]?\d+)?)\s*;", src)
+            expected = float(m.group(1)) if m else 0.0
+            shown = help_value(help_output, opt)
+            assert shown is not None and float(shown) == pytest.approx(expected, rel=1e-12), f"{opt} ({path.name}): -help shows <{shown}>, default is {expected}"
+            checked[opt] = expected
+    assert {"-fs_output_interval", "-fs_checkpoint_interval", "-fs_probe_interval", "-fs_progress_interval",
+            "-fs_rest_check_time", "-fs_rest_check_speed", "-fs_rest_check_dt"} <= set(checked), checked
+
+
 def test_help_lists_ts_options(help_output):
     for opt in ("-ts_type", "-ts_max_time", "-ts_max_steps"):
         assert re.search(r"^\s*" + opt + r" <", help_output, re.M), f"{opt} not in -help"
