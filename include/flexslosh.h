@@ -100,6 +100,9 @@ PETSC_EXTERN PetscErrorCode FSSolverWriteCheckpoint(FSSolver);
 #define FSMONITORPROBES      "probes"      /* probes.csv, -fs_probes */
 #define FSMONITORSNAPSHOTS   "snapshots"   /* snapshot_*.h5 and particles.xdmf, -fs_output_interval */
 #define FSMONITORCHECKPOINTS "checkpoints" /* checkpoint_*.h5, -fs_checkpoint_interval */
+#define FSMONITORRESTCHECK   "restcheck"   /* the at-rest check's warnings, -fs_rest_check_* */
+#define FSMONITORPROGRESS    "progress"    /* the progress line on the terminal, -fs_progress */
+#define FSMONITORSUMMARY     "summary"     /* summary.json */
 typedef PetscErrorCode (*FSMonitorCreateFn)(FSMonitor);
 /* a plain monitor (FSSolverMonitorSet()): called after each step with the step number and the time, and once before
    the first step */
@@ -137,6 +140,7 @@ PETSC_EXTERN PetscErrorCode FSMonitorSetType(FSMonitor, const char[]);
 PETSC_EXTERN PetscErrorCode FSMonitorGetType(FSMonitor, const char *[]);
 PETSC_EXTERN PetscErrorCode FSMonitorSetOptionsPrefix(FSMonitor, const char[]);
 PETSC_EXTERN PetscErrorCode FSMonitorSetFromOptions(FSMonitor);
+PETSC_EXTERN PetscErrorCode FSMonitorSetFromOptionItems(FSMonitor, PetscOptionItems *);
 PETSC_EXTERN PetscErrorCode FSMonitorSetUp(FSMonitor, FSSolver);
 PETSC_EXTERN PetscErrorCode FSMonitorBegin(FSMonitor, FSSolver);
 PETSC_EXTERN PetscErrorCode FSMonitorRows(PetscInt, const FSMonitor[], FSSolver);
@@ -147,8 +151,9 @@ PETSC_EXTERN PetscErrorCode FSMonitorRaiseWriteStatus(FSMonitor, PetscInt);
 PETSC_EXTERN PetscErrorCode FSMonitorView(FSMonitor, PetscViewer);
 PETSC_EXTERN PetscErrorCode FSMonitorDestroy(FSMonitor *);
 /* the probes monitor's values (FSSolverGetProbes() for the solver's own), the checkpoints monitor's write (for
-   FSSolverWriteCheckpoint()) */
+   FSSolverWriteCheckpoint()) and interval (whether the run attaches it) */
 PETSC_EXTERN PetscErrorCode FSMonitorCheckpointsWrite(FSMonitor, FSSolver);
+PETSC_EXTERN PetscErrorCode FSMonitorCheckpointsGetInterval(FSMonitor, PetscInt *);
 PETSC_EXTERN PetscErrorCode FSMonitorProbesGetValues(FSMonitor, FSSolver, PetscInt *, const char *[], PetscInt[],
                                                      PetscReal[]);
 PETSC_EXTERN PetscErrorCode FSSolverMonitorAdd(FSSolver, FSMonitor);

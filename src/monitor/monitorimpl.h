@@ -18,3 +18,9 @@ struct _p_FSMonitor {
   PetscBool    unchecked; /* rows of file written since its write status was last carried to the ranks */
   void        *data;      /* the implementation's */
 };
+
+/* the rows of timeseries.csv and energy.csv (impls/timeseries.c): -fs_series_interval, listed by -help with the time
+   series monitor's options (listed true) and read unlisted, checked the same way, by the energy budget's, whose rows
+   are its rows; whether a row is due at the solver's step with that interval */
+PETSC_INTERN PetscErrorCode FSMonitorSeriesIntervalRead(FSMonitor, PetscOptionItems *, PetscBool, PetscInt *);
+PETSC_INTERN PetscErrorCode FSMonitorSeriesDue(FSSolver, PetscInt, PetscBool *);

@@ -10,14 +10,14 @@
 #include "coupling/fscoupling.h"
 #include "io/fsoutput.h"
 
-/* the settings of the run's output that the built-in monitors follow (options of the solver: -fs_output_dir, ...) */
+/* the settings of the run's output that the built-in monitors follow (options of the solver: -fs_output_dir, ...;
+   each monitor reads its own, -fs_output_interval, ...) */
 typedef struct {
-  const char *outdir;              /* -fs_output_dir, or the run's own directory */
-  PetscBool   restart;             /* the run continues from a checkpoint (-fs_restart): the files are cut, not new */
-  PetscReal   output_interval;     /* -fs_output_interval: simulated time between snapshots (0: first and last) */
-  PetscInt    checkpoint_interval; /* -fs_checkpoint_interval: steps between checkpoints (0: none) */
-  PetscInt    series_interval;     /* -fs_series_interval: steps between the rows of timeseries.csv and energy.csv */
-  PetscInt    step0;               /* the step the run's monitors began at */
+  const char    *outdir;     /* -fs_output_dir, or the run's own directory */
+  PetscBool      restart;    /* the run continues from a checkpoint (-fs_restart): the files are cut, not new */
+  PetscInt       step0;      /* the step the run's monitors began at */
+  PetscReal      t0;         /* the time they began at */
+  PetscLogDouble wall_start; /* the wall time they began at (PetscTime()) */
 } FSSolverOutputSettings;
 PETSC_INTERN PetscErrorCode FSSolverGetOutputSettings(FSSolver, FSSolverOutputSettings *);
 PETSC_INTERN PetscErrorCode FSSolverAtEnd(FSSolver, PetscBool *);
@@ -39,7 +39,7 @@ PETSC_INTERN PetscErrorCode FSSolverEnergySummed(FSSolver, const PetscReal liq[]
 
 /* what the probes (src/monitor/impls/probes/) sample: this rank's owned particles' records, volumes and pressures as
    the last evaluation left them (FSSolverEvaluateAtState()), the kernel, the walls and the coupling's body field, the
-   domain, and the options they follow (src/solver/output.c) */
+   domain (src/solver/output.c) */
 typedef struct {
   PetscInt         dim, stride, nowned;  /* a record is stride reals: position, velocity, density, ... */
   PetscInt64       nglobal;              /* the particles over the ranks */
@@ -49,8 +49,6 @@ typedef struct {
   FSCoupling       coupling;
   PetscReal        lo[3], hi[3]; /* the domain */
   PetscReal        dx, background_pressure;
-  const char      *probes;         /* -fs_probes ("" without) */
-  PetscInt         probe_interval; /* -fs_probe_interval */
 } FSSolverParticleView;
 PETSC_INTERN PetscErrorCode FSSolverGetParticleView(FSSolver, FSSolverParticleView *);
 
@@ -61,6 +59,27 @@ PETSC_INTERN PetscErrorCode FSSolverFillField(FSSolver, const char[], PetscInt *
 PETSC_INTERN PetscErrorCode FSSolverEvaluateAtState(FSSolver, PetscReal t);
 PETSC_INTERN PetscErrorCode FSSolverGetGlobalSize(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverStructureSnapshot(FSSolver);
+
+/* what the at-rest check (src/monitor/impls/restcheck.c) watches (src/solver/output.c): the liquid the case started
+   at rest (FSSolverSetLiquidAtRest()), the particles' step limit and what set it, and the largest speed over the
+   ranks (collective) */
+typedef struct {
+  PetscInt    dim;
+  PetscReal   dx, c0, g;     /* spacing, speed of sound, |gravity| */
+  PetscBool   at_rest;       /* the case starts its liquid at rest */
+  PetscReal   depth;         /* its depth, as the case gave it */
+  PetscBool   structure;     /* a structure carries the tank */
+  PetscInt64  nglobal;       /* the particles over the ranks */
+  PetscReal   dt_stable;     /* the particles' step limit from the state at the start of the last step */
+  const char *dt_limit;      /* the limit that set it */
+  PetscBool   dt_limit_term; /* a term's (its diffusivity) */
+} FSSolverRestView;
+PETSC_INTERN PetscErrorCode FSSolverGetRestView(FSSolver, FSSolverRestView *);
+PETSC_INTERN PetscErrorCode FSSolverMaxSpeed2(FSSolver, PetscReal *);
+
+/* summary.json's content (src/solver/output.c), which the summary monitor writes at the end of the run: what ran, how
+   long, how fast, with which options (collective: the ranks' sums) */
+PETSC_INTERN PetscErrorCode FSSolverSummaryWrite(FSSolver, FSJSON);
 
 /* a checkpoint's content (src/solver/output.c), which the checkpoints monitor writes (FSMonitorCheckpointsWrite()):
    the header (time, step, dt, the global DOFs, the viscosity bound and the step's limit, the set-up record, the

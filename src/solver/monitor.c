@@ -1,8 +1,8 @@
 /*
    The solver's monitors: the list of FSMonitor objects (src/monitor/; the built-in ones, time series, energy budget,
-   probes, snapshots and checkpoints, attached as a user's are) and plain callbacks (FSSolverMonitorSet()), called
-   after every step; the deferred write status of their csv rows; the output directory; the progress line and the
-   summary.
+   probes, snapshots, checkpoints, at-rest check, progress line and summary, made with their options by the solver and
+   attached as a user's are) and plain callbacks (FSSolverMonitorSet()), called after every step; the deferred write
+   status of their csv rows; the output directory.
 */
 #include <errno.h>
 #include <sys/stat.h>
@@ -85,9 +85,10 @@ PetscErrorCode FSSolverWriteStatusCheck(FSSolver s)
 
    Notes:
    The run's own output is made of built-in monitors (FSMONITORTIMESERIES, FSMONITORENERGY, FSMONITORPROBES,
-   FSMONITORSNAPSHOTS, FSMONITORCHECKPOINTS), which the solver attaches first when the run's output begins (unless
-   -fs_write_output 0). A monitor attached after the run began begins at once; its first call is after the next step.
-   At most 16 monitors.
+   FSMONITORSNAPSHOTS, FSMONITORCHECKPOINTS, FSMONITORRESTCHECK, FSMONITORPROGRESS, FSMONITORSUMMARY), which the
+   solver attaches first when the run's output begins (with -fs_output 0 the at-rest check and the progress line
+   only). A monitor attached after the run began
+begins at once; its first call is after the next step. At most 16 monitors.
 
 .seealso: FSSolverMonitorSet(), FSSolverMonitorCancel(), FSMonitorCreate(), FSMonitorRegister()
 */
@@ -174,7 +175,7 @@ PetscErrorCode FSSolverMonitorCancel(FSSolver s)
    Notes:
    The values are those of the current state: sampled at this step by the run's output, or computed now
    (one evaluation of the right-hand side). Pass NULL for names, offsets and values to get n only. The probes are
-   the probes monitor's, which the set-up makes (FSMonitorProbesGetValues()).
+   the solver's probes monitor's, which the set-up sets up (FSMonitorProbesGetValues()).
 
 .seealso: FSSolverStep(), FSMonitorProbesGetValues(), docs/running.md, "Probes and wave gauges"
 */
@@ -184,14 +185,13 @@ PetscErrorCode FSSolverGetProbes(FSSolver s, PetscInt *n, const char *names[], P
   PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
   PetscCheck(s->setupcalled, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
              "FSSolverGetProbes(): call FSSolverSetUp() first");
-  if (s->mon.probes) PetscCall(FSMonitorProbesGetValues(s->mon.probes, s, n, names, offsets, values));
-  else if (n) *n = 0;
+  PetscCall(FSMonitorProbesGetValues(s->mon.probes, s, n, names, offsets, values));
   PetscFunctionReturn(0);
 }
 
 /*
    FSSolverWriteCheckpoint - writes <output_dir>/checkpoint_<step>.h5 with the whole state (FSMonitorCheckpointsWrite(),
-   through the run's checkpoints monitor, or one made for this checkpoint without -fs_checkpoint_interval). A run
+   through the solver's checkpoints monitor, which the run attaches with -fs_checkpoint_interval). A run
    started with -fs_restart on that file continues exactly as the uninterrupted run.
 
    Collective
@@ -205,27 +205,11 @@ PetscErrorCode FSSolverGetProbes(FSSolver s, PetscInt *n, const char *names[], P
 */
 PetscErrorCode FSSolverWriteCheckpoint(FSSolver s)
 {
-  FSMonitor ck = NULL;
-
   PetscFunctionBegin;
   PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
   PetscCheck(s->mon.monitoring, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_WRONGSTATE,
              "FSSolverWriteCheckpoint(): the run's output is not open: take a step first");
-  for (PetscInt k = 0; k < s->mon.nbuiltin && !ck; k++) {
-    PetscBool same;
-    PetscCall(PetscObjectTypeCompare((PetscObject)s->mon.list[k], FSMONITORCHECKPOINTS, &same));
-    if (same) {
-      ck = s->mon.list[k];
-      PetscCall(PetscObjectReference((PetscObject)ck));
-    }
-  }
-  if (!ck) {
-    PetscCall(FSMonitorCreate(PetscObjectComm((PetscObject)s), &ck));
-    PetscCall(FSMonitorSetType(ck, FSMONITORCHECKPOINTS));
-    PetscCall(FSMonitorSetUp(ck, s));
-  }
-  PetscCall(FSMonitorCheckpointsWrite(ck, s));
-  PetscCall(FSMonitorDestroy(&ck));
+  PetscCall(FSMonitorCheckpointsWrite(s->mon.checkpoints, s)); /* attached or not (no -fs_checkpoint_interval) */
   PetscFunctionReturn(0);
 }
 
@@ -247,24 +231,82 @@ PetscErrorCode FSSolverGetMonitors(FSSolver s, PetscInt *n, const FSMonitor *mon
   PetscFunctionReturn(0);
 }
 
-/* the built-in monitors of the run's output, put first in the list (before those a user attached before the run) */
-static PetscErrorCode FSSolverAddBuiltinMonitors(FSSolver s)
+/*
+   FSSolverBuiltinMonitorsCreate - the built-in monitors (time series, energy budget, probes, snapshots, checkpoints,
+   at-rest check, progress line, summary), made once, without their options: FSSolverSetFromOptions() has each read its
+   own inside the solver's options block (FSMonitorSetFromOptionItems()), so that -help lists them where it always did.
+
+   Collective
+*/
+PetscErrorCode FSSolverBuiltinMonitorsCreate(FSSolver s)
 {
-  const char *types[5];
-  PetscInt    n = 0, nuser = s->mon.nlist;
-  FSMonitor   user[FS_MAX_MONITORS];
-  PetscInt    nprobes = 0, kprobes = -1;
+  FSMonitor  *mons[]  = {&s->mon.series,      &s->mon.energy,    &s->mon.probes,   &s->mon.snapshots,
+                         &s->mon.checkpoints, &s->mon.restcheck, &s->mon.progress, &s->mon.summary};
+  const char *types[] = {FSMONITORTIMESERIES,  FSMONITORENERGY,    FSMONITORPROBES,   FSMONITORSNAPSHOTS,
+                         FSMONITORCHECKPOINTS, FSMONITORRESTCHECK, FSMONITORPROGRESS, FSMONITORSUMMARY};
 
   PetscFunctionBegin;
-  if (s->mon.probes) PetscCall(FSMonitorProbesGetValues(s->mon.probes, s, &nprobes, NULL, NULL, NULL));
-  types[n++] = FSMONITORTIMESERIES;
-  types[n++] = FSMONITORENERGY;
-  if (nprobes) { /* the set-up's (a file without items: none) */
-    kprobes    = n;
-    types[n++] = FSMONITORPROBES;
+  for (size_t k = 0; k < PETSC_STATIC_ARRAY_LENGTH(mons); k++) {
+    if (*mons[k]) continue;
+    PetscCall(FSMonitorCreate(PetscObjectComm((PetscObject)s), mons[k]));
+    PetscCall(FSMonitorSetType(*mons[k], types[k]));
   }
-  types[n++] = FSMONITORSNAPSHOTS;
-  if (s->opt.checkpoint_interval > 0) types[n++] = FSMONITORCHECKPOINTS;
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverBuiltinMonitorsSetUp - sets up the built-in monitors (the solver's set-up: the probe file read and checked,
+   the snapshots' interval against the final time). Collective */
+PetscErrorCode FSSolverBuiltinMonitorsSetUp(FSSolver s)
+{
+  PetscFunctionBegin;
+  PetscCall(FSSolverBuiltinMonitorsCreate(s));
+  {
+    FSMonitor mons[] = {s->mon.series,      s->mon.energy,    s->mon.probes,   s->mon.snapshots,
+                        s->mon.checkpoints, s->mon.restcheck, s->mon.progress, s->mon.summary};
+    for (size_t k = 0; k < PETSC_STATIC_ARRAY_LENGTH(mons); k++) PetscCall(FSMonitorSetUp(mons[k], s));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverBuiltinMonitorsDestroy - gives back the solver's references to its built-in monitors. Collective */
+PetscErrorCode FSSolverBuiltinMonitorsDestroy(FSSolver s)
+{
+  PetscFunctionBegin;
+  PetscCall(FSMonitorDestroy(&s->mon.series));
+  PetscCall(FSMonitorDestroy(&s->mon.energy));
+  PetscCall(FSMonitorDestroy(&s->mon.probes));
+  PetscCall(FSMonitorDestroy(&s->mon.snapshots));
+  PetscCall(FSMonitorDestroy(&s->mon.checkpoints));
+  PetscCall(FSMonitorDestroy(&s->mon.restcheck));
+  PetscCall(FSMonitorDestroy(&s->mon.progress));
+  PetscCall(FSMonitorDestroy(&s->mon.summary));
+  PetscFunctionReturn(0);
+}
+
+/* the run's built-in monitors, put first in the list (before those a user attached before the run): with the output
+   (-fs_output) the time series, the energy budget, the probes with a file of items, the snapshots, the checkpoints
+   with an interval; the at-rest check and the progress line; with the output the summary, last, so that it counts what
+   the others' ends cost */
+static PetscErrorCode FSSolverAddBuiltinMonitors(FSSolver s)
+{
+  FSMonitor add[8];
+  PetscInt  n = 0, nuser = s->mon.nlist, nprobes = 0, ckinterval = 0;
+  FSMonitor user[FS_MAX_MONITORS];
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverBuiltinMonitorsSetUp(s)); /* done by the set-up already: nothing new */
+  PetscCall(FSMonitorProbesGetValues(s->mon.probes, s, &nprobes, NULL, NULL, NULL));
+  PetscCall(FSMonitorCheckpointsGetInterval(s->mon.checkpoints, &ckinterval));
+  if (s->opt.write_output) {
+    add[n++] = s->mon.series;
+    add[n++] = s->mon.energy;
+    if (nprobes) add[n++] = s->mon.probes; /* a file without items: none */
+    add[n++] = s->mon.snapshots;
+    if (ckinterval > 0) add[n++] = s->mon.checkpoints;
+  }
+  add[n++] = s->mon.restcheck;
+  add[n++] = s->mon.progress;
+  if (s->opt.write_output) add[n++] = s->mon.summary;
   PetscCheck(nuser + n <= FS_MAX_MONITORS, PetscObjectComm((PetscObject)s), PETSC_ERR_ARG_OUTOFRANGE,
              "The run's %" PetscInt_FMT " output monitors and the %" PetscInt_FMT
              " a user attached are more than the %d a solver holds",
@@ -272,16 +314,8 @@ static PetscErrorCode FSSolverAddBuiltinMonitors(FSSolver s)
   for (PetscInt k = 0; k < nuser; k++) user[k] = s->mon.list[k];
   s->mon.nlist = 0;
   for (PetscInt k = 0; k < n; k++) {
-    FSMonitor m;
-    if (k == kprobes) { /* made and set up by the solver's set-up */
-      m = s->mon.probes;
-      PetscCall(PetscObjectReference((PetscObject)m));
-    } else {
-      PetscCall(FSMonitorCreate(PetscObjectComm((PetscObject)s), &m));
-      PetscCall(FSMonitorSetType(m, types[k]));
-      PetscCall(FSMonitorSetUp(m, s));
-    }
-    s->mon.list[s->mon.nlist++] = m;
+    PetscCall(PetscObjectReference((PetscObject)add[k]));
+    s->mon.list[s->mon.nlist++] = add[k];
   }
   for (PetscInt k = 0; k < nuser; k++) s->mon.list[s->mon.nlist++] = user[k];
   s->mon.nbuiltin = n;
@@ -382,7 +416,6 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   PetscCall(FSSolverSetUp(s));
   s->mon.monitoring = PETSC_TRUE;
   PetscCall(PetscTime(&s->mon.wall_start));
-  s->mon.wall_last_progress = s->mon.wall_start;
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
   s->mon.step0          = step;
@@ -393,7 +426,6 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
   s->mon.nrebalances    = 0;
   s->mon.pair_visits    = 0;
   PetscCall(FSParallelStatsBegin(s));
-  PetscCall(FSSolverRestCheckBegin(s)); /* a liquid at rest too shallow in particles: warned here */
   if (!s->opt.restart[0])
     PetscCall(FSSolverEnergyInitial(s)); /* the energy budget's initial values (a restart has them in its state) */
   if (s->opt.write_output) {
@@ -402,52 +434,33 @@ PetscErrorCode FSSolverMonitorBegin(FSSolver s)
     /* the walls beside the snapshots, for ParaView and the movie (the geometry view has written them) */
     if (s->boundary && !s->opt.geometry_view)
       PetscCall(FSBoundaryWriteGeometry(s->boundary, s->opt.outdir, PETSC_FALSE));
-    PetscCall(FSSolverAddBuiltinMonitors(s));
   }
+  PetscCall(FSSolverAddBuiltinMonitors(s));
   for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorBegin(s->mon.list[k], s)); /* files opened */
   PetscCall(FSSolverMonitorsStep(s)); /* the state the run starts from (on a restart, the files were cut before it) */
   PetscFunctionReturn(0);
 }
 
 /* FSSolverMonitor - called after every step: the monitors (time series and energy budget every -fs_series_interval
-   steps and at the last step, probes, snapshots, checkpoints, the user's), the at-rest check, progress. */
+   steps and at the last step, probes, snapshots, checkpoints, the at-rest check, the progress line, the user's). */
 PetscErrorCode FSSolverMonitor(FSSolver s)
 {
-  PetscReal      t, tmax, dt;
-  PetscInt       step;
-  PetscBool      end;
-  PetscLogDouble now;
+  PetscBool end;
 
   PetscFunctionBegin;
   if (!s->mon.monitoring) PetscCall(FSSolverMonitorBegin(s));
-  PetscCall(TSGetTime(s->ts, &t));
-  PetscCall(TSGetStepNumber(s->ts, &step));
   PetscCall(FSSolverAtEnd(s, &end));
   PetscCall(FSSolverMonitorsStep(s));
-  PetscCall(FSSolverRestCheck(s)); /* the first steps: a liquid at rest that moves, a step that collapses */
-  PetscCall(PetscTime(&now));
-  if (s->opt.progress && now - s->mon.wall_last_progress >= s->opt.progress_interval) {
-    PetscReal frac, eta;
-    PetscCall(TSGetMaxTime(s->ts, &tmax));
-    PetscCall(TSGetTimeStep(s->ts, &dt));
-    frac = tmax > s->mon.t0 ? (t - s->mon.t0) / (tmax - s->mon.t0) : 1;
-    eta  = frac > 0 ? (now - s->mon.wall_start) * (1 - frac) / frac : 0;
-    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)s),
-                          "step %6" PetscInt_FMT "  t = %-11.5g dt = %-10.4g %5.1f%%  elapsed %7.1f s  left ~%7.1f s\n",
-                          step, (double)t, (double)dt, (double)(100 * frac), now - s->mon.wall_start, (double)eta));
-    s->mon.wall_last_progress = now;
-  }
   if (end) PetscCall(FSSolverWriteStatusCheck(s)); /* the last rows' write status: no step's reduction carries it */
   PetscFunctionReturn(0);
 }
 
-/* FSSolverMonitorEnd - the monitors' end (the last snapshot) and the run's summary.json. */
+/* FSSolverMonitorEnd - the monitors' end (the last snapshot, the run's summary.json). */
 PetscErrorCode FSSolverMonitorEnd(FSSolver s)
 {
   PetscFunctionBegin;
   if (!s->mon.monitoring) PetscFunctionReturn(0);
   PetscCall(FSSolverWriteStatusCheck(s)); /* the last rows' write status, when no step carried it */
   for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorEnd(s->mon.list[k], s));
-  if (s->opt.write_output) PetscCall(FSSolverWriteSummary(s));
   PetscFunctionReturn(0);
 }

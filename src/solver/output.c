@@ -1,6 +1,7 @@
 /*
    The solver's side of the output: which fields go into snapshots and checkpoints, restarting
-   from a checkpoint, and the run summary. The file formats live in src/io/.
+   from a checkpoint, and the run summary's content (the monitors in src/monitor/ write the files). The file formats
+   live in src/io/.
 */
 #include "solver/solverimpl.h"
 #include <sys/resource.h>
@@ -516,12 +517,16 @@ PetscErrorCode FSSolverLoadCheckpoint(FSSolver s)
   PetscFunctionReturn(0);
 }
 
-/* FSSolverWriteSummary - <output_dir>/summary.json: what ran, how long, how fast, with which options. */
-PetscErrorCode FSSolverWriteSummary(FSSolver s)
+/*
+   FSSolverSummaryWrite - summary.json's content into js (the summary monitor's file): what ran, how long (since the
+   monitors began), how fast, with which options.
+
+   Collective
+*/
+PetscErrorCode FSSolverSummaryWrite(FSSolver s, FSJSON js)
 {
   MPI_Comm       comm = PetscObjectComm((PetscObject)s);
-  FSJSON         js;
-  char           path[PETSC_MAX_PATH_LEN], *opts;
+  char          *opts;
   PetscLogDouble now, wall;
   PetscReal      t, dt, mem, memsum;
   PetscInt       step;
@@ -540,8 +545,6 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   getrusage(RUSAGE_SELF, &ru);
   mem = (PetscReal)ru.ru_maxrss * 1024.0;
   PetscCallMPI(MPI_Allreduce(&mem, &memsum, 1, MPIU_REAL, MPI_SUM, comm));
-  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/summary.json", s->opt.outdir));
-  PetscCall(FSJSONCreate(comm, path, &js));
   PetscCall(FSJSONWriteString(js, "program", "flexslosh " FLEXSLOSH_VERSION));
   PetscCall(FSJSONWriteString(js, "case", s->opt.casename));
   PetscCall(FSJSONWriteInt(js, "dim", s->opt.dim));
@@ -593,7 +596,6 @@ PetscErrorCode FSSolverWriteSummary(FSSolver s)
   PetscCall(PetscOptionsGetAll(NULL, &opts));
   PetscCall(FSJSONWriteString(js, "options", opts));
   PetscCall(PetscFree(opts));
-  PetscCall(FSJSONDestroy(&js));
   PetscFunctionReturn(0);
 }
 
@@ -635,10 +637,72 @@ PetscErrorCode FSSolverGetWallLoads(FSSolver s, PetscInt *nwalls, const char *na
 }
 
 /*
+   FSSolverSetLiquidAtRest - says that the case starts its liquid at rest in equilibrium under gravity (a tank
+   filled to a level), and how deep it is, so that the at-rest check (the restcheck monitor) watches it when nothing
+   forces it.
+
+   Logically collective
+
+   Input Parameters:
++  s       - the solver, from the case's setup
+.  at_rest - whether the liquid starts at rest
+-  depth   - the liquid's depth, from the lowest point of the container to the free surface
+
+   Options Database Keys:
++  -fs_rest_check_time T  - the simulated time watched from the start (0.5 s; 0: no check)
+.  -fs_rest_check_speed F - warn when the largest speed exceeds F sqrt(g H), H the liquid's depth (0.25)
+-  -fs_rest_check_dt F    - warn when the time step's limit falls below F of the start's (0.25)
+
+.seealso: FSSolverSetUp()
+*/
+PetscErrorCode FSSolverSetLiquidAtRest(FSSolver s, PetscBool at_rest, PetscReal depth)
+{
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(s, FSSOLVER_CLASSID, 1);
+  s->mon.at_rest    = at_rest;
+  s->mon.rest_depth = depth;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSSolverGetRestView - what the at-rest check watches (src/monitor/impls/restcheck.c): the liquid the case started
+   at rest, the particles' step limit from the state at the start of the last step and what set it.
+
+   Not collective
+*/
+PetscErrorCode FSSolverGetRestView(FSSolver s, FSSolverRestView *v)
+{
+  PetscReal g = 0;
+
+  PetscFunctionBegin;
+  for (PetscInt d = 0; d < s->opt.dim; d++) g += s->opt.gravity[d] * s->opt.gravity[d];
+  v->dim           = s->opt.dim;
+  v->dx            = s->opt.dx;
+  v->c0            = s->opt.c0;
+  v->g             = PetscSqrtReal(g);
+  v->at_rest       = s->mon.at_rest;
+  v->depth         = s->mon.rest_depth;
+  v->structure     = (PetscBool)(s->structure != NULL);
+  v->nglobal       = s->pw.nglobal_particles;
+  v->dt_stable     = s->state.dt_stable;
+  v->dt_limit_term = (PetscBool)(s->state.dt_limit >= FS_DT_TERM);
+  PetscCall(FSSolverDtLimitName(s, s->state.dt_limit, &v->dt_limit));
+  PetscFunctionReturn(0);
+}
+
+/* FSSolverMaxSpeed2 - the largest squared speed of the particles in the state, over the ranks. Collective */
+PetscErrorCode FSSolverMaxSpeed2(FSSolver s, PetscReal *v2)
+{
+  PetscFunctionBegin;
+  PetscCall(FSSolverOwnedMaxSpeed2(s, v2));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v2, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)s)));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSSolverGetParticleView - what the probes sample (src/monitor/impls/probes/): this rank's owned particles as the
    last evaluation left them (FSSolverEvaluateAtState() first for the current state), the kernel, the walls, the
-   coupling, the domain and the probes' options. The pointers are the solver's, valid until its next step or
-   evaluation.
+   coupling and the domain. The pointers are the solver's, valid until its next step or evaluation.
 
    Not collective
 */
@@ -657,8 +721,6 @@ PetscErrorCode FSSolverGetParticleView(FSSolver s, FSSolverParticleView *v)
   v->coupling            = s->coupling;
   v->dx                  = s->opt.dx;
   v->background_pressure = s->opt.background_pressure;
-  v->probes              = s->mon.probes_file;
-  v->probe_interval      = s->mon.probe_interval;
   for (PetscInt d = 0; d < 3; d++) {
     v->lo[d] = s->pw.lo[d];
     v->hi[d] = s->pw.hi[d];

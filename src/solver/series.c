@@ -38,19 +38,18 @@ static PetscErrorCode FSSolverDiagnosticsLocal(FSSolver s, PetscReal loc[5], Pet
 }
 
 /*
-   FSSolverGetOutputSettings - the run's output options that the built-in monitors follow.
+   FSSolverGetOutputSettings - the run's output settings that the built-in monitors follow.
 
    Not collective
 */
 PetscErrorCode FSSolverGetOutputSettings(FSSolver s, FSSolverOutputSettings *o)
 {
   PetscFunctionBegin;
-  o->outdir              = s->opt.outdir;
-  o->restart             = (PetscBool)(s->opt.restart[0] != 0);
-  o->output_interval     = s->opt.output_interval;
-  o->checkpoint_interval = s->opt.checkpoint_interval;
-  o->series_interval     = s->opt.series_interval;
-  o->step0               = s->mon.step0;
+  o->outdir     = s->opt.outdir;
+  o->restart    = (PetscBool)(s->opt.restart[0] != 0);
+  o->step0      = s->mon.step0;
+  o->t0         = s->mon.t0;
+  o->wall_start = s->mon.wall_start;
   PetscFunctionReturn(0);
 }
 

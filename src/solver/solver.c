@@ -35,15 +35,13 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.rho0                  = 1000.0;
   s->opt.c0                    = 20.0;
   s->opt.nu                    = 1e-6;
+  s->opt.background_pressure   = 0;
+  s->opt.relax_time            = 0;   /* no start-up relaxation */
   s->opt.cfl                   = 0.4; /* cases may raise it (RK4 only, see below) */
   s->opt.cfl_visc              = 0.125;
   s->opt.cfl_force             = 0.25;
   s->opt.halo_skin             = 0.5;
   s->opt.max_density_variation = 0.3;
-  s->opt.output_interval       = 0;
-  s->opt.checkpoint_interval   = 0;
-  s->opt.progress              = PETSC_TRUE;
-  s->opt.progress_interval     = 5.0;
   s->opt.write_output          = PETSC_TRUE;
   s->opt.sort_interval         = 1;
   s->opt.rebalance_threshold   = 1.2;
@@ -51,17 +49,12 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.balance               = FS_BALANCE_WORK;
   s->opt.rebuild               = FS_REBUILD_AUTO;
   s->opt.candidates            = 0; /* auto */
-  s->mon.probe_interval        = 1;
-  s->opt.series_interval       = 1;
   s->opt.final_time            = 1.0;
   s->opt.structure_cfl         = 0.02;
   s->opt.options_check         = PETSC_TRUE;
   s->opt.packing.type          = FS_FILL_PACKING_AUTO;
   s->opt.packing.iterations    = 200;
   s->opt.packing.step          = 0.3;
-  s->mon.rest.time             = 0.5; /* the at-rest check (docs/own-tank.md: the thresholds measured) */
-  s->mon.rest.speed            = 0.25;
-  s->mon.rest.dt_ratio         = 0.25;
   PetscCall(PetscStrncpy(s->opt.structname, "none", sizeof(s->opt.structname)));
   PetscCall(FSCouplingCreate(comm, &s->coupling));
   s->pw.halo.rectype = MPI_DATATYPE_NULL;
@@ -448,11 +441,10 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
     s->opt.outdir_auto = (PetscBool)!set;
     if (set) PetscCall(PetscStrncpy(s->opt.outdir, dir, sizeof(s->opt.outdir)));
   }
-  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_output_interval",
-                          "Simulated time between particle snapshots (0: first and last only)", "FSSolverWriteSnapshot",
-                          &s->opt.output_interval, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
-  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_checkpoint_interval", "Steps between checkpoints (0: none)",
-                         "FSSolverWriteCheckpoint", &s->opt.checkpoint_interval, NULL, 0, PETSC_MAX_INT));
+  /* the built-in monitors' options, each where -help always listed it: -fs_output_interval, -fs_checkpoint_interval */
+  PetscCall(FSSolverBuiltinMonitorsCreate(s));
+  PetscCall(FSMonitorSetFromOptionItems(s->mon.snapshots, PetscOptionsObject));
+  PetscCall(FSMonitorSetFromOptionItems(s->mon.checkpoints, PetscOptionsObject));
   PetscCall(PetscOptionsString("-fs_restart", "Continue the run from this checkpoint file", "FSSolverLoadCheckpoint",
                                s->opt.restart, s->opt.restart, sizeof(s->opt.restart), NULL));
   if (s->opt.outdir_auto && !s->opt.outdir_taken) PetscCall(FSSolverOutputDirDefault(s));
@@ -462,18 +454,10 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                                "may always change",
                                "FSSolverCheckSetUp", s->opt.allow_changes, s->opt.allow_changes,
                                sizeof(s->opt.allow_changes), NULL));
-  PetscCall(PetscOptionsString(
-      "-fs_probes",
-      "File of pressure probes and wave gauges (\"probe NAME x y [z] [diameter D] [cutoff HZ] [order 1|2] "
-      "[rate HZ]\", "
-      "\"gauge NAME x0 y0 [z0] x1 y1 [z1]\"): their values into <output_dir>/probes.csv",
-      "FSSolverGetProbes", s->mon.probes_file, s->mon.probes_file, sizeof(s->mon.probes_file), NULL));
-  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_probe_interval", "Steps between the samples of the probes and gauges",
-                         "FSSolverGetProbes", &s->mon.probe_interval, NULL, 1, PETSC_MAX_INT));
-  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_series_interval",
-                         "Steps between the rows of timeseries.csv and energy.csv (the last step's is always written): "
-                         "each row takes about a dozen reductions over the ranks",
-                         "FSSolverMonitor", &s->opt.series_interval, NULL, 1, PETSC_MAX_INT));
+  /* -fs_probes, -fs_probe_interval; -fs_series_interval (the time series', which the energy budget's rows follow) */
+  PetscCall(FSMonitorSetFromOptionItems(s->mon.probes, PetscOptionsObject));
+  PetscCall(FSMonitorSetFromOptionItems(s->mon.series, PetscOptionsObject));
+  PetscCall(FSMonitorSetFromOptionItems(s->mon.energy, PetscOptionsObject));
   PetscCall(PetscOptionsBool("-fs_geometry_view",
                              "Write the walls and particles to <output_dir>/geometry/ (geometry.png, walls.xdmf, the "
                              "step-0 snapshot; a run's results in <output_dir> are not touched), then stop without "
@@ -504,10 +488,7 @@ static PetscErrorCode FSSolverOptionsOutput(FSSolver s, PetscOptionItems *PetscO
                                  "Print the set-up after FSSolverSetUp() (the executable; a viewer may follow)",
                                  "FSSolverView", view, view, sizeof(view), NULL));
   }
-  PetscCall(PetscOptionsBool("-fs_progress", "Print a progress line on the terminal", "FSSolverMonitor",
-                             s->opt.progress, &s->opt.progress, NULL));
-  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_progress_interval", "Seconds between progress lines",
-                          "FSSolverMonitor", &s->opt.progress_interval, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscCall(FSMonitorSetFromOptionItems(s->mon.progress, PetscOptionsObject)); /* -fs_progress, its interval */
 
   PetscFunctionReturn(0);
 }
@@ -574,6 +555,11 @@ output/<case>) .  -fs_output_interval <t>         - simulated time between parti
 .  -fs_options_left <true>         - at the end, warn about the options given but never used
 .  -fs_error_trace                 - on an error, PETSc's full report instead of the short one (FSErrorHandler())
 -  -fs_progress, -fs_progress_interval - progress line on the terminal, and its period in seconds
+
+   Notes:
+   -fs_output_interval, -fs_checkpoint_interval, -fs_probes, -fs_probe_interval, -fs_series_interval, -fs_rest_check_*,
+   -fs_progress and -fs_progress_interval are the built-in monitors' options (src/monitor/impls/): the solver makes
+those monitors here and each reads its own in this options block (FSMonitorSetFromOptionItems()).
 */
 PetscErrorCode FSSolverSetFromOptions(FSSolver s)
 {
@@ -604,7 +590,7 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       "FSSolverStructureDt", &s->opt.structure_cfl, NULL, 0, 1, FS_RANGE_OPEN_LOWER));
   PetscCall(FSSolverOptionsNumerics(s, PetscOptionsObject));
   PetscCall(FSSolverOptionsOutput(s, PetscOptionsObject));
-  PetscCall(FSSolverOptionsRestCheck(s, PetscOptionsObject));
+  PetscCall(FSMonitorSetFromOptionItems(s->mon.restcheck, PetscOptionsObject)); /* -fs_rest_check_* */
   PetscCall(FSSolverCreateTerms(s, PetscOptionsObject, terms));
   /* the structure */
   PetscCall(FSStructureDestroy(&s->structure));
@@ -647,15 +633,6 @@ PetscErrorCode FSSolverSetFromOptions(FSSolver s)
       FSTerm term = s->terms.term[t];
       if (term->dt_coefficient == 0) term->dt_coefficient = term->dt_coefficient_rk4;
     }
-  }
-  { /* the snapshots' times are multiples of the interval: more than 1e12 of them, the run's time cannot tell apart */
-    PetscReal tmax;
-    PetscCall(TSGetMaxTime(s->ts, &tmax));
-    PetscCheck(s->opt.output_interval == 0 || s->opt.output_interval >= 1e-12 * PetscAbsReal(tmax), comm,
-               PETSC_ERR_ARG_OUTOFRANGE,
-               "-fs_output_interval %g is too small for the run's time: expected 0 (the first and last snapshots only) "
-               "or at least 1e-12 of the final time -ts_max_time %g, that is %g",
-               (double)s->opt.output_interval, (double)tmax, (double)(1e-12 * PetscAbsReal(tmax)));
   }
   PetscCall(FSSolverCheckOptions(s, PETSC_FALSE)); /* misspelt options, and those of cases, terms, models not in use */
   PetscFunctionReturn(0);
@@ -906,11 +883,8 @@ PetscErrorCode FSSolverSetUp(FSSolver s)
     PetscCall(TSSetTimeStep(s->ts, dt));
     PetscCall(FSSolverStructureDtAdvice(s)); /* a mode's period that sets the step: said, with what to do */
   }
-  if (s->mon.probes_file[0] && !s->mon.probes) { /* the probe file read and checked here: its errors are set-up's */
-    PetscCall(FSMonitorCreate(PetscObjectComm((PetscObject)s), &s->mon.probes));
-    PetscCall(FSMonitorSetType(s->mon.probes, FSMONITORPROBES));
-    PetscCall(FSMonitorSetUp(s->mon.probes, s));
-  }
+  /* the probe file read and checked here, the snapshots' interval against the final time: their errors are set-up's */
+  PetscCall(FSSolverBuiltinMonitorsSetUp(s));
   PetscCall(FSSolverCheckOptions(s, PETSC_TRUE)); /* every object has read its options: before the first step */
   s->setupcalled = PETSC_TRUE;
   if (s->opt.geometry_view) { /* into a folder of its own: a run's results in the output directory stay as they are */
@@ -1077,7 +1051,7 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   PetscCall(FSSolverMonitorCancel(s)); /* the user's monitors and callbacks */
   for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorDestroy(&s->mon.list[k])); /* the run's own */
   s->mon.nlist = s->mon.nbuiltin = 0;
-  PetscCall(FSMonitorDestroy(&s->mon.probes));
+  PetscCall(FSSolverBuiltinMonitorsDestroy(s));
   PetscCall(FSOutputDirUnlock(&s->mon.lock)); /* the output is closed: another run may write there */
   PetscCall(TSDestroy(&s->ts));
   PetscCall(VecDestroy(&s->state.U));

@@ -4,7 +4,7 @@
    Data flow of one run:  options -> case set-up (domain, particles) -> decomposition ->
    TS loop [ halo refresh -> cell list and neighbour lists -> first pass (correction matrix,
    density gradient, strain rate) -> ghost refresh of those -> pair pass of the terms ] ->
-   monitors (time series, snapshots, checkpoints, progress, blow-up checks).
+   monitors (src/monitor/: time series, snapshots, checkpoints, progress, summary; the blow-up checks).
 */
 #pragma once
 #include <flexslosh.h>
@@ -50,11 +50,7 @@ typedef struct {
   PetscReal     halo_skin; /* extra halo width, in units of h */
   PetscReal     max_density_variation;
   PetscReal     final_time;
-  PetscReal     output_interval;
-  PetscInt      checkpoint_interval;
-  PetscBool     progress, write_output;
-  PetscReal     progress_interval;
-  PetscInt      series_interval; /* -fs_series_interval: steps between the time series' rows */
+  PetscBool     write_output;
   PetscBool     terms_view;
   PetscBool     geometry_view; /* -fs_geometry_view: write the set-up's picture and walls, then stop */
   PetscInt      sort_interval;
@@ -197,19 +193,6 @@ typedef struct {
   PetscInt   ghosts_first, owned_first, nbuilds0;
 } FSParallelStats;
 
-/* The at-rest check (-fs_rest_check_*, src/solver/restcheck.c): its options and what it watches in this run */
-typedef struct {
-  PetscReal time;                  /* -fs_rest_check_time: the simulated time watched from the start (0: none) */
-  PetscReal speed;                 /* -fs_rest_check_speed: the largest speed of a liquid at rest, over sqrt(g H) */
-  PetscReal dt_ratio;              /* -fs_rest_check_dt: the step's limit allowed down to this of the start's */
-  PetscBool at_rest;               /* the case starts its liquid at rest (FSSolverSetLiquidAtRest) */
-  PetscBool watch_speed, watch_dt; /* what this run's check watches (FSSolverRestCheckBegin) */
-  PetscBool warned_speed, warned_dt;
-  PetscReal depth0;   /* the liquid's depth the case gives (FSSolverSetLiquidAtRest) */
-  PetscReal depth, g; /* the liquid's depth in a run the check watches (else 0), |g| */
-  PetscReal dt0;      /* the step's limit at the start */
-} FSRestCheck;
-
 #define FS_MAX_MONITORS 16 /* monitors of each form a solver holds (FSSolverMonitorAdd(), FSSolverMonitorSet()) */
 
 /* The monitors (src/monitor/, FSSolverMonitorAdd(); the built-in ones first) and the plain callbacks
@@ -221,23 +204,24 @@ typedef struct {
   FSSolverMonitorFn fn[FS_MAX_MONITORS];
   void             *fnctx[FS_MAX_MONITORS];
   PetscErrorCode (*fndestroy[FS_MAX_MONITORS])(void **);
-  PetscInt        nfn;
-  PetscLogDouble  wall_start, wall_last_progress;
-  PetscInt        step0;
-  PetscInt64      pair_visits, particle_steps;
-  PetscInt        nmigrations, nrhs;
-  PetscInt        steps_taken; /* steps taken since set-up (this process) */
-  PetscInt        nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
-  PetscInt        nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
-  PetscBool       monitoring;
-  FSOutputLock    lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
-  PetscReal       t0;
-  char            probes_file[PETSC_MAX_PATH_LEN]; /* -fs_probes */
-  PetscInt        probe_interval;                  /* -fs_probe_interval */
-  FSMonitor       probes; /* the probes monitor, made by the set-up with -fs_probes (FSSolverGetProbes() reads it) */
-  char           *setup;  /* the record of what defines the run, for the checkpoints (setuprecord.c) */
-  FSParallelStats par;    /* summary.json's "parallel" */
-  FSRestCheck     rest;   /* the at-rest check */
+  PetscInt       nfn;
+  PetscLogDouble wall_start;
+  PetscInt       step0;
+  PetscInt64     pair_visits, particle_steps;
+  PetscInt       nmigrations, nrhs;
+  PetscInt       steps_taken; /* steps taken since set-up (this process) */
+  PetscInt       nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
+  PetscInt       nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
+  PetscBool      monitoring;
+  FSOutputLock   lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
+  PetscReal      t0;
+  /* the built-in monitors, made with their options by FSSolverSetFromOptions() and set up by FSSolverSetUp(); the
+     run's output attaches those it writes (FSSolverMonitorBegin()); FSSolverGetProbes() reads the probes */
+  FSMonitor       series, energy, probes, snapshots, checkpoints, restcheck, progress, summary;
+  PetscBool       at_rest;    /* the case starts its liquid at rest (FSSolverSetLiquidAtRest()), for the check */
+  PetscReal       rest_depth; /* its depth */
+  char           *setup;      /* the record of what defines the run, for the checkpoints (setuprecord.c) */
+  FSParallelStats par;        /* summary.json's "parallel" */
 } FSMonitorData;
 
 typedef struct _FSSolverOps *FSSolverOps;
@@ -290,6 +274,9 @@ PETSC_INTERN PetscErrorCode FSSolverViscosityBound(FSSolver, PetscReal *, PetscI
 PETSC_INTERN PetscErrorCode FSSolverDtLimitName(FSSolver, PetscInt, const char **);
 PETSC_INTERN PetscErrorCode FSSolverMonitor(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorBegin(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverBuiltinMonitorsCreate(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverBuiltinMonitorsSetUp(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverBuiltinMonitorsDestroy(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverOpenOutputDir(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverMonitorEnd(FSSolver);
 PETSC_INTERN PetscReal      FSSolverWriteStatus(FSSolver);
@@ -323,7 +310,6 @@ PETSC_INTERN PetscErrorCode FSSolverBalanceWork(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetWorkSum(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverPartitionWalls(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverLoadCheckpoint(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverWriteSummary(FSSolver);
 PETSC_INTERN PetscErrorCode FSParallelStatsBegin(FSSolver);
 PETSC_INTERN void           FSParallelStatsStepBegin(FSSolver);
 PETSC_INTERN void           FSParallelStatsStepEnd(FSSolver);
@@ -332,9 +318,6 @@ PETSC_INTERN PetscErrorCode FSSolverWriteMemory(FSSolver, FSJSON, PetscReal peak
 PETSC_INTERN PetscErrorCode FSSolverSetUpRecord(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverCheckSetUp(FSSolver, const char[]);
 PETSC_INTERN PetscErrorCode FSSolverCheckRanksAgree(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverOptionsRestCheck(FSSolver, PetscOptionItems *);
-PETSC_INTERN PetscErrorCode FSSolverRestCheckBegin(FSSolver);
-PETSC_INTERN PetscErrorCode FSSolverRestCheck(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetParticles(FSSolver, FSParticles *);
 PETSC_INTERN PetscErrorCode FSSolverGatherRecordsBegin(FSSolver, const PetscReal *u);
 PETSC_INTERN PetscErrorCode FSSolverGatherRecordsEnd(FSSolver);

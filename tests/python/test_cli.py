@@ -69,6 +69,23 @@ def test_help_shows_defaults(help_output):
     assert re.search(r"-fs_terms <now continuity,delta,pressure,viscosity,les_viscosity,gravity", help_output)
 
 
+def test_help_shows_monitor_defaults(help_output):
+    """The built-in monitors' options (src/monitor/impls/, read in the solver's options block): -help shows each with
+    the default its monitor's create routine gives (0 where none: PetscNew)."""
+    checked = {}
+    for path in sorted((REPO_ROOT / "src" / "monitor" / "impls").rglob("*.c")):
+        src = path.read_text()
+        for kind, opt, field in re.findall(r'FSOptions(Real|Int)\(\s*PetscOptionsObject,\s*"(-fs_\w+)"\s*,\s*(?:"(?:[^"\\]|\\.)*"\s*)+'
+                                           r',\s*"[^"]*"\s*,\s*&\w+->(\w+)\s*,', src):
+            m = re.search(r"\w+->(?:\w+\.)?" + field + r"\s*=\s*([-+]?[0-9.]+(?:[eE][-+]?\d+)?)\s*;", src)
+            expected = float(m.group(1)) if m else 0.0
+            shown = help_value(help_output, opt)
+            assert shown is not None and float(shown) == pytest.approx(expected, rel=1e-12), f"{opt} ({path.name}): -help shows <{shown}>, default is {expected}"
+            checked[opt] = expected
+    assert {"-fs_output_interval", "-fs_checkpoint_interval", "-fs_probe_interval", "-fs_progress_interval",
+            "-fs_rest_check_time", "-fs_rest_check_speed", "-fs_rest_check_dt"} <= set(checked), checked
+
+
 def test_help_lists_ts_options(help_output):
     for opt in ("-ts_type", "-ts_max_time", "-ts_max_steps"):
         assert re.search(r"^\s*" + opt + r" <", help_output, re.M), f"{opt} not in -help"
@@ -154,6 +171,26 @@ def test_summary_json(run, tmp_path):
     assert "-fs_dx 0.05" in s["options"] and "-ts_max_steps 4" in s["options"]
     # output interval 0: the first and the last snapshot only
     assert len(snapshot_files(out)) == 2
+
+
+def test_progress_line(run, tmp_path):
+    """The progress monitor: with -fs_progress_interval 0 a line after each step (none for the start), the time and
+    the share of -ts_max_time growing, with the output files or without (-fs_output 0); none with -fs_progress 0; and
+    summary.json (the summary monitor) only with the output."""
+    for k, extra in enumerate(([], ["-fs_output", "0"])):
+        out = tmp_path / f"out{k}"
+        proc = run(TG + ["-fs_dx", "0.1", "-ts_max_steps", "3", "-ts_max_time", "1", "-fs_progress_interval", "0",
+                         "-fs_output_dir", out] + extra, progress=True)
+        lines = re.findall(r"^step +(\d+)  t = (\S+) +dt = (\S+) +([\d.]+)%  elapsed +[\d.]+ s  left ~ *[\d.]+ s$",
+                           proc.stdout, re.M)
+        assert [int(l[0]) for l in lines] == [1, 2, 3], proc.stdout
+        t = [float(l[1]) for l in lines]
+        assert 0 < t[0] < t[1] < t[2] < 1
+        assert [float(l[3]) for l in lines] == pytest.approx([100 * x for x in t], abs=0.06)
+        assert (out / "summary.json").exists() == (not extra)
+    proc = run(TG + ["-fs_dx", "0.1", "-ts_max_steps", "3", "-fs_progress_interval", "0", "-fs_progress", "0",
+                     "-fs_output", "0"], progress=True)
+    assert not re.search(r"^step ", proc.stdout, re.M)
 
 
 @pytest.mark.parametrize("opts", sorted(p.name for p in (REPO_ROOT / "cases").glob("*.opts")))

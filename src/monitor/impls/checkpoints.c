@@ -1,8 +1,8 @@
 /*
    The checkpoints monitor: a checkpoint (checkpoint_<step>.h5, FSMonitorCheckpointsWrite()) at every step that is a
-   multiple of -fs_checkpoint_interval, none at the start. The solver gives the content (FSSolverGetCheckpoint());
-   FSSolverWriteCheckpoint() writes one through this monitor at any step of a run whose output is open. The restart
-   loader stays with the solver's set-up (src/solver/output.c).
+   multiple of -fs_checkpoint_interval (its option, read in the solver's options block), none at the start. The
+   solver gives the content (FSSolverGetCheckpoint()); FSSolverWriteCheckpoint() writes one through this monitor at
+   any step of a run whose output is open. The restart loader stays with the solver's set-up (src/solver/output.c).
 */
 #include "monitor/monitorimpl.h"
 #include "sys/fssys.h"
@@ -11,14 +11,35 @@ typedef struct {
   PetscInt interval; /* -fs_checkpoint_interval (0: none) */
 } FSMonitor_Checkpoints;
 
-static PetscErrorCode FSMonitorBegin_Checkpoints(FSMonitor m, FSSolver s)
+static PetscErrorCode FSMonitorSetFromOptions_Checkpoints(FSMonitor m, PetscOptionItems *PetscOptionsObject)
 {
   FSMonitor_Checkpoints *ck = (FSMonitor_Checkpoints *)m->data;
-  FSSolverOutputSettings o;
 
   PetscFunctionBegin;
-  PetscCall(FSSolverGetOutputSettings(s, &o));
-  ck->interval = o.checkpoint_interval;
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_checkpoint_interval", "Steps between checkpoints (0: none)",
+                         "FSSolverWriteCheckpoint", &ck->interval, NULL, 0, PETSC_MAX_INT));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSMonitorCheckpointsGetInterval - the steps between a checkpoints monitor's checkpoints (-fs_checkpoint_interval;
+   0: none, the run does not attach it).
+
+   Not collective
+
+.seealso: FSMonitorCheckpointsWrite()
+*/
+PetscErrorCode FSMonitorCheckpointsGetInterval(FSMonitor m, PetscInt *interval)
+{
+  PetscBool same;
+
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(m, FSMONITOR_CLASSID, 1);
+  PetscCall(PetscObjectTypeCompare((PetscObject)m, FSMONITORCHECKPOINTS, &same));
+  PetscCheck(same, PetscObjectComm((PetscObject)m), PETSC_ERR_ARG_WRONGSTATE,
+             "FSMonitorCheckpointsGetInterval(): the monitor is not a checkpoints monitor (%s)",
+             ((PetscObject)m)->type_name ? ((PetscObject)m)->type_name : "no type");
+  *interval = ((FSMonitor_Checkpoints *)m->data)->interval;
   PetscFunctionReturn(0);
 }
 
@@ -97,10 +118,10 @@ PetscErrorCode FSMonitorCreate_Checkpoints(FSMonitor m)
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&ck));
-  m->data         = ck;
-  m->ops->begin   = FSMonitorBegin_Checkpoints;
-  m->ops->step    = FSMonitorStep_Checkpoints;
-  m->ops->view    = FSMonitorView_Checkpoints;
-  m->ops->destroy = FSMonitorDestroy_Checkpoints;
+  m->data                = ck;
+  m->ops->setfromoptions = FSMonitorSetFromOptions_Checkpoints;
+  m->ops->step           = FSMonitorStep_Checkpoints;
+  m->ops->view           = FSMonitorView_Checkpoints;
+  m->ops->destroy        = FSMonitorDestroy_Checkpoints;
   PetscFunctionReturn(0);
 }

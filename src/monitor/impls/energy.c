@@ -7,7 +7,8 @@
 #include "monitor/monitorimpl.h"
 
 typedef struct {
-  FSTankMotion mo; /* the tank's motion FSSolverEnergyLocal() gave with this rank's sums */
+  PetscInt     interval; /* -fs_series_interval, as timeseries.csv's */
+  FSTankMotion mo;       /* the tank's motion FSSolverEnergyLocal() gave with this rank's sums */
   PetscInt     step;
   PetscInt     ncols;
   PetscReal    vals[FS_ENERGY_MAX_COLUMNS];
@@ -33,20 +34,21 @@ static PetscErrorCode FSMonitorBegin_Energy(FSMonitor m, FSSolver s)
   PetscFunctionReturn(0);
 }
 
+/* -fs_series_interval, the time series monitor's option (listed by -help with it), read unlisted */
+static PetscErrorCode FSMonitorSetFromOptions_Energy(FSMonitor m, PetscOptionItems *PetscOptionsObject)
+{
+  FSMonitor_Energy *en = (FSMonitor_Energy *)m->data;
+
+  PetscFunctionBegin;
+  PetscCall(FSMonitorSeriesIntervalRead(m, PetscOptionsObject, PETSC_FALSE, &en->interval));
+  PetscFunctionReturn(0);
+}
+
 /* a row with each of timeseries.csv's: every -fs_series_interval steps from the start, and at the last step */
 static PetscErrorCode FSMonitorRowSize_Energy(FSMonitor m, FSSolver s, PetscBool *due, PetscInt *nsum, PetscInt *nmax)
 {
-  FSSolverOutputSettings o;
-  PetscReal              t;
-  PetscInt               step;
-  PetscBool              end;
-
   PetscFunctionBegin;
-  (void)m;
-  PetscCall(FSSolverGetOutputSettings(s, &o));
-  PetscCall(FSSolverGetTime(s, &t, &step));
-  PetscCall(FSSolverAtEnd(s, &end));
-  *due  = (PetscBool)((step - o.step0) % o.series_interval == 0 || end);
+  PetscCall(FSMonitorSeriesDue(s, ((FSMonitor_Energy *)m->data)->interval, due));
   *nsum = FS_ENERGY_NSUMS;
   *nmax = 0;
   PetscFunctionReturn(0);
@@ -108,13 +110,15 @@ PetscErrorCode FSMonitorCreate_Energy(FSMonitor m)
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&en));
-  m->data           = en;
-  m->ops->begin     = FSMonitorBegin_Energy;
-  m->ops->rowsize   = FSMonitorRowSize_Energy;
-  m->ops->rowlocal  = FSMonitorRowLocal_Energy;
-  m->ops->rowvalues = FSMonitorRowValues_Energy;
-  m->ops->rowwrite  = FSMonitorRowWrite_Energy;
-  m->ops->view      = FSMonitorView_Energy;
-  m->ops->destroy   = FSMonitorDestroy_Energy;
+  en->interval           = 1;
+  m->data                = en;
+  m->ops->setfromoptions = FSMonitorSetFromOptions_Energy;
+  m->ops->begin          = FSMonitorBegin_Energy;
+  m->ops->rowsize        = FSMonitorRowSize_Energy;
+  m->ops->rowlocal       = FSMonitorRowLocal_Energy;
+  m->ops->rowvalues      = FSMonitorRowValues_Energy;
+  m->ops->rowwrite       = FSMonitorRowWrite_Energy;
+  m->ops->view           = FSMonitorView_Energy;
+  m->ops->destroy        = FSMonitorDestroy_Energy;
   PetscFunctionReturn(0);
 }

@@ -1,7 +1,8 @@
 /*
    The snapshots monitor: the particles (snapshot_*.h5, indexed by particles.xdmf) at the start of a new run, at every
-   multiple of -fs_output_interval and at the end. The fields are the solver's (FSSolverFillField()); the monitor
-   owns the writer and when it writes.
+   multiple of -fs_output_interval (its option, read in the solver's options block: FSMonitorSetFromOptionItems())
+   and at the end. The fields are the solver's (FSSolverFillField()); the monitor owns the writer and when it
+   writes.
 */
 #include "monitor/monitorimpl.h"
 #include "sys/fssys.h"
@@ -69,6 +70,35 @@ static PetscErrorCode FSMonitorSnapshotWrite(FSMonitor m, FSSolver s, PetscReal 
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode FSMonitorSetFromOptions_Snapshots(FSMonitor m, PetscOptionItems *PetscOptionsObject)
+{
+  FSMonitor_Snapshots *sn = (FSMonitor_Snapshots *)m->data;
+
+  PetscFunctionBegin;
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_output_interval",
+                          "Simulated time between particle snapshots (0: first and last only)", "FSSolverWriteSnapshot",
+                          &sn->interval, NULL, 0, PETSC_INFINITY, FS_RANGE_CLOSED));
+  PetscFunctionReturn(0);
+}
+
+/* the snapshots' times are multiples of the interval: more than 1e12 of them, the run's time cannot tell apart */
+static PetscErrorCode FSMonitorSetUp_Snapshots(FSMonitor m, FSSolver s)
+{
+  FSMonitor_Snapshots *sn = (FSMonitor_Snapshots *)m->data;
+  TS                   ts;
+  PetscReal            tmax;
+
+  PetscFunctionBegin;
+  PetscCall(FSSolverGetTS(s, &ts));
+  PetscCall(TSGetMaxTime(ts, &tmax));
+  PetscCheck(sn->interval == 0 || sn->interval >= 1e-12 * PetscAbsReal(tmax), PetscObjectComm((PetscObject)m),
+             PETSC_ERR_ARG_OUTOFRANGE,
+             "-fs_output_interval %g is too small for the run's time: expected 0 (the first and last snapshots only) "
+             "or at least 1e-12 of the final time -ts_max_time %g, that is %g",
+             (double)sn->interval, (double)tmax, (double)(1e-12 * PetscAbsReal(tmax)));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode FSMonitorBegin_Snapshots(FSMonitor m, FSSolver s)
 {
   FSMonitor_Snapshots   *sn = (FSMonitor_Snapshots *)m->data;
@@ -79,10 +109,9 @@ static PetscErrorCode FSMonitorBegin_Snapshots(FSMonitor m, FSSolver s)
   PetscFunctionBegin;
   PetscCall(FSSolverGetOutputSettings(s, &o));
   PetscCall(FSSolverGetTime(s, &t, &step));
-  sn->interval = o.output_interval;
-  sn->restart  = o.restart;
-  sn->next     = FSNextOutputTime(t, sn->interval); /* multiples of the interval, also after a restart */
-  sn->last     = PETSC_MIN_REAL;
+  sn->restart = o.restart;
+  sn->next    = FSNextOutputTime(t, sn->interval); /* multiples of the interval, also after a restart */
+  sn->last    = PETSC_MIN_REAL;
   PetscCall(FSSnapshotWriterCreate(PetscObjectComm((PetscObject)m), o.outdir, o.restart ? t : -1.0, &sn->writer));
   PetscFunctionReturn(0);
 }
@@ -146,11 +175,13 @@ PetscErrorCode FSMonitorCreate_Snapshots(FSMonitor m)
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&sn));
-  m->data         = sn;
-  m->ops->begin   = FSMonitorBegin_Snapshots;
-  m->ops->step    = FSMonitorStep_Snapshots;
-  m->ops->end     = FSMonitorEnd_Snapshots;
-  m->ops->view    = FSMonitorView_Snapshots;
-  m->ops->destroy = FSMonitorDestroy_Snapshots;
+  m->data                = sn;
+  m->ops->setfromoptions = FSMonitorSetFromOptions_Snapshots;
+  m->ops->setup          = FSMonitorSetUp_Snapshots;
+  m->ops->begin          = FSMonitorBegin_Snapshots;
+  m->ops->step           = FSMonitorStep_Snapshots;
+  m->ops->end            = FSMonitorEnd_Snapshots;
+  m->ops->view           = FSMonitorView_Snapshots;
+  m->ops->destroy        = FSMonitorDestroy_Snapshots;
   PetscFunctionReturn(0);
 }

@@ -1,19 +1,42 @@
 /*
-   The time series monitor: timeseries.csv, a row every -fs_series_interval steps and at the last step (time, dt,
+   The time series monitor: timeseries.csv, a row every -fs_series_interval steps (its option, read in the solver's
+   options block; the energy budget's rows follow it) and at the last step (time, dt,
    energies, mass, momentum, extremes, dissipated energies, the case's columns, the loads per wall, the structure's
    columns). The row's quantities come from the solver (FSSolverSeriesLocal(), FSSolverSeriesValues()); its sums are
    reduced with the other rows' (FSMonitorRows()).
 */
 #include "monitor/monitorimpl.h"
+#include "sys/fssys.h"
 
 typedef struct {
-  PetscInt  step; /* the step of the row being made */
+  PetscInt  interval; /* -fs_series_interval */
+  PetscInt  step;     /* the step of the row being made */
   PetscInt  ncols;
   PetscReal vals[FS_SERIES_MAX_COLUMNS];
 } FSMonitor_TimeSeries;
 
-/* whether a row is due: every -fs_series_interval steps from the start, and at the last step */
-static PetscErrorCode FSMonitorSeriesDue(FSSolver s, PetscBool *due)
+/*
+   FSMonitorSeriesIntervalRead - -fs_series_interval, the steps between the rows of timeseries.csv and energy.csv, in
+   the options block items: listed by -help (the time series monitor's), else read from the database without a line
+   of -help and checked as FSOptionsInt() checks (the energy budget's, whose rows are timeseries.csv's).
+*/
+PetscErrorCode FSMonitorSeriesIntervalRead(FSMonitor m, PetscOptionItems *items, PetscBool listed, PetscInt *interval)
+{
+  PetscFunctionBegin;
+  if (listed) {
+    PetscCall(FSOptionsInt(items, "-fs_series_interval",
+                           "Steps between the rows of timeseries.csv and energy.csv (the last step's is always "
+                           "written): each row takes about a dozen reductions over the ranks",
+                           "FSSolverMonitor", interval, NULL, 1, PETSC_MAX_INT));
+  } else {
+    PetscCall(FSOptionsCheckPetscInt(PetscObjectComm((PetscObject)m), "-fs_series_interval", 1, PETSC_MAX_INT));
+    PetscCall(PetscOptionsGetInt(items->options, items->prefix, "-fs_series_interval", interval, NULL));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* FSMonitorSeriesDue - whether a row is due: every interval steps from the start, and at the last step */
+PetscErrorCode FSMonitorSeriesDue(FSSolver s, PetscInt interval, PetscBool *due)
 {
   FSSolverOutputSettings o;
   PetscReal              t;
@@ -24,7 +47,16 @@ static PetscErrorCode FSMonitorSeriesDue(FSSolver s, PetscBool *due)
   PetscCall(FSSolverGetOutputSettings(s, &o));
   PetscCall(FSSolverGetTime(s, &t, &step));
   PetscCall(FSSolverAtEnd(s, &end)); /* the last step's row is written whatever the interval */
-  *due = (PetscBool)((step - o.step0) % o.series_interval == 0 || end);
+  *due = (PetscBool)((step - o.step0) % interval == 0 || end);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FSMonitorSetFromOptions_TimeSeries(FSMonitor m, PetscOptionItems *PetscOptionsObject)
+{
+  FSMonitor_TimeSeries *ts = (FSMonitor_TimeSeries *)m->data;
+
+  PetscFunctionBegin;
+  PetscCall(FSMonitorSeriesIntervalRead(m, PetscOptionsObject, PETSC_TRUE, &ts->interval));
   PetscFunctionReturn(0);
 }
 
@@ -56,8 +88,7 @@ static PetscErrorCode FSMonitorRowSize_TimeSeries(FSMonitor m, FSSolver s, Petsc
                                                   PetscInt *nmax)
 {
   PetscFunctionBegin;
-  (void)m;
-  PetscCall(FSMonitorSeriesDue(s, due));
+  PetscCall(FSMonitorSeriesDue(s, ((FSMonitor_TimeSeries *)m->data)->interval, due));
   PetscCall(FSSolverSeriesSize(s, nsum));
   *nmax = 1; /* the largest speed */
   PetscFunctionReturn(0);
@@ -117,13 +148,15 @@ PetscErrorCode FSMonitorCreate_TimeSeries(FSMonitor m)
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&ts));
-  m->data           = ts;
-  m->ops->begin     = FSMonitorBegin_TimeSeries;
-  m->ops->rowsize   = FSMonitorRowSize_TimeSeries;
-  m->ops->rowlocal  = FSMonitorRowLocal_TimeSeries;
-  m->ops->rowvalues = FSMonitorRowValues_TimeSeries;
-  m->ops->rowwrite  = FSMonitorRowWrite_TimeSeries;
-  m->ops->view      = FSMonitorView_TimeSeries;
-  m->ops->destroy   = FSMonitorDestroy_TimeSeries;
+  ts->interval           = 1;
+  m->data                = ts;
+  m->ops->setfromoptions = FSMonitorSetFromOptions_TimeSeries;
+  m->ops->begin          = FSMonitorBegin_TimeSeries;
+  m->ops->rowsize        = FSMonitorRowSize_TimeSeries;
+  m->ops->rowlocal       = FSMonitorRowLocal_TimeSeries;
+  m->ops->rowvalues      = FSMonitorRowValues_TimeSeries;
+  m->ops->rowwrite       = FSMonitorRowWrite_TimeSeries;
+  m->ops->view           = FSMonitorView_TimeSeries;
+  m->ops->destroy        = FSMonitorDestroy_TimeSeries;
   PetscFunctionReturn(0);
 }

@@ -1,9 +1,9 @@
 /*
    FSMonitor: what a run reports after its steps, as an object with an ops table (monitorimpl.h) and a registry of
    implementations, as PETSc's TS monitors: the built-in ones (time series, energy budget, probes, snapshots,
-   checkpoints) are registered and attached to the solver (FSSolverMonitorAdd()) the way a user's are. This file
-   dispatches to the implementation, batches the rows' reductions (FSMonitorRows()) and keeps the write status of a
-   monitor's csv file.
+   checkpoints, at-rest check, progress line, summary) are registered and attached to the solver (FSSolverMonitorAdd())
+   the way a user's are. This file dispatches to the implementation, batches the rows' reductions (FSMonitorRows()) and
+   keeps the write status of a monitor's csv file.
 */
 #include "monitor/monitorimpl.h"
 #include "sys/fssys.h"
@@ -17,6 +17,9 @@ PETSC_EXTERN PetscErrorCode FSMonitorCreate_Energy(FSMonitor);
 PETSC_EXTERN PetscErrorCode FSMonitorCreate_Probes(FSMonitor);
 PETSC_EXTERN PetscErrorCode FSMonitorCreate_Snapshots(FSMonitor);
 PETSC_EXTERN PetscErrorCode FSMonitorCreate_Checkpoints(FSMonitor);
+PETSC_EXTERN PetscErrorCode FSMonitorCreate_RestCheck(FSMonitor);
+PETSC_EXTERN PetscErrorCode FSMonitorCreate_Progress(FSMonitor);
+PETSC_EXTERN PetscErrorCode FSMonitorCreate_Summary(FSMonitor);
 
 /*
    FSMonitorRegister - adds a monitor type to the registry.
@@ -59,6 +62,13 @@ PetscErrorCode FSMonitorRegisterAll(void)
                               FSMonitorCreate_Snapshots));
   PetscCall(FSMonitorRegister(FSMONITORCHECKPOINTS, "checkpoints to restart from (-fs_checkpoint_interval)",
                               FSMonitorCreate_Checkpoints));
+  PetscCall(FSMonitorRegister(FSMONITORRESTCHECK,
+                              "the at-rest check: a liquid at rest that moves, a time step that collapses "
+                              "(-fs_rest_check_time)",
+                              FSMonitorCreate_RestCheck));
+  PetscCall(FSMonitorRegister(FSMONITORPROGRESS, "the progress line on the terminal (-fs_progress)",
+                              FSMonitorCreate_Progress));
+  PetscCall(FSMonitorRegister(FSMONITORSUMMARY, "summary.json at the end of the run", FSMonitorCreate_Summary));
   PetscFunctionReturn(0);
 }
 
@@ -103,8 +113,8 @@ PetscErrorCode FSMonitorCreate(MPI_Comm comm, FSMonitor *mon)
 
    Input Parameters:
 +  mon  - the monitor, not yet set up
--  type - FSMONITORTIMESERIES, FSMONITORENERGY, FSMONITORPROBES, FSMONITORSNAPSHOTS, FSMONITORCHECKPOINTS or a
-          type of FSMonitorRegister()
+-  type - FSMONITORTIMESERIES, FSMONITORENERGY, FSMONITORPROBES, FSMONITORSNAPSHOTS, FSMONITORCHECKPOINTS,
+          FSMONITORRESTCHECK, FSMONITORPROGRESS, FSMONITORSUMMARY or a type of FSMonitorRegister()
 
 .seealso: FSMonitorRegister()
 */
@@ -204,10 +214,13 @@ PetscErrorCode FSMonitorSetOptionsPrefix(FSMonitor m, const char prefix[])
 .  -<prefix>monitor_type <type> - a registered monitor type (FSMonitorListView())
 
    Notes:
-   The built-in monitors follow the run's output options, read by FSSolverSetFromOptions() (-fs_output_dir,
-   -fs_series_interval, -fs_probes, -fs_probe_interval, -fs_output_interval, -fs_checkpoint_interval), and have no
-   options of their own; the solver does not call this for them. A user's monitor takes a prefix outside fs_: the
-   check of unused -fs_ options (FSSolverCheckOptions()) knows the options of the built-in objects only.
+   The solver reads the options of its built-in monitors (-fs_series_interval, -fs_probes, -fs_probe_interval,
+   -fs_output_interval, -fs_checkpoint_interval, -fs_rest_check_*, -fs_progress, -fs_progress_interval) inside its own
+options block (FSMonitorSetFromOptionItems()), so that -help lists them with the run's; it does not call this for them.
+A user's monitor takes a prefix outside fs_: the check of unused -fs_ options (FSSolverCheckOptions()) knows the options
+of the built-in objects only.
+
+.seealso: FSMonitorSetFromOptionItems()
 */
 PetscErrorCode FSMonitorSetFromOptions(FSMonitor m)
 {
@@ -224,6 +237,27 @@ PetscErrorCode FSMonitorSetFromOptions(FSMonitor m)
   if (set && type[0]) PetscCall(FSMonitorSetType(m, type));
   if (m->ops->setfromoptions) PetscCall((*m->ops->setfromoptions)(m, PetscOptionsObject));
   PetscOptionsEnd();
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSMonitorSetFromOptionItems - the options of the monitor's type, read inside an options block its caller opened
+   (as TSAdaptSetFromOptions() inside TSSetFromOptions()): FSSolverSetFromOptions() reads its built-in monitors'
+   options this way, so that -help lists them in the run's block, each where it always was.
+
+   Collective
+
+   Input Parameters:
++  mon   - the monitor, with its type set
+-  items - the caller's options block (PetscOptionsObject)
+
+.seealso: FSMonitorSetFromOptions()
+*/
+PetscErrorCode FSMonitorSetFromOptionItems(FSMonitor m, PetscOptionItems *items)
+{
+  PetscFunctionBegin;
+  PetscValidHeaderSpecific(m, FSMONITOR_CLASSID, 1);
+  if (m->ops->setfromoptions) PetscCall((*m->ops->setfromoptions)(m, items));
   PetscFunctionReturn(0);
 }
 

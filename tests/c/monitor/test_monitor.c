@@ -210,7 +210,8 @@ static PetscErrorCode TestRun(MPI_Comm comm, const char dir[])
   PetscInt         destroyed = 0, n, nrows, step;
   const FSMonitor *mons;
   const char      *type;
-  const char      *expect[] = {FSMONITORTIMESERIES, FSMONITORENERGY, FSMONITORSNAPSHOTS, "test_mass"};
+  const char      *expect[] = {FSMONITORTIMESERIES, FSMONITORENERGY,  FSMONITORSNAPSHOTS, FSMONITORRESTCHECK,
+                               FSMONITORPROGRESS,   FSMONITORSUMMARY, "test_mass"};
   PetscReal        kin[NSTEPS + 2], seen[NSTEPS + 2], t, fieldmass;
   char             opts[PETSC_MAX_PATH_LEN + 256];
 
@@ -245,7 +246,7 @@ static PetscErrorCode TestRun(MPI_Comm comm, const char dir[])
 
   /* the list: the run's own monitors first */
   PetscCall(FSSolverGetMonitors(s, &n, &mons));
-  TCHECK(comm, n == 4, "%" PetscInt_FMT " monitors attached: expected 4", n);
+  TCHECK(comm, n == 7, "%" PetscInt_FMT " monitors attached: expected 7", n);
   for (PetscInt k = 0; k < n; k++) {
     PetscCall(FSMonitorGetType(mons[k], &type));
     TCHECK(comm, !strcmp(type, expect[k]), "monitor %" PetscInt_FMT " is %s: expected %s", k, type, expect[k]);
@@ -256,7 +257,7 @@ static PetscErrorCode TestRun(MPI_Comm comm, const char dir[])
   {
     const PetscReal *m;
     MassData        *d;
-    PetscCall(FSMonitorGetContext(mons[3], &d));
+    PetscCall(FSMonitorGetContext(mons[6], &d));
     PetscCall(FSSolverGetField(s, "mass", &n, NULL, &m));
     fieldmass = 0;
     for (PetscInt k = 0; k < n; k++) fieldmass += m[k];
@@ -273,7 +274,7 @@ static PetscErrorCode TestRun(MPI_Comm comm, const char dir[])
   for (PetscInt k = 0; k <= NSTEPS; k++) seen[k] = kc->kin[k];
   PetscCall(FSSolverMonitorCancel(s)); /* the user's monitors go; the run's stay */
   PetscCall(FSSolverGetMonitors(s, &n, NULL));
-  TCHECK(comm, n == 3 && destroyed == 1 && LastMass && LastMass->rows == NSTEPS + 1,
+  TCHECK(comm, n == 6 && destroyed == 1 && LastMass && LastMass->rows == NSTEPS + 1,
          "after FSSolverMonitorCancel: %" PetscInt_FMT " monitors, %" PetscInt_FMT " contexts destroyed", n, destroyed);
   PetscCall(PetscFree(LastMass));
   PetscCall(FSSolverDestroy(&s));

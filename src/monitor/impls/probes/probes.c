@@ -1,9 +1,10 @@
 /*
    The probes monitor: the probes and wave gauges of -fs_probes (probeset.c: the file parsed and checked, the samples,
-   the sensors' time response, sensor.c) and probes.csv, a row of their values every -fs_probe_interval steps. The
-   solver's set-up makes and sets up this monitor (the probe file's errors are set-up's), FSSolverGetProbes() reads
-   it (FSMonitorProbesGetValues()), and the run's output attaches it with the other built-in monitors. A sample's sums
-   are reduced in one reduction of their own.
+   the sensors' time response, sensor.c) and probes.csv, a row of their values every -fs_probe_interval steps (its
+   options, read in the solver's options block). The solver makes this monitor with its options and its set-up sets
+   it up (the probe file's errors are set-up's), FSSolverGetProbes() reads it (FSMonitorProbesGetValues()), and the
+   run's output attaches it, when the file has items, with the other built-in monitors. A sample's sums are reduced
+   in one reduction of their own.
 */
 #include "monitor/impls/probes/probesimpl.h"
 
@@ -11,6 +12,22 @@ typedef struct {
   FSProbeSet set;
   PetscReal *row; /* time, then the set's nvalues */
 } FSMonitor_Probes;
+
+static PetscErrorCode FSMonitorSetFromOptions_Probes(FSMonitor m, PetscOptionItems *PetscOptionsObject)
+{
+  FSProbeSet *ps = &((FSMonitor_Probes *)m->data)->set;
+
+  PetscFunctionBegin;
+  PetscCall(PetscOptionsString(
+      "-fs_probes",
+      "File of pressure probes and wave gauges (\"probe NAME x y [z] [diameter D] [cutoff HZ] [order 1|2] "
+      "[rate HZ]\", "
+      "\"gauge NAME x0 y0 [z0] x1 y1 [z1]\"): their values into <output_dir>/probes.csv",
+      "FSSolverGetProbes", ps->file, ps->file, sizeof(ps->file), NULL));
+  PetscCall(FSOptionsInt(PetscOptionsObject, "-fs_probe_interval", "Steps between the samples of the probes and gauges",
+                         "FSSolverGetProbes", &ps->interval, NULL, 1, PETSC_MAX_INT));
+  PetscFunctionReturn(0);
+}
 
 static PetscErrorCode FSMonitorSetUp_Probes(FSMonitor m, FSSolver s)
 {
@@ -141,11 +158,13 @@ PetscErrorCode FSMonitorCreate_Probes(FSMonitor m)
 
   PetscFunctionBegin;
   PetscCall(PetscNew(&pr));
-  m->data         = pr;
-  m->ops->setup   = FSMonitorSetUp_Probes;
-  m->ops->begin   = FSMonitorBegin_Probes;
-  m->ops->step    = FSMonitorStep_Probes;
-  m->ops->view    = FSMonitorView_Probes;
-  m->ops->destroy = FSMonitorDestroy_Probes;
+  pr->set.interval       = 1;
+  m->data                = pr;
+  m->ops->setfromoptions = FSMonitorSetFromOptions_Probes;
+  m->ops->setup          = FSMonitorSetUp_Probes;
+  m->ops->begin          = FSMonitorBegin_Probes;
+  m->ops->step           = FSMonitorStep_Probes;
+  m->ops->view           = FSMonitorView_Probes;
+  m->ops->destroy        = FSMonitorDestroy_Probes;
   PetscFunctionReturn(0);
 }

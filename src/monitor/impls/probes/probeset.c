@@ -365,9 +365,9 @@ static PetscErrorCode FSProbesCheckFaces(const FSProbeSet *ps, const FSSolverPar
 }
 
 /*
-   FSProbeSetSetUp - reads -fs_probes, checks the items against the domain, finds the wall elements
-   of the probes on walls and the samples of the gauges with the walls' Shepard factor at each. Called
-   by the probes monitor's set-up, which the solver's set-up calls.
+   FSProbeSetSetUp - reads the file of -fs_probes (ps->file, "" for none: the monitor's options), checks the items
+   against the domain, finds the wall elements of the probes on walls and the samples of the gauges with the walls'
+   Shepard factor at each. Called by the probes monitor's set-up, which the solver's set-up calls.
 
    Collective
 */
@@ -385,10 +385,8 @@ PetscErrorCode FSProbeSetSetUp(FSProbeSet *ps, FSSolver s)
 
   PetscFunctionBegin;
   PetscCall(FSSolverGetParticleView(s, &view));
-  dim          = view.dim;
-  dx           = view.dx;
-  ps->interval = view.probe_interval;
-  PetscCall(PetscStrncpy(ps->file, view.probes, sizeof(ps->file)));
+  dim      = view.dim;
+  dx       = view.dx;
   ps->step = -1;
   if (!ps->file[0]) PetscFunctionReturn(0);
   PetscCall(FSProbesReadFile(comm, ps->file, &text));
