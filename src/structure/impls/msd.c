@@ -217,11 +217,10 @@ static PetscErrorCode View(FSStructure st, PetscViewer viewer)
       viewer, "mass-spring-damper: m = %g kg, K = %g N/m, c = %g N s/m, f = %g Hz (T = %g s)\n", (double)p->m,
       (double)p->K, (double)p->c, (double)(p->omega / (2 * PETSC_PI)), (double)(2 * PETSC_PI / p->omega)));
   if (p->table[0].n)
-    PetscCall(PetscViewerASCIIPrintf(viewer,
-                                     "reduced model: the liquid (%g kg) from %s, %" PetscInt_FMT
-                                     " rows, A %g .. %g m; omega_0 %g rad/s\n",
-                                     (double)p->table_mass, p->table_file, p->table[0].n, (double)p->table[0].t[0],
-                                     (double)p->table[0].t[p->table[0].n - 1], (double)p->table_omega));
+    PetscCall(PetscViewerASCIIPrintf(
+        viewer, "reduced model: the liquid (%g kg) from %s, %" PetscInt_FMT " rows, A %g .. %g m; omega_0 %g rad/s\n",
+        (double)p->table_mass, p->table_file, p->table[0].n, (double)p->table[0].t[0],
+        (double)p->table[0].t[p->table[0].n - 1], (double)p->table_omega));
   PetscFunctionReturn(0);
 }
 
