@@ -1429,7 +1429,8 @@ def case_reduced_model(ctx: Context) -> Section:
         se = np.std(zs, axis=0, ddof=1) / np.sqrt(len(zs)) if len(zs) > 1 else np.full(len(SEED_BANDS), np.nan)
         rows.append(f"| {1e3 * dx:g} | coupled, {len(zs)} release(s), mean +- SE | " + " | ".join(
             f"{v:.2f} +- {u:.2f}" for v, u in zip(zc, se)) + f" | {np.mean(walls):.0f} |")
-        ax.errorbar(range(len(SEED_BANDS)), zc, yerr=se, fmt="o-", ms=4, label=f"coupled, dx {1e3 * dx:g} mm")
+        color = f"C{dxs.index(dx)}"  # one colour per dx: the coupled runs' line solid, the reduced model's dashed
+        ax.errorbar(range(len(SEED_BANDS)), zc, yerr=se, fmt="o-", ms=4, color=color, label=f"coupled, dx {1e3 * dx:g} mm")
         mass = float(grid_rows[0]["liquid_mass"])
         for lag in REDUCED_LAGS:
             args = ["-fs_case", "beam", "-fs_structure", "msd", "-fs_beam_tank_mass", 5.0, "-fs_beam_payload_mass", 3.36,
@@ -1440,7 +1441,8 @@ def case_reduced_model(ctx: Context) -> Section:
             wall = float(r.summary.get("wall_time", sec.runs[-1].wall))
             rows.append(f"| {1e3 * dx:g} | reduced, lag {lag:g} s (its difference) | " + " | ".join(
                 f"{v:.2f} ({v - c:+.2f})" for v, c in zip(zr, zc)) + f" | {wall:.3f} |")
-            ax.plot(range(len(SEED_BANDS)), zr, "s--" if lag else "s-", ms=4, label=f"reduced, lag {lag:g} s, dx {1e3 * dx:g} mm")
+            ax.plot(range(len(SEED_BANDS)), zr, "^:" if lag else "s--", ms=4, color=color,
+                    label=f"reduced, lag {lag:g} s, dx {1e3 * dx:g} mm")
             if dx == dxs[-1] and lag == 0:
                 for k, (hi, lo) in enumerate(SEED_BANDS):
                     sec.checks.append(Check(f"dx = {1e3 * dx:g} mm, band {1e3 * hi:g}-{1e3 * lo:g} mm: reduced minus coupled "
@@ -1456,7 +1458,8 @@ def case_reduced_model(ctx: Context) -> Section:
     ax.axhline(1.5, color="k", lw=1)
     ax.legend(fontsize=6)
     sec.figure = _save(fig, ctx, "reduced_model")
-    sec.caption = "The damping per band: the coupled runs (mean and standard error) and the reduced model (lines)"
+    sec.caption = ("The damping per band: the coupled runs (solid, mean and standard error) and the reduced model (dashed: "
+                   "no lag; dotted: the lag), a colour per dx")
     return sec
 
 
