@@ -317,6 +317,12 @@ def _label(dx: float) -> str:
     return f"dx{dx:g}"
 
 
+def _from_repo(path: Path) -> str:
+    """path relative to the repository's root where it lies inside it (the runs start there): the report shows no
+    machine's folders."""
+    return os.path.relpath(path, REPO) if Path(path).resolve().is_relative_to(REPO.resolve()) else str(path)
+
+
 def _case(name: str) -> str:
     return f"cases/{name}.opts"
 
@@ -1435,7 +1441,7 @@ def case_reduced_model(ctx: Context) -> Section:
         for lag in REDUCED_LAGS:
             args = ["-fs_case", "beam", "-fs_structure", "msd", "-fs_beam_tank_mass", 5.0, "-fs_beam_payload_mass", 3.36,
                     "-fs_beam_preload", 0.04, "-fs_beam_damping", 0.015, "-ts_max_time", tmax, "-fs_output_interval", 0,
-                    "-fs_msd_liquid_table", table, "-fs_msd_liquid_mass", mass, "-fs_msd_liquid_lag", lag]
+                    "-fs_msd_liquid_table", _from_repo(table), "-fs_msd_liquid_mass", mass, "-fs_msd_liquid_lag", lag]
             r = ctx.run("reduced_model", f"reduced_{_label(dx)}_lag{lag:g}", args, sec.runs)
             zr = 100 * band_damping(damping_per_cycle(r.column("time"), r.column("tip_displacement")))
             wall = float(r.summary.get("wall_time", sec.runs[-1].wall))
