@@ -338,6 +338,9 @@ def describe(options: Mapping[str, Any] | None = None, direction: str = "sway", 
     opts.update(_motion_options(direction, amplitude, frequency, ramp_cycles * period, None))
     if point is not None and DIRECTIONS[direction][0] == "roll":
         opts["fs_tank_reference"] = ",".join(repr(float(p)) for p in point[:2])
+    if str(opts.get("fs_output", True)).lower() in ("false", "0", "no", "off"):
+        raise ValueError(f"-fs_output {opts['fs_output']}: the describing function reads the run's timeseries.csv and "
+                         "energy.csv; leave the output on (-fs_output_interval 0 writes no snapshots)")
     opts.setdefault("fs_output_dir", "output/equivalent/run")
     opts.setdefault("fs_output_interval", 0)
     opts.setdefault("fs_progress", False)

@@ -4,8 +4,8 @@
 
 runs on 2 ranks: a few Taylor-Green steps and a few steps of the coupled tank, with the built-in msd
 and with its Python twin (fields gathered to rank 0), a bad option and a Python structure that raises on
-rank 0 (the exception's message on every rank) and the beam sweep spread over the
-ranks; rank 0 writes OUT/mpi.npz. test_python_api.py runs the same on 1 rank and compares.
+rank 0 (the exception's message on every rank), the beam sweep spread over the ranks and a describing
+function (flexslosh.equivalent.describe) on both ranks; rank 0 writes OUT/mpi.npz. test_python_api.py runs the same on 1 rank and compares.
 """
 import sys
 from pathlib import Path
@@ -74,6 +74,21 @@ def failing_structure_message():
     return ""
 
 
+HEAVE = dict(fs_progress=False, fs_case="tank", fs_tank_shape="rectangular", fs_tank_length=0.2, fs_tank_height=0.2, fs_fill=0.5,
+             fs_dx=0.02, fs_c0=10, fs_relax_time=0.05)
+
+
+def describe_heave(out, comm=None):
+    """A heave describing function (Gamma = 0.5 at 1.5 Hz, 3 cycles after a one-period ramp) on comm: per cycle
+    m_eff, c_eq, E_d and the higher harmonics' share, and whether it settled."""
+    from flexslosh import equivalent as eq
+
+    f = 1.5
+    d = eq.describe(dict(HEAVE, fs_output_dir=str(Path(out) / "heave")), "heave", 0.5 * 9.81 / (2 * np.pi * f) ** 2, f,
+                    ramp_cycles=1, cycles_max=3, settle=2, tol=0.05, comm=comm, progress=None)
+    return np.array([[c.m_eff, c.c_eq, c.energy, c.higher] for c in d.cycles]), d.settled_from
+
+
 def main(out):
     from mpi4py import MPI
 
@@ -87,11 +102,16 @@ def main(out):
     flexslosh.register_structure("pybreak", FailingMSD)
     failures = comm.gather(failing_structure_message(), root=0)
     table = sweep(SWEEP_CASES, SWEEP_BASE, comm=comm, output_root=Path(out) / "sweep")
+    heave, settled_from = describe_heave(out, comm)
+    heaves = comm.gather((heave, settled_from), root=0)
     if comm.Get_rank() == 0:
         data["nranks"] = comm.Get_size()
         data["bad_messages"] = np.array(messages)
         data["failure_messages"] = np.array(failures)
         data["sweep"] = table
+        data["heave"] = heave
+        data["heave_same_on_every_rank"] = all(np.array_equal(h, heave) and sf == settled_from for h, sf in heaves)
+        data["heave_settled_from"] = -1 if settled_from is None else settled_from
         np.savez(Path(out) / "mpi.npz", **data)
 
 

@@ -163,6 +163,8 @@ def test_bad_input_is_named():
         eq.describe(TANK, "heave", 0.01, -1.0)
     with pytest.raises(ValueError, match="roll.*point"):
         eq.describe(dict(TANK, fs_dx=0.04, fs_output_dir="/tmp/unused"), "roll", 0.01, 1.0)
+    with pytest.raises(ValueError, match="-fs_output False: the describing function reads the run's timeseries.csv"):
+        eq.describe(dict(TANK, fs_output=False), "heave", 0.01, 1.0)
     with pytest.raises(ValueError, match="-fs_motion_y_sines is set"):
         eq.describe(dict(TANK, fs_dx=0.04, fs_motion_y_sines="0.01,1,0"), "sway", 0.01, 1.0)
 

@@ -317,6 +317,17 @@ def test_two_ranks_python_structure_failure_stops_every_rank(two_ranks):
     assert "ValueError: the spring broke at t = 0.05" in msgs[1]
 
 
+def test_describe_on_two_ranks_equals_one_rank(two_ranks, tmp_path):
+    """flexslosh.equivalent.describe with the run over 2 ranks: every rank gets the same description, and its cycles
+    (m_eff, c_eq, E_d, the higher harmonics) are the 1-rank run's to round-off; the liquid is carried (m_eff/m near 1)."""
+    par, _ = two_ranks
+    one, settled_from = M.describe_heave(tmp_path)
+    assert bool(par["heave_same_on_every_rank"])
+    assert int(par["heave_settled_from"]) == (-1 if settled_from is None else settled_from)
+    np.testing.assert_allclose(par["heave"], one, rtol=1e-7, atol=1e-9 * np.abs(one).max())
+    assert len(one) == 3
+
+
 def test_sweep_over_two_ranks_equals_sequence(two_ranks, tmp_path):
     par, out = two_ranks
     seq = sweep(M.SWEEP_CASES, M.SWEEP_BASE, output_root=tmp_path)
