@@ -27,5 +27,5 @@ PETSC_INTERN PetscErrorCode FSPackRegionFromMesh(FSPackRegion *, FSMesh *, const
 PETSC_INTERN PetscErrorCode FSPackRegionDestroy(FSPackRegion *);
 /* the points x (n on this rank, dim each, in the ranks' order) relaxed in the region, volume the body's; what names
    the liquid in messages */
-PETSC_INTERN PetscErrorCode FSCasePackRelax(FSSolver, const FSPackRegion *, PetscReal volume, PetscInt *n, PetscReal x[],
-                                            const char what[]);
+PETSC_INTERN PetscErrorCode FSCasePackRelax(FSSolver, const FSPackRegion *, PetscReal volume, PetscInt *n,
+                                            PetscReal x[], const char what[]);
