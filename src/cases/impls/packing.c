@@ -19,7 +19,8 @@
    Zhang & Hu 2021), with the boundary integrals in place of its level set's kernel integral: each iteration moves a
    particle by -step h^2 e_i (at most dx/10), keeping it at least dx/4 from the walls and the fill level. The fill level
    is a wall during the relaxation (a lid), so that the free surface stays flat at the fill level; the lid is dropped
-   after it.
+   after it. Before it, the lattice is thinned where it is over-full (-fs_fill_packing_thin, ThinOverfull): a gap
+   thinner than two spacings gets up to twice its volume in points, a surplus the relaxation does not carry out.
 
    The work is split over the ranks by particle, every rank holding all positions (gathered after each iteration):
    each particle's sums run over the same neighbours in the same order on any number of ranks, so that the
@@ -269,11 +270,13 @@ static void HeapPop(Heap *hp)
    removed, one at a time: a point's fullness o_i = sum_j V W_ij - gamma_i, the particles' kernel sum (its own
    term included) less the region's geometric gamma (the kernel's part inside the liquid, the boundary integrals
    over every element within the support), 0 where the points are spread at V each (the interior of a lattice of
-   spacing V^(1/dim), one cut by walls along its planes); the most over-full point above `over` goes first, its
-   neighbours' fullness lowered by its term, until none is above. A thin gap between walls gets the lattice's rows
+   spacing V^(1/dim), one cut by walls along its planes). The points above `over` are the candidates: the most
+   over-full goes first (the lower index among equals), its neighbours' fullness lowered by its term, until no
+   candidate is over-full (o_i > 0). A thin gap between walls gets the lattice's rows
    wherever their points fall in it, up to twice its volume (under a wing bay's rib, docs/own-tank.md), a surplus
    that the relaxation's moves of dx/10 do not carry out. The points are judged where the relaxation starts them
-   (KeepFromWalls). keep[i] is false for a removed point; *removed their number; the same on every rank.
+   (KeepFromWalls). keep[i] is false for a removed point; *removed their number, *omax the largest fullness before;
+   the same on every rank.
 */
 static PetscErrorCode ThinOverfull(const FSPackRegion *g, const Grid *eg, const FSKernel *k, PetscReal V,
                                    PetscReal over, PetscReal dx, PetscInt N, const PetscReal X[], PetscBool keep[],
@@ -502,9 +505,10 @@ static PetscErrorCode PackThin(FSSolver s, const FSPackRegion *g, const Grid *eg
 }
 
 /*
-   FSCasePackRelax - relaxes the points x of one body of liquid (n on this rank, dim reals each; the ranks' points
+   FSCasePackRelax - relaxes the points x of one body of liquid (*n on this rank, dim reals each; the ranks' points
    one after the other make the body) in its closed region g, whose exact volume is volume (every point standing
-   for volume / N): -fs_fill_packing_iterations moves of -step h^2 e_i (packing.c's header). With
+   for volume / N): the lattice thinned first where it is over-full (-fs_fill_packing_thin; *n then this rank's
+   points left, x compacted), then -fs_fill_packing_iterations moves of -step h^2 e_i (packing.c's header). With
    -fs_fill_packing_cache the packing is read from the cache's folder when it is there, else written to it.
 
    Collective
