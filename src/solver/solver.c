@@ -278,7 +278,7 @@ static PetscErrorCode FSSolverOptionsPacking(FSSolver s, PetscOptionItems *Petsc
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_fill_packing_thin",
                           "Fullness above which the relaxed packing's lattice is thinned before the relaxation (its "
                           "points removed, the most over-full first, until none there is over-full: a thin gap "
-                          "filled to its volume); fullness: the kernel sum less the liquid's share of the kernel "
+                          "filled nearer its volume); fullness: the kernel sum less the liquid's share of the kernel "
                           "(0: none thinned)",
                           "FSSolverGetFillPacking", &p->thin, NULL, 0, 1, FS_RANGE_CLOSED));
   PetscCall(PetscOptionsString("-fs_fill_packing_cache",
