@@ -333,7 +333,7 @@ static PetscErrorCode ThinOverfull(const FSPackRegion *g, const Grid *eg, const 
   PetscCall(PetscMalloc2(N, &hp.v, N, &hp.i));
   for (PetscInt i = 0; i < N; i++)
     if (o[i] > over) HeapPush(&hp, o[i], i);
-  while (hp.n > 0) {
+  while (hp.n > 0 && *removed < N - 1) { /* one point at least is left */
     const PetscInt   i    = hp.i[0];
     const PetscReal  v    = hp.v[0];
     const PetscReal *xi   = &Y[dim * i];
