@@ -339,8 +339,9 @@ PETSC_EXTERN PetscErrorCode FSSolverGetLiquidVolume(FSSolver, PetscReal *volume,
 typedef enum { FS_FILL_PACKING_AUTO, FS_FILL_PACKING_LATTICE, FS_FILL_PACKING_RELAXED } FSFillPackingType;
 typedef struct {
   FSFillPackingType type;
-  PetscInt          iterations;                    /* -fs_fill_packing_iterations */
-  PetscReal         step;                          /* -fs_fill_packing_step: each move, -step h^2 e_i */
+  PetscInt          iterations; /* -fs_fill_packing_iterations */
+  PetscReal         step;       /* -fs_fill_packing_step: each move, -step h^2 e_i */
+  PetscReal         thin;       /* -fs_fill_packing_thin: the fullness above which the lattice is thinned (0: never) */
   char              cache[PETSC_MAX_PATH_LEN];     /* -fs_fill_packing_cache: a folder of packings, "" none */
   PetscReal         repulsion, repulsion_distance; /* the wall_pressure term's push near contact (-fs_walls_repulsion;
                                                       its distance in dx), which the relaxation balances */

@@ -55,6 +55,7 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.packing.type          = FS_FILL_PACKING_AUTO;
   s->opt.packing.iterations    = 200;
   s->opt.packing.step          = 0.3;
+  s->opt.packing.thin          = 0.05;
   PetscCall(PetscStrncpy(s->opt.structname, "none", sizeof(s->opt.structname)));
   PetscCall(FSCouplingCreate(comm, &s->coupling));
   s->pw.halo.rectype = MPI_DATATYPE_NULL;
@@ -267,6 +268,12 @@ static PetscErrorCode FSSolverOptionsPacking(FSSolver s, PetscOptionItems *Petsc
                           "Step of the relaxed packing: each iteration moves a particle by -step h^2 e_i (e_i: the "
                           "particles' kernel-gradient sum and the walls' integral, zero when evenly spread)",
                           "FSSolverGetFillPacking", &p->step, NULL, 0, 10, FS_RANGE_OPEN_LOWER));
+  PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_fill_packing_thin",
+                          "Fullness above which the relaxed packing's lattice is thinned before the relaxation (its "
+                          "points removed, the most over-full first, until none there is over-full: a thin gap "
+                          "filled nearer its volume); fullness: the kernel sum less the liquid's share of the kernel "
+                          "(0: none thinned)",
+                          "FSSolverGetFillPacking", &p->thin, NULL, 0, 1, FS_RANGE_CLOSED));
   PetscCall(PetscOptionsString("-fs_fill_packing_cache",
                                "Folder where relaxed packings are kept and found again, each file named by a hash of "
                                "the geometry, the spacing and the settings (empty: none)",
@@ -683,6 +690,7 @@ PetscErrorCode FSSolverSetDomain(FSSolver s, const PetscReal lo[], const PetscRe
 +  -fs_fill_packing <auto>            - auto, lattice or relaxed (docs/walls.md)
 .  -fs_fill_packing_iterations <200>  - iterations of the relaxation
 .  -fs_fill_packing_step <0.3>          - each iteration moves a particle by -step h^2 e_i
+.  -fs_fill_packing_thin <0.05>         - the fullness above which the lattice is thinned before the relaxation
 -  -fs_fill_packing_cache <dir>       - a folder where relaxed packings are kept and reused
 
    Level: intermediate

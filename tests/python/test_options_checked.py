@@ -64,6 +64,7 @@ ACCEPT = {
     "-fs_surface_tension_sigma": {"0": "no surface tension (the drop tests' reference)"},
     "-fs_nu": {"0": "an inviscid liquid", "1e300": "only bounds the time step"},
     "-fs_relax_time": {"0": "no relaxation", "1e300": "relax the whole run"},
+    "-fs_fill_packing_thin": {"0": "the relaxed packing's lattice never thinned"},
     "-fs_rest_check_time": {"0": "no at-rest check", "1e300": "check the whole run"},
     "-fs_rest_check_speed": {"1e300": "a liquid at rest never warned of"},
     "-fs_output_interval": {"0": "the first and last snapshots only", "1e300": "the same"},

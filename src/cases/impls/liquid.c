@@ -379,7 +379,7 @@ static PetscErrorCode PolygonLattice(FSSolver s, const FSWalls *w, PetscReal x0,
     PetscCall(FSSolverGetParameters(s, &dx, NULL, NULL, NULL, NULL));
     PetscCall(PolygonLatticePoints(s, w, x0, x1, y0, ysurf, what, 0, &n, &x, &rho, &m));
     PetscCall(FSPackRegionFromWalls(&region, w, lo, hi, dx));
-    PetscCall(FSCasePackRelax(s, &region, area, n, x, what));
+    PetscCall(FSCasePackRelax(s, &region, area, &n, x, what));
     PetscCall(FSPackRegionDestroy(&region));
     PetscCall(FSCaseRelaxedDensities(s, 2, ysurf, area, n, x, rho, m));
   }

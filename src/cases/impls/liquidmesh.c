@@ -259,7 +259,7 @@ static PetscErrorCode MeshLattice(FSSolver s, FSMesh *m, const PetscReal lo[3], 
     PetscCall(FSSolverGetParameters(s, &dx, &h, NULL, NULL, NULL));
     PetscCall(MeshLatticePoints(s, m, lo, hi, vol, what, 0, &n, &x, &rho, &mass));
     PetscCall(FSPackRegionFromMesh(&region, m, lo, hi, dx, h));
-    PetscCall(FSCasePackRelax(s, &region, vol, n, x, what));
+    PetscCall(FSCasePackRelax(s, &region, vol, &n, x, what));
     PetscCall(FSPackRegionDestroy(&region));
     PetscCall(FSCaseRelaxedDensities(s, 3, hi[1], vol, n, x, rho, mass));
   }

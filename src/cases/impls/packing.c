@@ -19,7 +19,8 @@
    Zhang & Hu 2021), with the boundary integrals in place of its level set's kernel integral: each iteration moves a
    particle by -step h^2 e_i (at most dx/10), keeping it at least dx/4 from the walls and the fill level. The fill level
    is a wall during the relaxation (a lid), so that the free surface stays flat at the fill level; the lid is dropped
-   after it.
+   after it. Before it, the lattice is thinned where it is over-full (-fs_fill_packing_thin, ThinOverfull): a gap
+   thinner than two spacings gets up to twice its volume in points, a surplus the relaxation does not carry out.
 
    The work is split over the ranks by particle, every rank holding all positions (gathered after each iteration):
    each particle's sums run over the same neighbours in the same order on any number of ranks, so that the
@@ -216,6 +217,160 @@ static void KeepFromWalls(const FSPackRegion *g, const Grid *eg, PetscReal dmin,
   }
 }
 
+/* a max-heap of candidates (value, index), the larger value first and the lower index among equals */
+typedef struct {
+  PetscInt   n;
+  PetscReal *v;
+  PetscInt  *i;
+} Heap;
+
+static inline PetscBool HeapAbove(const Heap *hp, PetscInt a, PetscInt b)
+{
+  return (PetscBool)(hp->v[a] > hp->v[b] || (hp->v[a] == hp->v[b] && hp->i[a] < hp->i[b]));
+}
+
+static inline void HeapSwap(Heap *hp, PetscInt a, PetscInt b)
+{
+  const PetscReal v = hp->v[a];
+  const PetscInt  i = hp->i[a];
+  hp->v[a]          = hp->v[b];
+  hp->i[a]          = hp->i[b];
+  hp->v[b]          = v;
+  hp->i[b]          = i;
+}
+
+static void HeapPush(Heap *hp, PetscReal v, PetscInt i)
+{
+  PetscInt c = hp->n++;
+  hp->v[c]   = v;
+  hp->i[c]   = i;
+  while (c > 0 && HeapAbove(hp, c, (c - 1) / 2)) {
+    HeapSwap(hp, c, (c - 1) / 2);
+    c = (c - 1) / 2;
+  }
+}
+
+static void HeapPop(Heap *hp)
+{
+  PetscInt c = 0;
+  HeapSwap(hp, 0, --hp->n);
+  for (;;) {
+    const PetscInt l = 2 * c + 1, r = l + 1;
+    PetscInt       b = c;
+    if (l < hp->n && HeapAbove(hp, l, b)) b = l;
+    if (r < hp->n && HeapAbove(hp, r, b)) b = r;
+    if (b == c) break;
+    HeapSwap(hp, b, c);
+    c = b;
+  }
+}
+
+/*
+   ThinOverfull - the points X (N, every rank all of them, in the ranks' order) of a region where they crowd
+   removed, one at a time: a point's fullness o_i = sum_j V W_ij - gamma_i, the particles' kernel sum (its own
+   term included) less the region's geometric gamma (the kernel's part inside the liquid, the boundary integrals
+   over every element within the support), 0 where the points are spread at V each (the interior of a lattice of
+   spacing V^(1/dim), one cut by walls along its planes). The points above `over` are the candidates: the most
+   over-full goes first (the lower index among equals), its neighbours' fullness lowered by its term, until no
+   candidate is over-full (o_i > 0). A thin gap between walls gets the lattice's rows
+   wherever their points fall in it, up to twice its volume (under a wing bay's rib, docs/own-tank.md), a surplus
+   that the relaxation's moves of dx/10 do not carry out. The points are judged where the relaxation starts them
+   (KeepFromWalls). keep[i] is false for a removed point; *removed their number, *omax the largest fullness before;
+   the same on every rank.
+*/
+static PetscErrorCode ThinOverfull(const FSPackRegion *g, const Grid *eg, const FSKernel *k, PetscReal V,
+                                   PetscReal over, PetscReal dx, PetscInt N, const PetscReal X[], PetscBool keep[],
+                                   PetscInt *removed, PetscReal *omax)
+{
+  const PetscInt dim = g->dim;
+  Grid           pg;
+  PetscReal     *Y, *o;
+  PetscInt      *cellof;
+  Heap           hp;
+
+  PetscFunctionBegin;
+  *removed = 0;
+  *omax    = 0;
+  PetscCall(PetscMalloc3(dim * N, &Y, N, &o, N, &cellof));
+  PetscCall(PetscArraycpy(Y, X, dim * N));
+  for (PetscInt i = 0; i < N; i++) KeepFromWalls(g, eg, 0.25 * dx, 0.5 * dx, &Y[dim * i]);
+  PetscCall(GridSetUp(&pg, g, k->support));
+  PetscCall(PetscMalloc1(N, &pg.item));
+  PetscCall(GridFillPoints(&pg, N, Y, cellof));
+  for (PetscInt i = 0; i < N; i++) { /* o_i */
+    const PetscReal *xi   = &Y[dim * i];
+    const PetscInt   cell = CellOf(eg, xi);
+    PetscReal        sum = 0, gamma = 1;
+    PetscInt         c[3] = {0, 0, 0}, lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    for (PetscInt d = 0; d < dim; d++) {
+      c[d]  = CellCoord(&pg, xi, d);
+      lo[d] = PetscMax(0, c[d] - 1);
+      hi[d] = PetscMin(pg.nc[d] - 1, c[d] + 1);
+    }
+    for (PetscInt cz = lo[2]; cz <= hi[2]; cz++)
+      for (PetscInt cy = lo[1]; cy <= hi[1]; cy++)
+        for (PetscInt cx = lo[0]; cx <= hi[0]; cx++) {
+          const PetscInt cl = (cz * pg.nc[1] + cy) * pg.nc[0] + cx;
+          for (PetscInt q = pg.start[cl]; q < pg.start[cl + 1]; q++) {
+            const PetscReal *xj = &Y[dim * pg.item[q]];
+            PetscReal        r2 = 0;
+            for (PetscInt d = 0; d < dim; d++) r2 += (xi[d] - xj[d]) * (xi[d] - xj[d]);
+            if (r2 < k->support2) sum += V * FSKernelW(k, PetscSqrtReal(r2));
+          }
+        }
+    for (PetscInt q = eg->start[cell]; q < eg->start[cell + 1]; q++) {
+      const PetscReal *el = &g->el[eg->item[q] * g->stride];
+      PetscReal        gk, wint;
+      if (dim == 2) FSSegmentIntegrals(k->h, xi, el, PETSC_TRUE, &gk, &wint);
+      else FSTriangleIntegrals(k->h, xi, el, PETSC_TRUE, &gk, &wint);
+      gamma += gk;
+    }
+    o[i]    = sum - gamma;
+    keep[i] = PETSC_TRUE;
+    *omax   = PetscMax(*omax, o[i]);
+  }
+  hp.n = 0;
+  PetscCall(PetscMalloc2(N, &hp.v, N, &hp.i));
+  for (PetscInt i = 0; i < N; i++)
+    if (o[i] > over) HeapPush(&hp, o[i], i);
+  while (hp.n > 0 && *removed < N - 1) { /* one point at least is left */
+    const PetscInt   i    = hp.i[0];
+    const PetscReal  v    = hp.v[0];
+    const PetscReal *xi   = &Y[dim * i];
+    PetscInt         c[3] = {0, 0, 0}, lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    HeapPop(&hp);
+    if (!keep[i]) continue;
+    if (v != o[i] || o[i] <= 0) { /* lowered since it was pushed: back at its place while still over-full */
+      if (o[i] > 0) HeapPush(&hp, o[i], i);
+      continue;
+    }
+    keep[i] = PETSC_FALSE;
+    (*removed)++;
+    for (PetscInt d = 0; d < dim; d++) {
+      c[d]  = CellCoord(&pg, xi, d);
+      lo[d] = PetscMax(0, c[d] - 1);
+      hi[d] = PetscMin(pg.nc[d] - 1, c[d] + 1);
+    }
+    for (PetscInt cz = lo[2]; cz <= hi[2]; cz++)
+      for (PetscInt cy = lo[1]; cy <= hi[1]; cy++)
+        for (PetscInt cx = lo[0]; cx <= hi[0]; cx++) {
+          const PetscInt cl = (cz * pg.nc[1] + cy) * pg.nc[0] + cx;
+          for (PetscInt q = pg.start[cl]; q < pg.start[cl + 1]; q++) {
+            const PetscInt   j  = pg.item[q];
+            const PetscReal *xj = &Y[dim * j];
+            PetscReal        r2 = 0;
+            if (!keep[j]) continue;
+            for (PetscInt d = 0; d < dim; d++) r2 += (xi[d] - xj[d]) * (xi[d] - xj[d]);
+            if (r2 < k->support2) o[j] -= V * FSKernelW(k, PetscSqrtReal(r2));
+          }
+        }
+  }
+  PetscCall(PetscFree2(hp.v, hp.i));
+  PetscCall(GridDestroy(&pg));
+  PetscCall(PetscFree3(Y, o, cellof));
+  PetscFunctionReturn(0);
+}
+
 /* FNV-1a over bytes, continued from h */
 static PetscInt64 Hash(PetscInt64 h, const void *data, size_t len)
 {
@@ -306,17 +461,61 @@ static PetscErrorCode CacheWrite(MPI_Comm comm, const char folder[], const char 
   PetscFunctionReturn(0);
 }
 
+/* the points X (N of them, this rank's n from i0) thinned where the lattice is over-full (ThinOverfull, above
+   `over`): X compacted, *n, *N, *i0 and the ranks' counts and displacements (in reals) updated */
+static PetscErrorCode PackThin(FSSolver s, const FSPackRegion *g, const Grid *eg, const FSKernel *k, PetscReal volume,
+                               PetscReal over, PetscReal dx, const char what[], PetscInt *n, PetscInt *N, PetscInt *i0,
+                               PetscReal X[], PetscMPIInt counts[], PetscMPIInt displs[])
+{
+  MPI_Comm       comm = PetscObjectComm((PetscObject)s);
+  const PetscInt dim  = g->dim;
+  PetscBool     *keep;
+  PetscInt       removed, m = 0, mine = 0;
+  PetscReal      omax;
+  PetscMPIInt    size, rank, c;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(PetscMalloc1(*N, &keep));
+  PetscCall(ThinOverfull(g, eg, k, volume / *N, over, dx, *N, X, keep, &removed, &omax));
+  PetscCall(
+      PetscInfo(s, "%s: %" PetscInt_FMT " of %" PetscInt_FMT " points removed where over-full (largest fullness %g)\n",
+                what, removed, *N, (double)omax));
+  if (removed) {
+    for (PetscInt i = 0; i < *N; i++)
+      if (keep[i]) {
+        if (i >= *i0 && i < *i0 + *n) mine++;
+        for (PetscInt d = 0; d < dim; d++) X[dim * m + d] = X[dim * i + d];
+        m++;
+      }
+    *N = m;
+    *n = mine;
+    PetscCall(PetscMPIIntCast(dim * mine, &c));
+    PetscCallMPI(MPI_Allgather(&c, 1, MPI_INT, counts, 1, MPI_INT, comm));
+    m = 0;
+    for (PetscMPIInt r = 0; r < size; r++) {
+      displs[r] = (PetscMPIInt)(dim * m);
+      if (r == rank) *i0 = m;
+      m += counts[r] / dim;
+    }
+  }
+  PetscCall(PetscFree(keep));
+  PetscFunctionReturn(0);
+}
+
 /*
-   FSCasePackRelax - relaxes the points x of one body of liquid (n on this rank, dim reals each; the ranks' points
+   FSCasePackRelax - relaxes the points x of one body of liquid (*n on this rank, dim reals each; the ranks' points
    one after the other make the body) in its closed region g, whose exact volume is volume (every point standing
-   for volume / N): -fs_fill_packing_iterations moves of -step h^2 e_i (packing.c's header). With
+   for volume / N): the lattice thinned first where it is over-full (-fs_fill_packing_thin; *n then this rank's
+   points left, x compacted), then -fs_fill_packing_iterations moves of -step h^2 e_i (packing.c's header). With
    -fs_fill_packing_cache the packing is read from the cache's folder when it is there, else written to it.
 
    Collective
 
    Level: developer
 */
-PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volume, PetscInt n, PetscReal x[],
+PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volume, PetscInt *n, PetscReal x[],
                                const char what[])
 {
   MPI_Comm       comm = PetscObjectComm((PetscObject)s);
@@ -342,7 +541,7 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
   PetscCall(PetscMalloc2(size, &counts, size, &displs));
   {
     PetscMPIInt mine;
-    PetscCall(PetscMPIIntCast(dim * n, &mine));
+    PetscCall(PetscMPIIntCast(dim * (*n), &mine));
     PetscCallMPI(MPI_Allgather(&mine, 1, MPI_INT, counts, 1, MPI_INT, comm));
   }
   for (PetscMPIInt r = 0; r < size; r++) {
@@ -355,11 +554,14 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
     PetscCall(PetscLogEventEnd(FS_FillPacking, 0, 0, 0, 0));
     PetscFunctionReturn(0);
   }
-  V = volume / N;
   PetscCall(PetscInfo(s, "%s: region of %" PetscInt_FMT " elements, %" PetscInt_FMT " of them the box's faces\n", what,
                       g->nel, g->nlid));
   PetscCall(PetscMalloc3(dim * N, &X, dim * N, &Xn, N, &cellof));
   PetscCallMPI(MPI_Allgatherv(x, counts[rank], MPIU_REAL, X, counts, displs, MPIU_REAL, comm));
+  PetscCall(GridSetUp(&eg, g, h));
+  PetscCall(GridFillElements(&eg, g, 2 * h));
+  if (opt.thin > 0) PetscCall(PackThin(s, g, &eg, &k, volume, opt.thin, dx, what, n, &N, &i0, X, counts, displs));
+  V      = volume / N;
   par[0] = dx;
   par[1] = h;
   par[2] = volume;
@@ -370,15 +572,13 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
   }
   if (!found) {
     const PetscReal cap = 0.1 * dx, dmin = 0.25 * dx;
-    PetscCall(GridSetUp(&eg, g, h));
-    PetscCall(GridFillElements(&eg, g, 2 * h));
     PetscCall(GridSetUp(&pg, g, 2 * h));
     PetscCall(PetscMalloc1(N, &pg.item));
     for (PetscInt i = 0; i < N; i++) KeepFromWalls(g, &eg, dmin, 0.5 * dx, &X[dim * i]); /* the lattice's points */
     for (PetscInt it = 0; it < opt.iterations; it++) {
       const PetscBool first = (PetscBool)(it == 0), last = (PetscBool)(it == opt.iterations - 1);
       PetscCall(GridFillPoints(&pg, N, X, cellof));
-      for (PetscInt i = i0; i < i0 + n; i++) {
+      for (PetscInt i = i0; i < i0 + *n; i++) {
         PetscReal e[3], e2 = 0, move = 0, *xn = &Xn[dim * i];
         ParticleSum(g, &pg, &eg, &k, V, push, opt.visall, X, i, e);
         for (PetscInt d = 0; d < dim; d++) e2 += e[d] * e[d];
@@ -394,7 +594,6 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
       PetscCallMPI(MPI_Allgatherv(&Xn[dim * i0], counts[rank], MPIU_REAL, X, counts, displs, MPIU_REAL, comm));
     }
     PetscCall(GridDestroy(&pg));
-    PetscCall(GridDestroy(&eg));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, resmax, 2, MPIU_REAL, MPIU_MAX, comm));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, res, 4, MPIU_REAL, MPIU_SUM, comm));
     PetscCall(PetscInfo(s,
@@ -404,7 +603,8 @@ PetscErrorCode FSCasePackRelax(FSSolver s, const FSPackRegion *g, PetscReal volu
                         (double)PetscSqrtReal(res[0][1] / N), (double)PetscSqrtReal(res[1][1] / N)));
     if (opt.cache[0]) PetscCall(CacheWrite(comm, opt.cache, path, dim, N, X));
   } else PetscCall(PetscInfo(s, "%s: %" PetscInt_FMT " particles' packing read from %s\n", what, N, path));
-  PetscCall(PetscArraycpy(x, &X[dim * i0], dim * n));
+  PetscCall(GridDestroy(&eg));
+  PetscCall(PetscArraycpy(x, &X[dim * i0], dim * (*n)));
   PetscCall(PetscFree3(X, Xn, cellof));
   PetscCall(PetscFree2(counts, displs));
   PetscCall(PetscLogEventEnd(FS_FillPacking, 0, 0, 0, 0));

@@ -25,7 +25,7 @@ PETSC_INTERN PetscErrorCode FSPackRegionFromWalls(FSPackRegion *, const FSWalls 
 PETSC_INTERN PetscErrorCode FSPackRegionFromMesh(FSPackRegion *, FSMesh *, const PetscReal lo[], const PetscReal hi[],
                                                  PetscReal dx, PetscReal h);
 PETSC_INTERN PetscErrorCode FSPackRegionDestroy(FSPackRegion *);
-/* the points x (n on this rank, dim each, in the ranks' order) relaxed in the region, volume the body's; what names
-   the liquid in messages */
-PETSC_INTERN PetscErrorCode FSCasePackRelax(FSSolver, const FSPackRegion *, PetscReal volume, PetscInt n, PetscReal x[],
-                                            const char what[]);
+/* the points x (*n on this rank, dim each, in the ranks' order) thinned where over-full (*n, x: those left) and relaxed
+   in the region, volume the body's; what names the liquid in messages */
+PETSC_INTERN PetscErrorCode FSCasePackRelax(FSSolver, const FSPackRegion *, PetscReal volume, PetscInt *n,
+                                            PetscReal x[], const char what[]);
