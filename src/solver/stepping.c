@@ -972,7 +972,9 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscCall(FSSolverUnpackState(s));
   PetscCall(FSSolverBoundaryBounce(s, ejump, &bounced)); /* with the bounces' energy changes, for the energy budget */
   /* this step's rows (FSSolverMonitor), their sums taken now to ride on the step's reduction: the state, the loads
-     and the masses are the step's end's, before the lists are rebuilt and the particles move between the ranks */
+     and the masses are the step's end's, before the lists are rebuilt and the particles move between the ranks; the
+     bounces moved the particles' fields, so the state takes them first (as FSSolverKeepLists() would) */
+  if (bounced) PetscCall(FSSolverPackState(s));
   PetscCall(FSMonitorRowsBegin(s->mon.nlist, s->mon.list, s, &s->mon.rows));
   PetscCall(FSSolverStepReduce(s, check, ejump, &rebuild, &sort)); /* the check, the rebuild decision, the next dt */
   if (rebuild) {
@@ -984,6 +986,9 @@ PetscErrorCode FSSolverStep(FSSolver s)
       s->pw.sort_step = step;
     }
     PetscCall(FSSolverResize(s, changed));
+    /* the particles were reordered (on every rank alike): the rows' sums are taken again in the new order, with
+       their own reduction (FSMonitorRows()), so that a run restarted from this step's checkpoint makes the same row */
+    if (changed || sort || rebalanced) PetscCall(FSMonitorRowBatchReset(&s->mon.rows));
     s->mon.nrebuilds++;
   } else PetscCall(FSSolverKeepLists(s));
   if (bounced && s->pw.nglobal_particles > 0) PetscCall(FSSolverEnergyAddJump(s, ejump, PETSC_TRUE));
