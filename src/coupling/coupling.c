@@ -266,6 +266,8 @@ PetscErrorCode FSCouplingSetPredictedMotion(FSCoupling c, const FSTankMotion *pr
    to the renormalization near walls, which the walls take): it is the walls' force on the liquid, whose
    reaction the structure receives with -fs_coupling_loads reaction, so that the coupled system keeps
    Newton's third law and the energy the loads give the structure is what the liquid loses.
+   extra[0..nextra): other sums of this rank's that ride on the same MPI_Allreduce (the right-hand side's
+   powers), replaced by their sums over the ranks: a coupled stage takes one collective.
 
    Collective
 */
@@ -290,19 +292,33 @@ FS_ALWAYS_INLINE void ReactionSums(PetscInt D, FSCoupling c, PetscInt n, PetscIn
 }
 
 PetscErrorCode FSCouplingReaction(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[], PetscInt US,
-                                  const PetscReal f[], PetscReal local[3])
+                                  const PetscReal f[], PetscReal local[3], PetscInt nextra, PetscReal extra[])
 {
-  PetscReal all[6] = {0, 0, 0, 0, 0, 0};
+  PetscReal      all[6 + FS_COUPLING_MAX_EXTRA] = {0, 0, 0, 0, 0, 0};
+  const PetscInt nr                             = c->dim == 3 ? 6 : 3;
 
   PetscFunctionBegin;
+  PetscCheck(nextra >= 0 && nextra <= FS_COUPLING_MAX_EXTRA, c->comm, PETSC_ERR_PLIB,
+             "FSCouplingReaction: %" PetscInt_FMT " extra sums, at most %d", nextra, FS_COUPLING_MAX_EXTRA);
   if (c->dim == 2) ReactionSums(2, c, n, S, rec, US, f, all);
   else ReactionSums(3, c, n, S, rec, US, f, all);
   for (PetscInt k = 0; k < 3; k++) local[k] = all[k];
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, all, c->dim == 3 ? 6 : 3, MPIU_REAL, MPI_SUM, c->comm));
+  for (PetscInt k = 0; k < nextra; k++) all[nr + k] = extra[k];
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, all, (PetscMPIInt)(nr + nextra), MPIU_REAL, MPI_SUM, c->comm));
   for (PetscInt k = 0; k < 3; k++) {
     c->reaction[k]     = all[k];
-    c->reaction_out[k] = all[3 + k];
+    c->reaction_out[k] = c->dim == 3 ? all[3 + k] : 0;
   }
+  for (PetscInt k = 0; k < nextra; k++) extra[k] = all[nr + k];
+  PetscFunctionReturn(0);
+}
+
+/* FSCouplingGetReaction - the reaction (in-plane F_x, F_y, M_z) of the last FSCouplingReaction(), summed over the
+   ranks. Not collective */
+PetscErrorCode FSCouplingGetReaction(FSCoupling c, PetscReal reaction[3])
+{
+  PetscFunctionBegin;
+  for (PetscInt k = 0; k < 3; k++) reaction[k] = c->reaction[k];
   PetscFunctionReturn(0);
 }
 
@@ -425,6 +441,73 @@ PetscErrorCode FSCouplingInertia(FSCoupling c, PetscInt n, PetscInt S, const Pet
     }
   }
   *power = pw;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSCouplingInertiaSums - this rank's sums of the n owned particles that FSCouplingInertia()'s power is made of,
+   for the sums over the ranks to ride on the reaction's MPI_Allreduce before the tank's motion of the stage is
+   known: sums[d] = sum_i m_i u_d, sums[3 + 3 d + k] = sum_i m_i u_d r_k (r = x - the reference point, the tank's
+   frame). The inertial acceleration is affine in r (a(r) = a(0) + J r) and the Coriolis part does no work, so
+   P_ext = a(0) . sums[0..3) + sum_dk J_dk sums[3 + 3 d + k] (FSCouplingInertiaPower), the same power up to
+   round-off. Not collective
+*/
+void FSCouplingInertiaSums(FSCoupling c, PetscInt n, PetscInt S, const PetscReal rec[],
+                           PetscReal sums[FS_COUPLING_NINERTIA_SUMS])
+{
+  const PetscInt  dim    = c->dim;
+  const PetscReal ref[3] = {c->tank_ref[0], c->tank_ref[1], c->tank_ref[2]};
+
+  for (PetscInt k = 0; k < FS_COUPLING_NINERTIA_SUMS; k++) sums[k] = 0;
+  for (PetscInt i = 0; i < n; i++) {
+    const PetscReal *ri = &rec[i * S], m = ri[2 * dim + 1];
+    for (PetscInt d = 0; d < dim; d++) {
+      const PetscReal mu = m * ri[dim + d];
+      sums[d] += mu;
+      for (PetscInt k = 0; k < dim; k++) sums[3 + 3 * d + k] += mu * (ri[k] - ref[k]);
+    }
+  }
+}
+
+/* the inertial acceleration FSCouplingInertia() adds at r from the reference point, without the Coriolis part */
+static void InertiaAcceleration(FSCoupling c, const FSFrameField *ff, const PetscReal r[3], PetscReal a[3])
+{
+  const PetscReal x[3] = {c->tank_ref[0] + r[0], c->tank_ref[1] + r[1], c->tank_ref[2] + r[2]};
+
+  a[2] = 0;
+  if (ff->rotated) {
+    FSFrameFieldEval3(ff, x, a);
+    for (PetscInt d = 0; d < 3; d++) a[d] -= c->gravity[d];
+    return;
+  }
+  FSFrameFieldEval(ff, x, a);
+  a[0] -= c->gravity[0];
+  a[1] -= c->gravity[1];
+  if (c->dim == 3) a[2] = -c->motion.acc[2];
+}
+
+/*
+   FSCouplingInertiaPower - the power sum_i m_i u_i . a_i of the inertial accelerations of this stage's motion
+   (FSCouplingInertia()'s) from FSCouplingInertiaSums()'s sums, summed over the ranks. Not collective
+*/
+PetscErrorCode FSCouplingInertiaPower(FSCoupling c, const PetscReal sums[FS_COUPLING_NINERTIA_SUMS], PetscReal *power)
+{
+  const PetscInt  dim     = c->dim;
+  const PetscReal zero[3] = {0, 0, 0};
+  FSFrameField    ff;
+  PetscReal       a0[3], p = 0;
+
+  PetscFunctionBegin;
+  FrameField(c, &c->motion, &ff);
+  InertiaAcceleration(c, &ff, zero, a0);
+  for (PetscInt d = 0; d < dim; d++) p += a0[d] * sums[d];
+  for (PetscInt k = 0; k < dim; k++) { /* column k of J: a(e_k) - a(0) */
+    PetscReal e[3] = {0, 0, 0}, ak[3];
+    e[k]           = 1;
+    InertiaAcceleration(c, &ff, e, ak);
+    for (PetscInt d = 0; d < dim; d++) p += (ak[d] - a0[d]) * sums[3 + 3 * d + k];
+  }
+  *power = p;
   PetscFunctionReturn(0);
 }
 

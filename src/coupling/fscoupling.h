@@ -22,11 +22,21 @@ PETSC_INTERN PetscErrorCode FSCouplingGetWidth(FSCoupling, PetscReal *);
 PETSC_INTERN PetscErrorCode FSCouplingGetBody(FSCoupling, const FSFrameField **);
 PETSC_INTERN PetscErrorCode FSCouplingSetPredictedMotion(FSCoupling, const FSTankMotion *);
 PETSC_INTERN PetscErrorCode FSCouplingReaction(FSCoupling, PetscInt n, PetscInt stride, const PetscReal rec[],
-                                               PetscInt ustride, const PetscReal f[], PetscReal local[3]);
+                                               PetscInt ustride, const PetscReal f[], PetscReal local[3],
+                                               PetscInt nextra, PetscReal extra[]);
+PETSC_INTERN PetscErrorCode FSCouplingGetReaction(FSCoupling, PetscReal reaction[3]);
 PETSC_INTERN PetscErrorCode FSCouplingComputeLoads(FSCoupling, FSBoundary, FSLoads *);
 PETSC_INTERN PetscErrorCode FSCouplingSetMotion(FSCoupling, const FSTankMotion *);
 PETSC_INTERN PetscErrorCode FSCouplingInertia(FSCoupling, PetscInt n, PetscInt stride, const PetscReal rec[],
                                               PetscInt ustride, PetscReal f[], PetscReal *power);
+/* the most extra sums FSCouplingReaction() carries on its MPI_Allreduce */
+#define FS_COUPLING_MAX_EXTRA 64
+/* the particle sums the inertial accelerations' power is made of (FSCouplingInertiaSums): m u and m u_d r_k */
+#define FS_COUPLING_NINERTIA_SUMS 12
+PETSC_INTERN void           FSCouplingInertiaSums(FSCoupling, PetscInt n, PetscInt stride, const PetscReal rec[],
+                                                  PetscReal sums[FS_COUPLING_NINERTIA_SUMS]);
+PETSC_INTERN PetscErrorCode FSCouplingInertiaPower(FSCoupling, const PetscReal sums[FS_COUPLING_NINERTIA_SUMS],
+                                                   PetscReal *power);
 PETSC_INTERN PetscErrorCode FSCouplingPower(FSCoupling, const PetscReal reaction[3], PetscReal *power);
 PETSC_INTERN PetscErrorCode FSCouplingMotionPower(FSCoupling, const PetscReal reaction[3], PetscReal *power);
 PETSC_INTERN PetscErrorCode FSCouplingStaticLoadsWork(FSCoupling, const FSTankMotion *, PetscReal *);

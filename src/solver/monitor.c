@@ -331,7 +331,9 @@ static PetscErrorCode FSSolverMonitorsStep(FSSolver s)
   PetscFunctionBegin;
   PetscCall(TSGetTime(s->ts, &t));
   PetscCall(TSGetStepNumber(s->ts, &step));
-  PetscCall(FSMonitorRows(s->mon.nlist, s->mon.list, s)); /* timeseries.csv and energy.csv: one reduction */
+  if (s->mon.rows.active) /* their sums rode on the step's reduction (FSSolverStepReduce) */
+    PetscCall(FSMonitorRowsEnd(s->mon.nlist, s->mon.list, s, &s->mon.rows));
+  else PetscCall(FSMonitorRows(s->mon.nlist, s->mon.list, s)); /* timeseries.csv and energy.csv: one reduction */
   for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorStep(s->mon.list[k], s));
   for (PetscInt k = 0; k < s->mon.nfn; k++) PetscCall((*s->mon.fn[k])(s, step, t, s->mon.fnctx[k]));
   PetscFunctionReturn(0);

@@ -390,7 +390,7 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
 }
 
 /* FSSolverRelaxation - the start-up relaxation (-fs_relax_time): du/dt -= zeta(t) u, zeta fading
-   smoothly to 0, and its power. */
+   smoothly to 0 (f NULL: not applied), and its power (this rank's share). */
 static void FSSolverRelaxation(FSSolver s, PetscReal *f)
 {
   const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
@@ -402,7 +402,7 @@ static void FSSolverRelaxation(FSSolver s, PetscReal *f)
     for (PetscInt i = 0; i < n; i++)
       for (PetscInt d = 0; d < dim; d++) {
         const PetscReal ud = s->pw.rec[i * S + dim + d];
-        f[i * US + dim + d] -= zeta * ud;
+        if (f) f[i * US + dim + d] -= zeta * ud;
         s->state.relax_power -= zeta * s->pw.rec[i * S + 2 * dim + 1] * ud * ud;
       }
   }
@@ -413,10 +413,14 @@ static void FSSolverRelaxation(FSSolver s, PetscReal *f)
    energies of the terms with a power, and the energy block's integrals (P_ext, the relaxation's power,
    the structure's damping power, the coupling's power or a prescribed motion's) from this rank's shares summed over the
    ranks; reaction is this rank's share of the reaction of the walls' forces (FSCouplingReaction).
+   With summed (coupled: the sums rode on the reaction's MPI_Allreduce, FSSolverEvaluateRates) the terms' powers,
+   P_ext, the relaxation's power and the reaction are sums over the ranks already, in that order, and nothing is
+   reduced here.
 
-   Collective
+   Collective unless summed
 */
-static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const PetscReal reaction[3], PetscReal *f)
+static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const PetscReal *summed,
+                                         const PetscReal reaction[3], PetscReal *f)
 {
   const PetscInt US = s->state.ustride, n = s->pw.nowned;
   PetscReal      power[FS_MAX_TERMS + 5];
@@ -432,9 +436,12 @@ static PetscErrorCode FSSolverPowerRates(FSSolver s, PetscBool coupled, const Pe
     PetscMPIInt rank;
     PetscReal  *fe = f + n * US + s->state.genergy;
     PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)s), &rank));
-    PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0,
-                            PetscObjectComm((PetscObject)s)));
-    if (s->pw.decomp.size > 1) s->mon.par.uncounted++; /* PETSc's counters miss MPI_Reduce */
+    if (summed) PetscCall(PetscArraycpy(power, summed, npower + 5));
+    else {
+      PetscCallMPI(MPI_Reduce(rank ? power : MPI_IN_PLACE, power, (PetscMPIInt)(npower + 5), MPIU_REAL, MPI_SUM, 0,
+                              PetscObjectComm((PetscObject)s)));
+      if (s->pw.decomp.size > 1) s->mon.par.uncounted++; /* PETSc's counters miss MPI_Reduce */
+    }
     PetscErrorCode ierr = 0; /* the structure's energy (rank 0): its failure is raised on every rank below */
     if (!rank) {
       FSStructure st   = s->structure;
@@ -474,7 +481,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
 {
   const PetscInt S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
   FSParticles    P;
-  PetscReal      reaction[3] = {0, 0, 0};
+  PetscReal      reaction[3] = {0, 0, 0}, extra[FS_COUPLING_MAX_EXTRA];
   PetscBool      coupled;
   PetscInt64     npairs;
 
@@ -558,9 +565,16 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
      motion after it (the motion also does the relaxation's work in the absolute frame: work_motion) */
   const PetscBool prescribed = (PetscBool)(coupled && s->structure->prescribed);
   if (prescribed) FSSolverRelaxation(s, f);
-  if (coupled) {
+  if (coupled) { /* the stage's one collective: the reaction, and riding on it the powers' sums (FSSolverPowerRates) */
+    PetscInt nextra = 0;
+    if (!prescribed) FSSolverRelaxation(s, NULL); /* its power now, its rates below */
+    for (PetscInt t = 0; t < s->terms.nterms; t++)
+      if (s->terms.term[t]->has_power) extra[nextra++] = s->terms.term[t]->power;
+    extra[nextra++] = s->state.relax_power;
+    FSCouplingInertiaSums(s->coupling, n, S, s->pw.rec, &extra[nextra]);
     PetscCall(PetscLogEventBegin(FS_Coupling, 0, 0, 0, 0));
-    PetscCall(FSCouplingReaction(s->coupling, n, S, s->pw.rec, US, f, reaction));
+    PetscCall(
+        FSCouplingReaction(s->coupling, n, S, s->pw.rec, US, f, reaction, nextra + FS_COUPLING_NINERTIA_SUMS, extra));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   }
   if (!prescribed) FSSolverRelaxation(s, f);
@@ -577,7 +591,16 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
     PetscCall(FSCouplingInertia(s->coupling, n, S, s->pw.rec, US, f, &s->state.ext_power));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   } else PetscCall(FSSolverStructureRates(s, PETSC_TRUE, u, f, NULL));
-  PetscCall(FSSolverPowerRates(s, coupled, reaction, f));
+  if (coupled) { /* the powers and the reaction summed over the ranks, from the reaction's MPI_Allreduce */
+    PetscReal summed[FS_MAX_TERMS + 5];
+    PetscInt  q = 0;
+    for (PetscInt t = 0; t < s->terms.nterms; t++)
+      if (s->terms.term[t]->has_power) summed[q] = extra[q], q++;
+    PetscCall(FSCouplingInertiaPower(s->coupling, &extra[q + 1], &summed[q]));
+    summed[q + 1] = extra[q];
+    PetscCall(FSCouplingGetReaction(s->coupling, &summed[q + 2]));
+    PetscCall(FSSolverPowerRates(s, coupled, summed, reaction, f));
+  } else PetscCall(FSSolverPowerRates(s, coupled, NULL, reaction, f));
   PetscCall(PetscLogEventEnd(FS_RHS, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

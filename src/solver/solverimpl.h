@@ -204,17 +204,18 @@ typedef struct {
   FSSolverMonitorFn fn[FS_MAX_MONITORS];
   void             *fnctx[FS_MAX_MONITORS];
   PetscErrorCode (*fndestroy[FS_MAX_MONITORS])(void **);
-  PetscInt       nfn;
-  PetscLogDouble wall_start;
-  PetscInt       step0;
-  PetscInt64     pair_visits, particle_steps;
-  PetscInt       nmigrations, nrhs;
-  PetscInt       steps_taken; /* steps taken since set-up (this process) */
-  PetscInt       nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
-  PetscInt       nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
-  PetscBool      monitoring;
-  FSOutputLock   lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
-  PetscReal      t0;
+  PetscInt          nfn;
+  PetscLogDouble    wall_start;
+  PetscInt          step0;
+  PetscInt64        pair_visits, particle_steps;
+  PetscInt          nmigrations, nrhs;
+  PetscInt          steps_taken; /* steps taken since set-up (this process) */
+  PetscInt          nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
+  PetscInt          nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
+  FSMonitorRowBatch rows;        /* this step's rows, their sums reduced with the step's own (FSSolverStepReduce) */
+  PetscBool         monitoring;
+  FSOutputLock      lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
+  PetscReal         t0;
   /* the built-in monitors, made with their options by FSSolverSetFromOptions() and set up by FSSolverSetUp(); the
      run's output attaches those it writes (FSSolverMonitorBegin()); FSSolverGetProbes() reads the probes */
   FSMonitor       series, energy, probes, snapshots, checkpoints, restcheck, progress, summary;

@@ -858,7 +858,9 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
   const PetscInt nsrc = 1 + s->terms.nterms;
   PetscReal      mx[FS_CHECK_N + FS_REBUILD_N + 2 + FS_MAX_TERMS + 2], *rb = mx + FS_CHECK_N, *cnt = rb + FS_REBUILD_N,
                                                                   *nus = cnt + 2, nu;
-  PetscInt source                                                      = 0, step;
+  PetscInt           source                                            = 0, step;
+  const PetscInt     nmx                                               = FS_CHECK_N + FS_REBUILD_N + 2 + nsrc + 1;
+  FSMonitorRowBatch *rows                                              = &s->mon.rows;
 
   PetscFunctionBegin;
   for (PetscInt k = 0; k < FS_CHECK_N; k++) mx[k] = check[k];
@@ -868,7 +870,22 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
   for (PetscInt k = 0; k < nsrc; k++) nus[k] = s->state.nu_src[k];
   nus[0]    = PetscMax(nus[0], s->opt.nu);
   nus[nsrc] = FSSolverWriteStatus(s); /* the last rows' write status (rank 0's) */
-  PetscCall(FSSolverReduceSumMax(s, 2, jump, FS_CHECK_N + FS_REBUILD_N + 2 + nsrc + 1, mx));
+  if (rows->nsum + rows->nmax == 0) PetscCall(FSSolverReduceSumMax(s, 2, jump, nmx, mx));
+  else { /* this step's rows' sums and maxima too (FSMonitorRowsBegin()) */ PetscReal *sum, *max;
+    PetscCall(PetscMalloc2(2 + rows->nsum, &sum, nmx + rows->nmax, &max));
+    sum[0] = jump[0];
+    sum[1] = jump[1];
+    PetscCall(PetscArraycpy(sum + 2, rows->sum, rows->nsum));
+    PetscCall(PetscArraycpy(max, mx, nmx));
+    PetscCall(PetscArraycpy(max + nmx, rows->max, rows->nmax));
+    PetscCall(FSSolverReduceSumMax(s, 2 + rows->nsum, sum, nmx + rows->nmax, max));
+    jump[0] = sum[0];
+    jump[1] = sum[1];
+    PetscCall(PetscArraycpy(rows->sum, sum + 2, rows->nsum));
+    PetscCall(PetscArraycpy(mx, max, nmx));
+    PetscCall(PetscArraycpy(rows->max, max + nmx, rows->nmax));
+    PetscCall(PetscFree2(sum, max));
+  }
   PetscCall(FSSolverWriteStatusRaise(s, nus[nsrc])); /* a failed row: the run stops one step after it */
   PetscCall(FSSolverCheckStateEnd(s, mx));
   nu = nus[0]; /* as FSSolverReduceWithViscosity() */
@@ -954,6 +971,11 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscCall(FSSolverCheckStateLocal(s, check)); /* its verdict after the reduction below */
   PetscCall(FSSolverUnpackState(s));
   PetscCall(FSSolverBoundaryBounce(s, ejump, &bounced)); /* with the bounces' energy changes, for the energy budget */
+  /* this step's rows (FSSolverMonitor), their sums taken now to ride on the step's reduction: the state, the loads
+     and the masses are the step's end's, before the lists are rebuilt and the particles move between the ranks; the
+     bounces moved the particles' fields, so the state takes them first (as FSSolverKeepLists() would) */
+  if (bounced) PetscCall(FSSolverPackState(s));
+  PetscCall(FSMonitorRowsBegin(s->mon.nlist, s->mon.list, s, &s->mon.rows));
   PetscCall(FSSolverStepReduce(s, check, ejump, &rebuild, &sort)); /* the check, the rebuild decision, the next dt */
   if (rebuild) {
     PetscBool rebalanced;
@@ -964,6 +986,9 @@ PetscErrorCode FSSolverStep(FSSolver s)
       s->pw.sort_step = step;
     }
     PetscCall(FSSolverResize(s, changed));
+    /* the particles were reordered (on every rank alike): the rows' sums are taken again in the new order, with
+       their own reduction (FSMonitorRows()), so that a run restarted from this step's checkpoint makes the same row */
+    if (changed || sort || rebalanced) PetscCall(FSMonitorRowBatchReset(&s->mon.rows));
     s->mon.nrebuilds++;
   } else PetscCall(FSSolverKeepLists(s));
   if (bounced && s->pw.nglobal_particles > 0) PetscCall(FSSolverEnergyAddJump(s, ejump, PETSC_TRUE));

@@ -298,10 +298,91 @@ PetscErrorCode FSMonitorBegin(FSMonitor m, FSSolver s)
 }
 
 /*
+   FSMonitorRowBatchReset - frees what FSMonitorRowsBegin() took and leaves the batch empty (a step that stopped
+   between the two leaves it so). Not collective
+*/
+PetscErrorCode FSMonitorRowBatchReset(FSMonitorRowBatch *b)
+{
+  PetscFunctionBegin;
+  PetscCall(PetscFree(b->sum));
+  PetscCall(PetscFree2(b->off, b->due));
+  PetscCall(PetscMemzero(b, sizeof(*b)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSMonitorRowsBegin - the first half of FSMonitorRows(): which of the monitors have a row due at this step, and
+   this rank's sums and maxima of those rows in b (b->sum[0..b->nsum), b->max[0..b->nmax), in the monitors' order),
+   for the caller to reduce (FSSolverReduceSumMax(), or with other values in one reduction as the step does) before
+   FSMonitorRowsEnd().
+
+   Not collective (a monitor's rowlocal may be)
+*/
+PetscErrorCode FSMonitorRowsBegin(PetscInt n, const FSMonitor mons[], FSSolver s, FSMonitorRowBatch *b)
+{
+  PetscFunctionBegin;
+  PetscCall(FSMonitorRowBatchReset(b));
+  b->n      = n;
+  b->active = PETSC_TRUE;
+  if (!n) PetscFunctionReturn(0);
+  PetscCall(PetscMalloc2(2 * n + 2, &b->off, n, &b->due));
+  for (PetscInt k = 0; k < n; k++) { /* the sums of the rows due, in the monitors' order, then their maxima */
+    PetscInt ns = 0, nm = 0;
+    b->due[k] = PETSC_FALSE;
+    if (mons[k]->begun && mons[k]->ops->rowsize) PetscCall((*mons[k]->ops->rowsize)(mons[k], s, &b->due[k], &ns, &nm));
+    b->off[2 * k]     = b->nsum;
+    b->off[2 * k + 1] = b->nmax;
+    if (!b->due[k]) continue;
+    b->nsum += ns;
+    b->nmax += nm;
+  }
+  b->off[2 * n]     = b->nsum;
+  b->off[2 * n + 1] = b->nmax;
+  PetscCall(PetscMalloc1(b->nsum + b->nmax + 1, &b->sum));
+  b->max = b->sum + b->nsum;
+  for (PetscInt k = 0; k < n; k++)
+    if (b->due[k]) PetscCall((*mons[k]->ops->rowlocal)(mons[k], s, b->sum + b->off[2 * k], b->max + b->off[2 * k + 1]));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSMonitorRowsEnd - the second half of FSMonitorRows(), once b's sums and maxima are reduced over the ranks: each
+   monitor makes its row (where a check may stop the run before any row is written), then the rows are written in the
+   monitors' order, a row only while the rows before it were written (rank 0's deferred write status,
+   FSMonitorGetWriteStatus()); b is emptied.
+
+   Not collective (a monitor's rowvalues may be)
+*/
+PetscErrorCode FSMonitorRowsEnd(PetscInt n, const FSMonitor mons[], FSSolver s, FSMonitorRowBatch *b)
+{
+  PetscFunctionBegin;
+  PetscCheck(b->active && b->n == n, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE,
+             "FSMonitorRowsEnd: no FSMonitorRowsBegin() for these %" PetscInt_FMT " monitors", n);
+  for (PetscInt k = 0; k < n; k++)
+    if (b->due[k])
+      PetscCall((*mons[k]->ops->rowvalues)(mons[k], s, b->sum + b->off[2 * k], b->max + b->off[2 * k + 1]));
+  for (PetscInt k = 0, failed = 0; k < n; k++) {
+    if (!b->due[k]) continue;
+    if (!failed) PetscCall((*mons[k]->ops->rowwrite)(mons[k], s));
+    mons[k]->unchecked = PETSC_TRUE;
+    if (mons[k]->file) { /* rank 0: a later row only where this one was written */
+      PetscBool unchecked;
+      PetscInt  status;
+      PetscCall(FSMonitorGetWriteStatus(mons[k], &status, &unchecked));
+      if (status) failed = 1;
+    }
+  }
+  PetscCall(FSMonitorRowBatchReset(b));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSMonitorRows - the rows due at this step of the monitors with rows (the time series, the energy budget): each
    gives this rank's sums and maxima, one reduction (FSSolverReduceSumMax()) takes them all, then each makes its row
    (where a check may stop the run before any row is written) and the rows are written in the monitors' order, a row
    only while the rows before it were written (rank 0's deferred write status, FSMonitorGetWriteStatus()).
+   FSMonitorRowsBegin() and FSMonitorRowsEnd() are its two halves, for a caller whose reduction the rows' ride on
+   (FSSolverStep: the step's own).
 
    Collective
 
@@ -312,49 +393,13 @@ PetscErrorCode FSMonitorBegin(FSMonitor m, FSSolver s)
 */
 PetscErrorCode FSMonitorRows(PetscInt n, const FSMonitor mons[], FSSolver s)
 {
-  PetscReal buf[64], *sum = buf, *max;
-  PetscInt  nsum = 0, nmax  = 0, *off;
-  PetscBool due[64], *isdue = due;
+  FSMonitorRowBatch b;
 
   PetscFunctionBegin;
-  if (!n) PetscFunctionReturn(0);
-  PetscCall(PetscMalloc1(2 * n + 2, &off));
-  if (n > (PetscInt)PETSC_STATIC_ARRAY_LENGTH(due)) PetscCall(PetscMalloc1(n, &isdue));
-  for (PetscInt k = 0; k < n; k++) { /* the sums of the rows due, in the monitors' order, then their maxima */
-    PetscInt ns = 0, nm = 0;
-    isdue[k] = PETSC_FALSE;
-    if (mons[k]->begun && mons[k]->ops->rowsize) PetscCall((*mons[k]->ops->rowsize)(mons[k], s, &isdue[k], &ns, &nm));
-    off[2 * k]     = nsum;
-    off[2 * k + 1] = nmax;
-    if (!isdue[k]) continue;
-    nsum += ns;
-    nmax += nm;
-  }
-  off[2 * n]     = nsum;
-  off[2 * n + 1] = nmax;
-  if (nsum + nmax > 0) {
-    if (nsum + nmax > (PetscInt)PETSC_STATIC_ARRAY_LENGTH(buf)) PetscCall(PetscMalloc1(nsum + nmax, &sum));
-    max = sum + nsum;
-    for (PetscInt k = 0; k < n; k++)
-      if (isdue[k]) PetscCall((*mons[k]->ops->rowlocal)(mons[k], s, sum + off[2 * k], max + off[2 * k + 1]));
-    PetscCall(FSSolverReduceSumMax(s, nsum, sum, nmax, max)); /* the rows' one reduction */
-    for (PetscInt k = 0; k < n; k++)
-      if (isdue[k]) PetscCall((*mons[k]->ops->rowvalues)(mons[k], s, sum + off[2 * k], max + off[2 * k + 1]));
-    if (sum != buf) PetscCall(PetscFree(sum));
-  }
-  for (PetscInt k = 0, failed = 0; k < n; k++) {
-    if (!isdue[k]) continue;
-    if (!failed) PetscCall((*mons[k]->ops->rowwrite)(mons[k], s));
-    mons[k]->unchecked = PETSC_TRUE;
-    if (mons[k]->file) { /* rank 0: a later row only where this one was written */
-      PetscBool unchecked;
-      PetscInt  status;
-      PetscCall(FSMonitorGetWriteStatus(mons[k], &status, &unchecked));
-      if (status) failed = 1;
-    }
-  }
-  if (isdue != due) PetscCall(PetscFree(isdue));
-  PetscCall(PetscFree(off));
+  PetscCall(PetscMemzero(&b, sizeof(b)));
+  PetscCall(FSMonitorRowsBegin(n, mons, s, &b));
+  if (b.nsum + b.nmax > 0) PetscCall(FSSolverReduceSumMax(s, b.nsum, b.sum, b.nmax, b.max)); /* the rows' one */
+  PetscCall(FSMonitorRowsEnd(n, mons, s, &b));
   PetscFunctionReturn(0);
 }
 

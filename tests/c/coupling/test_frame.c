@@ -182,6 +182,22 @@ static void PathDerivativesRotated(PetscReal t, const PetscReal c[3], const Pets
   }
 }
 
+/* the inertial power from the particle sums that ride on the reaction's reduction (FSCouplingInertiaSums(),
+   FSCouplingInertiaPower()) must be FSCouplingInertia()'s particle by particle sum to round-off */
+static PetscErrorCode CheckPowerFromSums(FSCoupling cp, PetscInt n, PetscInt S, const PetscReal rec[], PetscReal power,
+                                         PetscReal scale, const char what[], PetscReal t)
+{
+  PetscReal sums[FS_COUPLING_NINERTIA_SUMS], p;
+
+  PetscFunctionBegin;
+  FSCouplingInertiaSums(cp, n, S, rec, sums);
+  PetscCall(FSCouplingInertiaPower(cp, sums, &p));
+  TCHECK(PetscAbsReal(p - power) <= 1e-12 * (PetscAbsReal(power) + scale),
+         "%s, t = %g: inertial power from the particle sums %.15g, particle by particle %.15g", what, (double)t,
+         (double)p, (double)power);
+  PetscFunctionReturn(0);
+}
+
 /* the rotated frame turns the tank about every axis at once: accelerations, power and Q */
 static PetscErrorCode CheckRotatedFrame(PetscReal *maxerr)
 {
@@ -244,6 +260,7 @@ static PetscErrorCode CheckRotatedFrame(PetscReal *maxerr)
     }
     TCHECK(PetscAbsReal(power - epower) <= 10 * TOL * PetscAbsReal(epower) + TOL * scale,
            "rotated, t = %g: inertial power %.12g, expected %.12g", (double)t, (double)power, (double)epower);
+    PetscCall(CheckPowerFromSums(cp, NP, S, rec, power, scale, "rotated", t));
   }
   PetscCall(FSCouplingDestroy(&cp));
   PetscFunctionReturn(0);
@@ -303,6 +320,7 @@ static PetscErrorCode CheckFrame(PetscInt dim, PetscReal *maxerr)
     TCHECK(PetscAbsReal(power - epower) <= 10 * TOL * PetscAbsReal(epower) + TOL * scale,
            "%" PetscInt_FMT "-D, t = %g: inertial power %.12g, expected %.12g", dim, (double)t, (double)power,
            (double)epower);
+    PetscCall(CheckPowerFromSums(cp, NP, S, rec, power, scale, dim == 2 ? "2-D" : "3-D", t));
   }
   PetscCall(FSCouplingDestroy(&cp));
   PetscFunctionReturn(0);
