@@ -45,6 +45,17 @@ static inline PetscInt CellCoord(const Grid *gr, const PetscReal x[], PetscInt d
   return PetscMax(0, PetscMin(gr->nc[d] - 1, c));
 }
 
+/* the 3 x 3 (x 3) cells around x's, clipped to the grid: [lo, hi] per dimension (0, 0 beyond dim) */
+static inline void NeighbourCells(const Grid *gr, const PetscReal x[], PetscInt dim, PetscInt lo[3], PetscInt hi[3])
+{
+  for (PetscInt d = 0; d < 3; d++) lo[d] = hi[d] = 0;
+  for (PetscInt d = 0; d < dim; d++) {
+    const PetscInt c = CellCoord(gr, x, d);
+    lo[d]            = PetscMax(0, c - 1);
+    hi[d]            = PetscMin(gr->nc[d] - 1, c + 1);
+  }
+}
+
 static inline PetscInt CellOf(const Grid *gr, const PetscReal x[])
 {
   PetscInt c = 0;
@@ -151,16 +162,12 @@ static inline PetscReal ElementPlaneDistance(PetscInt dim, const PetscReal el[],
 static void ParticleSum(const FSPackRegion *g, const Grid *pg, const Grid *eg, const FSKernel *k, PetscReal V,
                         const PetscReal push[2], PetscBool all, const PetscReal X[], PetscInt i, PetscReal e[])
 {
-  const PetscInt   dim  = g->dim;
-  const PetscReal *xi   = &X[dim * i];
-  PetscInt         c[3] = {0, 0, 0}, lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  const PetscInt   dim = g->dim;
+  const PetscReal *xi  = &X[dim * i];
+  PetscInt         lo[3], hi[3];
 
   for (PetscInt d = 0; d < 3; d++) e[d] = 0;
-  for (PetscInt d = 0; d < dim; d++) {
-    c[d]  = CellCoord(pg, xi, d);
-    lo[d] = PetscMax(0, c[d] - 1);
-    hi[d] = PetscMin(pg->nc[d] - 1, c[d] + 1);
-  }
+  NeighbourCells(pg, xi, dim, lo, hi);
   for (PetscInt cz = lo[2]; cz <= hi[2]; cz++)
     for (PetscInt cy = lo[1]; cy <= hi[1]; cy++)
       for (PetscInt cx = lo[0]; cx <= hi[0]; cx++) {
@@ -301,12 +308,8 @@ static PetscErrorCode ThinOverfull(const FSPackRegion *g, const Grid *eg, const 
     const PetscReal *xi   = &Y[dim * i];
     const PetscInt   cell = CellOf(eg, xi);
     PetscReal        sum = 0, gamma = 1;
-    PetscInt         c[3] = {0, 0, 0}, lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
-    for (PetscInt d = 0; d < dim; d++) {
-      c[d]  = CellCoord(&pg, xi, d);
-      lo[d] = PetscMax(0, c[d] - 1);
-      hi[d] = PetscMin(pg.nc[d] - 1, c[d] + 1);
-    }
+    PetscInt         lo[3], hi[3];
+    NeighbourCells(&pg, xi, dim, lo, hi);
     for (PetscInt cz = lo[2]; cz <= hi[2]; cz++)
       for (PetscInt cy = lo[1]; cy <= hi[1]; cy++)
         for (PetscInt cx = lo[0]; cx <= hi[0]; cx++) {
@@ -334,10 +337,10 @@ static PetscErrorCode ThinOverfull(const FSPackRegion *g, const Grid *eg, const 
   for (PetscInt i = 0; i < N; i++)
     if (o[i] > over) HeapPush(&hp, o[i], i);
   while (hp.n > 0 && *removed < N - 1) { /* one point at least is left */
-    const PetscInt   i    = hp.i[0];
-    const PetscReal  v    = hp.v[0];
-    const PetscReal *xi   = &Y[dim * i];
-    PetscInt         c[3] = {0, 0, 0}, lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+    const PetscInt   i  = hp.i[0];
+    const PetscReal  v  = hp.v[0];
+    const PetscReal *xi = &Y[dim * i];
+    PetscInt         lo[3], hi[3];
     HeapPop(&hp);
     if (!keep[i]) continue;
     if (v != o[i] || o[i] <= 0) { /* lowered since it was pushed: back at its place while still over-full */
@@ -346,11 +349,7 @@ static PetscErrorCode ThinOverfull(const FSPackRegion *g, const Grid *eg, const 
     }
     keep[i] = PETSC_FALSE;
     (*removed)++;
-    for (PetscInt d = 0; d < dim; d++) {
-      c[d]  = CellCoord(&pg, xi, d);
-      lo[d] = PetscMax(0, c[d] - 1);
-      hi[d] = PetscMin(pg.nc[d] - 1, c[d] + 1);
-    }
+    NeighbourCells(&pg, xi, dim, lo, hi);
     for (PetscInt cz = lo[2]; cz <= hi[2]; cz++)
       for (PetscInt cy = lo[1]; cy <= hi[1]; cy++)
         for (PetscInt cx = lo[0]; cx <= hi[0]; cx++) {
