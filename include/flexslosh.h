@@ -145,17 +145,20 @@ PETSC_EXTERN PetscErrorCode FSMonitorSetUp(FSMonitor, FSSolver);
 PETSC_EXTERN PetscErrorCode FSMonitorBegin(FSMonitor, FSSolver);
 PETSC_EXTERN PetscErrorCode FSMonitorRows(PetscInt, const FSMonitor[], FSSolver);
 /* the rows due at a step between FSMonitorRowsBegin() and FSMonitorRowsEnd(): their sums and maxima, this rank's
-   until the caller reduces them (sum[0..nsum) summed, max[0..nmax) the largest over the ranks) */
+   until the caller reduces them (sum[0..nsum) summed, max[0..nmax) the largest over the ranks). The batch keeps its
+   arrays from step to step (nmon, nval: their room) until FSMonitorRowBatchDestroy() */
 typedef struct {
   PetscInt   n, nsum, nmax;
   PetscReal *sum, *max;
   PetscInt  *off;
   PetscBool *due;
   PetscBool  active;
+  PetscInt   nmon, nval;
 } FSMonitorRowBatch;
 PETSC_EXTERN PetscErrorCode FSMonitorRowsBegin(PetscInt, const FSMonitor[], FSSolver, FSMonitorRowBatch *);
 PETSC_EXTERN PetscErrorCode FSMonitorRowsEnd(PetscInt, const FSMonitor[], FSSolver, FSMonitorRowBatch *);
 PETSC_EXTERN PetscErrorCode FSMonitorRowBatchReset(FSMonitorRowBatch *);
+PETSC_EXTERN PetscErrorCode FSMonitorRowBatchDestroy(FSMonitorRowBatch *);
 PETSC_EXTERN PetscErrorCode FSMonitorStep(FSMonitor, FSSolver);
 PETSC_EXTERN PetscErrorCode FSMonitorEnd(FSMonitor, FSSolver);
 PETSC_EXTERN PetscErrorCode FSMonitorGetWriteStatus(FSMonitor, PetscInt *, PetscBool *);

@@ -1058,7 +1058,8 @@ PetscErrorCode FSSolverDestroy(FSSolver *solver)
   if (s->casedata) PetscCall(PetscFree(s->casedata));
   PetscCall(FSSolverMonitorCancel(s)); /* the user's monitors and callbacks */
   for (PetscInt k = 0; k < s->mon.nlist; k++) PetscCall(FSMonitorDestroy(&s->mon.list[k])); /* the run's own */
-  PetscCall(FSMonitorRowBatchReset(&s->mon.rows));
+  PetscCall(FSMonitorRowBatchDestroy(&s->mon.rows));
+  PetscCall(PetscFree(s->mon.reduce));
   s->mon.nlist = s->mon.nbuiltin = 0;
   PetscCall(FSSolverBuiltinMonitorsDestroy(s));
   PetscCall(FSOutputDirUnlock(&s->mon.lock)); /* the output is closed: another run may write there */

@@ -213,6 +213,8 @@ typedef struct {
   PetscInt          nrebalances; /* moves of the cuts (FSSolverRebalance) since set-up */
   PetscInt          nrebuilds;   /* rebuilds of the lists after steps since set-up (this process) */
   FSMonitorRowBatch rows;        /* this step's rows, their sums reduced with the step's own (FSSolverStepReduce) */
+  PetscReal        *reduce;      /* FSSolverStepReduce's room for its own values and the rows' (nreduce reals) */
+  PetscInt          nreduce;
   PetscBool         monitoring;
   FSOutputLock      lock; /* the output directory, this run's (FSSolverOpenOutputDir()); NULL until it is open */
   PetscReal         t0;
@@ -305,7 +307,7 @@ PETSC_INTERN PetscErrorCode FSSolverRebuildNeeded(FSSolver, PetscBool *rebuild, 
 PETSC_INTERN PetscErrorCode FSSolverRebuildNeededLocal(FSSolver, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverRebuildDecide(FSSolver, const PetscReal[], PetscReal, PetscInt, PetscBool *,
                                                   PetscBool *);
-PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver);
+PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver, PetscBool packed);
 PETSC_INTERN PetscErrorCode FSSolverRebalance(FSSolver, PetscInt step, PetscBool *moved);
 PETSC_INTERN PetscErrorCode FSSolverBalanceWork(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetWorkSum(FSSolver, PetscInt64 *);

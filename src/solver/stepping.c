@@ -871,8 +871,15 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
   nus[0]    = PetscMax(nus[0], s->opt.nu);
   nus[nsrc] = FSSolverWriteStatus(s); /* the last rows' write status (rank 0's) */
   if (rows->nsum + rows->nmax == 0) PetscCall(FSSolverReduceSumMax(s, 2, jump, nmx, mx));
-  else { /* this step's rows' sums and maxima too (FSMonitorRowsBegin()) */ PetscReal *sum, *max;
-    PetscCall(PetscMalloc2(2 + rows->nsum, &sum, nmx + rows->nmax, &max));
+  else { /* this step's rows' sums and maxima too (FSMonitorRowsBegin()), in room kept from step to step */
+    PetscReal *sum, *max;
+    if (2 + rows->nsum + nmx + rows->nmax > s->mon.nreduce) {
+      PetscCall(PetscFree(s->mon.reduce));
+      s->mon.nreduce = 2 + rows->nsum + nmx + rows->nmax;
+      PetscCall(PetscMalloc1(s->mon.nreduce, &s->mon.reduce));
+    }
+    sum    = s->mon.reduce;
+    max    = sum + 2 + rows->nsum;
     sum[0] = jump[0];
     sum[1] = jump[1];
     PetscCall(PetscArraycpy(sum + 2, rows->sum, rows->nsum));
@@ -884,7 +891,6 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
     PetscCall(PetscArraycpy(rows->sum, sum + 2, rows->nsum));
     PetscCall(PetscArraycpy(mx, max, nmx));
     PetscCall(PetscArraycpy(rows->max, max + nmx, rows->nmax));
-    PetscCall(PetscFree2(sum, max));
   }
   PetscCall(FSSolverWriteStatusRaise(s, nus[nsrc])); /* a failed row: the run stops one step after it */
   PetscCall(FSSolverCheckStateEnd(s, mx));
@@ -973,7 +979,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   PetscCall(FSSolverBoundaryBounce(s, ejump, &bounced)); /* with the bounces' energy changes, for the energy budget */
   /* this step's rows (FSSolverMonitor), their sums taken now to ride on the step's reduction: the state, the loads
      and the masses are the step's end's, before the lists are rebuilt and the particles move between the ranks; the
-     bounces moved the particles' fields, so the state takes them first (as FSSolverKeepLists() would) */
+     bounces moved the particles' fields, so the state takes them first (FSSolverKeepLists() need not again) */
   if (bounced) PetscCall(FSSolverPackState(s));
   PetscCall(FSMonitorRowsBegin(s->mon.nlist, s->mon.list, s, &s->mon.rows));
   PetscCall(FSSolverStepReduce(s, check, ejump, &rebuild, &sort)); /* the check, the rebuild decision, the next dt */
@@ -990,7 +996,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
        their own reduction (FSMonitorRows()), so that a run restarted from this step's checkpoint makes the same row */
     if (changed || sort || rebalanced) PetscCall(FSMonitorRowBatchReset(&s->mon.rows));
     s->mon.nrebuilds++;
-  } else PetscCall(FSSolverKeepLists(s));
+  } else PetscCall(FSSolverKeepLists(s, bounced));
   if (bounced && s->pw.nglobal_particles > 0) PetscCall(FSSolverEnergyAddJump(s, ejump, PETSC_TRUE));
   PetscCall(PetscLogEventEnd(FS_Step, 0, 0, 0, 0));
   PetscCall(FSSolverMonitor(s));

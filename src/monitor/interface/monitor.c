@@ -298,10 +298,21 @@ PetscErrorCode FSMonitorBegin(FSMonitor m, FSSolver s)
 }
 
 /*
-   FSMonitorRowBatchReset - frees what FSMonitorRowsBegin() took and leaves the batch empty (a step that stopped
-   between the two leaves it so). Not collective
+   FSMonitorRowBatchReset - leaves the batch empty, no rows due (a step that stopped between FSMonitorRowsBegin() and
+   FSMonitorRowsEnd() leaves it so); its arrays are kept for the next step. Not collective
 */
 PetscErrorCode FSMonitorRowBatchReset(FSMonitorRowBatch *b)
+{
+  PetscFunctionBegin;
+  b->n = b->nsum = b->nmax = 0;
+  b->active                = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSMonitorRowBatchDestroy - frees the batch's arrays and leaves it empty. Not collective
+*/
+PetscErrorCode FSMonitorRowBatchDestroy(FSMonitorRowBatch *b)
 {
   PetscFunctionBegin;
   PetscCall(PetscFree(b->sum));
@@ -325,7 +336,11 @@ PetscErrorCode FSMonitorRowsBegin(PetscInt n, const FSMonitor mons[], FSSolver s
   b->n      = n;
   b->active = PETSC_TRUE;
   if (!n) PetscFunctionReturn(0);
-  PetscCall(PetscMalloc2(2 * n + 2, &b->off, n, &b->due));
+  if (n > b->nmon) { /* room for the monitors, kept from step to step */
+    PetscCall(PetscFree2(b->off, b->due));
+    PetscCall(PetscMalloc2(2 * n + 2, &b->off, n, &b->due));
+    b->nmon = n;
+  }
   for (PetscInt k = 0; k < n; k++) { /* the sums of the rows due, in the monitors' order, then their maxima */
     PetscInt ns = 0, nm = 0;
     b->due[k] = PETSC_FALSE;
@@ -338,7 +353,11 @@ PetscErrorCode FSMonitorRowsBegin(PetscInt n, const FSMonitor mons[], FSSolver s
   }
   b->off[2 * n]     = b->nsum;
   b->off[2 * n + 1] = b->nmax;
-  PetscCall(PetscMalloc1(b->nsum + b->nmax + 1, &b->sum));
+  if (b->nsum + b->nmax + 1 > b->nval) {
+    PetscCall(PetscFree(b->sum));
+    PetscCall(PetscMalloc1(b->nsum + b->nmax + 1, &b->sum));
+    b->nval = b->nsum + b->nmax + 1;
+  }
   b->max = b->sum + b->nsum;
   for (PetscInt k = 0; k < n; k++)
     if (b->due[k]) PetscCall((*mons[k]->ops->rowlocal)(mons[k], s, b->sum + b->off[2 * k], b->max + b->off[2 * k + 1]));
@@ -400,6 +419,7 @@ PetscErrorCode FSMonitorRows(PetscInt n, const FSMonitor mons[], FSSolver s)
   PetscCall(FSMonitorRowsBegin(n, mons, s, &b));
   if (b.nsum + b.nmax > 0) PetscCall(FSSolverReduceSumMax(s, b.nsum, b.sum, b.nmax, b.max)); /* the rows' one */
   PetscCall(FSMonitorRowsEnd(n, mons, s, &b));
+  PetscCall(FSMonitorRowBatchDestroy(&b));
   PetscFunctionReturn(0);
 }
 
