@@ -189,15 +189,15 @@ PetscErrorCode FSSolverRebuildDecide(FSSolver s, const PetscReal loc[], PetscRea
 
 /*
    FSSolverKeepLists - after a step that keeps the lists: the state vector takes the swarm's fields
-   (the bounces changed some) in the same layout, and TS is told that the state changed outside of it.
-   The ghosts are refreshed by every right-hand side.
+   (the bounces changed some) in the same layout, unless packed says it took them already, and TS is told that
+   the state changed outside of it. The ghosts are refreshed by every right-hand side.
 
    Collective
 */
-PetscErrorCode FSSolverKeepLists(FSSolver s)
+PetscErrorCode FSSolverKeepLists(FSSolver s, PetscBool packed)
 {
   PetscFunctionBegin;
-  PetscCall(FSSolverPackState(s));
+  if (!packed) PetscCall(FSSolverPackState(s));
   PetscCall(TSRestartStep(s->ts));
   PetscFunctionReturn(0);
 }

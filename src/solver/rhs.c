@@ -390,12 +390,12 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
 }
 
 /* FSSolverRelaxation - the start-up relaxation (-fs_relax_time): du/dt -= zeta(t) u, zeta fading
-   smoothly to 0 (f NULL: not applied), and its power (this rank's share). */
-static void FSSolverRelaxation(FSSolver s, PetscReal *f)
+   smoothly to 0 (f NULL: not applied), and with power its power (this rank's share; else the one taken before). */
+static void FSSolverRelaxation(FSSolver s, PetscReal *f, PetscBool power)
 {
   const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
 
-  s->state.relax_power = 0;
+  if (power) s->state.relax_power = 0;
   if (s->state.rhs_time < s->opt.relax_time) {
     const PetscReal zeta = 10.0 / s->opt.relax_time * 0.5 *
                            (1 + PetscCosReal(PETSC_PI * s->state.rhs_time / s->opt.relax_time));
@@ -403,7 +403,7 @@ static void FSSolverRelaxation(FSSolver s, PetscReal *f)
       for (PetscInt d = 0; d < dim; d++) {
         const PetscReal ud = s->pw.rec[i * S + dim + d];
         if (f) f[i * US + dim + d] -= zeta * ud;
-        s->state.relax_power -= zeta * s->pw.rec[i * S + 2 * dim + 1] * ud * ud;
+        if (power) s->state.relax_power -= zeta * s->pw.rec[i * S + 2 * dim + 1] * ud * ud;
       }
   }
 }
@@ -564,10 +564,10 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   /* the reaction of the forces on the liquid: for a structure before the start-up relaxation, for a prescribed
      motion after it (the motion also does the relaxation's work in the absolute frame: work_motion) */
   const PetscBool prescribed = (PetscBool)(coupled && s->structure->prescribed);
-  if (prescribed) FSSolverRelaxation(s, f);
+  if (prescribed) FSSolverRelaxation(s, f, PETSC_TRUE);
   if (coupled) { /* the stage's one collective: the reaction, and riding on it the powers' sums (FSSolverPowerRates) */
     PetscInt nextra = 0;
-    if (!prescribed) FSSolverRelaxation(s, NULL); /* its power now, its rates below */
+    if (!prescribed) FSSolverRelaxation(s, NULL, PETSC_TRUE); /* its power now, its rates below */
     for (PetscInt t = 0; t < s->terms.nterms; t++)
       if (s->terms.term[t]->has_power) extra[nextra++] = s->terms.term[t]->power;
     extra[nextra++] = s->state.relax_power;
@@ -577,7 +577,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
         FSCouplingReaction(s->coupling, n, S, s->pw.rec, US, f, reaction, nextra + FS_COUPLING_NINERTIA_SUMS, extra));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   }
-  if (!prescribed) FSSolverRelaxation(s, f);
+  if (!prescribed) FSSolverRelaxation(s, f, (PetscBool)!coupled); /* coupled: its power taken above */
   if (count) {
     s->mon.pair_visits += s->pw.nbrs.npairs;
     s->mon.nrhs++;
