@@ -272,6 +272,34 @@ static void HeapPop(Heap *hp)
   }
 }
 
+/* sum_j V W(|x - Y_j|) over the points Y_j of the grid pg within the kernel's support of x (those with keep[j] where
+   keep is given); with o, each such term is also taken off o[j] */
+static PetscReal KernelShare(const Grid *pg, const FSKernel *k, PetscReal V, PetscInt dim, const PetscReal Y[],
+                             const PetscReal x[], const PetscBool keep[], PetscReal o[])
+{
+  PetscReal sum = 0;
+  PetscInt  lo[3], hi[3];
+
+  NeighbourCells(pg, x, dim, lo, hi);
+  for (PetscInt cz = lo[2]; cz <= hi[2]; cz++)
+    for (PetscInt cy = lo[1]; cy <= hi[1]; cy++)
+      for (PetscInt cx = lo[0]; cx <= hi[0]; cx++) {
+        const PetscInt cl = (cz * pg->nc[1] + cy) * pg->nc[0] + cx;
+        for (PetscInt q = pg->start[cl]; q < pg->start[cl + 1]; q++) {
+          const PetscInt   j  = pg->item[q];
+          const PetscReal *xj = &Y[dim * j];
+          PetscReal        r2 = 0, w;
+          if (keep && !keep[j]) continue;
+          for (PetscInt d = 0; d < dim; d++) r2 += (x[d] - xj[d]) * (x[d] - xj[d]);
+          if (r2 >= k->support2) continue;
+          w = V * FSKernelW(k, PetscSqrtReal(r2));
+          sum += w;
+          if (o) o[j] -= w;
+        }
+      }
+  return sum;
+}
+
 /*
    ThinOverfull - the points X (N, every rank all of them, in the ranks' order) of a region where they crowd
    removed, one at a time: a point's fullness o_i = sum_j V W_ij - gamma_i, the particles' kernel sum (its own
@@ -307,20 +335,7 @@ static PetscErrorCode ThinOverfull(const FSPackRegion *g, const Grid *eg, const 
   for (PetscInt i = 0; i < N; i++) { /* o_i */
     const PetscReal *xi   = &Y[dim * i];
     const PetscInt   cell = CellOf(eg, xi);
-    PetscReal        sum = 0, gamma = 1;
-    PetscInt         lo[3], hi[3];
-    NeighbourCells(&pg, xi, dim, lo, hi);
-    for (PetscInt cz = lo[2]; cz <= hi[2]; cz++)
-      for (PetscInt cy = lo[1]; cy <= hi[1]; cy++)
-        for (PetscInt cx = lo[0]; cx <= hi[0]; cx++) {
-          const PetscInt cl = (cz * pg.nc[1] + cy) * pg.nc[0] + cx;
-          for (PetscInt q = pg.start[cl]; q < pg.start[cl + 1]; q++) {
-            const PetscReal *xj = &Y[dim * pg.item[q]];
-            PetscReal        r2 = 0;
-            for (PetscInt d = 0; d < dim; d++) r2 += (xi[d] - xj[d]) * (xi[d] - xj[d]);
-            if (r2 < k->support2) sum += V * FSKernelW(k, PetscSqrtReal(r2));
-          }
-        }
+    PetscReal        sum = KernelShare(&pg, k, V, dim, Y, xi, NULL, NULL), gamma = 1;
     for (PetscInt q = eg->start[cell]; q < eg->start[cell + 1]; q++) {
       const PetscReal *el = &g->el[eg->item[q] * g->stride];
       PetscReal        gk, wint;
@@ -340,7 +355,6 @@ static PetscErrorCode ThinOverfull(const FSPackRegion *g, const Grid *eg, const 
     const PetscInt   i  = hp.i[0];
     const PetscReal  v  = hp.v[0];
     const PetscReal *xi = &Y[dim * i];
-    PetscInt         lo[3], hi[3];
     HeapPop(&hp);
     if (!keep[i]) continue;
     if (v != o[i] || o[i] <= 0) { /* lowered since it was pushed: back at its place while still over-full */
@@ -349,20 +363,7 @@ static PetscErrorCode ThinOverfull(const FSPackRegion *g, const Grid *eg, const 
     }
     keep[i] = PETSC_FALSE;
     (*removed)++;
-    NeighbourCells(&pg, xi, dim, lo, hi);
-    for (PetscInt cz = lo[2]; cz <= hi[2]; cz++)
-      for (PetscInt cy = lo[1]; cy <= hi[1]; cy++)
-        for (PetscInt cx = lo[0]; cx <= hi[0]; cx++) {
-          const PetscInt cl = (cz * pg.nc[1] + cy) * pg.nc[0] + cx;
-          for (PetscInt q = pg.start[cl]; q < pg.start[cl + 1]; q++) {
-            const PetscInt   j  = pg.item[q];
-            const PetscReal *xj = &Y[dim * j];
-            PetscReal        r2 = 0;
-            if (!keep[j]) continue;
-            for (PetscInt d = 0; d < dim; d++) r2 += (xi[d] - xj[d]) * (xi[d] - xj[d]);
-            if (r2 < k->support2) o[j] -= V * FSKernelW(k, PetscSqrtReal(r2));
-          }
-        }
+    (void)KernelShare(&pg, k, V, dim, Y, xi, keep, o); /* its term off its neighbours' fullness */
   }
   PetscCall(PetscFree2(hp.v, hp.i));
   PetscCall(GridDestroy(&pg));
