@@ -201,11 +201,11 @@ def _growing(cycles: Sequence[Cycle], growth: float) -> bool:
 
 
 def settled_window(cycles: Sequence[Cycle], amplitude: float, tol: float = 0.01, settle: int = 3,
-                   growth: float = 0.1) -> int | None:
+                   growth: float = 0.1, earliest: int = 0) -> int | None:
     """The first cycle k from which ``settle`` consecutive changes (``_change``: cycles k..k+settle) all stay
-    below tol and E_d does not grow by more than the factor 1 + growth on every one of them (``_growing``);
-    None when the cycles have no such window."""
-    for k in range(len(cycles) - settle):
+    below tol and E_d does not grow by more than the factor 1 + growth on every one of them (``_growing``), k at
+    least ``earliest`` (a heave in a Faraday tongue: only the run's last cycles); None when there is no such window."""
+    for k in range(max(earliest, 0), len(cycles) - settle):
         window = cycles[k:k + settle + 1]
         if all(_change(a, b, amplitude) < tol for a, b in zip(window[:-1], window[1:])) and not _growing(window, growth):
             return k
@@ -382,11 +382,9 @@ def describe(options: Mapping[str, Any] | None = None, direction: str = "sway", 
                 work = np.interp(ts["time"], en["time"], en["work_motion"]) if "work_motion" in en else None
                 d.cycles = analyse_cycles(ts["time"], -ts[load], work, amplitude, 2 * np.pi * frequency, start, window,
                                           free)
-                if not d.faraday:
-                    d.settled_from = settled_window(d.cycles, amplitude, tol, settle, growth)
-                elif k == cycles_max - 1 and len(d.cycles) > settle:  # only the run's end can be the periodic state
-                    last = len(d.cycles) - settle - 1
-                    d.settled_from = last if settled_window(d.cycles[last:], amplitude, tol, settle, growth) == 0 else None
+                # in a Faraday tongue only the run's end can be the periodic state: its last settle + 1 cycles
+                d.settled_from = settled_window(d.cycles, amplitude, tol, settle, growth,
+                                                earliest=cycles_max - settle - 1 if d.faraday else 0)
                 c = d.cycles[-1] if d.cycles else None
                 if progress and c:
                     progress(f"{label}cycle {c.index + 1}/{cycles_max} t {c.start + window * period:.4g} s: m_eff/M {c.m_eff / ref:.4f} "
