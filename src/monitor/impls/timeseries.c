@@ -26,7 +26,7 @@ PetscErrorCode FSMonitorSeriesIntervalRead(FSMonitor m, PetscOptionItems *items,
   if (listed) {
     PetscCall(FSOptionsInt(items, "-fs_series_interval",
                            "Steps between the rows of timeseries.csv and energy.csv (the last step's is always "
-                           "written): each row takes about a dozen reductions over the ranks",
+                           "written): a row's sums ride on the step's own reduction",
                            "FSSolverMonitor", interval, NULL, 1, PETSC_MAX_INT));
   } else {
     PetscCall(FSOptionsCheckPetscInt(PetscObjectComm((PetscObject)m), "-fs_series_interval", 1, PETSC_MAX_INT));
