@@ -224,5 +224,7 @@ int main(int argc, char **argv)
   if (!ierr) ierr = OutputNameDefault(argc, argv);
   if (!ierr) ierr = Run();
   if (ierr) return End(ierr);
+  if (!trace) ierr = PetscPopErrorHandler(); /* its node is PETSc's memory: freed before PetscFinalize */
+  if (ierr) return End(ierr);
   return (int)PetscFinalize();
 }

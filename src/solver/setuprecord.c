@@ -418,7 +418,11 @@ PetscErrorCode FSSolverCheckSetUp(FSSolver s, const char record[])
     PetscCall(FSTextAppend(&list, "", 0));
   }
   PetscCallMPI(MPI_Bcast(&ndiff, 1, MPIU_INT, 0, comm));
-  if (!ndiff) PetscFunctionReturn(0);
+  if (!ndiff) {
+    PetscCall(PetscFree(diff.text));
+    PetscCall(PetscFree(list.text));
+    PetscFunctionReturn(0);
+  }
   PetscCall(FSTextBcast(comm, &diff)); /* every rank reports the same error */
   PetscCall(FSTextBcast(comm, &list));
   SETERRQ(comm, PETSC_ERR_ARG_INCOMP,

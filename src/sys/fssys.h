@@ -9,11 +9,11 @@
 /* A registration table (src/sys/registry.c): creation routines by name, with descriptions. */
 typedef struct _n_FSRegistryEntry {
   char                       name[64], description[256];
+  void                       (*create)(void);
   struct _n_FSRegistryEntry *next;
 } FSRegistryEntry;
 typedef struct {
-  PetscFunctionList list;
-  FSRegistryEntry  *first; /* registration order */
+  FSRegistryEntry *first; /* registration order */
 } FSRegistry;
 
 PETSC_INTERN PetscErrorCode FSRegistryAdd(FSRegistry *, const char[], const char[], void (*)(void));

@@ -1,10 +1,10 @@
 /*
-   The registration tables of flexslosh (terms, cases, structures), as TSRegister keeps TS types: a
-   PetscFunctionList for the creation routines plus the names and one-line descriptions, in
-   registration order, for the listings (-fs_terms_view, ...), the error messages and -help.
-   Plug-ins register from their PetscDLLibraryRegister_<name>() entry point, inside PetscInitialize,
-   so a table is created on first use and never reset; its entries are allocated with plain calloc
-   because they outlive PetscFinalize.
+   The registration tables of flexslosh (terms, cases, structures), as TSRegister keeps TS types: the
+   creation routines by name, with one-line descriptions, in registration order, for the listings
+   (-fs_terms_view, ...), the error messages and -help. Plug-ins register from their
+   PetscDLLibraryRegister_<name>() entry point, inside PetscInitialize, so a table is created on first
+   use and never reset; its entries are allocated with plain calloc, not PetscMalloc, because they
+   outlive PetscFinalize (so -malloc_dump does not list them).
 */
 #include "sys/fssys.h"
 
@@ -14,7 +14,8 @@ PetscErrorCode FSRegistryAdd(FSRegistry *reg, const char name[], const char desc
   FSRegistryEntry *e, *last = NULL;
 
   PetscFunctionBegin;
-  PetscCall(PetscFunctionListAdd(&reg->list, name, fn));
+  PetscCheck(strlen(name) < sizeof(e->name), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "Cannot register \"%s\": a name has at most %zu characters", name, sizeof(e->name) - 1);
   for (e = reg->first; e; last = e, e = e->next)
     if (!strcmp(e->name, name)) break;
   if (!e) {
@@ -25,6 +26,7 @@ PetscErrorCode FSRegistryAdd(FSRegistry *reg, const char name[], const char desc
   }
   PetscCall(PetscStrncpy(e->name, name, sizeof(e->name)));
   PetscCall(PetscStrncpy(e->description, description ? description : "", sizeof(e->description)));
+  e->create = fn;
   PetscFunctionReturn(0);
 }
 
@@ -32,7 +34,12 @@ PetscErrorCode FSRegistryAdd(FSRegistry *reg, const char name[], const char desc
 PetscErrorCode FSRegistryFind(FSRegistry *reg, const char name[], void (**fn)(void))
 {
   PetscFunctionBegin;
-  PetscCall(PetscFunctionListFind(reg->list, name, fn));
+  *fn = NULL;
+  for (FSRegistryEntry *e = reg->first; e && name; e = e->next)
+    if (!strcmp(e->name, name)) {
+      *fn = e->create;
+      break;
+    }
   PetscFunctionReturn(0);
 }
 
