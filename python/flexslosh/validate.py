@@ -899,19 +899,23 @@ def impact_figures(t: np.ndarray, p: np.ndarray, windows: Sequence[tuple[float, 
 def case_roll_tank(ctx: Context) -> Section:
     """SPHERIC test 10 (cases/roll_tank.opts): the sensor's pressure against the experiment's, driven by the measured roll."""
     exp = _data("spheric10_lateral_water_pressure.csv")
+    reps = spheric10_peak_statistics()
     sec = Section("roll_tank", "Forced sloshing: SPHERIC benchmark test 10 (rolled tank)",
                   "The tank rolled by the experiment's measured roll (cases/roll_tank.opts, `-fs_motion_roll_file`); the "
                   "pressure of the sensor on the left wall at the still-water height against the measured one, for the four "
                   "impacts of the record: the impact's arrival (the first time p > 1 kPa within 0.3 s of the experiment's), its "
-                  "peak (the largest p there) and the mean p over 0.10-0.35 s after the arrival (the water piled on the wall "
-                  "after the impact); the energy budget's residual against the work the roll does.",
+                  "peak (the largest p there) against the mean and standard deviation of the peaks of 102 repetitions of the "
+                  "experiment, and the mean p over 0.10-0.35 s after the arrival (the water piled on the wall after the "
+                  "impact) against the record; the energy budget's residual against the work the roll does.",
                   "Experiment: Souto-Iglesias, Botia-Vera, Martin & Perez-Arribas (2011), A set of canonical problems in "
                   "sloshing. Part 0: experimental setup and data processing, Ocean Engineering 38, 1823-1830; Botia-Vera, "
                   "Souto-Iglesias, Bulian & Lobovsky (2010), 5th SPHERIC workshop (SPHERIC test 10, lateral impact, water, "
                   "one record). Pressure: the minimum and maximum of each 5 ms of the 20 kHz record "
                   "([data](data/spheric10_lateral_water_pressure.csv)); roll: windows of the record rebuilt every 5 ms "
                   "(cases/data/spheric10_roll.txt). Both from the DualSPHysics package's examples (LGPL-2.1; "
-                  "[data/README.md](data/README.md)).")
+                  "[data/README.md](data/README.md)). The first four peaks of 102 repetitions: the benchmark's repeatability "
+                  "file (Souto-Iglesias & Botia-Vera, SPHERIC test 10 proposal, 2011; "
+                  "[data](data/spheric10_lateral_water_peaks.csv)).")
     tmax = 1.0 if ctx.quick else 8.0
     te, pe = exp["t"], exp["p"]
     ref = impact_figures(te, pe, SPHERIC10_IMPACTS)
@@ -919,6 +923,8 @@ def case_roll_tank(ctx: Context) -> Section:
     fig, ax = _figure(10, 4.5)
     ax.plot(te, pe / 1000, "k-", lw=0.7, zorder=5, label="experiment (5 ms min/max of the 20 kHz record)")
     ax.plot([f["arrival"] for f in ref], [f["peak"] / 1000 for f in ref], "kv", ms=7, zorder=6, label="experiment: impact peaks")
+    ax.errorbar([f["arrival"] + 0.06 for f in ref], reps["mean"] / 1000, yerr=reps["sd"] / 1000, fmt="rs", ms=5, capsize=3,
+                zorder=6, label="experiment, 102 repetitions: peaks' mean +- SD")
     figures: dict[float, list[dict[str, float]]] = {}
     pre: dict[float, float] = {}
     pre_exp = float(np.mean(pe[(te >= PRE_IMPACT[0]) & (te <= PRE_IMPACT[1])]))
@@ -959,8 +965,9 @@ def case_roll_tank(ctx: Context) -> Section:
                                     ROLL_TOL["arrival"], fmt="{:.3f}"))
             sec.checks.append(Check(f"{res}: impact {k + 1} mean p 0.10-0.35 s after arrival / experiment's - 1 (abs)",
                                     abs(g["plateau"] / f["plateau"] - 1), ROLL_TOL["plateau"], fmt="{:.0%}"))
-        sec.checks.append(Check(f"{res}: impact 1 peak / experiment's - 1 (abs)", abs(sim[0]["peak"] / ref[0]["peak"] - 1),
-                                ROLL_TOL["peak"], fmt="{:.0%}"))
+        for k, g in enumerate(sim):
+            sec.checks.append(Check(f"{res}: impact {k + 1} peak, abs(p - the repetitions' mean) (kPa), within one standard "
+                                    "deviation", abs(g["peak"] - reps["mean"][k]) / 1000, reps["sd"][k] / 1000, fmt="{:.2f}"))
         rows = ["| | experiment | " + " | ".join(f"flexslosh dx = {d * 1000:g} mm" for d in sorted(figures, reverse=True)) + " |",
                 "|---|---|" + "---|" * len(figures),
                 f"| mean p, {PRE_IMPACT[0]:g}-{PRE_IMPACT[1]:g} s | {pre_exp:.0f} Pa | "
@@ -968,7 +975,11 @@ def case_roll_tank(ctx: Context) -> Section:
         for k, f in enumerate(ref):
             for key, unit, scale, fmt in (("arrival", "s", 1.0, "{:.3f}"), ("peak", "kPa", 1e-3, "{:.2f}"), ("plateau", "Pa", 1.0, "{:.0f}")):
                 cells = [fmt.format(figures[d][k][key] * scale) + f" {unit}" for d in sorted(figures, reverse=True)]
-                rows.append(f"| impact {k + 1}: {key} | {fmt.format(f[key] * scale)} {unit} | " + " | ".join(cells) + " |")
+                given = f"{fmt.format(f[key] * scale)} {unit}"
+                if key == "peak":
+                    given = (f"record {given}; 102 repetitions {reps['mean'][k] / 1000:.2f} +- {reps['sd'][k] / 1000:.2f} kPa "
+                             f"(2.5-97.5 %: {reps['p2.5'][k] / 1000:.2f}-{reps['p97.5'][k] / 1000:.2f})")
+                rows.append(f"| impact {k + 1}: {key} | {given} | " + " | ".join(cells) + " |")
         sec.notes.append("\n".join(rows))
         if len(figures) > 1:
             dfine, dnext = sorted(figures)[:2]  # the two finest resolutions
@@ -986,16 +997,28 @@ def case_roll_tank(ctx: Context) -> Section:
 
 #: The quasi-static rise before the first impact (s): the window of the mean pressure compared.
 PRE_IMPACT = (0.6, 1.2)
-#: The tolerances of the SPHERIC test 10 comparison (why: ROLL_NOTE).
-ROLL_TOL = {"pre": 0.1, "arrival": 0.05, "plateau": 0.2, "peak": 0.5}
+#: The tolerances of the SPHERIC test 10 comparison (why: ROLL_NOTE); a peak within one standard deviation of the
+#: repetitions' mean (spheric10_peak_statistics()).
+ROLL_TOL = {"pre": 0.1, "arrival": 0.05, "plateau": 0.2}
+
+
+def spheric10_peak_statistics() -> dict[str, np.ndarray]:
+    """SPHERIC test 10, lateral impact, water: the first four impacts' peak pressures over the experiment's 102
+    repetitions (docs/validation/data/spheric10_lateral_water_peaks.csv, mbar): their mean, sample standard deviation
+    and 2.5 / 97.5 % percentiles, in Pa, one entry per impact."""
+    d = _data("spheric10_lateral_water_peaks.csv")
+    a = 100.0 * np.column_stack([d[f"peak{k}_mbar"] for k in range(1, 5)])
+    return {"n": np.full(4, len(a)), "mean": a.mean(axis=0), "sd": a.std(axis=0, ddof=1),
+            "p2.5": np.percentile(a, 2.5, axis=0), "p97.5": np.percentile(a, 97.5, axis=0)}
 ROLL_NOTE = ("Tolerances: the arrival within 0.05 s (3 % of the 1.635 s period); the mean pressure before the first "
-             "impact within 10 % and after each impact within 20 % (the water standing on the wall); the first peak within "
-             "50 % (the benchmark's repeated runs scatter widely about one record's peak). Where the change between the two "
+             "impact within 10 % and after each impact within 20 % (the water standing on the wall); each peak within one "
+             "standard deviation of the mean of the experiment's 102 repetitions (the issue's criterion; the peaks scatter "
+             "with a coefficient of variation of 20-36 %). Where the change between the two "
              "finest resolutions (above) is as large as a tolerance, the resolution does not settle that check: a PASS may be luck "
              "and a FAIL may shrink with a finer run. The impact peaks are not resolved: a weakly compressible run with "
              "c0 = 20 m/s and these particle sizes spreads the 1-5 ms peak over its own time and length scales, and the "
-             "resolutions' peaks differ several times over; the peak check is kept to show it. The experiment is one "
-             "record, so its own scatter is not in these figures. The sensor reads -50 to -250 Pa while it is dry (the "
+             "resolutions' peaks differ several times over. The arrivals and the plateaus are compared with one record (the "
+             "repetition whose first peak lies nearest the mean), whose own scatter is not in these figures. The sensor reads -50 to -250 Pa while it is dry (the "
              "record's offset); flexslosh's probe reads 0 there.")
 
 

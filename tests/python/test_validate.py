@@ -5,6 +5,8 @@ quick mode's coarse numbers are allowed to FAIL their tolerances."""
 import json
 import re
 
+import numpy as np
+
 import pytest
 
 from conftest import REPO_ROOT, build_dir
@@ -153,3 +155,14 @@ def test_seed_ensemble(tmp_path):
     assert len(row) == len(validate.SEED_BANDS) + 1, table  # the bands (nan beyond 0.5 s's cycles), the peak
     se = [float(v.split("+-")[1]) for v in row[:-1] if "nan" not in v]
     assert se and max(se) > 0, table
+
+
+def test_spheric10_repetitions_statistics():
+    """The SPHERIC test 10 repeatability file reads as its 102 repetitions of the first four peaks: the first peak's
+    mean and standard deviation are the figures quoted for it elsewhere (3,710 +- 732 Pa, "37 +- 7 mbar")."""
+    from flexslosh.validate import spheric10_peak_statistics
+    s = spheric10_peak_statistics()
+    assert list(s["n"]) == [102] * 4
+    assert s["mean"][0] == pytest.approx(3710, abs=1) and s["sd"][0] == pytest.approx(732, abs=1)
+    assert np.all(s["p2.5"] < s["mean"]) and np.all(s["mean"] < s["p97.5"])
+    assert np.allclose(s["mean"][1:], [4816, 4691, 4642], atol=1)
