@@ -1,5 +1,5 @@
-"""The validation report's machinery (python/flexslosh/validate.py) keeps working: the quick mode of three
-cheap cases (the beam, Taylor-Green, the rolled tank) runs into a temporary folder and writes its sections, figures and
+"""The validation report's machinery (python/flexslosh/validate.py) keeps working: the quick mode of four
+cheap cases (the beam, Taylor-Green, the rolled tank, the impact peaks against c0) runs into a temporary folder and writes its sections, figures and
 report. Only the structure is checked here, not the physics (the physics tests check that), and the
 quick mode's coarse numbers are allowed to FAIL their tolerances."""
 import json
@@ -16,7 +16,7 @@ validate = pytest.importorskip("flexslosh.validate")
 
 def test_quick_report(tmp_path):
     out, work = tmp_path / "report", tmp_path / "runs"
-    rc = validate.main(["--quick", "--cases", "beam,taylor_green,roll_tank", "--out", str(out), "--work", str(work),
+    rc = validate.main(["--quick", "--cases", "beam,taylor_green,roll_tank,impact_c0", "--out", str(out), "--work", str(work),
                         "--build", str(build_dir())])
     assert rc == 0
     report = (out / "README.md").read_text()
@@ -24,7 +24,7 @@ def test_quick_report(tmp_path):
     heads = re.findall(r"^## (.+)$", report, re.M)
     assert heads == [validate.TITLES[c] for c in validate.CASES]
     assert "Not run in this report" in report and "make validate CASES=seed" in report
-    for name in ("beam", "taylor_green", "roll_tank"):
+    for name in ("beam", "taylor_green", "roll_tank", "impact_c0"):
         summary = json.loads((out / "sections" / f"{name}.json").read_text())
         section = summary["markdown"]
         assert section in report
