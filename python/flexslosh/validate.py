@@ -1927,8 +1927,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     res: dict[str, list[float]] = {}
     for item in args.resolution:
         case, _, values = item.partition("=")
-        if case not in CASES or not values:
-            print(f"validate: --resolution {item!r}: expected CASE=dx1,dx2 with a known case", file=sys.stderr)
+        if case not in RESOLUTIONS or not values:
+            print(f"validate: --resolution {item!r}: expected CASE=dx1,dx2 with a known case or resolution list "
+                  f"({', '.join(RESOLUTIONS)})", file=sys.stderr)
             return 2
         res[case] = [float(v) for v in values.split(",")]
     exe = Path(args.build) / "flexslosh"
