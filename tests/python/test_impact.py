@@ -1,9 +1,11 @@
 """flexslosh.impact: the zero-phase low-pass has a Butterworth filter's squared gain and no phase shift, the filtered
 peak of a slow pulse with a fast ringing on it is the pulse's, and the ringing's frequency is found."""
+import math
+
 import numpy as np
 import pytest
 
-from flexslosh.impact import dominant_frequency, lowpass, peak
+from flexslosh.impact import dominant_frequency, impulse, lowpass, peak
 
 
 def amplitude(t, y, f):
@@ -49,6 +51,12 @@ def test_filtered_peak_is_the_pulses_not_the_ringing():
     assert tp == pytest.approx(0.1, abs=0.002)
     assert dominant_frequency(t, p, 0.09, 0.19, fmin=60) == pytest.approx(430, abs=10)
     assert np.isnan(peak(t, p, 1.0, 2.0)[1])
+    # the impulse: the pulse's sqrt(pi) 0.02 whole, the ringing's part nearly cancelling (its exact integral below)
+    ring_exact = 2 * 0.02 * (2 * np.pi * 430 * 0.02) / (1 + (2 * np.pi * 430 * 0.02) ** 2)
+    assert impulse(t, p, 0.0, 0.1999) == pytest.approx(np.sqrt(np.pi) * 0.02 + ring_exact, rel=1e-4)
+    assert impulse(t, pulse, 0.05, 0.1) == pytest.approx(np.sqrt(np.pi) * 0.02 / 2 * math.erf(2.5), rel=1e-5)
+    with pytest.raises(ValueError, match="inside the record"):
+        impulse(t, p, 0.1, 0.3)
 
 
 @pytest.mark.parametrize("args,match", [
