@@ -8,8 +8,8 @@
 
 /* A registration table (src/sys/registry.c): creation routines by name, with descriptions. */
 typedef struct _n_FSRegistryEntry {
-  char                       name[64], description[256];
-  void                       (*create)(void);
+  char name[64], description[256];
+  void (*create)(void);
   struct _n_FSRegistryEntry *next;
 } FSRegistryEntry;
 typedef struct {
