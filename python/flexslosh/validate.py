@@ -1041,23 +1041,27 @@ IMPACT_ROLL_C0 = 20.0
 IMPACT_IMPULSE_WINDOW = 0.05
 
 
-def _impact_impulse(t: np.ndarray, p: np.ndarray, threshold: float, cutoff: float, rate: float,
-                    window: tuple[float, float] = (-math.inf, math.inf)) -> float:
-    """The pressure impulse over IMPACT_IMPULSE_WINDOW after the first time the low-passed p (within window) exceeds
-    threshold; nan where it does not or the record ends first."""
-    from .impact import impulse, lowpass
+def _impact_measures(t: np.ndarray, p: np.ndarray, window: tuple[float, float], threshold: float, cutoff: float,
+                     rate: float, search: tuple[float, float] = (-math.inf, math.inf)) -> tuple[float, float, float]:
+    """A record's first impact, the record low-passed once (flexslosh.impact.lowpass): its raw and low-passed peaks
+    over window, and the pressure impulse over IMPACT_IMPULSE_WINDOW after the first time (within search) the
+    low-passed p exceeds threshold (nan where it does not or the record ends first)."""
+    from .impact import impulse, lowpass, peak
 
     tu, pf = lowpass(t, p, cutoff, rate=rate)
-    hit = np.nonzero((pf > threshold) & (tu >= window[0]) & (tu <= window[1]))[0]
-    if not len(hit) or tu[hit[0]] + IMPACT_IMPULSE_WINDOW > t[-1]:
-        return math.nan
-    return impulse(t, p, float(tu[hit[0]]), float(tu[hit[0]]) + IMPACT_IMPULSE_WINDOW)
+    inside = (tu >= window[0]) & (tu <= window[1])
+    low = float(np.max(pf[inside])) if np.any(inside) else math.nan
+    hit = np.nonzero((pf > threshold) & (tu >= search[0]) & (tu <= search[1]))[0]
+    imp = math.nan
+    if len(hit) and tu[hit[0]] + IMPACT_IMPULSE_WINDOW <= t[-1]:
+        imp = impulse(t, p, float(tu[hit[0]]), float(tu[hit[0]]) + IMPACT_IMPULSE_WINDOW)
+    return peak(t, p, *window)[1], low, imp
 
 
 def case_impact_c0(ctx: Context) -> Section:
     """The first impact's peak pressure against c0 (x 1, 2, 4 of the case's) and dx, raw and low-passed (flexslosh.impact):
     the Lobovsky dam break's sensors 1-3 and SPHERIC test 10's sensor, against the experiments filtered the same way."""
-    from .impact import dominant_frequency, peak
+    from .impact import dominant_frequency
 
     H = 0.3
     scale = 1000.0 * G * H
@@ -1092,15 +1096,12 @@ def case_impact_c0(ctx: Context) -> Section:
     for k in sensors:
         pr = rec[f"p{k[-1]}_mean"]
         ta = first_impact(tr, pr)[0]
-        ref[k] = (float(np.max(rec[f"p{k[-1]}_max"][(tr >= ta) & (tr <= ta + 1 / math.sqrt(G / H))])),
-                  peak(tr, pr, ta, ta + 1 / math.sqrt(G / H), cutoff=fc, rate=1000.0)[1],
-                  _impact_impulse(tr, pr * scale, 0.3 * scale, fc, 1000.0))
+        _, low, imp = _impact_measures(tr, pr * scale, (ta, ta + 1 / math.sqrt(G / H)), 0.3 * scale, fc, 1000.0)
+        ref[k] = (float(np.max(rec[f"p{k[-1]}_max"][(tr >= ta) & (tr <= ta + 1 / math.sqrt(G / H))])), low / scale, imp)
     roll = _data("spheric10_lateral_water_pressure.csv")
     reps = spheric10_peak_statistics()
     fr = IMPACT_CUTOFF["roll"]
-    roll_ref = (peak(roll["t"], roll["p"], *IMPACT_ROLL_WINDOW)[1],
-                peak(roll["t"], roll["p"], *IMPACT_ROLL_WINDOW, cutoff=fr, rate=2000.0)[1],
-                _impact_impulse(roll["t"], roll["p"], 1000.0, fr, 2000.0, IMPACT_ROLL_WINDOW))
+    roll_ref = _impact_measures(roll["t"], roll["p"], IMPACT_ROLL_WINDOW, 1000.0, fr, 2000.0, IMPACT_ROLL_WINDOW)
     # the runs
     dam: dict[float, dict[int, dict[str, tuple[float, float]]]] = {}
     ring: dict[tuple[str, float, int], float] = {}
@@ -1117,8 +1118,8 @@ def case_impact_c0(ctx: Context) -> Section:
                 ps = r.column(f"{k}_pressure[Pa]", "probes") / scale
                 ta = first_impact(t, ps)[0]
                 t1 = ta + 1 / math.sqrt(G / H)
-                got[k] = (peak(t, ps, ta, t1)[1], peak(t, ps, ta, t1, cutoff=fc, rate=20000.0)[1],
-                          _impact_impulse(t, ps * scale, 0.3 * scale, fc, 20000.0))
+                raw, low, imp = _impact_measures(t, ps * scale, (ta, t1), 0.3 * scale, fc, 20000.0)
+                got[k] = (raw / scale, low / scale, imp)
                 if k == "sensor1":
                     ring[("dam", dx, f)] = dominant_frequency(t, ps, ta, min(t1, t[-1]), fmin=fc / 2, rate=20000.0)
             dam[dx][f] = got
@@ -1131,8 +1132,7 @@ def case_impact_c0(ctx: Context) -> Section:
                          "-ts_max_time", IMPACT_ROLL_WINDOW[1] + 0.1, "-fs_output_interval", 0], sec.runs,
                         checkpoints=LONG_RUN_CHECKPOINTS)
             t, ps = r.column("time", "probes"), r.column("sensor1_pressure[Pa]", "probes")
-            rolled[dx][f] = (peak(t, ps, *IMPACT_ROLL_WINDOW)[1], peak(t, ps, *IMPACT_ROLL_WINDOW, cutoff=fr, rate=20000.0)[1],
-                             _impact_impulse(t, ps, 1000.0, fr, 20000.0, IMPACT_ROLL_WINDOW))
+            rolled[dx][f] = _impact_measures(t, ps, IMPACT_ROLL_WINDOW, 1000.0, fr, 20000.0, IMPACT_ROLL_WINDOW)
             ring[("roll", dx, f)] = dominant_frequency(t, ps, *IMPACT_ROLL_WINDOW, fmin=fr / 2, rate=20000.0)
     # the checks at the finest resolution: converged in c0, and against the experiment low-passed the same way
     fa, fb = factors[-2], factors[-1]
