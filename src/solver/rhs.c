@@ -389,23 +389,28 @@ static PetscErrorCode FSSolverPairPass(FSSolver s, const FSParticles *P, PetscRe
   PetscFunctionReturn(0);
 }
 
-/* FSSolverRelaxation - the start-up relaxation (-fs_relax_time): du/dt -= zeta(t) u, zeta fading
-   smoothly to 0 (f NULL: not applied), and with power its power (this rank's share; else the one taken before). */
-static void FSSolverRelaxation(FSSolver s, PetscReal *f, PetscBool power)
+/* FSSolverRelaxationRate - the start-up relaxation's rate zeta(t) (-fs_relax_time: du/dt -= zeta u), fading smoothly
+   to 0 at the relaxation time, 0 after it */
+static PetscReal FSSolverRelaxationRate(FSSolver s)
+{
+  if (s->state.rhs_time >= s->opt.relax_time) return 0;
+  return 10.0 / s->opt.relax_time * 0.5 * (1 + PetscCosReal(PETSC_PI * s->state.rhs_time / s->opt.relax_time));
+}
+
+/* FSSolverRelaxation - the start-up relaxation's rates -zeta u added to f (f NULL: none), and with power its
+   power, this rank's share -zeta sum m u^2 (a coupled run needs it before the reaction, the rates after) */
+static void FSSolverRelaxation(FSSolver s, PetscReal zeta, PetscReal *f, PetscReal *power)
 {
   const PetscInt dim = s->opt.dim, S = s->pw.stride, US = s->state.ustride, n = s->pw.nowned;
 
-  if (power) s->state.relax_power = 0;
-  if (s->state.rhs_time < s->opt.relax_time) {
-    const PetscReal zeta = 10.0 / s->opt.relax_time * 0.5 *
-                           (1 + PetscCosReal(PETSC_PI * s->state.rhs_time / s->opt.relax_time));
-    for (PetscInt i = 0; i < n; i++)
-      for (PetscInt d = 0; d < dim; d++) {
-        const PetscReal ud = s->pw.rec[i * S + dim + d];
-        if (f) f[i * US + dim + d] -= zeta * ud;
-        if (power) s->state.relax_power -= zeta * s->pw.rec[i * S + 2 * dim + 1] * ud * ud;
-      }
-  }
+  if (power) *power = 0;
+  if (zeta == 0) return;
+  for (PetscInt i = 0; i < n; i++)
+    for (PetscInt d = 0; d < dim; d++) {
+      const PetscReal ud = s->pw.rec[i * S + dim + d];
+      if (f) f[i * US + dim + d] -= zeta * ud;
+      if (power) *power -= zeta * s->pw.rec[i * S + 2 * dim + 1] * ud * ud;
+    }
 }
 
 /*
@@ -564,10 +569,11 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
   /* the reaction of the forces on the liquid: for a structure before the start-up relaxation, for a prescribed
      motion after it (the motion also does the relaxation's work in the absolute frame: work_motion) */
   const PetscBool prescribed = (PetscBool)(coupled && s->structure->prescribed);
-  if (prescribed) FSSolverRelaxation(s, f, PETSC_TRUE);
+  const PetscBool early      = (PetscBool)(!coupled || prescribed); /* the relaxation's rates before any reaction */
+  const PetscReal zeta       = FSSolverRelaxationRate(s);
+  FSSolverRelaxation(s, zeta, early ? f : NULL, &s->state.relax_power); /* its power, its rates here or below */
   if (coupled) { /* the stage's one collective: the reaction, and riding on it the powers' sums (FSSolverPowerRates) */
     PetscInt nextra = 0;
-    if (!prescribed) FSSolverRelaxation(s, NULL, PETSC_TRUE); /* its power now, its rates below */
     for (PetscInt t = 0; t < s->terms.nterms; t++)
       if (s->terms.term[t]->has_power) extra[nextra++] = s->terms.term[t]->power;
     extra[nextra++] = s->state.relax_power;
@@ -577,7 +583,7 @@ PetscErrorCode FSSolverEvaluateRates(FSSolver s, const PetscReal *u, PetscReal *
         FSCouplingReaction(s->coupling, n, S, s->pw.rec, US, f, reaction, nextra + FS_COUPLING_NINERTIA_SUMS, extra));
     PetscCall(PetscLogEventEnd(FS_Coupling, 0, 0, 0, 0));
   }
-  if (!prescribed) FSSolverRelaxation(s, f, (PetscBool)!coupled); /* coupled: its power taken above */
+  if (!early) FSSolverRelaxation(s, zeta, f, NULL);
   if (count) {
     s->mon.pair_visits += s->pw.nbrs.npairs;
     s->mon.nrhs++;
