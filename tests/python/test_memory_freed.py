@@ -13,11 +13,12 @@ import pytest
 from conftest import REPO_ROOT, read_summary, run_flexslosh
 
 DUMP = ["-malloc_debug", "-malloc_dump"]
-UNFREED = re.compile(r"^\[\s*\d+\]\s*\d+ bytes \S+ at ", re.M)
+UNFREED = re.compile(r"^\[\s*\d+\]\s*\d+ bytes \S+ at ")
 
 
 def unfreed(proc):
-    return UNFREED.findall(proc.output) and [l for l in proc.output.splitlines() if UNFREED.match(l)]
+    """The lines of -malloc_dump's report of unfreed blocks."""
+    return [line for line in proc.output.splitlines() if UNFREED.match(line)]
 
 
 def test_a_run_and_its_restart_free_everything(tmp_path):
