@@ -39,11 +39,11 @@ test-c: build
 	cd $(BUILD) && ctest --output-on-failure
 
 test-python: build
-	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q tests/python
+	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q --durations=15 tests/python
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure
-	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q tests/python
+	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q --durations=15 tests/python
 
 bench: build
 	$(BUILD)/bench_terms -fs_dx 0.005 -reps 20
