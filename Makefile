@@ -1,7 +1,7 @@
 # Thin wrapper around CMake for the two commands of the README.
 #   make demo   install dependencies, build, run the seed's solid-mass and 50 % rectangular-tank cases on the
 #               beam (a few minutes on 2 cores), write the seed's figures, say where the results are
-#   make test   install dependencies, build, run the C tests (ctest) and the Python tests (pytest)
+#   make test   install dependencies, build, run the C tests (ctest) and the Python tests (pytest, in JOBS processes)
 #   make validate  build, run every validation case and write docs/validation/README.md (long: hours on
 #               2 cores; not part of make test); CASES=a,b runs a subset, VALIDATE_FLAGS=--quick a smoke run
 #   make format clang-format the C sources
@@ -39,11 +39,11 @@ test-c: build
 	cd $(BUILD) && ctest --output-on-failure
 
 test-python: build
-	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q --durations=15 tests/python
+	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q -n $(JOBS) --dist loadfile --durations=15 tests/python
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure
-	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q --durations=15 tests/python
+	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q -n $(JOBS) --dist loadfile --durations=15 tests/python
 
 bench: build
 	$(BUILD)/bench_terms -fs_dx 0.005 -reps 20
