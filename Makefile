@@ -41,9 +41,7 @@ test-c: build
 test-python: build
 	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q -n $(JOBS) --dist loadfile --durations=15 tests/python
 
-test: build
-	cd $(BUILD) && ctest --output-on-failure
-	FLEXSLOSH_BUILD=$(abspath $(BUILD)) $(PYTHON) -m pytest -q -n $(JOBS) --dist loadfile --durations=15 tests/python
+test: test-c test-python
 
 bench: build
 	$(BUILD)/bench_terms -fs_dx 0.005 -reps 20

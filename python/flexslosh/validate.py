@@ -1096,8 +1096,9 @@ def case_impact_c0(ctx: Context) -> Section:
     for k in sensors:
         pr = rec[f"p{k[-1]}_mean"]
         ta = first_impact(tr, pr)[0]
-        _, low, imp = _impact_measures(tr, pr * scale, (ta, ta + 1 / math.sqrt(G / H)), 0.3 * scale, fc, 1000.0)
-        ref[k] = (float(np.max(rec[f"p{k[-1]}_max"][(tr >= ta) & (tr <= ta + 1 / math.sqrt(G / H))])), low / scale, imp)
+        t1 = ta + 1 / math.sqrt(G / H)
+        _, low, imp = _impact_measures(tr, pr * scale, (ta, t1), 0.3 * scale, fc, 1000.0)
+        ref[k] = (float(np.max(rec[f"p{k[-1]}_max"][(tr >= ta) & (tr <= t1)])), low / scale, imp)
     roll = _data("spheric10_lateral_water_pressure.csv")
     reps = spheric10_peak_statistics()
     fr = IMPACT_CUTOFF["roll"]
@@ -1115,10 +1116,11 @@ def case_impact_c0(ctx: Context) -> Section:
             t = r.column("time", "probes")
             got = {}
             for k in sensors:
-                ps = r.column(f"{k}_pressure[Pa]", "probes") / scale
+                pa = r.column(f"{k}_pressure[Pa]", "probes")
+                ps = pa / scale
                 ta = first_impact(t, ps)[0]
                 t1 = ta + 1 / math.sqrt(G / H)
-                raw, low, imp = _impact_measures(t, ps * scale, (ta, t1), 0.3 * scale, fc, 20000.0)
+                raw, low, imp = _impact_measures(t, pa, (ta, t1), 0.3 * scale, fc, 20000.0)
                 got[k] = (raw / scale, low / scale, imp)
                 if k == "sensor1":
                     ring[("dam", dx, f)] = dominant_frequency(t, ps, ta, min(t1, t[-1]), fmin=fc / 2, rate=20000.0)
