@@ -1,4 +1,4 @@
-"""The tank's linear sloshing frequencies, for a tank of any shape, from a free-decay experiment.
+"""The tank's linear sloshing frequencies and masses, for a tank of any shape, from a free-decay experiment.
 
 ``sloshing_modes`` moves the tank of a case (2-D walls, a 3-D box or an STL tank, any fill) by a small smooth
 displacement step along one horizontal direction (x, or z in 3-D), over a fraction of the expected first period,
@@ -6,14 +6,17 @@ with the prescribed motion (``-fs_structure prescribed``, a ``-fs_motion_<c>_fil
 still, and records the free surface at two wave gauges near the two end walls (a ``-fs_probes`` file written here).
 The difference of the two elevations is the antisymmetric part of the sloshing, which a sway excites; its
 spectral peaks are the sloshing frequencies: a Hann-windowed FFT finds them, a least-squares fit of a sum of
-damped sinusoids refines them and gives each one's standard uncertainty and damping ratio (``analyse``). The run
+damped sinusoids refines them and gives each one's standard uncertainty and damping ratio (``analyse``). The load
+on the tank held still after the step, fitted at those frequencies, gives each mode's sloshing mass, the m_n of the
+equivalent mechanical model (``sloshing_masses``). The run
 lasts a number of periods of the first mode's estimate from the rectangular tank's formula, omega_1^2 = g k
 tanh(k h), k = pi/L, L the liquid's length along the direction and h its depth at rest (``rectangular_modes`` of
 flexslosh.equivalent). The command line::
 
     python3 -m flexslosh.modes --options-file cases/own_tank.opts --direction x --out output/modes -fs_dx 0.004
 
-prints a table (mode, frequency, period, the rectangular estimate, the uncertainty) and writes modes.json. Why a
+prints a table (mode, frequency, period, the rectangular estimate, the uncertainty, m_n / m and the rectangular
+estimate's) and writes modes.json. Why a
 free decay, its resolution and what it was checked against: docs/equivalent.md, "The tank's sloshing
 frequencies".
 """
@@ -32,7 +35,8 @@ import numpy as np
 
 from .equivalent import petsc_options, rectangular_modes
 
-__all__ = ["Mode", "Analysis", "analyse", "tank_geometry", "pulse_motion", "sloshing_modes", "main"]
+__all__ = ["Mode", "Analysis", "analyse", "step_transfer", "sloshing_masses", "tank_geometry", "pulse_motion",
+           "sloshing_modes", "main"]
 
 #: direction -> (the motion's component, the axis index)
 AXES = {"x": ("x", 0), "z": ("z", 2)}
@@ -49,6 +53,8 @@ class Mode:
     damping: float  # the damping ratio zeta (decay rate over the undamped angular frequency)
     amplitude: float  # the fitted amplitude at the record's start (the signal's unit)
     fft_frequency: float  # Hz, the windowed FFT's peak (parabolic interpolation)
+    mass: float = float("nan")  # kg, the sloshing mass m_n (2-D: times the tank's width), from the load (sloshing_masses)
+    mass_sigma: float = float("nan")  # kg, its standard uncertainty
 
     @property
     def period(self) -> float:
@@ -150,6 +156,63 @@ def analyse(t: Sequence[float], y: Sequence[float], modes: int = 2) -> Analysis:
     out.sort(key=lambda m: m.frequency)
     rel = float(np.sqrt(np.mean(res**2)) / max(np.std(y), 1e-300))
     return Analysis(out, 1 / dur, dur, len(t), rel)
+
+
+def step_transfer(omega: float, amplitude: float, duration: float, decay: float = 0.0) -> float:
+    """|J| = |int X''(t) exp((-decay + i omega) (T - t)) dt| over the displacement step X = amplitude s(u), u = t / T,
+    T = duration, s(u) = 10u^3 - 15u^4 + 6u^5 (``pulse_motion``): an oscillator of damped frequency omega and decay
+    rate decay, at rest before the step, is left with the displacement amplitude |J| / omega relative to the tank at
+    its end (m/s)."""
+    u = np.linspace(0.0, 1.0, 4097)
+    s2 = 60 * u - 180 * u**2 + 120 * u**3
+    f = s2 * np.exp((-decay + 1j * omega) * duration * (1 - u))
+    integral = (f[0] + f[-1]) / 2 + f[1:-1].sum()
+    return float(abs(integral) * (u[1] - u[0]) * amplitude / duration)
+
+
+def sloshing_masses(t: Sequence[float], load: Sequence[float], modes: Sequence[Mode], amplitude: float,
+                    duration: float) -> list[tuple[float, float]]:
+    """The sloshing masses m_n of the equivalent mechanical model (a mass m_n on a spring of frequency omega_n for
+    each mode, with a damper of ratio zeta_n, docs/equivalent.md) from the load on the tank held still after the
+    displacement step: each mode, at rest before it, is left oscillating with the displacement amplitude
+    |J| / omega_d (``step_transfer``, omega_d the damped frequency) relative to the tank, and its spring and damper
+    pull the tank with m_n omega_n^2 times that (exactly: |omega_n^2 + 2 zeta_n omega_n (-zeta_n omega_n + i
+    omega_d)| = omega_n^2). The load's amplitude at each
+    mode's frequency and decay (``analyse``'s, from the gauges) comes from a linear least-squares fit from the
+    record's start (the step's end), with a constant, and its standard
+    uncertainty from the fit's covariance (corrected for correlated residuals as in ``analyse``); m_n =
+    |F_n| omega_d / (omega_n^2 |J|). Returns
+    [(m_n, sigma_n)] in the modes' order (the load's mass unit)."""
+    t = np.asarray(t, float) - float(t[0])
+    y = np.asarray(load, float)
+    if not modes:
+        return []
+    cols = [np.ones_like(t)]
+    for m in modes:
+        w = 2 * np.pi * m.frequency
+        decay = np.exp(-m.damping * w / math.sqrt(max(1 - m.damping**2, 1e-12)) * t)
+        cols += [decay * np.cos(w * t), decay * np.sin(w * t)]
+    A = np.array(cols).T
+    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+    res = y - A @ coef
+    dof = max(len(y) - len(coef), 1)
+    r = float(np.corrcoef(res[:-1], res[1:])[0, 1]) if np.std(res) > 0 else 0.0
+    r = min(max(r, 0.0), 0.999)
+    try:
+        cov = np.linalg.inv(A.T @ A) * float(res @ res) / dof * (1 + r) / (1 - r)
+    except np.linalg.LinAlgError:
+        cov = np.full((len(coef), len(coef)), np.nan)
+    out = []
+    for k, m in enumerate(modes):
+        w = 2 * np.pi * m.frequency  # damped
+        w0 = w / math.sqrt(max(1 - m.damping**2, 1e-12))
+        a, b = coef[1 + 2 * k], coef[2 + 2 * k]
+        amp = math.hypot(a, b)
+        var = (a * a * cov[1 + 2 * k, 1 + 2 * k] + b * b * cov[2 + 2 * k, 2 + 2 * k]
+               + 2 * a * b * cov[1 + 2 * k, 2 + 2 * k]) / max(amp * amp, 1e-300)
+        scale = w0 * w0 / w * step_transfer(w, amplitude, duration, m.damping * w0)
+        out.append((float(amp / scale), float(math.sqrt(max(var, 0.0)) / scale)))
+    return out
 
 
 # ----------------------------------------------------------------------------- the tank and the experiment
@@ -256,25 +319,31 @@ class Result:
     analysis: Analysis
     output_dir: str
     gauges: list[dict] = field(default_factory=list)
+    liquid_mass: float = float("nan")  # kg (2-D: times the tank's width)
+    estimate_mass: list[float] = field(default_factory=list)  # the rectangular formula's m_n / m of the same modes
 
     def table(self) -> str:
         head = (f"sloshing modes along {self.direction}: L = {self.length:.4g} m, h = {self.depth:.4g} m, dx = {self.dx:.4g} m; "
                 f"record {self.analysis.duration:.3g} s ({self.analysis.samples} samples), FFT resolution "
                 f"{self.analysis.resolution:.3g} Hz, fit residual {self.analysis.residual:.2%} of the signal's rms")
         lines = [head, f"{'mode':>4} {'frequency[Hz]':>14} {'period[s]':>10} {'rectangular[Hz]':>16} "
-                       f"{'uncertainty[Hz]':>16} {'damping':>9} {'fft[Hz]':>9}"]
+                       f"{'uncertainty[Hz]':>16} {'damping':>9} {'fft[Hz]':>9} {'m_n/m':>8} {'+-':>8} {'rect.':>7}"]
         for i, m in enumerate(self.analysis.modes):
             est = self.estimate[i] if i < len(self.estimate) else float("nan")
+            emass = self.estimate_mass[i] if i < len(self.estimate_mass) else float("nan")
             lines.append(f"{i + 1:>4} {m.frequency:>14.5f} {m.period:>10.5f} {est:>16.5f} {m.sigma:>16.2e} "
-                         f"{m.damping:>9.2e} {m.fft_frequency:>9.4f}")
+                         f"{m.damping:>9.2e} {m.fft_frequency:>9.4f} {m.mass / self.liquid_mass:>8.4f} "
+                         f"{m.mass_sigma / self.liquid_mass:>8.4f} {emass:>7.4f}")
         return "\n".join(lines)
 
     def to_json(self) -> dict:
         d = asdict(self)
         d["units"] = {"frequency": "Hz", "period": "s", "length": "m", "depth": "m", "dx": "m", "amplitude": "m",
-                      "sigma": "Hz", "estimate": "Hz", "time": "s"}
+                      "sigma": "Hz", "estimate": "Hz", "time": "s", "mass": "kg (2-D: times the tank's width)",
+                      "mass_sigma": "kg", "liquid_mass": "kg", "mass_ratio": "1", "estimate_mass": "1"}
         for m, md in zip(self.analysis.modes, d["analysis"]["modes"]):
             md["period"] = m.period
+            md["mass_ratio"] = m.mass / self.liquid_mass
         return d
 
 
@@ -286,7 +355,8 @@ def sloshing_modes(options: Mapping[str, Any] | None = None, options_file: str |
     3-D) and returns its sloshing frequencies. The tank rests until the start-up relaxation (-fs_relax_time) has
     ended, is displaced by ``amplitude`` (m; default 1 % of the liquid's length L) over ``pulse`` times the first
     period's rectangular estimate T_1 = 2 pi / omega_1 (omega_1^2 = g k tanh(k h), k = pi/L), and is then held still
-    for ``periods`` T_1; the gauges' difference after the step is analysed (``analyse``) for ``modes`` peaks. The
+    for ``periods`` T_1; the gauges' difference after the step is analysed (``analyse``) for ``modes`` peaks, and
+    the load on the tank held still (``load_force_<c>``) for each mode's sloshing mass (``sloshing_masses``). The
     run writes to <output_dir>/run (probes.csv, timeseries.csv, ...), the motion and probe files to output_dir."""
     from .output import read_csv
     from .solver import Solver
@@ -311,7 +381,8 @@ def sloshing_modes(options: Mapping[str, Any] | None = None, options_file: str |
         out.mkdir(parents=True, exist_ok=True)
     geo = tank_geometry({**opts, "fs_output_dir": str(out / "setup")}, options_file, direction, comm)
     L, h = geo["length"], geo["depth"]
-    est = rectangular_modes(L, h, max(modes, 3))[0] / (2 * np.pi)
+    est_w, est_m = rectangular_modes(L, h, max(modes, 3))
+    est = est_w / (2 * np.pi)
     period = 1 / est[0]
     amp = 0.01 * L if amplitude is None else float(amplitude)
     relax = geo["relax"]
@@ -340,6 +411,9 @@ def sloshing_modes(options: Mapping[str, Any] | None = None, options_file: str |
                  f"step of {amp:.3g} m over {dur:.3g} s at t = {t0:.3g} s, record to t = {t_end:.4g} s")
     with Solver(ropts, options_file=options_file, comm=comm) as s:
         s.run()
+        cmass = s._core.ffi.new("PetscReal *")
+        s._call("FSSolverGetLiquidMass", cmass)  # 2-D: times the tank's width, as the loads
+        liquid_mass = float(cmass[0])
     res = None
     if rank == 0:
         P = read_csv(run_dir / "probes.csv", allow_partial_last_row=True)
@@ -347,8 +421,12 @@ def sloshing_modes(options: Mapping[str, Any] | None = None, options_file: str |
         y = P["gauge_hi_elevation[m]"] - P["gauge_lo_elevation[m]"]
         keep = t >= record_start
         a = analyse(t[keep], y[keep], modes)
+        S = read_csv(run_dir / "timeseries.csv", allow_partial_last_row=True)
+        ks = S["time"] >= record_start
+        for m, (mn, sn) in zip(a.modes, sloshing_masses(S["time"][ks], S[f"load_force_{comp}"][ks], a.modes, amp, dur)):
+            m.mass, m.mass_sigma = mn, sn
         res = Result(direction, geo["dim"], geo["dx"], L, h, amp, t0, dur, record_start, float(t[-1]),
-                     [float(v) for v in est], a, str(run_dir), geo["gauges"])
+                     [float(v) for v in est], a, str(run_dir), geo["gauges"], liquid_mass, [float(v) for v in est_m])
         (out / "modes.json").write_text(json.dumps(res.to_json(), indent=1) + "\n")
     if comm is not None and comm.Get_size() > 1:
         res = comm.bcast(res, root=0)
@@ -360,7 +438,7 @@ def sloshing_modes(options: Mapping[str, Any] | None = None, options_file: str |
 
 def main(argv: Sequence[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python3 -m flexslosh.modes", description=(
-        "The tank's linear sloshing frequencies along a horizontal direction, from a free decay after a small "
+        "The tank's linear sloshing frequencies and masses along a horizontal direction, from a free decay after a small "
         "displacement step (docs/equivalent.md, \"The tank's sloshing frequencies\"). Arguments it does not know "
         "are PETSc options for the runs (-fs_dx 0.005 ...)."))
     ap.add_argument("--options-file", help="the case (any tank: 2-D, 3-D box or STL)")
