@@ -221,7 +221,7 @@ def test_sway_below_the_first_mode_follows_potential_theory(tmp_path):
 
 def test_sway_above_the_first_mode_converges(tmp_path):
     """At 1.5 omega_1 the liquid feels lighter than its mass (theory 0.194 m), the small difference of the rigid and
-    the sloshing masses, which a 1 % error in the SPH's omega_1 moves by 0.014 m: the mean of the cycles after the
+    the sloshing masses, which a 1 % error in the SPH's frequencies moves by 0.016 m: the mean of the cycles after the
     first (they beat with the free oscillation the ramp leaves, fitted out at omega_1) within 3 % of m at dx = L/28,
     closer than at L/20 (measured: 0.2486 and 0.2131, +5.4 and +1.9 % of m; 0.1967 at L/40)."""
     w1 = eq.rectangular_modes(L, H)[0][0]
