@@ -650,6 +650,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--cycles", type=int, default=12, help="at most this many cycles after the ramp (12)")
     p.add_argument("--settle", type=int, default=3, help="consecutive cycle-to-cycle changes below --tol (3)")
     p.add_argument("--tol", type=float, default=0.01, help="the largest change from one cycle to the next (0.01)")
+    p.add_argument("--free", type=float, default=None,
+                   help="the frequency (Hz) near which a free oscillation left by the start is fitted out of each cycle "
+                        "(e.g. the first sloshing frequency, forcing above it; default none)")
     p.add_argument("--growth", type=float, default=0.1,
                    help="a window whose E_d grows by more than this fraction every cycle is not settled (0.1)")
     p.add_argument("--out", default="output/equivalent", help="the table, the figures, runs/ and points/ (resumed)")
@@ -667,6 +670,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         p.error(f"--tol {args.tol}: expected a positive number")
     if not (args.growth > 0):
         p.error(f"--growth {args.growth}: expected a positive number")
+    if args.free is not None and not (args.free > 0 and math.isfinite(args.free)):
+        p.error(f"--free {args.free}: expected a positive frequency in Hz")
     amplitudes = [math.radians(a) for a in args.amplitude] if args.direction in ("roll", "pitch") else args.amplitude
     comm = None
     if args.mpi:
@@ -677,6 +682,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         rows = grid(args.options_file, args.direction, args.fill or [None], amplitudes, args.frequency, base, args.out,
                     comm=comm, figures=not args.no_figures, point=args.point, ramp_cycles=args.ramp_cycles,
                     cycles_max=args.cycles, settle=args.settle, tol=args.tol, growth=args.growth,
+                    **({"free": 2 * math.pi * args.free} if args.free is not None else {}),
                     progress=lambda line: print(line, flush=True))
     except ValueError as e:
         print(f"flexslosh.equivalent: {e}", file=sys.stderr)

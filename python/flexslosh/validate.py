@@ -1790,6 +1790,8 @@ def case_sway_mass(ctx: Context) -> Section:
             sec.runs.append(RunInfo(f"sway {dim}-D {ratio:g} omega_1 {_label(dx)}",
                                     "python3 -m flexslosh.equivalent --direction sway "
                                     f"--amplitude {a_over_l * L:g} --frequency {omega / (2 * np.pi):.6g} "
+                                    f"--ramp-cycles {kw['ramp_cycles']:g} --cycles {kw['cycles_max']} --settle {kw['settle']} "
+                                    f"--tol {kw['tol']:g} " + (f"--free {kw['free'] / (2 * np.pi):.6g} " if "free" in kw else "")
                                     + " ".join(f"-{o} {v}" for o, v in base.items()),
                                     int(summary["particles"]), float(summary.get("wall_time", time.time() - t0)), _commit()))
             errs.append(m - exact)

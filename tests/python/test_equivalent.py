@@ -156,6 +156,29 @@ def test_grid_resumes_and_writes_the_table(tmp_path, monkeypatch):
     assert calls == [(0.3, 0.001, 1.5)]
 
 
+def test_command_passes_the_free_oscillation(tmp_path, monkeypatch):
+    """--free f (Hz) reaches describe as the free oscillation's angular frequency 2 pi f; a non-positive one is named."""
+    seen = []
+
+    def fake(options, direction, amplitude, frequency, **kw):
+        seen.append(kw.get("free"))
+        omega = 2 * np.pi * frequency
+        t, F, work = synthetic(m_eff=2.0, A=amplitude, omega=omega, t_end=6 * 2 * np.pi / omega)
+        d = eq.Description(direction, amplitude, frequency, 2.0, 2.0, 0.2, 0.01, 2, settle=3)
+        d.cycles = eq.analyse_cycles(t, F, work, amplitude, omega, 0.0)
+        d.settled_from = eq.settled_window(d.cycles, amplitude)
+        return d
+
+    monkeypatch.setattr(eq, "describe", fake)
+    common = ["--direction", "sway", "--amplitude", "0.001", "--frequency", "2.8", "--no-figures", "-fs_case", "tank"]
+    assert eq.main(common + ["--free", "1.9", "--out", str(tmp_path / "a")]) == 0
+    assert eq.main(common + ["--out", str(tmp_path / "b")]) == 0
+    assert seen == [pytest.approx(2 * np.pi * 1.9), None]
+    with pytest.raises(SystemExit) as e:
+        eq.main(common + ["--free", "-1", "--out", str(tmp_path / "c")])
+    assert e.value.code == 2
+
+
 def test_bad_input_is_named():
     with pytest.raises(ValueError, match="direction 'yaw'"):
         eq.describe(TANK, "yaw", 0.01, 1.0)
