@@ -1793,7 +1793,8 @@ def case_sway_mass(ctx: Context) -> Section:
                                     f"--ramp-cycles {kw['ramp_cycles']:g} --cycles {kw['cycles_max']} --settle {kw['settle']} "
                                     f"--tol {kw['tol']:g} " + (f"--free {kw['free'] / (2 * np.pi):.6g} " if "free" in kw else "")
                                     + " ".join(f"-{o} {v}" for o, v in base.items()),
-                                    int(summary["particles"]), float(summary.get("wall_time", time.time() - t0)), _commit()))
+                                    int(summary["particles"]), float(summary.get("wall_time", time.time() - t0)),
+                                    str(record["row"].get("revision", _commit()))))  # the commit the point ran on
             errs.append(m - exact)
             rows.append(f"| {label} | {1e3 * dx:.3g} | {int(summary['particles']):,} | {m:.4f} ({n}{', settled' if record['row']['settled'] else ''}) "
                         f"| {exact:.4f} | {100 * (m - exact):+.2f} | {float(summary.get('wall_time', 0)):.0f} |")
