@@ -120,18 +120,23 @@ def test_faraday_modes_of_a_heaved_rectangle():
     assert box == [(2, 1)]
 
 
+def rigid_description(direction, amplitude, frequency):
+    """What describe returns for a liquid of 2 kg carried rigidly (synthetic loads, settled): a stand-in for the runs."""
+    omega = 2 * np.pi * frequency
+    t, F, work = synthetic(m_eff=2.0, A=amplitude, omega=omega, t_end=6 * 2 * np.pi / omega)
+    d = eq.Description(direction, amplitude, frequency, 2.0, 2.0, 0.2, 0.01, 2, settle=3)
+    d.cycles = eq.analyse_cycles(t, F, work, amplitude, omega, 0.0)
+    d.settled_from = eq.settled_window(d.cycles, amplitude)
+    return d
+
+
 def test_grid_resumes_and_writes_the_table(tmp_path, monkeypatch):
     """A grid point whose record is complete is not run again; the table carries units and one row per point."""
     calls = []
 
     def fake(options, direction, amplitude, frequency, **kw):
         calls.append((options.get("fs_fill"), amplitude, frequency))
-        omega = 2 * np.pi * frequency
-        t, F, work = synthetic(m_eff=2.0, A=amplitude, omega=omega, t_end=6 * 2 * np.pi / omega)
-        d = eq.Description(direction, amplitude, frequency, 2.0, 2.0, 0.2, 0.01, 2, settle=3)
-        d.cycles = eq.analyse_cycles(t, F, work, amplitude, omega, 0.0)
-        d.settled_from = eq.settled_window(d.cycles, amplitude)
-        return d
+        return rigid_description(direction, amplitude, frequency)
 
     monkeypatch.setattr(eq, "describe", fake)
     args = (None, "heave", [0.3, 0.5], [0.001, 0.002], [1.0, 2.0])
@@ -162,12 +167,7 @@ def test_command_passes_the_free_oscillation(tmp_path, monkeypatch):
 
     def fake(options, direction, amplitude, frequency, **kw):
         seen.append(kw.get("free"))
-        omega = 2 * np.pi * frequency
-        t, F, work = synthetic(m_eff=2.0, A=amplitude, omega=omega, t_end=6 * 2 * np.pi / omega)
-        d = eq.Description(direction, amplitude, frequency, 2.0, 2.0, 0.2, 0.01, 2, settle=3)
-        d.cycles = eq.analyse_cycles(t, F, work, amplitude, omega, 0.0)
-        d.settled_from = eq.settled_window(d.cycles, amplitude)
-        return d
+        return rigid_description(direction, amplitude, frequency)
 
     monkeypatch.setattr(eq, "describe", fake)
     common = ["--direction", "sway", "--amplitude", "0.001", "--frequency", "2.8", "--no-figures", "-fs_case", "tank"]
