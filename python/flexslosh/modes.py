@@ -102,6 +102,19 @@ def _spectrum_peaks(t: np.ndarray, y: np.ndarray, n: int, floor: float = 0.02) -
     return sorted(out)
 
 
+def _covariance(jac: np.ndarray, res: np.ndarray) -> np.ndarray:
+    """The parameters' covariance of a least-squares fit, s^2 (J^T J)^-1 with s^2 the residuals' variance, times
+    (1 + r)/(1 - r), r their lag-one autocorrelation (correlated residuals are fewer independent samples); NaN where
+    J^T J is singular."""
+    dof = max(len(res) - jac.shape[1], 1)
+    r = float(np.corrcoef(res[:-1], res[1:])[0, 1]) if np.std(res) > 0 else 0.0
+    r = min(max(r, 0.0), 0.999)
+    try:
+        return np.linalg.inv(jac.T @ jac) * float(res @ res) / dof * (1 + r) / (1 - r)
+    except np.linalg.LinAlgError:
+        return np.full((jac.shape[1], jac.shape[1]), np.nan)
+
+
 def analyse(t: Sequence[float], y: Sequence[float], modes: int = 2) -> Analysis:
     """The sloshing frequencies in a free-decay record y(t): the ``modes`` largest peaks of its Hann-windowed FFT
     (resampled on a uniform grid; zero-padded 16 times, parabolic peak interpolation), then a nonlinear least-
@@ -136,15 +149,7 @@ def analyse(t: Sequence[float], y: Sequence[float], modes: int = 2) -> Analysis:
                         ftol=1e-14, gtol=1e-14, max_nfev=20000)
     p = fit.x
     res = fit.fun
-    dof = max(len(y) - len(p), 1)
-    s2 = float(res @ res) / dof
-    r = float(np.corrcoef(res[:-1], res[1:])[0, 1]) if np.std(res) > 0 else 0.0
-    r = min(max(r, 0.0), 0.999)
-    try:
-        cov = np.linalg.inv(fit.jac.T @ fit.jac) * s2 * (1 + r) / (1 - r)
-        err = np.sqrt(np.maximum(np.diag(cov), 0))
-    except np.linalg.LinAlgError:
-        err = np.full(len(p), np.nan)
+    err = np.sqrt(np.maximum(np.diag(_covariance(fit.jac, res)), 0))
     out = []
     for k in range(n):
         f, s, a, b = p[4 * k:4 * k + 4]
@@ -187,30 +192,22 @@ def sloshing_masses(t: Sequence[float], load: Sequence[float], modes: Sequence[M
     y = np.asarray(load, float)
     if not modes:
         return []
+    wd = [2 * np.pi * m.frequency for m in modes]  # damped
+    w0 = [w / math.sqrt(max(1 - m.damping**2, 1e-12)) for w, m in zip(wd, modes)]  # undamped
     cols = [np.ones_like(t)]
-    for m in modes:
-        w = 2 * np.pi * m.frequency
-        decay = np.exp(-m.damping * w / math.sqrt(max(1 - m.damping**2, 1e-12)) * t)
+    for m, w, wn in zip(modes, wd, w0):
+        decay = np.exp(-m.damping * wn * t)
         cols += [decay * np.cos(w * t), decay * np.sin(w * t)]
     A = np.array(cols).T
     coef, *_ = np.linalg.lstsq(A, y, rcond=None)
-    res = y - A @ coef
-    dof = max(len(y) - len(coef), 1)
-    r = float(np.corrcoef(res[:-1], res[1:])[0, 1]) if np.std(res) > 0 else 0.0
-    r = min(max(r, 0.0), 0.999)
-    try:
-        cov = np.linalg.inv(A.T @ A) * float(res @ res) / dof * (1 + r) / (1 - r)
-    except np.linalg.LinAlgError:
-        cov = np.full((len(coef), len(coef)), np.nan)
+    cov = _covariance(A, y - A @ coef)
     out = []
-    for k, m in enumerate(modes):
-        w = 2 * np.pi * m.frequency  # damped
-        w0 = w / math.sqrt(max(1 - m.damping**2, 1e-12))
+    for k, (m, w, wn) in enumerate(zip(modes, wd, w0)):
         a, b = coef[1 + 2 * k], coef[2 + 2 * k]
         amp = math.hypot(a, b)
         var = (a * a * cov[1 + 2 * k, 1 + 2 * k] + b * b * cov[2 + 2 * k, 2 + 2 * k]
                + 2 * a * b * cov[1 + 2 * k, 2 + 2 * k]) / max(amp * amp, 1e-300)
-        scale = w0 * w0 / w * step_transfer(w, amplitude, duration, m.damping * w0)
+        scale = wn * wn / w * step_transfer(w, amplitude, duration, m.damping * wn)
         out.append((float(amp / scale), float(math.sqrt(max(var, 0.0)) / scale)))
     return out
 
