@@ -14,6 +14,9 @@ struct _FSBoundaryOps {
   PetscErrorCode (*setfromoptions)(FSBoundary, PetscOptionItems *);
   /* from the geometry the case gave: elements of about dx, static search structures, the view's layout */
   PetscErrorCode (*setup)(FSBoundary);
+  /* this rank's part of the domain (FSBoundarySetPartition), before the wall pressure's exchange is set up: an
+     implementation that holds only the elements near the part makes them here and sets elgid (may be NULL) */
+  PetscErrorCode (*partition)(FSBoundary, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[]);
   /* once per step, after the fluid candidates are built (FSBoundaryUpdate) */
   PetscErrorCode (*update)(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *,
                            FSBoundaryLeak *);
@@ -75,7 +78,10 @@ struct _p_FSBoundary {
   /* the wall pressure's sums over the ranks (FSBoundarySetPartition): without a partition one MPI_Allreduce of
      every element's sums; with one a PetscSF from the ranks whose particles can reach an element to the rank that
      owns it (its centroid's) and back */
-  PetscSF      wpsf;
+  PetscSF         wpsf;
+  PetscInt        nelglobal; /* the elements of all the walls (set by the implementation's setup) */
+  const PetscInt *elgid;     /* per element of the view, its number among all nelglobal, when this rank holds only
+                                some (set by ops->partition); NULL: the view holds them all, in order */
   PetscMPIInt *owner;        /* per element, with a partition: the owning rank */
   PetscReal   *wproot;       /* 2 nel, with a partition: the owners' sums */
   PetscInt     wp_leaves;    /* elements this rank's particles can reach (2 values each through the SF) */

@@ -84,6 +84,7 @@ typedef PetscMPIInt (*FSBoundaryRankOfFn)(void *ctx, const PetscReal x[]);
 PETSC_INTERN PetscErrorCode FSBoundarySetPartition(FSBoundary, FSBoundaryRankOfFn, void *ctx, const PetscReal lo[],
                                                    const PetscReal hi[], const PetscBool periodic[]);
 PETSC_INTERN PetscErrorCode FSBoundaryOwnsElement(FSBoundary, PetscInt k, PetscBool *owns);
+PETSC_INTERN PetscErrorCode FSBoundaryGetElementCounts(FSBoundary, PetscInt *nlocal, PetscInt *nglobal, PetscBool *all);
 PETSC_INTERN PetscErrorCode FSBoundaryGetWallNames(FSBoundary, PetscInt *nwalls, const char *const **names);
 PETSC_INTERN PetscErrorCode FSBoundaryShepardAt(FSBoundary, const PetscReal x[], PetscReal *gamma);
 PETSC_INTERN PetscErrorCode FSBoundaryLocate(FSBoundary, const PetscReal x[], PetscBool *inliquid, PetscInt *wall,

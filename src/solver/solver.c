@@ -938,7 +938,7 @@ static PetscErrorCode FSSolverViewEstimate(FSSolver s, PetscViewer viewer)
     const PetscInt   *wstart, *wk;
     const PetscReal  *wW;
     PetscCall(FSBoundaryGetView(s->boundary, &B, &wstart, &wk, &wW));
-    nel = B ? B->nelements : 0;
+    if (B) PetscCall(FSBoundaryGetElementCounts(s->boundary, NULL, &nel, NULL));
     PetscCall(FSBoundaryGetBoundingBox(s->boundary, lo, hi));
   }
   PetscCall(FSSolverViscosityBound(s, &nu, &source));

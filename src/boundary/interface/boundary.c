@@ -257,6 +257,7 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
   b->radius = radius;
   b->reach  = 2 * h + 0.5 * (radius - 2 * h);
   PetscCall((*b->ops->setup)(b));
+  if (!b->nelglobal) b->nelglobal = b->view.nelements;
   PetscCall(PetscCalloc1(b->nwalls, &b->noslip));
   PetscCall(PetscCalloc2(FS_WALL_LOAD_STRIDE * b->nwalls, &b->load, FS_WALL_LOAD_STRIDE * b->nwalls, &b->loadsum));
   for (PetscInt k = 0; k < b->nnoslipname; k++) {
@@ -484,28 +485,80 @@ PetscErrorCode FSBoundaryPressureLoads(FSBoundary b, const PetscReal wp[])
 }
 
 /*
+   for each of the nq elements q[] of this rank's view (elgid numbering) that other ranks own, where their owner holds
+   it: its rank (given) and its index in the owner's view (found), through PetscSFCreateByMatchingIndices on the
+   owners' own elements
+*/
+static PetscErrorCode FSBoundaryFindOwnersIndex(FSBoundary b, PetscInt nq, const PetscInt q[], PetscSFNode remote[])
+{
+  MPI_Comm           comm = PetscObjectComm((PetscObject)b);
+  PetscMPIInt        rank;
+  PetscInt           nown = 0, *gown, *kown, *gq, nroots, nleaves, found = 0;
+  PetscLayout        layout;
+  PetscSF            sf;
+  const PetscInt    *ilocal;
+  const PetscSFNode *iremote;
+
+  PetscFunctionBegin;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  for (PetscInt k = 0; k < b->view.nelements; k++) nown += b->owner[k] == rank;
+  PetscCall(PetscMalloc3(nown + 1, &gown, nown + 1, &kown, nq + 1, &gq));
+  nown = 0;
+  for (PetscInt k = 0; k < b->view.nelements; k++)
+    if (b->owner[k] == rank) {
+      gown[nown]   = b->elgid[k];
+      kown[nown++] = k;
+    }
+  for (PetscInt i = 0; i < nq; i++) gq[i] = b->elgid[q[i]];
+  PetscCall(PetscLayoutCreateFromSizes(comm, PETSC_DECIDE, b->nelglobal, 1, &layout));
+  PetscCall(PetscSFCreateByMatchingIndices(layout, nown, gown, kown, 0, nq, gq, NULL, 0, NULL, &sf));
+  PetscCall(PetscSFGetGraph(sf, &nroots, &nleaves, &ilocal, &iremote));
+  for (PetscInt i = 0; i < nq; i++) remote[i].rank = -1;
+  for (PetscInt l = 0; l < nleaves; l++) {
+    const PetscInt i = ilocal ? ilocal[l] : l;
+    remote[i]        = iremote[l];
+  }
+  for (PetscInt i = 0; i < nq; i++) found += remote[i].rank >= 0;
+  PetscCheck(found == nq, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "The walls' elements: %" PetscInt_FMT " of the %" PetscInt_FMT
+             " near this rank's part not held by their owner",
+             nq - found, nq);
+  PetscCall(PetscSFDestroy(&sf));
+  PetscCall(PetscLayoutDestroy(&layout));
+  PetscCall(PetscFree3(gown, kown, gq));
+  PetscFunctionReturn(0);
+}
+
+/*
    FSBoundarySetPartition - tells the walls how the particles are split over the ranks, so that the wall pressure's
    sums go only between the ranks that share an element (FSBoundaryWallPressure): rankof gives the rank owning a
    point (an element is owned by its centroid's rank), [lo, hi] is this rank's part of the domain (periodic
    directions: the whole). After FSBoundarySetUp; again whenever the split changes. With one rank nothing changes.
+   An implementation that holds only the elements near the part (-fs_walls_distribute) makes them first; the sums
+   then go to the owner's own index of each element, found through their numbers among all elements.
 
    Collective
 */
 PetscErrorCode FSBoundarySetPartition(FSBoundary b, FSBoundaryRankOfFn rankof, void *ctx, const PetscReal lo[],
                                       const PetscReal hi[], const PetscBool periodic[])
 {
-  const FSWallView *V   = &b->view;
-  const PetscInt    nel = V->nelements, D = b->dim;
-  PetscMPIInt       size;
-  PetscInt          nl = 0, *ilocal;
-  PetscSFNode      *iremote;
+  const FSWallView *V = &b->view;
+  const PetscInt    D = b->dim;
+  PetscMPIInt       size, rank;
+  PetscInt          nel, nl = 0, *ilocal, nq = 0, *q;
+  PetscSFNode      *iremote, *found;
   PetscReal         reach = 0;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)b), &size));
-  if (size == 1 || !nel) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_rank(PetscObjectComm((PetscObject)b), &rank));
+  if (size == 1) PetscFunctionReturn(0);
+  if (b->ops->partition) PetscCall((*b->ops->partition)(b, lo, hi, periodic));
+  nel = V->nelements;
   PetscCall(PetscSFDestroy(&b->wpsf));
-  if (!b->owner) PetscCall(PetscMalloc2(nel, &b->owner, 2 * nel, &b->wproot));
+  PetscCall(PetscFree2(b->owner, b->wproot));
+  if (!b->nelglobal) PetscFunctionReturn(0);
+  PetscCall(PetscMalloc2(nel + 1, &b->owner, 2 * nel + 1, &b->wproot));
   /* an element is within reach of this rank's particles when its centroid is within the candidate radius plus
      the element's own size (its farthest vertex) of this rank's part */
   for (PetscInt k = 0; k < nel; k++) {
@@ -516,9 +569,11 @@ PetscErrorCode FSBoundarySetPartition(FSBoundary b, FSBoundaryRankOfFn rankof, v
       reach = PetscMax(reach, PetscSqrtReal(d2));
     }
   }
+  if (b->elgid) PetscCall(MPIU_Allreduce(MPI_IN_PLACE, &reach, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)b)));
   reach += b->radius;
-  PetscCall(PetscMalloc1(2 * nel, &ilocal));
-  PetscCall(PetscMalloc1(2 * nel, &iremote));
+  PetscCall(PetscMalloc1(2 * nel + 1, &ilocal));
+  PetscCall(PetscMalloc1(2 * nel + 1, &iremote));
+  PetscCall(PetscMalloc2(nel + 1, &q, nel + 1, &found));
   for (PetscInt k = 0; k < nel; k++) {
     const PetscReal *c    = &V->element[k * V->stride + V->centroid];
     PetscBool        near = PETSC_TRUE;
@@ -526,22 +581,49 @@ PetscErrorCode FSBoundarySetPartition(FSBoundary b, FSBoundaryRankOfFn rankof, v
     for (PetscInt d = 0; d < D; d++)
       if (!periodic[d] && (c[d] < lo[d] - reach || c[d] > hi[d] + reach)) near = PETSC_FALSE;
     if (!near) continue;
-    ilocal[nl]              = k; /* num[k] and den[k] (nel further) to the owner's */
-    iremote[nl].rank        = b->owner[k];
-    iremote[nl].index       = k;
-    ilocal[nel + nl]        = nel + k;
-    iremote[nel + nl].rank  = b->owner[k];
-    iremote[nel + nl].index = nel + k;
-    nl++;
+    ilocal[nl]          = k; /* num[k] and den[k] (nel further) to the owner's */
+    iremote[nl].rank    = b->owner[k];
+    iremote[nl++].index = k;
+    if (b->elgid && b->owner[k] != rank) q[nq++] = k;
   }
-  for (PetscInt q = 0; q < nl; q++) { /* close the gap between the num and den halves */
-    ilocal[nl + q]  = ilocal[nel + q];
-    iremote[nl + q] = iremote[nel + q];
-  }
+  if (b->elgid) { /* the owner's own index of each element, its num and den side by side there */
+    PetscCall(FSBoundaryFindOwnersIndex(b, nq, q, found));
+    for (PetscInt l = 0, i = 0; l < nl; l++) {
+      if (iremote[l].rank != rank) {
+        PetscCheck(found[i].rank == iremote[l].rank, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+                   "The walls' element owners disagree");
+        iremote[l].index = found[i++].index;
+      }
+      iremote[l].index *= 2;
+      iremote[nl + l].rank  = iremote[l].rank;
+      iremote[nl + l].index = iremote[l].index + 1;
+      ilocal[nl + l]        = nel + ilocal[l];
+    }
+  } else
+    for (PetscInt l = 0; l < nl; l++) {
+      iremote[nl + l].rank  = iremote[l].rank;
+      iremote[nl + l].index = nel + iremote[l].index;
+      ilocal[nl + l]        = nel + ilocal[l];
+    }
+  PetscCall(PetscFree2(q, found));
   b->wp_leaves = nl;
   PetscCall(PetscSFCreate(PetscObjectComm((PetscObject)b), &b->wpsf));
   PetscCall(PetscSFSetGraph(b->wpsf, 2 * nel, 2 * nl, ilocal, PETSC_OWN_POINTER, iremote, PETSC_OWN_POINTER));
   PetscCall(PetscSFSetUp(b->wpsf));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryGetElementCounts - the elements this rank's view holds, those of all the walls, and whether the view
+   holds them all (false with -fs_walls_distribute on more than one rank, after FSBoundarySetPartition). Any
+   argument may be NULL. Not collective
+*/
+PetscErrorCode FSBoundaryGetElementCounts(FSBoundary b, PetscInt *nlocal, PetscInt *nglobal, PetscBool *all)
+{
+  PetscFunctionBegin;
+  if (nlocal) *nlocal = b->view.nelements;
+  if (nglobal) *nglobal = b->nelglobal;
+  if (all) *all = (PetscBool)!b->elgid;
   PetscFunctionReturn(0);
 }
 
@@ -949,6 +1031,9 @@ PetscErrorCode FSBoundarySummary(FSBoundary b, FSJSON js)
   PetscCall(FSJSONWriteInt(js, "wall_pressure_reduced_values", b->wp_values));
   /* with a partition, the values this rank sent to the elements' owners and back in a right-hand side instead */
   PetscCall(FSJSONWriteInt(js, "wall_pressure_exchanged_values", b->wp_exchanged));
+  /* the elements of all the walls, and whether each rank held only those near its part (-fs_walls_distribute) */
+  PetscCall(FSJSONWriteInt(js, "wall_elements", b->nelglobal));
+  PetscCall(FSJSONWriteBool(js, "wall_elements_distributed", (PetscBool)(b->elgid != NULL)));
   PetscFunctionReturn(0);
 }
 

@@ -115,7 +115,7 @@ PetscErrorCode FSBoundaryWriteGeometry_Trimesh(FSBoundary b, const char dir[])
   PetscCall(PetscSNPrintf(what, sizeof(what),
                           "%" PetscInt_FMT " triangles as given (the run integrates over %" PetscInt_FMT
                           " elements refined from them)",
-                          ntri, ms->nel));
+                          ntri, ms->nelglobal));
   PetscCall(FSBoundaryWriteWallsXDMF_Private(b, dir, "Triangle", 3, ntri, "area", what));
   PetscFunctionReturn(0);
 }

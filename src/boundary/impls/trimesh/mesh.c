@@ -42,6 +42,7 @@ PetscErrorCode FSMeshDestroy(FSMesh *m)
   PetscCall(PetscFree(m->el));
   PetscCall(PetscFree(m->elwall));
   PetscCall(PetscFree(m->eltri));
+  PetscCall(PetscFree(m->elgid));
   PetscCall(PetscMemzero(m, sizeof(*m)));
   PetscFunctionReturn(0);
 }
@@ -1060,13 +1061,15 @@ PetscErrorCode FSMeshCheck(FSMesh *m, MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-/* appends the element p0, p1, p2 of triangle t, whose unit normal is n (mesh.h's row: vertices, centroid, normal,
-   area, radius of its bounding sphere about the centroid) */
-static void AddElement(FSMesh *m, PetscInt t, const PetscReal p0[], const PetscReal p1[], const PetscReal p2[],
-                       const PetscReal n[])
+/* the element p0, p1, p2 of triangle t, whose unit normal is n (mesh.h's row: vertices, centroid, normal, area, radius
+   of its bounding sphere about the centroid), numbered m->nelglobal in the whole refinement: appended when its bounding
+   sphere meets the box lo..hi (no box: always), the arrays grown by half when full */
+static PetscErrorCode AddElement(FSMesh *m, PetscInt t, const PetscReal p0[], const PetscReal p1[],
+                                 const PetscReal p2[], const PetscReal n[], const PetscReal lo[], const PetscReal hi[])
 {
-  PetscReal *row = &m->el[m->nel * FS_TRI_STRIDE], e[3];
+  PetscReal row[FS_TRI_STRIDE], e[3];
 
+  PetscFunctionBegin;
   for (PetscInt d = 0; d < 3; d++) {
     row[FS_TRI_P0 + d]       = p0[d];
     row[FS_TRI_P1 + d]       = p1[d];
@@ -1082,9 +1085,26 @@ static void AddElement(FSMesh *m, PetscInt t, const PetscReal p0[], const PetscR
     Sub(&row[3 * k], &row[FS_TRI_CENTROID], r);
     row[FS_TRI_RADIUS] = PetscMax(row[FS_TRI_RADIUS], PetscSqrtReal(Dot(r, r)));
   }
+  m->elradius = PetscMax(m->elradius, row[FS_TRI_RADIUS]);
+  m->nelglobal++;
+  if (lo)
+    for (PetscInt d = 0; d < 3; d++)
+      if (row[FS_TRI_CENTROID + d] + row[FS_TRI_RADIUS] < lo[d] ||
+          row[FS_TRI_CENTROID + d] - row[FS_TRI_RADIUS] > hi[d])
+        PetscFunctionReturn(0);
+  if (m->nel == m->elcap) {
+    m->elcap = PetscMax(1024, m->elcap + m->elcap / 2);
+    PetscCall(PetscRealloc((size_t)m->elcap * FS_TRI_STRIDE * sizeof(PetscReal), &m->el));
+    PetscCall(PetscRealloc((size_t)m->elcap * sizeof(PetscInt), &m->elwall));
+    PetscCall(PetscRealloc((size_t)m->elcap * sizeof(PetscInt), &m->eltri));
+    PetscCall(PetscRealloc((size_t)m->elcap * sizeof(PetscInt), &m->elgid));
+  }
+  PetscCall(PetscArraycpy(&m->el[(size_t)m->nel * FS_TRI_STRIDE], row, FS_TRI_STRIDE));
   m->elwall[m->nel] = m->triwall[t];
   m->eltri[m->nel]  = t;
+  m->elgid[m->nel]  = m->nelglobal - 1;
   m->nel++;
+  PetscFunctionReturn(0);
 }
 
 /* A triangle's split (FSMeshRefine): m^2 similar triangles (grid = 0), or a grid of cells along the edges AB and AC
@@ -1174,9 +1194,24 @@ static PetscInt64 ChooseSplit(const FSMesh *m, PetscInt t, PetscReal hmax, FSTri
 
    Not collective
 
-.seealso: FSMeshCheck(), FS_TRI_STRIDE
+.seealso: FSMeshCheck(), FSMeshRefineRegion(), FS_TRI_STRIDE
 */
 PetscErrorCode FSMeshRefine(FSMesh *m, PetscReal hmax)
+{
+  PetscFunctionBegin;
+  PetscCall(FSMeshRefineRegion(m, hmax, NULL, NULL));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSMeshRefineRegion - FSMeshRefine()'s elements whose bounding sphere meets the box lo..hi (NULL: all of them), in
+   the same order; elgid numbers each as in the whole refinement, nelglobal counts the whole refinement's elements
+   and elradius is the largest bounding sphere of them all, so that ranks holding the elements near their part of
+   the domain agree on every element's number and on the search radius. Elements made before are replaced.
+
+   Not collective
+*/
+PetscErrorCode FSMeshRefineRegion(FSMesh *m, PetscReal hmax, const PetscReal lo[], const PetscReal hi[])
 {
   FSTriangleSplit *split;
   PetscInt64       nel = 0;
@@ -1200,10 +1235,17 @@ PetscErrorCode FSMeshRefine(FSMesh *m, PetscReal hmax)
   PetscCall(PetscFree(m->el));
   PetscCall(PetscFree(m->elwall));
   PetscCall(PetscFree(m->eltri));
-  PetscCall(PetscMalloc1(nel * FS_TRI_STRIDE, &m->el));
-  PetscCall(PetscMalloc1(nel, &m->elwall));
-  PetscCall(PetscMalloc1(nel, &m->eltri));
-  m->nel = 0;
+  PetscCall(PetscFree(m->elgid));
+  m->elcap = lo ? 0 : (PetscInt)nel; /* the whole refinement: allocated once */
+  if (!lo) {
+    PetscCall(PetscMalloc1(nel * FS_TRI_STRIDE, &m->el));
+    PetscCall(PetscMalloc1(nel, &m->elwall));
+    PetscCall(PetscMalloc1(nel, &m->eltri));
+    PetscCall(PetscMalloc1(nel, &m->elgid));
+  }
+  m->nel       = 0;
+  m->nelglobal = 0;
+  m->elradius  = 0;
   for (PetscInt t = 0; t < m->ntri; t++) {
     const FSTriangleSplit *sp = &split[t];
     const PetscReal       *a = sp->A, *b = sp->B, *c = sp->C;
@@ -1226,7 +1268,7 @@ PetscErrorCode FSMeshRefine(FSMesh *m, PetscReal hmax)
             for (PetscInt k = 0; k < 3; k++)
               for (PetscInt d = 0; d < 3; d++)
                 q[k][d] = ((s - ij[k][0] - ij[k][1]) * p0[d] + ij[k][0] * p1[d] + ij[k][1] * p2[d]) / s;
-            AddElement(m, t, q[0], q[1], q[2], n);
+            PetscCall(AddElement(m, t, q[0], q[1], q[2], n, lo, hi));
           }
     } else {
       for (PetscInt j = 0; j < sp->m2; j++)
@@ -1238,19 +1280,19 @@ PetscErrorCode FSMeshRefine(FSMesh *m, PetscReal hmax)
             for (PetscInt d = 0; d < 3; d++) q[k][d] = a[d] + uv[k][0] * (b[d] - a[d]) + uv[k][1] * (c[d] - a[d]);
           if (nc == 4) { /* a whole cell: cut along its shorter diagonal */
             if (sp->cosA >= 0) {
-              AddElement(m, t, q[0], q[1], q[3], n);
-              AddElement(m, t, q[1], q[2], q[3], n);
+              PetscCall(AddElement(m, t, q[0], q[1], q[3], n, lo, hi));
+              PetscCall(AddElement(m, t, q[1], q[2], q[3], n, lo, hi));
             } else {
-              AddElement(m, t, q[0], q[1], q[2], n);
-              AddElement(m, t, q[0], q[2], q[3], n);
+              PetscCall(AddElement(m, t, q[0], q[1], q[2], n, lo, hi));
+              PetscCall(AddElement(m, t, q[0], q[2], q[3], n, lo, hi));
             }
           } else
-            for (PetscInt k = 1; k + 1 < nc; k++) AddElement(m, t, q[0], q[k], q[k + 1], n);
+            for (PetscInt k = 1; k + 1 < nc; k++) PetscCall(AddElement(m, t, q[0], q[k], q[k + 1], n, lo, hi));
         }
     }
   }
-  PetscCheck(m->nel == nel, PETSC_COMM_SELF, PETSC_ERR_PLIB,
-             "%" PetscInt_FMT " elements made, %" PetscInt64_FMT " counted", m->nel, nel);
+  PetscCheck(m->nelglobal == nel && (lo || m->nel == nel), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "%" PetscInt_FMT " elements made, %" PetscInt64_FMT " counted", m->nelglobal, nel);
   PetscCall(PetscFree(split));
   PetscFunctionReturn(0);
 }

@@ -30,11 +30,15 @@ typedef struct {
   PetscReal lo[3], hi[3];             /* bounding box of the vertices, after FSMeshCheck */
   PetscReal volume;                   /* volume enclosed by the container, after FSMeshCheck */
   PetscBool checked;                  /* FSMeshCheck passed, and no vertex or triangle was added since */
-  /* elements, after FSMeshRefine: the triangles subdivided to edges of at most hmax */
-  PetscInt   nel;
-  PetscReal *el;     /* per element FS_TRI_STRIDE reals */
-  PetscInt  *elwall; /* wall index of each element */
-  PetscInt  *eltri;  /* input triangle of each element */
+  /* elements, after FSMeshRefine: the triangles subdivided to edges of at most hmax; after FSMeshRefineRegion those
+     of them near a box only, in the same order */
+  PetscInt   nel, elcap;
+  PetscReal *el;        /* per element FS_TRI_STRIDE reals */
+  PetscInt  *elwall;    /* wall index of each element */
+  PetscInt  *eltri;     /* input triangle of each element */
+  PetscInt  *elgid;     /* each element's index among all the refinement's elements (increasing) */
+  PetscInt   nelglobal; /* the elements of the whole refinement */
+  PetscReal  elradius;  /* the largest distance from an element's centroid to its vertices, over all the elements */
 } FSMesh;
 
 /* the reals of an element's row in el[] */
@@ -77,6 +81,9 @@ PETSC_INTERN void FSMeshTransform(FSMesh *, PetscReal scale, const PetscReal rot
 PETSC_INTERN PetscErrorCode FSMeshCheck(FSMesh *, MPI_Comm);
 /* the elements: each triangle split into m^2 similar triangles, m = ceil(longest edge / hmax) */
 PETSC_INTERN PetscErrorCode FSMeshRefine(FSMesh *, PetscReal hmax);
+/* the same refinement, keeping only the elements whose bounding sphere meets the box lo..hi (NULL: all), numbered by
+   elgid as in the whole refinement */
+PETSC_INTERN PetscErrorCode FSMeshRefineRegion(FSMesh *, PetscReal hmax, const PetscReal lo[], const PetscReal hi[]);
 
 /* is x inside the liquid region (winding number of the input triangles, from their solid angles) and
    farther than margin from every triangle? */

@@ -89,6 +89,8 @@ static PetscBool MeshConvex(const FSMesh *m)
    Options Database Key:
 .  -fs_walls_element_size <1> - the longest element edge, in units of h: the mesh's triangles are split
    until their edges are at most this (gamma to 5e-7 at 1, 3e-8 at 0.5; docs/walls.md)
+-  -fs_walls_distribute <false> - on more than one rank, each rank holds only the elements near its part of the
+   domain (made again when the cuts move) instead of all of them; the input triangles stay on every rank
 */
 static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
 {
@@ -99,57 +101,49 @@ static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOption
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_walls_element_size",
                           "Longest edge of the wall elements, in units of h (the mesh's triangles are split to it)",
                           "FSBoundaryCreate_Trimesh", &tm->element, NULL, 0, 4, FS_RANGE_OPEN_LOWER));
+  PetscCall(PetscOptionsBool("-fs_walls_distribute",
+                             "Each rank holds only the wall elements near its part of the domain (more than one rank)",
+                             "FSBoundaryCreate_Trimesh", tm->distribute, &tm->distribute, NULL));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }
 
 /*
-   SetUp - checks the mesh, refines it into elements, bins the elements in a static grid and computes
-   the container's Shepard factor at each element.
+   the elements of the whole refinement (no box) or those near the box lo..hi (FSMeshRefineRegion), binned in a
+   static grid by centroid, and the container's Shepard factor at each. A box's grid is the block of the whole
+   refinement's grid that holds its elements' centroids, so that every search visits the same elements in the same
+   order as with the whole mesh and the sums agree to the last bit.
 */
-static PetscErrorCode SetUp(FSBoundary b)
+static PetscErrorCode BuildElements(FSBoundary b, const PetscReal lo[], const PetscReal hi[])
 {
-  FSBoundary_Trimesh *tm   = (FSBoundary_Trimesh *)b->data;
-  FSMesh             *m    = &tm->mesh;
-  MPI_Comm            comm = PetscObjectComm((PetscObject)b);
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+  FSMesh             *m  = &tm->mesh;
   PetscInt            ncell;
-  PetscReal           emax = 0;
 
   PetscFunctionBegin;
-  PetscCheck(b->dim == 3, comm, PETSC_ERR_SUP,
-             "Triangle-mesh walls (STL tanks, 3-D built-in tanks) are three-dimensional: use -fs_dim 3");
-  PetscCall(FSMeshCheck(m, comm));
-  PetscCall(FSMeshRefine(m, tm->element * b->h));
-  PetscCall(PetscMalloc1(m->nwalls, &tm->names));
-  for (PetscInt q = 0; q < m->nwalls; q++) tm->names[q] = m->name[q];
-  b->nwalls           = m->nwalls;
-  b->wallname         = tm->names;
+  PetscCall(FSMeshRefineRegion(m, tm->element * b->h, lo, hi));
+  tm->local           = (PetscBool)(lo != NULL);
   b->view.nelements   = m->nel;
-  b->view.stride      = FS_TRI_STRIDE;
-  b->view.vertex      = FS_TRI_P0;
-  b->view.centroid    = FS_TRI_CENTROID;
-  b->view.normal      = FS_TRI_NORMAL;
-  b->view.measure     = FS_TRI_AREA;
   b->view.element     = m->el;
   b->view.elementwall = m->elwall;
-  tm->occlusion       = (PetscBool)!MeshConvex(m);
   /* static grid of elements by centroid: an element within the candidate radius of x has its centroid
-     within radius + (its largest centroid-vertex distance) of x, so within the 27 cells around x */
-  for (PetscInt k = 0; k < m->nel; k++) {
-    const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
-    for (PetscInt v = 0; v < 3; v++) {
-      const PetscReal *p = el + 3 * v, *c = el + FS_TRI_CENTROID;
-      emax = PetscMax(emax, PetscSqrtReal((p[0] - c[0]) * (p[0] - c[0]) + (p[1] - c[1]) * (p[1] - c[1]) +
-                                          (p[2] - c[2]) * (p[2] - c[2])));
-    }
-  }
-  tm->gcell = b->radius + emax;
+     within radius + (the largest centroid-vertex distance) of x, so within the 27 cells around x */
+  tm->gcell = b->radius + m->elradius;
   ncell     = 1;
   for (PetscInt d = 0; d < 3; d++) {
-    tm->glo[d] = m->lo[d] - tm->gcell;
-    tm->gnc[d] = (PetscInt)((m->hi[d] + tm->gcell - tm->glo[d]) / tm->gcell) + 1;
+    const PetscReal glo = m->lo[d] - tm->gcell;
+    const PetscInt  gnc = (PetscInt)((m->hi[d] + tm->gcell - glo) / tm->gcell) + 1;
+    PetscInt        c0 = 0, c1 = gnc - 1;
+    if (lo) { /* the cells of the centroids within the box grown by the elements' size */
+      c0 = PetscMax(0, PetscMin(gnc - 1, (PetscInt)PetscFloorReal((lo[d] - m->elradius - glo) / tm->gcell)));
+      c1 = PetscMax(c0, PetscMin(gnc - 1, (PetscInt)PetscFloorReal((hi[d] + m->elradius - glo) / tm->gcell)));
+    }
+    tm->glo[d] = glo + c0 * tm->gcell;
+    tm->gnc[d] = c1 - c0 + 1;
     ncell *= tm->gnc[d];
   }
+  PetscCall(PetscFree(tm->gstart));
+  PetscCall(PetscFree(tm->gel));
   PetscCall(PetscCalloc1(ncell + 1, &tm->gstart));
   PetscCall(PetscMalloc1(m->nel + 1, &tm->gel));
   for (PetscInt k = 0; k < m->nel; k++) {
@@ -171,6 +165,7 @@ static PetscErrorCode SetUp(FSBoundary b)
   }
   /* the Shepard factor of the container just inside each element's centroid: the wall pressure's
      interpolation weights add up to it where the liquid covers the element */
+  PetscCall(PetscFree(tm->wetfull));
   PetscCall(PetscMalloc1(m->nel + 1, &tm->wetfull));
   for (PetscInt k = 0; k < m->nel; k++) {
     const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
@@ -178,8 +173,73 @@ static PetscErrorCode SetUp(FSBoundary b)
     for (PetscInt d = 0; d < 3; d++) x[d] = el[FS_TRI_CENTROID + d] - 1e-3 * b->h * el[FS_TRI_NORMAL + d];
     tm->wetfull[k] = ShepardNear(tm, b->h, x, PETSC_FALSE);
   }
+  /* what held element numbers is made again: the wall pressure at the next right-hand side, the candidate lists
+     at the next update */
+  PetscCall(PetscFree(tm->wp));
+  PetscCall(PetscFree2(tm->cstart, b->wstart));
+  tm->scap = 0;
+  PetscFunctionReturn(0);
+}
+
+/*
+   SetUp - checks the mesh, refines it into elements, bins the elements in a static grid and computes
+   the container's Shepard factor at each. With -fs_walls_distribute on more than one rank no element is kept
+   until FSBoundarySetPartition tells this rank its part (Partition).
+*/
+static PetscErrorCode SetUp(FSBoundary b)
+{
+  FSBoundary_Trimesh *tm   = (FSBoundary_Trimesh *)b->data;
+  FSMesh             *m    = &tm->mesh;
+  MPI_Comm            comm = PetscObjectComm((PetscObject)b);
+  PetscMPIInt         size;
+
+  PetscFunctionBegin;
+  PetscCheck(b->dim == 3, comm, PETSC_ERR_SUP,
+             "Triangle-mesh walls (STL tanks, 3-D built-in tanks) are three-dimensional: use -fs_dim 3");
+  PetscCall(FSMeshCheck(m, comm));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscMalloc1(m->nwalls, &tm->names));
+  for (PetscInt q = 0; q < m->nwalls; q++) tm->names[q] = m->name[q];
+  b->nwalls        = m->nwalls;
+  b->wallname      = tm->names;
+  b->view.stride   = FS_TRI_STRIDE;
+  b->view.vertex   = FS_TRI_P0;
+  b->view.centroid = FS_TRI_CENTROID;
+  b->view.normal   = FS_TRI_NORMAL;
+  b->view.measure  = FS_TRI_AREA;
+  tm->distribute   = (PetscBool)(tm->distribute && size > 1);
+  if (tm->distribute) { /* an empty box: the count and size of the elements, none kept */
+    const PetscReal none[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL},
+                    nohi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
+    PetscCall(BuildElements(b, none, nohi));
+  } else PetscCall(BuildElements(b, NULL, NULL));
+  b->nelglobal  = m->nelglobal;
+  tm->occlusion = (PetscBool)!MeshConvex(m);
   PetscCall(PetscMalloc2(m->ntri, &tm->tmark, m->ntri, &tm->tlist));
   for (PetscInt t = 0; t < m->ntri; t++) tm->tmark[t] = -1;
+  PetscFunctionReturn(0);
+}
+
+/*
+   Partition - with -fs_walls_distribute, this rank's elements: those whose bounding sphere comes within twice the
+   candidate radius plus twice the largest element of its part lo..hi (the elements its particles can reach, and
+   those within the support of these, for their Shepard factor), numbered as in the whole refinement (b->elgid)
+*/
+static PetscErrorCode Partition(FSBoundary b, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[])
+{
+  FSBoundary_Trimesh *tm   = (FSBoundary_Trimesh *)b->data;
+  const FSMesh       *m    = &tm->mesh;
+  const PetscReal     grow = 2 * (b->radius + m->elradius);
+  PetscReal           blo[3], bhi[3];
+
+  PetscFunctionBegin;
+  if (!tm->distribute) PetscFunctionReturn(0);
+  for (PetscInt d = 0; d < 3; d++) {
+    blo[d] = periodic[d] ? -PETSC_MAX_REAL : lo[d] - grow;
+    bhi[d] = periodic[d] ? PETSC_MAX_REAL : hi[d] + grow;
+  }
+  PetscCall(BuildElements(b, blo, bhi));
+  b->elgid = m->elgid;
   PetscFunctionReturn(0);
 }
 
@@ -546,8 +606,9 @@ static PetscErrorCode View(FSBoundary b, PetscViewer viewer)
   PetscFunctionBegin;
   PetscCall(PetscViewerASCIIPrintf(
       viewer,
-      "%" PetscInt_FMT " triangles, %" PetscInt_FMT " elements of edge <= %g h, liquid volume %g, visibility %s\n",
-      tm->mesh.ntri, tm->mesh.nel, (double)tm->element, (double)tm->mesh.volume, b->visall ? "all" : "cut"));
+      "%" PetscInt_FMT " triangles, %" PetscInt_FMT " elements of edge <= %g h, liquid volume %g, visibility %s%s\n",
+      tm->mesh.ntri, tm->mesh.nelglobal, (double)tm->element, (double)tm->mesh.volume, b->visall ? "all" : "cut",
+      tm->distribute ? ", each rank holding those near its part" : ""));
   PetscFunctionReturn(0);
 }
 
@@ -560,9 +621,9 @@ static PetscErrorCode Memory(FSBoundary b, PetscInt64 *lists, PetscInt64 *elemen
   /* cstart and wstart (scap each), the candidate elements (ccap), the wall lists' k and W (b->wcap) */
   *lists = (PetscInt64)tm->scap * 2 * sizeof(PetscInt) + (PetscInt64)tm->ccap * sizeof(PetscInt) +
            (PetscInt64)b->wcap * (sizeof(PetscInt) + sizeof(PetscReal));
-  /* the elements (FS_TRI_STRIDE reals, wall and triangle), wetfull and wp (3 nel + 1), the grid, the marks
+  /* the elements (FS_TRI_STRIDE reals, wall, triangle and number), wetfull and wp (3 nel + 1), the grid, the marks
      of the input triangles (tmark, tlist) */
-  *elements = nel * (FS_TRI_STRIDE * sizeof(PetscReal) + 2 * sizeof(PetscInt) + 4 * sizeof(PetscReal)) +
+  *elements = nel * (FS_TRI_STRIDE * sizeof(PetscReal) + 3 * sizeof(PetscInt) + 4 * sizeof(PetscReal)) +
               (PetscInt64)(tm->gnc[0] * tm->gnc[1] * tm->gnc[2] + 1 + nel + 2 * tm->mesh.ntri) * sizeof(PetscInt);
   PetscFunctionReturn(0);
 }
@@ -630,6 +691,7 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   b->data                = tm;
   b->ops->setfromoptions = SetFromOptions;
   b->ops->setup          = SetUp;
+  b->ops->partition      = Partition;
   b->ops->update         = Update;
   b->ops->prepare        = Prepare;
   b->ops->bounce         = Bounce;

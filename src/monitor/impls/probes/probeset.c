@@ -395,7 +395,14 @@ PetscErrorCode FSProbeSetSetUp(FSProbeSet *ps, FSSolver s)
   if (pv->boundary) {
     const PetscInt  *wstart, *wk;
     const PetscReal *wW;
+    PetscBool        all;
     PetscCall(FSBoundaryGetView(pv->boundary, &B, &wstart, &wk, &wW));
+    PetscCall(FSBoundaryGetElementCounts(pv->boundary, NULL, NULL, &all));
+    PetscCheck(all, comm, PETSC_ERR_SUP,
+               "-fs_probes %s with -fs_walls_distribute: the probes find their wall elements and the gauges their "
+               "Shepard factor among all the walls' elements, which each rank no longer holds; run the probes "
+               "without -fs_walls_distribute",
+               ps->file);
   }
   /* the probes on walls: the nearest element, or the elements within the face */
   for (PetscInt k = 0; k < ps->n; k++) {
