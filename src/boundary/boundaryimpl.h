@@ -17,6 +17,10 @@ struct _FSBoundaryOps {
   /* this rank's part of the domain (FSBoundarySetPartition), before the wall pressure's exchange is set up: an
      implementation that holds only the elements near the part makes them here and sets elgid (may be NULL) */
   PetscErrorCode (*partition)(FSBoundary, const PetscReal lo[], const PetscReal hi[], const PetscBool periodic[]);
+  /* an implementation that holds only some elements (elgid set): get (PETSC_TRUE) makes every element in b->full, in
+     the order of their numbers, until called again with PETSC_FALSE (FSBoundaryGetFullView); its shepard op then
+     answers at any point */
+  PetscErrorCode (*fullview)(FSBoundary, PetscBool get);
   /* once per step, after the fluid candidates are built (FSBoundaryUpdate) */
   PetscErrorCode (*update)(FSBoundary, PetscInt nowned, const PetscReal rec[], PetscInt stride, FSNeighbours *,
                            FSBoundaryLeak *);
@@ -82,6 +86,7 @@ struct _p_FSBoundary {
   PetscInt        nelglobal; /* the elements of all the walls (set by the implementation's setup) */
   const PetscInt *elgid;     /* per element of the view, its number among all nelglobal, when this rank holds only
                                 some (set by ops->partition); NULL: the view holds them all, in order */
+  FSWallView   full;         /* every element, between FSBoundaryGetFullView and FSBoundaryRestoreFullView */
   PetscMPIInt *owner;        /* per element, with a partition: the owning rank */
   PetscReal   *wproot;       /* 2 nel, with a partition: the owners' sums */
   PetscInt     wp_leaves;    /* elements this rank's particles can reach (2 values each through the SF) */

@@ -85,6 +85,9 @@ PETSC_INTERN PetscErrorCode FSBoundarySetPartition(FSBoundary, FSBoundaryRankOfF
                                                    const PetscReal hi[], const PetscBool periodic[]);
 PETSC_INTERN PetscErrorCode FSBoundaryOwnsElement(FSBoundary, PetscInt k, PetscBool *owns);
 PETSC_INTERN PetscErrorCode FSBoundaryGetElementCounts(FSBoundary, PetscInt *nlocal, PetscInt *nglobal, PetscBool *all);
+PETSC_INTERN PetscErrorCode FSBoundaryGetFullView(FSBoundary, const FSWallView **full);
+PETSC_INTERN PetscErrorCode FSBoundaryRestoreFullView(FSBoundary, const FSWallView **full);
+PETSC_INTERN PetscErrorCode FSBoundaryLocalElement(FSBoundary, PetscInt number, PetscInt *k);
 PETSC_INTERN PetscErrorCode FSBoundaryGetWallNames(FSBoundary, PetscInt *nwalls, const char *const **names);
 PETSC_INTERN PetscErrorCode FSBoundaryShepardAt(FSBoundary, const PetscReal x[], PetscReal *gamma);
 PETSC_INTERN PetscErrorCode FSBoundaryLocate(FSBoundary, const PetscReal x[], PetscBool *inliquid, PetscInt *wall,

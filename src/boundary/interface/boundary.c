@@ -627,6 +627,57 @@ PetscErrorCode FSBoundaryGetElementCounts(FSBoundary b, PetscInt *nlocal, PetscI
   PetscFunctionReturn(0);
 }
 
+/*
+   FSBoundaryGetFullView - a view of every wall element, numbered among all of them (FSBoundaryLocalElement finds
+   one's index in this rank's view), for set-up work that must see any element: this rank's own view when it holds
+   them all; with -fs_walls_distribute every element made again for the while, and FSBoundaryShepardAt answering at
+   any point (from all of them, in another order than a run's, so to round-off), until FSBoundaryRestoreFullView.
+   Its pressure is NULL.
+
+   Collective
+*/
+PetscErrorCode FSBoundaryGetFullView(FSBoundary b, const FSWallView **full)
+{
+  PetscFunctionBegin;
+  if (!b->elgid) {
+    *full = &b->view;
+    PetscFunctionReturn(0);
+  }
+  PetscCheck(b->ops->fullview, PetscObjectComm((PetscObject)b), PETSC_ERR_PLIB,
+             "Boundary %s holds some elements but cannot make them all", ((PetscObject)b)->type_name);
+  b->full          = b->view;
+  b->full.pressure = NULL;
+  PetscCall((*b->ops->fullview)(b, PETSC_TRUE));
+  *full = &b->full;
+  PetscFunctionReturn(0);
+}
+
+/* FSBoundaryRestoreFullView - the end of FSBoundaryGetFullView: the elements it made are freed. Collective */
+PetscErrorCode FSBoundaryRestoreFullView(FSBoundary b, const FSWallView **full)
+{
+  PetscFunctionBegin;
+  *full = NULL;
+  if (!b->elgid) PetscFunctionReturn(0);
+  PetscCall((*b->ops->fullview)(b, PETSC_FALSE));
+  PetscCall(PetscMemzero(&b->full, sizeof(b->full)));
+  PetscFunctionReturn(0);
+}
+
+/*
+   FSBoundaryLocalElement - the index k in this rank's view of the element numbered `number` among all of them (the
+   index in FSBoundaryGetFullView's view), -1 when this rank does not hold it. Not collective
+*/
+PetscErrorCode FSBoundaryLocalElement(FSBoundary b, PetscInt number, PetscInt *k)
+{
+  PetscFunctionBegin;
+  if (!b->elgid) *k = number < b->view.nelements ? number : -1;
+  else {
+    PetscCall(PetscFindInt(number, b->view.nelements, b->elgid, k));
+    if (*k < 0) *k = -1;
+  }
+  PetscFunctionReturn(0);
+}
+
 /* FSBoundaryOwnsElement - whether this rank owns element k: with a partition its owner, else rank 0. Not collective */
 PetscErrorCode FSBoundaryOwnsElement(FSBoundary b, PetscInt k, PetscBool *owns)
 {

@@ -544,11 +544,47 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal 
   PetscFunctionReturn(0);
 }
 
-/* gamma at a point (FSBoundaryShepardAt) from the elements in the static grid's cells around it */
+/* gamma at a point (FSBoundaryShepardAt) from the elements in the static grid's cells around it; with only this rank's
+   elements, from every element of the full view (FSBoundaryGetFullView), which must be out */
 static PetscErrorCode ShepardAt(FSBoundary b, const PetscReal x[], PetscReal *gamma)
 {
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+  PetscReal           grad[3];
+
   PetscFunctionBegin;
-  *gamma = ShepardNear((FSBoundary_Trimesh *)b->data, b->h, x, b->visall);
+  if (!tm->local) *gamma = ShepardNear(tm, b->h, x, b->visall);
+  else {
+    PetscCheck(tm->full.el, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_WRONGSTATE,
+               "FSBoundaryShepardAt with -fs_walls_distribute: only between FSBoundaryGetFullView and "
+               "FSBoundaryRestoreFullView");
+    PetscCall(FSMeshShepard(&tm->full, b->h, x, b->visall, gamma, grad));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* FullView - every element (the whole refinement) into tm->full and b->full, or freed */
+static PetscErrorCode FullView(FSBoundary b, PetscBool get)
+{
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+  FSMesh             *f  = &tm->full;
+
+  PetscFunctionBegin;
+  PetscCall(PetscFree(f->el));
+  PetscCall(PetscFree(f->elwall));
+  PetscCall(PetscFree(f->eltri));
+  PetscCall(PetscFree(f->elgid));
+  PetscCall(PetscMemzero(f, sizeof(*f)));
+  if (!get) PetscFunctionReturn(0);
+  *f        = tm->mesh; /* the input triangles shared, the elements its own */
+  f->el     = NULL;
+  f->elwall = NULL;
+  f->eltri  = NULL;
+  f->elgid  = NULL;
+  f->nel = f->elcap = 0;
+  PetscCall(FSMeshRefineRegion(f, tm->element * b->h, NULL, NULL));
+  b->full.nelements   = f->nel;
+  b->full.element     = f->el;
+  b->full.elementwall = f->elwall;
   PetscFunctionReturn(0);
 }
 
@@ -655,6 +691,7 @@ static PetscErrorCode Destroy(FSBoundary b)
   FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
 
   PetscFunctionBegin;
+  PetscCall(FullView(b, PETSC_FALSE));
   PetscCall(FSMeshDestroy(&tm->mesh));
   PetscCall(PetscFree(tm->names));
   PetscCall(PetscFree(tm->gstart));
@@ -692,6 +729,7 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   b->ops->setfromoptions = SetFromOptions;
   b->ops->setup          = SetUp;
   b->ops->partition      = Partition;
+  b->ops->fullview       = FullView;
   b->ops->update         = Update;
   b->ops->prepare        = Prepare;
   b->ops->bounce         = Bounce;

@@ -9,8 +9,9 @@
 
 typedef struct {
   FSMesh       mesh;
-  const char **names;      /* pointers to the wall names, for the boundary's wallname */
-  PetscReal    element;    /* -fs_walls_element_size: the longest element edge, in h */
+  FSMesh       full;    /* with local elements: every element, during FSBoundaryGetFullView (its input arrays mesh's) */
+  const char **names;   /* pointers to the wall names, for the boundary's wallname */
+  PetscReal    element; /* -fs_walls_element_size: the longest element edge, in h */
   PetscBool    distribute; /* -fs_walls_distribute: on more than one rank each holds the elements near its part */
   PetscBool    local;      /* the elements are this rank's share (FSBoundarySetPartition), not the whole refinement */
   /* static grid of elements by centroid (cell = candidate radius + the largest centroid-vertex distance) */

@@ -392,18 +392,9 @@ PetscErrorCode FSProbeSetSetUp(FSProbeSet *ps, FSSolver s)
   PetscCall(FSProbesReadFile(comm, ps->file, &text));
   PetscCall(FSProbesParse(ps, pv, comm, text));
   PetscCall(PetscFree(text));
-  if (pv->boundary) {
-    const PetscInt  *wstart, *wk;
-    const PetscReal *wW;
-    PetscBool        all;
-    PetscCall(FSBoundaryGetView(pv->boundary, &B, &wstart, &wk, &wW));
-    PetscCall(FSBoundaryGetElementCounts(pv->boundary, NULL, NULL, &all));
-    PetscCheck(all, comm, PETSC_ERR_SUP,
-               "-fs_probes %s with -fs_walls_distribute: the probes find their wall elements and the gauges their "
-               "Shepard factor among all the walls' elements, which each rank no longer holds; run the probes "
-               "without -fs_walls_distribute",
-               ps->file);
-  }
+  /* every wall element, numbered among all of them: the probes keep those numbers (FSBoundaryLocalElement finds an
+     element in this rank's view at each sample, wherever the cuts have moved) */
+  if (pv->boundary) PetscCall(FSBoundaryGetFullView(pv->boundary, &B));
   /* the probes on walls: the nearest element, or the elements within the face */
   for (PetscInt k = 0; k < ps->n; k++) {
     FSProbe *it = &ps->item[k];
@@ -512,6 +503,7 @@ PetscErrorCode FSProbeSetSetUp(FSProbeSet *ps, FSSolver s)
       PetscCall(FSBoundaryShepardAt(pv->boundary, x, gam));
     }
   }
+  if (pv->boundary) PetscCall(FSBoundaryRestoreFullView(pv->boundary, &B));
   ps->step = -1;
   PetscFunctionReturn(0);
 }
@@ -602,9 +594,10 @@ PetscErrorCode FSProbeSetSample(FSProbeSet *ps, FSSolver s)
       const FSProbe *it = &ps->item[k];
       if (it->gauge) continue;
       for (PetscInt q = it->estart; q < it->eend; q++) {
-        const PetscInt e = ps->elem[q];
-        PetscBool      owns;
-        PetscCall(FSBoundaryOwnsElement(pv->boundary, e, &owns));
+        PetscInt  e;
+        PetscBool owns = PETSC_FALSE;
+        PetscCall(FSBoundaryLocalElement(pv->boundary, ps->elem[q], &e));
+        if (e >= 0) PetscCall(FSBoundaryOwnsElement(pv->boundary, e, &owns));
         if (owns) sum[k * PS + 2 + dim] += B->pressure[e] * ps->ewt[q];
       }
     }
