@@ -1063,7 +1063,7 @@ PetscErrorCode FSMeshCheck(FSMesh *m, MPI_Comm comm)
 
 /* the element p0, p1, p2 of triangle t, whose unit normal is n (mesh.h's row: vertices, centroid, normal, area, radius
    of its bounding sphere about the centroid), numbered m->nelglobal in the whole refinement: appended when its bounding
-   sphere meets the box lo..hi (no box: always), the arrays grown by half when full */
+   sphere meets the box lo..hi (no box: always); only counted (m->nel) when m->elcap < 0 */
 static PetscErrorCode AddElement(FSMesh *m, PetscInt t, const PetscReal p0[], const PetscReal p1[],
                                  const PetscReal p2[], const PetscReal n[], const PetscReal lo[], const PetscReal hi[])
 {
@@ -1092,13 +1092,11 @@ static PetscErrorCode AddElement(FSMesh *m, PetscInt t, const PetscReal p0[], co
       if (row[FS_TRI_CENTROID + d] + row[FS_TRI_RADIUS] < lo[d] ||
           row[FS_TRI_CENTROID + d] - row[FS_TRI_RADIUS] > hi[d])
         PetscFunctionReturn(0);
-  if (m->nel == m->elcap) {
-    m->elcap = PetscMax(1024, m->elcap + m->elcap / 2);
-    PetscCall(PetscRealloc((size_t)m->elcap * FS_TRI_STRIDE * sizeof(PetscReal), &m->el));
-    PetscCall(PetscRealloc((size_t)m->elcap * sizeof(PetscInt), &m->elwall));
-    PetscCall(PetscRealloc((size_t)m->elcap * sizeof(PetscInt), &m->eltri));
-    PetscCall(PetscRealloc((size_t)m->elcap * sizeof(PetscInt), &m->elgid));
+  if (m->elcap < 0) { /* the counting pass */
+    m->nel++;
+    PetscFunctionReturn(0);
   }
+  PetscCheck(m->nel < m->elcap, PETSC_COMM_SELF, PETSC_ERR_PLIB, "More elements in the box than counted");
   PetscCall(PetscArraycpy(&m->el[(size_t)m->nel * FS_TRI_STRIDE], row, FS_TRI_STRIDE));
   m->elwall[m->nel] = m->triwall[t];
   m->eltri[m->nel]  = t;
@@ -1236,59 +1234,63 @@ PetscErrorCode FSMeshRefineRegion(FSMesh *m, PetscReal hmax, const PetscReal lo[
   PetscCall(PetscFree(m->elwall));
   PetscCall(PetscFree(m->eltri));
   PetscCall(PetscFree(m->elgid));
-  m->elcap = lo ? 0 : (PetscInt)nel; /* the whole refinement: allocated once */
-  if (!lo) {
-    PetscCall(PetscMalloc1(nel * FS_TRI_STRIDE, &m->el));
-    PetscCall(PetscMalloc1(nel, &m->elwall));
-    PetscCall(PetscMalloc1(nel, &m->eltri));
-    PetscCall(PetscMalloc1(nel, &m->elgid));
-  }
-  m->nel       = 0;
-  m->nelglobal = 0;
-  m->elradius  = 0;
-  for (PetscInt t = 0; t < m->ntri; t++) {
-    const FSTriangleSplit *sp = &split[t];
-    const PetscReal       *a = sp->A, *b = sp->B, *c = sp->C;
-    PetscReal              n[3], ln;
-    Normal(&m->vert[3 * m->tri[3 * t]], &m->vert[3 * m->tri[3 * t + 1]], &m->vert[3 * m->tri[3 * t + 2]], n);
-    ln = PetscSqrtReal(Dot(n, n));
-    for (PetscInt d = 0; d < 3; d++) n[d] /= ln;
-    if (!sp->grid) { /* from the triangle's first corner, as it comes */
-      const PetscInt   s  = sp->m;
-      const PetscReal *p0 = &m->vert[3 * m->tri[3 * t]], *p1 = &m->vert[3 * m->tri[3 * t + 1]];
-      const PetscReal *p2 = &m->vert[3 * m->tri[3 * t + 2]];
-      for (PetscInt j = 0; j < s; j++)
-        for (PetscInt i = 0; i + j < s; i++)
-          for (PetscInt up = 1; up >= 0; up--) {
-            /* the corners (i, j) of the grid P(i, j) = p0 + i (p1 - p0)/s + j (p2 - p0)/s: the triangle pointing
-               up ((i,j), (i+1,j), (i,j+1)), and the one pointing down ((i+1,j), (i+1,j+1), (i,j+1)) */
-            const PetscInt ij[3][2] = {{i + !up, j}, {i + 1, j + !up}, {i, j + 1}};
-            PetscReal      q[3][3];
-            if (!up && i + j + 2 > s) continue;
-            for (PetscInt k = 0; k < 3; k++)
-              for (PetscInt d = 0; d < 3; d++)
-                q[k][d] = ((s - ij[k][0] - ij[k][1]) * p0[d] + ij[k][0] * p1[d] + ij[k][1] * p2[d]) / s;
-            PetscCall(AddElement(m, t, q[0], q[1], q[2], n, lo, hi));
-          }
-    } else {
-      for (PetscInt j = 0; j < sp->m2; j++)
-        for (PetscInt i = 0; i < sp->m1; i++) {
-          PetscReal      uv[5][2], q[5][3];
-          const PetscInt nc = GridCell(sp, i, j, uv);
-          if (nc < 3) continue;
-          for (PetscInt k = 0; k < nc; k++)
-            for (PetscInt d = 0; d < 3; d++) q[k][d] = a[d] + uv[k][0] * (b[d] - a[d]) + uv[k][1] * (c[d] - a[d]);
-          if (nc == 4) { /* a whole cell: cut along its shorter diagonal */
-            if (sp->cosA >= 0) {
-              PetscCall(AddElement(m, t, q[0], q[1], q[3], n, lo, hi));
-              PetscCall(AddElement(m, t, q[1], q[2], q[3], n, lo, hi));
-            } else {
+  /* with a box a first pass counts its elements, so that the arrays are allocated once, to size */
+  m->elcap = lo ? -1 : (PetscInt)nel;
+  for (PetscInt pass = lo ? 0 : 1; pass < 2; pass++) {
+    if (pass == 1) {
+      if (lo) m->elcap = m->nel;
+      PetscCall(PetscMalloc1((size_t)m->elcap * FS_TRI_STRIDE + 1, &m->el));
+      PetscCall(PetscMalloc1(m->elcap + 1, &m->elwall));
+      PetscCall(PetscMalloc1(m->elcap + 1, &m->eltri));
+      PetscCall(PetscMalloc1(m->elcap + 1, &m->elgid));
+    }
+    m->nel       = 0;
+    m->nelglobal = 0;
+    m->elradius  = 0;
+    for (PetscInt t = 0; t < m->ntri; t++) {
+      const FSTriangleSplit *sp = &split[t];
+      const PetscReal       *a = sp->A, *b = sp->B, *c = sp->C;
+      PetscReal              n[3], ln;
+      Normal(&m->vert[3 * m->tri[3 * t]], &m->vert[3 * m->tri[3 * t + 1]], &m->vert[3 * m->tri[3 * t + 2]], n);
+      ln = PetscSqrtReal(Dot(n, n));
+      for (PetscInt d = 0; d < 3; d++) n[d] /= ln;
+      if (!sp->grid) { /* from the triangle's first corner, as it comes */
+        const PetscInt   s  = sp->m;
+        const PetscReal *p0 = &m->vert[3 * m->tri[3 * t]], *p1 = &m->vert[3 * m->tri[3 * t + 1]];
+        const PetscReal *p2 = &m->vert[3 * m->tri[3 * t + 2]];
+        for (PetscInt j = 0; j < s; j++)
+          for (PetscInt i = 0; i + j < s; i++)
+            for (PetscInt up = 1; up >= 0; up--) {
+              /* the corners (i, j) of the grid P(i, j) = p0 + i (p1 - p0)/s + j (p2 - p0)/s: the triangle pointing
+                 up ((i,j), (i+1,j), (i,j+1)), and the one pointing down ((i+1,j), (i+1,j+1), (i,j+1)) */
+              const PetscInt ij[3][2] = {{i + !up, j}, {i + 1, j + !up}, {i, j + 1}};
+              PetscReal      q[3][3];
+              if (!up && i + j + 2 > s) continue;
+              for (PetscInt k = 0; k < 3; k++)
+                for (PetscInt d = 0; d < 3; d++)
+                  q[k][d] = ((s - ij[k][0] - ij[k][1]) * p0[d] + ij[k][0] * p1[d] + ij[k][1] * p2[d]) / s;
               PetscCall(AddElement(m, t, q[0], q[1], q[2], n, lo, hi));
-              PetscCall(AddElement(m, t, q[0], q[2], q[3], n, lo, hi));
             }
-          } else
-            for (PetscInt k = 1; k + 1 < nc; k++) PetscCall(AddElement(m, t, q[0], q[k], q[k + 1], n, lo, hi));
-        }
+      } else {
+        for (PetscInt j = 0; j < sp->m2; j++)
+          for (PetscInt i = 0; i < sp->m1; i++) {
+            PetscReal      uv[5][2], q[5][3];
+            const PetscInt nc = GridCell(sp, i, j, uv);
+            if (nc < 3) continue;
+            for (PetscInt k = 0; k < nc; k++)
+              for (PetscInt d = 0; d < 3; d++) q[k][d] = a[d] + uv[k][0] * (b[d] - a[d]) + uv[k][1] * (c[d] - a[d]);
+            if (nc == 4) { /* a whole cell: cut along its shorter diagonal */
+              if (sp->cosA >= 0) {
+                PetscCall(AddElement(m, t, q[0], q[1], q[3], n, lo, hi));
+                PetscCall(AddElement(m, t, q[1], q[2], q[3], n, lo, hi));
+              } else {
+                PetscCall(AddElement(m, t, q[0], q[1], q[2], n, lo, hi));
+                PetscCall(AddElement(m, t, q[0], q[2], q[3], n, lo, hi));
+              }
+            } else
+              for (PetscInt k = 1; k + 1 < nc; k++) PetscCall(AddElement(m, t, q[0], q[k], q[k + 1], n, lo, hi));
+          }
+      }
     }
   }
   PetscCheck(m->nelglobal == nel && (lo || m->nel == nel), PETSC_COMM_SELF, PETSC_ERR_PLIB,

@@ -112,15 +112,26 @@ static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOption
    the elements of the whole refinement (no box) or those near the box lo..hi (FSMeshRefineRegion), binned in a
    static grid by centroid, and the container's Shepard factor at each. A box's grid is the block of the whole
    refinement's grid that holds its elements' centroids, so that every search visits the same elements in the same
-   order as with the whole mesh and the sums agree to the last bit.
+   order as with the whole mesh and the sums agree to the last bit. The Shepard factor of an element whose centroid
+   lies within the box shrunk by R + r (R the candidate radius, r the largest element's: the core) is the whole mesh's
+   (every element within its support is held); only the core's are needed, and when the box moves those computed
+   before are kept.
 */
 static PetscErrorCode BuildElements(FSBoundary b, const PetscReal lo[], const PetscReal hi[])
 {
-  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
-  FSMesh             *m  = &tm->mesh;
-  PetscInt            ncell;
+  FSBoundary_Trimesh *tm  = (FSBoundary_Trimesh *)b->data;
+  FSMesh             *m   = &tm->mesh;
+  const PetscBool     had = tm->local;
+  PetscInt            ncell, nold = m->nel, *oldgid = m->elgid, q = 0, kept = 0, made = 0;
+  PetscReal          *oldwet = tm->wetfull, oldlo[3], oldhi[3];
 
   PetscFunctionBegin;
+  for (PetscInt d = 0; d < 3; d++) {
+    oldlo[d] = tm->corelo[d];
+    oldhi[d] = tm->corehi[d];
+  }
+  m->elgid    = NULL; /* kept until the Shepard factors are */
+  tm->wetfull = NULL;
   PetscCall(FSMeshRefineRegion(m, tm->element * b->h, lo, hi));
   tm->local           = (PetscBool)(lo != NULL);
   b->view.nelements   = m->nel;
@@ -165,14 +176,37 @@ static PetscErrorCode BuildElements(FSBoundary b, const PetscReal lo[], const Pe
   }
   /* the Shepard factor of the container just inside each element's centroid: the wall pressure's
      interpolation weights add up to it where the liquid covers the element */
-  PetscCall(PetscFree(tm->wetfull));
+  for (PetscInt d = 0; d < 3; d++) {
+    tm->corelo[d] = lo ? lo[d] + (b->radius + m->elradius) : -PETSC_MAX_REAL;
+    tm->corehi[d] = lo ? hi[d] - (b->radius + m->elradius) : PETSC_MAX_REAL;
+  }
+  /* the Shepard factors of the core's elements (those this rank's particles can reach and those it owns: the others'
+     are never read, and are left NaN), kept from the core before where they were computed */
   PetscCall(PetscMalloc1(m->nel + 1, &tm->wetfull));
   for (PetscInt k = 0; k < m->nel; k++) {
-    const PetscReal *el = &m->el[k * FS_TRI_STRIDE];
+    const PetscReal *el = &m->el[k * FS_TRI_STRIDE], *c = el + FS_TRI_CENTROID;
     PetscReal        x[3];
-    for (PetscInt d = 0; d < 3; d++) x[d] = el[FS_TRI_CENTROID + d] - 1e-3 * b->h * el[FS_TRI_NORMAL + d];
-    tm->wetfull[k] = ShepardNear(tm, b->h, x, PETSC_FALSE);
+    PetscBool        core = PETSC_TRUE, before = had;
+    for (PetscInt d = 0; d < 3; d++) {
+      core   = (PetscBool)(core && c[d] >= tm->corelo[d] && c[d] <= tm->corehi[d]);
+      before = (PetscBool)(before && c[d] >= oldlo[d] && c[d] <= oldhi[d]);
+    }
+    while (before && q < nold && oldgid[q] < m->elgid[k]) q++;
+    if (!core) tm->wetfull[k] = (PetscReal)NAN;
+    else if (before && q < nold && oldgid[q] == m->elgid[k]) {
+      tm->wetfull[k] = oldwet[q];
+      kept++;
+    } else {
+      for (PetscInt d = 0; d < 3; d++) x[d] = c[d] - 1e-3 * b->h * el[FS_TRI_NORMAL + d];
+      tm->wetfull[k] = ShepardNear(tm, b->h, x, PETSC_FALSE);
+      made++;
+    }
   }
+  PetscCall(PetscInfo(
+      b, "%" PetscInt_FMT " wall elements held, Shepard factors: %" PetscInt_FMT " kept, %" PetscInt_FMT " made\n",
+      m->nel, kept, made));
+  PetscCall(PetscFree(oldgid));
+  PetscCall(PetscFree(oldwet));
   /* what held element numbers is made again: the wall pressure at the next right-hand side, the candidate lists
      at the next update */
   PetscCall(PetscFree(tm->wp));
