@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""The wall mesh's memory per rank against the rank count, every element on every rank against the distributed mesh
-(-fs_walls_distribute: each rank holds the elements near its part of the domain): the 3-D dam break with fine wall
+"""The wall mesh's memory per rank against the rank count, every element on every rank (-fs_walls_distribute false)
+against the distributed mesh (the default: each rank holds the elements near its part of the domain): the 3-D dam break with fine wall
 elements (at least 200,000 of them), a few steps on 1, 2, 4 and 8 ranks (oversubscribed where the cores are fewer).
 Printed per rank count and mode: the elements' memory per rank (summary.json's walls_elements over the ranks), the
 particles' wall lists per rank, the peak resident memory per rank (the libraries' shared pages counted once), and the
@@ -34,8 +34,8 @@ def main():
     print(f"{'ranks':>5} {'mode':>12} {'elements':>9} {'elements/rank':>14} {'lists/rank':>11} {'peak/rank':>10} "
           f"{'wall':>7}")
     for nr in [int(r) for r in a.ranks.split(",")]:
-        for mode, extra in (("all", []), ("distributed", ["-fs_walls_distribute"])):
-            if nr == 1 and extra:
+        for mode, extra in (("all", ["-fs_walls_distribute", "false"]), ("distributed", ["-fs_walls_distribute"])):
+            if nr == 1 and mode == "distributed":
                 continue
             with tempfile.TemporaryDirectory() as d:
                 t0 = time.perf_counter()

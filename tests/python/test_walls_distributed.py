@@ -1,6 +1,6 @@
-"""The distributed wall mesh (-fs_walls_distribute): on more than one rank each rank holds only the wall elements near
-its part of the domain, made again whenever the cuts move. The run is the one with every element on every rank, to the
-last bit, and the elements' memory over the ranks falls."""
+"""The distributed wall mesh (-fs_walls_distribute, the default): on more than one rank each rank holds only the wall
+elements near its part of the domain, made again whenever the cuts move. The run is the one with every element on
+every rank (-fs_walls_distribute false), to the last bit, and the elements' memory over the ranks falls."""
 import json
 
 import numpy as np
@@ -22,7 +22,7 @@ def summary(directory):
 @pytest.fixture(scope="module")
 def dam3(tmp_path_factory):
     out = {}
-    for name, extra in (("all", []), ("distributed", ["-fs_walls_distribute"])):
+    for name, extra in (("all", ["-fs_walls_distribute", "false"]), ("distributed", [])):
         d = tmp_path_factory.mktemp(name)
         run_flexslosh(DAM3 + extra + ["-fs_output_dir", d], nranks=3, cwd=REPO_ROOT, timeout=600)
         out[name] = d
@@ -66,7 +66,7 @@ def test_probes_read_the_same_with_distributed_walls(tmp_path):
             "-fs_rebalance_threshold", "1", "-fs_rebalance_interval", "5", "-fs_balance", "work", "-fs_neighbour_rebuild",
             "always"]
     out = {}
-    for name, extra in (("all", []), ("distributed", ["-fs_walls_distribute"])):
+    for name, extra in (("all", ["-fs_walls_distribute", "false"]), ("distributed", [])):
         out[name] = tmp_path / name
         run_flexslosh(base + extra + ["-fs_output_dir", out[name]], nranks=2, cwd=REPO_ROOT, timeout=600)
     assert summary(out["distributed"])["rebalances"] >= 2 and summary(out["distributed"])["wall_elements_distributed"]

@@ -89,7 +89,7 @@ static PetscBool MeshConvex(const FSMesh *m)
    Options Database Key:
 .  -fs_walls_element_size <1> - the longest element edge, in units of h: the mesh's triangles are split
    until their edges are at most this (gamma to 5e-7 at 1, 3e-8 at 0.5; docs/walls.md)
--  -fs_walls_distribute <false> - on more than one rank, each rank holds only the elements near its part of the
+-  -fs_walls_distribute <true> - on more than one rank, each rank holds only the elements near its part of the
    domain (made again when the cuts move) instead of all of them; the input triangles stay on every rank
 */
 static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOptionsObject)
@@ -102,7 +102,7 @@ static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOption
                           "Longest edge of the wall elements, in units of h (the mesh's triangles are split to it)",
                           "FSBoundaryCreate_Trimesh", &tm->element, NULL, 0, 4, FS_RANGE_OPEN_LOWER));
   PetscCall(PetscOptionsBool("-fs_walls_distribute",
-                             "Each rank holds only the wall elements near its part of the domain (more than one rank)",
+                             "Each rank holds only the wall elements near its part of the domain (more than one rank; false: all)",
                              "FSBoundaryCreate_Trimesh", tm->distribute, &tm->distribute, NULL));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
@@ -759,6 +759,7 @@ PetscErrorCode FSBoundaryCreate_Trimesh(FSBoundary b)
   PetscCall(PetscNew(&tm));
   PetscCall(FSMeshCreate(&tm->mesh));
   tm->element            = 1.0;
+  tm->distribute         = PETSC_TRUE;
   b->data                = tm;
   b->ops->setfromoptions = SetFromOptions;
   b->ops->setup          = SetUp;
