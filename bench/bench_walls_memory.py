@@ -6,7 +6,12 @@ Printed per rank count and mode: the elements' memory per rank (summary.json's w
 particles' wall lists per rank, the peak resident memory per rank (the libraries' shared pages counted once), and the
 wall time of the run (set-up included; meaningful only on a quiet machine with a core a rank).
 
-    /usr/bin/python3 bench/bench_walls_memory.py [--ranks 1,2,4,8] [--element 0.15] [--steps 2] [-- options]
+    /usr/bin/python3 bench/bench_walls_memory.py [--ranks 1,2,4,8] [--all-ranks 1,2,4,8] [--element 0.15] [--steps 2]
+                                                 [-- options]
+
+--all-ranks: the rank counts at which the run with every element on every rank is measured too (its elements'
+memory per rank is the one-rank figure at any count; its set-up computes every element's Shepard factor on every
+rank, slow when oversubscribed).
 """
 import argparse
 import os
@@ -22,6 +27,8 @@ ROOT = Path(__file__).resolve().parents[1]
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--ranks", default="1,2,4,8")
+    ap.add_argument("--all-ranks", default=None, help="rank counts measured with every element on every rank too "
+                    "(default: all of --ranks)")
     ap.add_argument("--element", type=float, default=0.15, help="-fs_walls_element_size (in h; 0.15: 228,000 elements)")
     ap.add_argument("--steps", type=int, default=2)
     ap.add_argument("--build", default=os.environ.get("FLEXSLOSH_BUILD", str(ROOT / "build")))
@@ -33,9 +40,10 @@ def main():
     print(f"flexslosh wall-mesh memory: 3-D dam break, -fs_walls_element_size {a.element}, {a.steps} steps")
     print(f"{'ranks':>5} {'mode':>12} {'elements':>9} {'elements/rank':>14} {'lists/rank':>11} {'peak/rank':>10} "
           f"{'wall':>7}")
+    allranks = [int(r) for r in (a.all_ranks or a.ranks).split(",")]
     for nr in [int(r) for r in a.ranks.split(",")]:
         for mode, extra in (("all", ["-fs_walls_distribute", "false"]), ("distributed", ["-fs_walls_distribute"])):
-            if nr == 1 and mode == "distributed":
+            if (nr == 1 and mode == "distributed") or (mode == "all" and nr not in allranks):
                 continue
             with tempfile.TemporaryDirectory() as d:
                 t0 = time.perf_counter()

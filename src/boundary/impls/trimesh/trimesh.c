@@ -101,9 +101,10 @@ static PetscErrorCode SetFromOptions(FSBoundary b, PetscOptionItems *PetscOption
   PetscCall(FSOptionsReal(PetscOptionsObject, "-fs_walls_element_size",
                           "Longest edge of the wall elements, in units of h (the mesh's triangles are split to it)",
                           "FSBoundaryCreate_Trimesh", &tm->element, NULL, 0, 4, FS_RANGE_OPEN_LOWER));
-  PetscCall(PetscOptionsBool("-fs_walls_distribute",
-                             "Each rank holds only the wall elements near its part of the domain (more than one rank; false: all)",
-                             "FSBoundaryCreate_Trimesh", tm->distribute, &tm->distribute, NULL));
+  PetscCall(PetscOptionsBool(
+      "-fs_walls_distribute",
+      "Each rank holds only the wall elements near its part of the domain (more than one rank; false: all)",
+      "FSBoundaryCreate_Trimesh", tm->distribute, &tm->distribute, NULL));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }
@@ -242,15 +243,28 @@ static PetscErrorCode SetUp(FSBoundary b)
   b->view.normal   = FS_TRI_NORMAL;
   b->view.measure  = FS_TRI_AREA;
   tm->distribute   = (PetscBool)(tm->distribute && size > 1);
-  if (tm->distribute) { /* an empty box: the count and size of the elements, none kept */
+  if (tm->distribute) { /* an empty box: the count and size of the elements, none kept until the partition */
     const PetscReal none[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL},
                     nohi[3] = {-PETSC_MAX_REAL, -PETSC_MAX_REAL, -PETSC_MAX_REAL};
     PetscCall(BuildElements(b, none, nohi));
+    tm->local    = PETSC_FALSE;
+    tm->deferred = PETSC_TRUE;
   } else PetscCall(BuildElements(b, NULL, NULL));
   b->nelglobal  = m->nelglobal;
   tm->occlusion = (PetscBool)!MeshConvex(m);
   PetscCall(PetscMalloc2(m->ntri, &tm->tmark, m->ntri, &tm->tlist));
   for (PetscInt t = 0; t < m->ntri; t++) tm->tmark[t] = -1;
+  PetscFunctionReturn(0);
+}
+
+/* a boundary used before (or without) a partition: every element, as without -fs_walls_distribute */
+static PetscErrorCode EnsureElements(FSBoundary b)
+{
+  FSBoundary_Trimesh *tm = (FSBoundary_Trimesh *)b->data;
+
+  PetscFunctionBegin;
+  if (tm->deferred) PetscCall(BuildElements(b, NULL, NULL));
+  tm->deferred = PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 
@@ -273,7 +287,8 @@ static PetscErrorCode Partition(FSBoundary b, const PetscReal lo[], const PetscR
     bhi[d] = periodic[d] ? PETSC_MAX_REAL : hi[d] + grow;
   }
   PetscCall(BuildElements(b, blo, bhi));
-  b->elgid = m->elgid;
+  tm->deferred = PETSC_FALSE;
+  b->elgid     = m->elgid;
   PetscFunctionReturn(0);
 }
 
@@ -394,6 +409,7 @@ static PetscErrorCode Update(FSBoundary b, PetscInt n, const PetscReal rec[], Pe
   PetscInt            nc = 0, leak = -1, leakel = -1;
 
   PetscFunctionBegin;
+  PetscCall(EnsureElements(b));
   if (n + 1 > tm->scap) {
     PetscCall(PetscFree2(tm->cstart, b->wstart));
     tm->scap = PetscMax(n + 1, (PetscInt)(1.25 * tm->scap));
@@ -546,6 +562,7 @@ static PetscErrorCode Bounce(FSBoundary b, PetscInt n, PetscReal x[], PetscReal 
   const PetscReal     dmin = b->bounce_distance * b->dx;
 
   PetscFunctionBegin;
+  PetscCall(EnsureElements(b));
   for (PetscInt i = 0; i < n; i++) {
     PetscReal *xi = &x[3 * i], *vi = &v[3 * i];
     PetscInt   cc[3];
@@ -586,6 +603,7 @@ static PetscErrorCode ShepardAt(FSBoundary b, const PetscReal x[], PetscReal *ga
   PetscReal           grad[3];
 
   PetscFunctionBegin;
+  PetscCall(EnsureElements(b));
   if (!tm->local) *gamma = ShepardNear(tm, b->h, x, b->visall);
   else {
     PetscCheck(tm->full.el, PetscObjectComm((PetscObject)b), PETSC_ERR_ARG_WRONGSTATE,

@@ -14,6 +14,7 @@ typedef struct {
   PetscReal    element; /* -fs_walls_element_size: the longest element edge, in h */
   PetscBool    distribute; /* -fs_walls_distribute: on more than one rank each holds the elements near its part */
   PetscBool    local;      /* the elements are this rank's share (FSBoundarySetPartition), not the whole refinement */
+  PetscBool    deferred;   /* distributing, no partition yet: no element made (EnsureElements makes them all) */
   PetscReal    corelo[3], corehi[3]; /* with local elements: where their wetfull is that of the whole mesh */
   /* static grid of elements by centroid (cell = candidate radius + the largest centroid-vertex distance) */
   PetscReal glo[3], gcell;
