@@ -82,8 +82,10 @@ struct _p_FSBoundary {
   /* the wall pressure's sums over the ranks (FSBoundarySetPartition): without a partition one MPI_Allreduce of
      every element's sums; with one a PetscSF from the ranks whose particles can reach an element to the rank that
      owns it (its centroid's) and back */
-  PetscSF         wpsf;
-  PetscInt        nelglobal; /* the elements of all the walls (set by the implementation's setup) */
+  PetscSF   wpsf;
+  PetscInt  nelglobal;       /* the elements of all the walls (set by the implementation's setup) */
+  PetscReal elradius;        /* the largest distance from an element's centroid to its vertices, over all the walls
+                                (the implementation's setup, or FSBoundarySetUp from the view) */
   const PetscInt *elgid;     /* per element of the view, its number among all nelglobal, when this rank holds only
                                 some (set by ops->partition); NULL: the view holds them all, in order */
   FSWallView   full;         /* every element, between FSBoundaryGetFullView and FSBoundaryRestoreFullView */

@@ -258,6 +258,15 @@ PetscErrorCode FSBoundarySetUp(FSBoundary b, PetscInt dim, PetscReal dx, PetscRe
   b->reach  = 2 * h + 0.5 * (radius - 2 * h);
   PetscCall((*b->ops->setup)(b));
   if (!b->nelglobal) b->nelglobal = b->view.nelements;
+  if (!b->elradius)
+    for (PetscInt k = 0; k < b->view.nelements; k++) {
+      const PetscReal *el = &b->view.element[k * b->view.stride], *c = el + b->view.centroid;
+      for (PetscInt v = 0; v < dim; v++) {
+        PetscReal d2 = 0;
+        for (PetscInt d = 0; d < dim; d++) d2 += PetscSqr(el[b->view.vertex + v * dim + d] - c[d]);
+        b->elradius = PetscMax(b->elradius, PetscSqrtReal(d2));
+      }
+    }
   PetscCall(PetscCalloc1(b->nwalls, &b->noslip));
   PetscCall(PetscCalloc2(FS_WALL_LOAD_STRIDE * b->nwalls, &b->load, FS_WALL_LOAD_STRIDE * b->nwalls, &b->loadsum));
   for (PetscInt k = 0; k < b->nnoslipname; k++) {
@@ -547,7 +556,9 @@ PetscErrorCode FSBoundarySetPartition(FSBoundary b, FSBoundaryRankOfFn rankof, v
   PetscMPIInt       size, rank;
   PetscInt          nel, nl = 0, *ilocal, nq = 0, *q;
   PetscSFNode      *iremote, *found;
-  PetscReal         reach = 0;
+  /* an element is within reach of this rank's particles when its centroid is within the candidate radius plus
+     the element's own size (its farthest vertex) of this rank's part */
+  const PetscReal reach = b->radius + b->elradius;
 
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)b), &size));
@@ -559,18 +570,6 @@ PetscErrorCode FSBoundarySetPartition(FSBoundary b, FSBoundaryRankOfFn rankof, v
   PetscCall(PetscFree2(b->owner, b->wproot));
   if (!b->nelglobal) PetscFunctionReturn(0);
   PetscCall(PetscMalloc2(nel + 1, &b->owner, 2 * nel + 1, &b->wproot));
-  /* an element is within reach of this rank's particles when its centroid is within the candidate radius plus
-     the element's own size (its farthest vertex) of this rank's part */
-  for (PetscInt k = 0; k < nel; k++) {
-    const PetscReal *el = &V->element[k * V->stride], *c = el + V->centroid;
-    for (PetscInt v = 0; v < D; v++) {
-      PetscReal d2 = 0;
-      for (PetscInt d = 0; d < D; d++) d2 += PetscSqr(el[V->vertex + v * D + d] - c[d]);
-      reach = PetscMax(reach, PetscSqrtReal(d2));
-    }
-  }
-  if (b->elgid) PetscCall(MPIU_Allreduce(MPI_IN_PLACE, &reach, 1, MPIU_REAL, MPI_MAX, PetscObjectComm((PetscObject)b)));
-  reach += b->radius;
   PetscCall(PetscMalloc1(2 * nel + 1, &ilocal));
   PetscCall(PetscMalloc1(2 * nel + 1, &iremote));
   PetscCall(PetscMalloc2(nel + 1, &q, nel + 1, &found));
@@ -634,7 +633,7 @@ PetscErrorCode FSBoundaryGetElementCounts(FSBoundary b, PetscInt *nlocal, PetscI
    any point (from all of them, in another order than a run's, so to round-off), until FSBoundaryRestoreFullView.
    Its pressure is NULL.
 
-   Collective
+   Not collective
 */
 PetscErrorCode FSBoundaryGetFullView(FSBoundary b, const FSWallView **full)
 {
@@ -652,7 +651,7 @@ PetscErrorCode FSBoundaryGetFullView(FSBoundary b, const FSWallView **full)
   PetscFunctionReturn(0);
 }
 
-/* FSBoundaryRestoreFullView - the end of FSBoundaryGetFullView: the elements it made are freed. Collective */
+/* FSBoundaryRestoreFullView - the end of FSBoundaryGetFullView: the elements it made are freed. Not collective */
 PetscErrorCode FSBoundaryRestoreFullView(FSBoundary b, const FSWallView **full)
 {
   PetscFunctionBegin;

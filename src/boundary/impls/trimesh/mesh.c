@@ -1063,9 +1063,10 @@ PetscErrorCode FSMeshCheck(FSMesh *m, MPI_Comm comm)
 
 /* the element p0, p1, p2 of triangle t, whose unit normal is n (mesh.h's row: vertices, centroid, normal, area, radius
    of its bounding sphere about the centroid), numbered m->nelglobal in the whole refinement: appended when its bounding
-   sphere meets the box lo..hi (no box: always); only counted (m->nel) when m->elcap < 0 */
+   sphere meets the box lo..hi (no box: always); only counted (m->nel) unless store */
 static PetscErrorCode AddElement(FSMesh *m, PetscInt t, const PetscReal p0[], const PetscReal p1[],
-                                 const PetscReal p2[], const PetscReal n[], const PetscReal lo[], const PetscReal hi[])
+                                 const PetscReal p2[], const PetscReal n[], const PetscReal lo[], const PetscReal hi[],
+                                 PetscBool store)
 {
   PetscReal row[FS_TRI_STRIDE], e[3];
 
@@ -1092,11 +1093,10 @@ static PetscErrorCode AddElement(FSMesh *m, PetscInt t, const PetscReal p0[], co
       if (row[FS_TRI_CENTROID + d] + row[FS_TRI_RADIUS] < lo[d] ||
           row[FS_TRI_CENTROID + d] - row[FS_TRI_RADIUS] > hi[d])
         PetscFunctionReturn(0);
-  if (m->elcap < 0) { /* the counting pass */
+  if (!store) { /* the counting pass */
     m->nel++;
     PetscFunctionReturn(0);
   }
-  PetscCheck(m->nel < m->elcap, PETSC_COMM_SELF, PETSC_ERR_PLIB, "More elements in the box than counted");
   PetscCall(PetscArraycpy(&m->el[(size_t)m->nel * FS_TRI_STRIDE], row, FS_TRI_STRIDE));
   m->elwall[m->nel] = m->triwall[t];
   m->eltri[m->nel]  = t;
@@ -1213,10 +1213,12 @@ PetscErrorCode FSMeshRefineRegion(FSMesh *m, PetscReal hmax, const PetscReal lo[
 {
   FSTriangleSplit *split;
   PetscInt64       nel = 0;
+  PetscInt        *count;
+  PetscBool       *inbox;
 
   PetscFunctionBegin;
   PetscCheck(hmax > 0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "The element size %g must be positive", (double)hmax);
-  PetscCall(PetscMalloc1(m->ntri, &split));
+  PetscCall(PetscMalloc2(m->ntri + 1, &split, m->ntri + 1, &count));
   for (PetscInt t = 0; t < m->ntri; t++) {
     PetscReal L = 0, e[3];
     for (PetscInt k = 0; k < 3; k++) {
@@ -1226,7 +1228,8 @@ PetscErrorCode FSMeshRefineRegion(FSMesh *m, PetscReal hmax, const PetscReal lo[
     PetscCheck(L / hmax < 1e7, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
                TRI_FMT ": an edge of length %g split into elements of at most %g: too many", TRI_ARGS(t), (double)L,
                (double)hmax);
-    nel += ChooseSplit(m, t, hmax, &split[t]);
+    count[t] = (PetscInt)ChooseSplit(m, t, hmax, &split[t]);
+    nel += count[t];
   }
   PetscCheck(nel * FS_TRI_STRIDE < PETSC_MAX_INT, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
              "%" PetscInt64_FMT " elements of size at most %g: too many", nel, (double)hmax);
@@ -1234,20 +1237,27 @@ PetscErrorCode FSMeshRefineRegion(FSMesh *m, PetscReal hmax, const PetscReal lo[
   PetscCall(PetscFree(m->elwall));
   PetscCall(PetscFree(m->eltri));
   PetscCall(PetscFree(m->elgid));
-  /* with a box a first pass counts its elements, so that the arrays are allocated once, to size */
-  m->elcap = lo ? -1 : (PetscInt)nel;
+  /* with a box a first pass counts its elements and those of each triangle in it, so that the arrays are allocated
+     once, to size, and the second makes the elements of those triangles only */
+  PetscCall(PetscCalloc1(m->ntri + 1, &inbox));
   for (PetscInt pass = lo ? 0 : 1; pass < 2; pass++) {
-    if (pass == 1) {
-      if (lo) m->elcap = m->nel;
-      PetscCall(PetscMalloc1((size_t)m->elcap * FS_TRI_STRIDE + 1, &m->el));
-      PetscCall(PetscMalloc1(m->elcap + 1, &m->elwall));
-      PetscCall(PetscMalloc1(m->elcap + 1, &m->eltri));
-      PetscCall(PetscMalloc1(m->elcap + 1, &m->elgid));
+    const PetscBool store = (PetscBool)(pass == 1);
+    if (store) {
+      const PetscInt cap = lo ? m->nel : (PetscInt)nel;
+      PetscCall(PetscMalloc1((size_t)cap * FS_TRI_STRIDE + 1, &m->el));
+      PetscCall(PetscMalloc1(cap + 1, &m->elwall));
+      PetscCall(PetscMalloc1(cap + 1, &m->eltri));
+      PetscCall(PetscMalloc1(cap + 1, &m->elgid));
     }
+    if (pass == (lo ? 0 : 1)) m->elradius = 0; /* from every element: the first pass makes them all */
     m->nel       = 0;
     m->nelglobal = 0;
-    m->elradius  = 0;
     for (PetscInt t = 0; t < m->ntri; t++) {
+      const PetscInt before = m->nel;
+      if (lo && store && !inbox[t]) { /* none of its elements is kept: only numbered */
+        m->nelglobal += count[t];
+        continue;
+      }
       const FSTriangleSplit *sp = &split[t];
       const PetscReal       *a = sp->A, *b = sp->B, *c = sp->C;
       PetscReal              n[3], ln;
@@ -1269,7 +1279,7 @@ PetscErrorCode FSMeshRefineRegion(FSMesh *m, PetscReal hmax, const PetscReal lo[
               for (PetscInt k = 0; k < 3; k++)
                 for (PetscInt d = 0; d < 3; d++)
                   q[k][d] = ((s - ij[k][0] - ij[k][1]) * p0[d] + ij[k][0] * p1[d] + ij[k][1] * p2[d]) / s;
-              PetscCall(AddElement(m, t, q[0], q[1], q[2], n, lo, hi));
+              PetscCall(AddElement(m, t, q[0], q[1], q[2], n, lo, hi, store));
             }
       } else {
         for (PetscInt j = 0; j < sp->m2; j++)
@@ -1281,21 +1291,23 @@ PetscErrorCode FSMeshRefineRegion(FSMesh *m, PetscReal hmax, const PetscReal lo[
               for (PetscInt d = 0; d < 3; d++) q[k][d] = a[d] + uv[k][0] * (b[d] - a[d]) + uv[k][1] * (c[d] - a[d]);
             if (nc == 4) { /* a whole cell: cut along its shorter diagonal */
               if (sp->cosA >= 0) {
-                PetscCall(AddElement(m, t, q[0], q[1], q[3], n, lo, hi));
-                PetscCall(AddElement(m, t, q[1], q[2], q[3], n, lo, hi));
+                PetscCall(AddElement(m, t, q[0], q[1], q[3], n, lo, hi, store));
+                PetscCall(AddElement(m, t, q[1], q[2], q[3], n, lo, hi, store));
               } else {
-                PetscCall(AddElement(m, t, q[0], q[1], q[2], n, lo, hi));
-                PetscCall(AddElement(m, t, q[0], q[2], q[3], n, lo, hi));
+                PetscCall(AddElement(m, t, q[0], q[1], q[2], n, lo, hi, store));
+                PetscCall(AddElement(m, t, q[0], q[2], q[3], n, lo, hi, store));
               }
             } else
-              for (PetscInt k = 1; k + 1 < nc; k++) PetscCall(AddElement(m, t, q[0], q[k], q[k + 1], n, lo, hi));
+              for (PetscInt k = 1; k + 1 < nc; k++) PetscCall(AddElement(m, t, q[0], q[k], q[k + 1], n, lo, hi, store));
           }
       }
+      if (!store) inbox[t] = (PetscBool)(m->nel > before);
     }
   }
+  PetscCall(PetscFree(inbox));
   PetscCheck(m->nelglobal == nel && (lo || m->nel == nel), PETSC_COMM_SELF, PETSC_ERR_PLIB,
              "%" PetscInt_FMT " elements made, %" PetscInt64_FMT " counted", m->nelglobal, nel);
-  PetscCall(PetscFree(split));
+  PetscCall(PetscFree2(split, count));
   PetscFunctionReturn(0);
 }
 

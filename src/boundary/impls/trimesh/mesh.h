@@ -32,7 +32,7 @@ typedef struct {
   PetscBool checked;                  /* FSMeshCheck passed, and no vertex or triangle was added since */
   /* elements, after FSMeshRefine: the triangles subdivided to edges of at most hmax; after FSMeshRefineRegion those
      of them near a box only, in the same order */
-  PetscInt   nel, elcap;
+  PetscInt   nel;
   PetscReal *el;        /* per element FS_TRI_STRIDE reals */
   PetscInt  *elwall;    /* wall index of each element */
   PetscInt  *eltri;     /* input triangle of each element */

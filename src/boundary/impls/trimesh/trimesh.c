@@ -251,6 +251,7 @@ static PetscErrorCode SetUp(FSBoundary b)
     tm->deferred = PETSC_TRUE;
   } else PetscCall(BuildElements(b, NULL, NULL));
   b->nelglobal  = m->nelglobal;
+  b->elradius   = m->elradius;
   tm->occlusion = (PetscBool)!MeshConvex(m);
   PetscCall(PetscMalloc2(m->ntri, &tm->tmark, m->ntri, &tm->tlist));
   for (PetscInt t = 0; t < m->ntri; t++) tm->tmark[t] = -1;
@@ -632,7 +633,7 @@ static PetscErrorCode FullView(FSBoundary b, PetscBool get)
   f->elwall = NULL;
   f->eltri  = NULL;
   f->elgid  = NULL;
-  f->nel = f->elcap = 0;
+  f->nel    = 0;
   PetscCall(FSMeshRefineRegion(f, tm->element * b->h, NULL, NULL));
   b->full.nelements   = f->nel;
   b->full.element     = f->el;
