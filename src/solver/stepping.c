@@ -312,17 +312,24 @@ PetscErrorCode FSSolverReduceWithViscosity(FSSolver s, PetscInt n, PetscReal loc
   PetscFunctionReturn(0);
 }
 
-/* the operation of FSSolverReduceSumMax on its packed buffer: v[0] the number of sums n (the same on every rank),
-   v[1..n] summed, the rest the largest. Commutative: each pair is combined as MPI_SUM and MPI_MAX combine it. */
+/* the operation of FSSolverReduceSumMax on its packed buffer, one element of a contiguous type holding the whole
+   buffer: v[0] the number of sums n (the same on every rank), v[1..n] summed, the rest the largest. Commutative: each
+   pair is combined as MPI_SUM and MPI_MAX combine it. The buffer is one element so that no algorithm of MPI_Allreduce
+   can cut it into pieces (a reduce-scatter or a ring hands the operation parts of a vector, where v[0] would not be
+   the count: Open MPI's tuned allreduce does so from some rank counts on) */
 static void MPIAPI FSSumMaxOp(void *in, void *inout, int *len, MPI_Datatype *type)
 {
-  const PetscReal *a = (const PetscReal *)in;
-  PetscReal       *b = (PetscReal *)inout;
-  const int        n = (int)a[0];
+  int size;
 
-  (void)type;
-  for (int k = 1; k <= n && k < *len; k++) b[k] = a[k] + b[k];
-  for (int k = n + 1; k < *len; k++) b[k] = PetscMax(a[k], b[k]);
+  if (MPI_Type_size(*type, &size) != MPI_SUCCESS) return;
+  const int m = size / (int)sizeof(PetscReal);
+  for (int e = 0; e < *len; e++) {
+    const PetscReal *a = (const PetscReal *)in + (size_t)e * m;
+    PetscReal       *b = (PetscReal *)inout + (size_t)e * m;
+    const int        n = (int)a[0];
+    for (int k = 1; k <= n && k < m; k++) b[k] = a[k] + b[k];
+    for (int k = n + 1; k < m; k++) b[k] = PetscMax(a[k], b[k]);
+  }
 }
 
 static MPI_Op FSSumMax = MPI_OP_NULL;
@@ -357,8 +364,13 @@ PetscErrorCode FSSolverReduceSumMax(FSSolver s, PetscInt nsum, PetscReal sum[], 
   v[0] = (PetscReal)nsum;
   for (PetscInt k = 0; k < nsum; k++) v[1 + k] = sum[k];
   for (PetscInt k = 0; k < nmax; k++) v[1 + nsum + k] = max[k];
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v, (PetscMPIInt)(1 + nsum + nmax), MPIU_REAL, FSSumMax,
-                             PetscObjectComm((PetscObject)s)));
+  {
+    MPI_Datatype whole;
+    PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)(1 + nsum + nmax), MPIU_REAL, &whole));
+    PetscCallMPI(MPI_Type_commit(&whole));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v, 1, whole, FSSumMax, PetscObjectComm((PetscObject)s)));
+    PetscCallMPI(MPI_Type_free(&whole));
+  }
   for (PetscInt k = 0; k < nsum; k++) sum[k] = v[1 + k];
   for (PetscInt k = 0; k < nmax; k++) max[k] = v[1 + nsum + k];
   if (v != buf) PetscCall(PetscFree(v));

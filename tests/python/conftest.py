@@ -69,13 +69,13 @@ def _tail(text, n=4000):
     return text if len(text) <= n else "...\n" + text[-n:]
 
 
-def run_flexslosh(args, nranks=1, cwd=None, check=True, timeout=300, progress=False):
+def run_flexslosh(args, nranks=1, cwd=None, check=True, timeout=300, progress=False, env=None):
     """Runs flexslosh with args (a list of strings or numbers).
 
     nranks > 1 runs under `mpirun --oversubscribe -n nranks`. -fs_progress 0 is put first unless
     progress is True (a later -fs_progress in args still wins). Returns the CompletedProcess with
     stdout and stderr combined in .stdout (also as .output). check=True fails the test, showing the
-    end of the output, when the exit status is not 0.
+    end of the output, when the exit status is not 0. env: more environment variables (a dict).
     """
     exe = flexslosh_bin()
     if not exe.exists():
@@ -86,8 +86,9 @@ def run_flexslosh(args, nranks=1, cwd=None, check=True, timeout=300, progress=Fa
     cmd = [str(exe)] + args
     if nranks > 1:
         cmd = [mpirun_bin(), "--oversubscribe", "-n", str(nranks)] + cmd
-    env = dict(os.environ)
+    extra, env = env or {}, dict(os.environ)
     env.update(MPI_ENV)
+    env.update({k: str(v) for k, v in extra.items()})
     proc = subprocess.run(cmd, cwd=str(cwd) if cwd else None, env=env, stdout=subprocess.PIPE,
                           stderr=subprocess.STDOUT, text=True, timeout=timeout)
     proc.output = proc.stdout

@@ -165,6 +165,33 @@ def test_coupled_step_collectives_with_a_row_every_step(tmp_path):
         assert np.allclose(two[col], one[col], rtol=1e-9, atol=1e-12 * np.abs(one[col]).max()), col
 
 
+def test_the_step_reduction_under_every_allreduce_algorithm(tmp_path):
+    """The step's one reduction packs sums and maxima into one buffer with an operation of its own
+    (FSSolverReduceSumMax). MPI may cut a reduced vector into pieces (Open MPI's ring and reduce-scatter allreduce
+    do, and its tuned choice takes the latter on 32 ranks for the 2-D dam break's 41 values): the buffer is one element
+    of a contiguous type so that it cannot. The coupled tank on 4 ranks with each of Open MPI's allreduce algorithms
+    forced (0: its own choice, 3: recursive doubling, 4: ring, 6: reduce-scatter and allgather) makes the same time
+    series and energy budget (the time steps bit for bit). When the operation took a plain vector, the ring's run had other time steps from the
+    first step on (the pieces' first value read as the number of sums) and the reduce-scatter's crashed."""
+    from conftest import REPO_ROOT
+    out = {}
+    for alg in (0, 3, 4, 6):
+        out[alg] = tmp_path / f"alg{alg}"
+        run_flexslosh(["-options_file", "cases/coupled_rectangular.opts", "-fs_dx", "0.01", "-ts_max_steps", "10",
+                       "-fs_output_interval", "0", "-fs_output_dir", out[alg]], nranks=4, cwd=REPO_ROOT,
+                      env={"OMPI_MCA_coll_tuned_use_dynamic_rules": 1, "OMPI_MCA_coll_tuned_allreduce_algorithm": alg})
+    for name in ("timeseries.csv", "energy.csv"):
+        ref = np.genfromtxt(out[0] / name, delimiter=",", names=True)
+        assert len(ref) == 11
+        for alg in (3, 4, 6):
+            other = np.genfromtxt(out[alg] / name, delimiter=",", names=True)
+            for col in ref.dtype.names:  # the sums to round-off (in SI units: about 1e-15 on the near-zero ones)
+                assert np.allclose(other[col], ref[col], rtol=1e-12, atol=1e-12 * max(np.abs(ref[col]).max(), 1.0)), \
+                    (alg, name, col)
+            if name == "timeseries.csv":  # the maxima that set the time step: the same whatever the order
+                assert np.array_equal(other["dt"], ref["dt"]), alg
+
+
 @pytest.mark.parametrize("nranks", [1, 2])
 def test_rows_see_the_state_after_the_bounces(tmp_path, nranks):
     """A row of timeseries.csv is the state the step ends with: its sums are taken after the walls' bounces
