@@ -13,16 +13,21 @@ The cases (their resolution is the counted runs', not the projections'):
   dam2d      the 2-D dam break of bench_dam_break.py at its resolution (dx = 0.01 m, 20,000 particles), 40 steps
   dam3d      the 3-D dam break of bench_dam_break_3d.py at dx = 0.05 m (32,000 particles: the bench's 310,675 on 64
              oversubscribed ranks would need about 2.5 GB and far longer), 6 steps
-  seed2d     cases/coupled_rectangular.opts at dx = 2 mm (5,250 particles), 40 steps
+  seed2d     cases/coupled_rectangular.opts at dx = 2 mm (5,250 particles), 40 steps, with the numerics that hold
+             through the slams at the seed's resolutions (SLAMS below: the density diffusion split off, CFL 0.8)
   baffled3d  cases/coupled_baffled_3d.opts at dx = 5 mm (8,400 particles), 4 steps
   seed2d_thin, baffled3d_thin  (not by default) seed2d and baffled3d with -fs_series_interval 1000: the
              collectives a step with the time-series rows thinned out (scaling_model.py reads them)
-  seed2d_slosh  (not by default) the seed's tank at dx = 5 mm for 1 s: how far the load imbalance drifts as the
-             liquid moves, the cuts following it (--cases seed2d_slosh --ranks 8)
+  seed2d_slosh  (not by default) the seed's tank at dx = 2 mm for 1 s (the release and the slams): how far the load
+             imbalance drifts as the liquid moves, the cuts following it (--cases seed2d_slosh --ranks 2,8);
+             seed2d_slosh_1.1, seed2d_slosh_1.05: the same with -fs_rebalance_threshold 1.1 and 1.05 (the default
+             1.2), and seed2d_slosh_5mm the same at dx = 5 mm (the scenario of 2026-12-05)
 
 With --timed it times instead, on 1 and 2 ranks (--repeats times, the load noted): the seed's tank at L/dx = 2000
 (dx = 0.35 mm, 172,000 particles, 20 steps) and the 3-D baffled tank 0.1 m wide at dx = 2.5 mm (134,400
 particles, 3 steps): the per-core cost of a particle-step the model starts from.
+
+A run whose summary.json is already in --out is not made again (an interrupted count continues).
 """
 import argparse
 import json
@@ -33,26 +38,32 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 
+# the numerics the seed's tanks hold their slams with at dx <= 1 mm (validate.py's SEED_CONVERGENCE_NUMERICS and
+# seed_slams; docs/performance.md): (a) of the model is projected with them
+SLAMS = ["-fs_delta_split", "-fs_cfl", "0.8", "-fs_max_density_variation", "0.95", "-fs_walls_bounce_distance", "0.3"]
+RECT = ["-options_file", str(ROOT / "cases/coupled_rectangular.opts")]
+
 CASES = {
     "dam2d": ["-fs_case", "dam_break", "-fs_dx", "0.01", "-ts_max_steps", "40"],
     "dam3d": ["-fs_case", "dam_break", "-fs_dim", "3", "-fs_dx", "0.05", "-ts_max_steps", "6"],
-    "seed2d": ["-options_file", str(ROOT / "cases/coupled_rectangular.opts"), "-fs_dx", "0.002", "-ts_max_steps", "40"],
+    "seed2d": RECT + SLAMS + ["-fs_dx", "0.002", "-ts_max_steps", "40"],
     "baffled3d": ["-options_file", str(ROOT / "cases/coupled_baffled_3d.opts"), "-fs_dx", "0.005", "-ts_max_steps", "4"],
     # the coupled tanks with the time-series rows thinned out (not by default): the collectives the model's
     # "rows thinned" scenario takes
-    "seed2d_thin": ["-options_file", str(ROOT / "cases/coupled_rectangular.opts"), "-fs_dx", "0.002", "-ts_max_steps", "40",
-                    "-fs_series_interval", "1000"],
+    "seed2d_thin": RECT + SLAMS + ["-fs_dx", "0.002", "-ts_max_steps", "40", "-fs_series_interval", "1000"],
     "baffled3d_thin": ["-options_file", str(ROOT / "cases/coupled_baffled_3d.opts"), "-fs_dx", "0.005", "-ts_max_steps",
                        "4", "-fs_series_interval", "1000"],
-    # the imbalance over a sloshing second with the cuts of the start (not in the default --cases: run it on 8 ranks)
-    "seed2d_slosh": ["-options_file", str(ROOT / "cases/coupled_rectangular.opts"), "-fs_dx", "0.005", "-ts_max_time", "1"],
+    # the imbalance over a sloshing second, the cuts following the liquid (not in the default --cases)
+    "seed2d_slosh": RECT + SLAMS + ["-fs_dx", "0.002", "-ts_max_time", "1"],
+    "seed2d_slosh_1.1": RECT + SLAMS + ["-fs_dx", "0.002", "-ts_max_time", "1", "-fs_rebalance_threshold", "1.1"],
+    "seed2d_slosh_1.05": RECT + SLAMS + ["-fs_dx", "0.002", "-ts_max_time", "1", "-fs_rebalance_threshold", "1.05"],
+    "seed2d_slosh_5mm": RECT + ["-fs_dx", "0.005", "-ts_max_time", "1"],
 }
 
 
 # the timed runs (--timed): the projections' cases themselves, (a) at its resolution, (b) at 2.5 mm, a few steps
 TIMED = {
-    "seed2d_L2000": ["-options_file", str(ROOT / "cases/coupled_rectangular.opts"), "-fs_dx", "0.00035",
-                     "-ts_max_steps", "20"],
+    "seed2d_L2000": RECT + SLAMS + ["-fs_dx", "0.00035", "-ts_max_steps", "20"],
     "baffled3d_w01": ["-options_file", str(ROOT / "cases/coupled_baffled_3d.opts"), "-fs_tank_width", "0.1",
                       "-fs_dx", "0.0025", "-ts_max_steps", "3"],
 }
@@ -75,7 +86,9 @@ def timed(exe, ranks, repeats, out):
 
 
 def run(exe, case, nranks, outdir):
-    """Runs one counted run (no snapshots) and returns its summary.json."""
+    """Runs one counted run (no snapshots) and returns its summary.json (the one already there, if any)."""
+    if (outdir / "summary.json").exists():
+        return json.load(open(outdir / "summary.json"))
     outdir.mkdir(parents=True, exist_ok=True)
     cmd = [str(exe)] + CASES[case] + ["-fs_output_interval", "0", "-fs_output_dir", str(outdir), "-fs_progress", "0"]
     if nranks > 1:

@@ -1,39 +1,52 @@
 #!/usr/bin/env python3
-"""The scaling model of docs/performance.md ("A measured scaling model"): the wall time and parallel
-efficiency of a run on 1 to 1,024 cores from
-  - the decomposition flexslosh makes (FSDecompChooseGrid and FSDecompBalance of src/particles/decomp.c,
-    replayed here on the case's initial particle lattice: owned particles, ghosts, ranks sent to);
-  - the per-core cost of a particle-step, measured on 1 and 2 ranks (--cost, seconds per particle-step,
-    and --ghost-cost, per ghost-step);
-  - the counted runs of bench/bench_scaling.py (--counts: their summary.json): collectives per step, halo
-    messages per step per rank sent to, bytes per ghost per step, the wall pressure's values reduced per
-    right-hand side, the load imbalance of the pair lists over the ghosts' and particles' counts;
-  - an assumed network: latency alpha, bandwidth beta (InfiniBand-class: 1.5 us, 10 GB/s), an allreduce
-    costing ceil(log2 P) alpha plus, for long vectors, 2 n bytes / beta.
+"""The scaling model of docs/performance.md ("A measured scaling model"): the wall time, parallel efficiency and
+memory a rank of a run on 1 to 1,024 cores, from
+  - the decomposition flexslosh makes (FSDecompChooseGrid and FSDecompBalance of src/particles/decomp.c, replayed
+    here on the case's initial particle lattice, the cuts on the pairs' share as -fs_balance work puts them on the
+    work): per rank the owned particles, ghosts, ranks sent to, and the wall elements it holds (the distributed wall
+    mesh, replayed on the walls' surfaces);
+  - the per-core cost c of a particle-step (bench_scaling.py --timed; a ghost costs --ghost-share of it);
+  - the counted runs of bench/bench_scaling.py (--counts: their summary.json): collectives per step, messages per
+    step per rank sent to (the halo's and the wall pressure's), bytes per ghost per step, the memory items;
+  - an assumed network: latency alpha and bandwidth beta (InfiniBand-class: 1.5 us, 10 GB/s); an allreduce of a few
+    values costs ceil(log2 P) alpha.
 
-    T_step(P) = c N_max(P) k_imb + c_g G_max(P)                       (compute, the slowest rank)
-              + m S_max(P) alpha + b G_max(P) / beta                   (halo: messages, bytes)
+    T_step(P) = c W_max(P) drift(P) + c_g G_max(P)                   (compute: the rank with the most work)
+              + m S_max(P) alpha + b G_max(P) / beta                   (messages: to S_max ranks, of G_max ghosts)
               + C ceil(log2 P) alpha                                   (collectives)
-              + r [ceil(log2 P) alpha + 2 * 8 V / beta + 8 V / mu]     (the wall pressure's sums: r per step,
-                                                                        V values each, mu: memory bandwidth)
     T(P) = steps T_step(P);  efficiency E(P) = T(1) / (P T(P))
+    M(P) = max over the ranks of  M_rank + a N_owned + b G + e E_held   (memory a rank; --fit-memory fits them)
 
-The wall pressure's sums are neighbour messages since issue 37 (r = 0 in the counts; their messages and bytes are
-in the halo's m and b). Scenarios beside the cuts on the particles: the cuts on the work (-fs_balance work, the
-default, replayed with the pairs' share standing for the work), the imbalance's drift over a sloshing run with the
-cuts following the liquid (--drift), and the collectives with the time-series rows thinned out (<case>_thin runs).
+Beside the main rows (the cuts of the start): the imbalance's drift over a sloshing run with the cuts following the
+liquid (--drift, with that run's collectives a step), and the cuts on the particles (-fs_balance particles).
 
-    /usr/bin/python3 bench/scaling_model.py --counts /tmp/scal/counted [--plot docs/images/scaling.png]
+    /usr/bin/python3 bench/scaling_model.py --counts COUNTS [--validate] [--fit-memory] [--plot docs/images/scaling.png]
 """
 import argparse
 import json
 import math
 import sys
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 NBINS = 4096
+# bytes a rank: its own, an owned particle, a ghost, a wall element held (fitted: --fit-memory, 2026-12-06)
+MEM2D = [12.1e6, 1494.0, 241.0, 115.0]
+MEM3D = [16.7e6, 1871.0, 459.0, 184.0]
+
+
+@dataclass
+class Decomp:
+    """A replayed decomposition: the process grid, per rank the owned particles, ghosts, ranks sent to and work
+    (the owned particles' weights; their count without weights), and the cuts per direction."""
+    grid: tuple
+    owned: np.ndarray
+    ghosts: np.ndarray
+    sendranks: np.ndarray
+    work: np.ndarray
+    cuts: list
 
 
 def choose_grid(P, dim, length, minwidth):
@@ -128,9 +141,34 @@ def decompose(x, lo, hi, P, width, weights=None, on_work=False):
         ghosts += np.bincount(dest, minlength=P)
         links[rank[m], dest] = True
     sendranks = links.sum(axis=1)
-    if weights is not None:
-        return grid, owned, ghosts, sendranks, np.bincount(rank, weights=weights, minlength=P)
-    return grid, owned, ghosts, sendranks
+    work = np.bincount(rank, weights=weights, minlength=P) if weights is not None else owned.astype(float)
+    return Decomp(grid, owned, ghosts, sendranks, work, cuts)
+
+
+def elements_per_rank(dec, walls, margin):
+    """The wall elements each rank holds with the distributed wall mesh (-fs_walls_distribute, the default on
+    several ranks; docs/walls.md): those whose centroid lies within margin of the rank's part of the domain
+    (the bounding sphere meeting the part grown by 2 (R + r): margin = 2 R + 3 r, R the candidate radius, r the
+    largest element's bounding radius). walls: the elements' centroids."""
+    dim = walls.shape[1]
+    lo_idx = []
+    hi_idx = []
+    for d in range(dim):
+        cut = dec.cuts[d]
+        n = dec.grid[d]
+        inner = cut[1:n]  # the cuts between parts: an element belongs to every part whose grown interval holds it
+        lo_idx.append(np.clip(np.searchsorted(inner, walls[:, d] - margin, side="right"), 0, n - 1))
+        hi_idx.append(np.clip(np.searchsorted(inner, walls[:, d] + margin, side="left"), 0, n - 1))
+    # each element adds one to a box of parts in the process grid: a difference array over the grid, summed up
+    shape = [dec.grid[d] + 1 for d in range(dim)]
+    diff = np.zeros(shape, dtype=np.int64)
+    for corner in np.ndindex(*([2] * dim)):
+        at = tuple(hi_idx[d] + 1 if corner[d] else lo_idx[d] for d in range(dim))
+        np.add.at(diff, at, (-1) ** sum(corner))
+    for d in range(dim):
+        diff = np.cumsum(diff, axis=d)
+    count = diff[tuple(slice(0, dec.grid[d]) for d in range(dim))]
+    return count.transpose(*reversed(range(dim))).ravel()  # rank = i + nx (j + ny k)
 
 
 def neighbour_weights(idx, n):
@@ -171,6 +209,41 @@ def lattice_baffled3d(dx, width):
     return xs, [0, 0, 0], [0.73, 0.06, width], np.tile(w, 7)
 
 
+def walls_seed2d(h, size=1.0):
+    """cases/coupled_rectangular.opts's walls: the 0.7 x 0.06 m rectangle's sides cut into segments of size h
+    (-fs_walls_element_size): their centres."""
+    pts = []
+    for (x0, y0), (x1, y1) in [((0, 0), (0.7, 0)), ((0.7, 0), (0.7, 0.06)), ((0.7, 0.06), (0, 0.06)), ((0, 0.06), (0, 0))]:
+        n = max(1, math.ceil(math.hypot(x1 - x0, y1 - y0) / (size * h)))
+        t = (np.arange(n) + 0.5) / n
+        pts.append(np.column_stack([x0 + t * (x1 - x0), y0 + t * (y1 - y0)]))
+    return np.concatenate(pts)
+
+
+def walls_baffled3d(h, width, area=0.189):
+    """cases/coupled_baffled_3d.opts's walls (the box 0.73 x 0.06 x width, six baffles 5 mm thick and 45 mm high at
+    the compartments' ends): points on a square lattice of side sqrt(area) h over every face, standing for the
+    refined elements' centroids (area: an element's mean area in h^2, measured: 15,692 elements on the 0.2969 m^2 of
+    the 0.1 m wide tank at h = 1 cm with -fs_walls_element_size 1)."""
+    a = math.sqrt(area) * h
+
+    def face(origin, u, v, lu, lv):
+        nu, nv = max(1, round(lu / a)), max(1, round(lv / a))
+        U, V = np.meshgrid((np.arange(nu) + 0.5) / nu * lu, (np.arange(nv) + 0.5) / nv * lv, indexing="ij")
+        return np.array(origin) + U.ravel()[:, None] * np.array(u) + V.ravel()[:, None] * np.array(v)
+
+    L, H, W = 0.73, 0.06, width
+    ex, ey, ez = [1, 0, 0], [0, 1, 0], [0, 0, 1]
+    faces = [face([0, 0, 0], ex, ez, L, W), face([0, H, 0], ex, ez, L, W),   # floor, lid
+             face([0, 0, 0], ex, ey, L, H), face([0, 0, W], ex, ey, L, H),   # front, back
+             face([0, 0, 0], ey, ez, H, W), face([L, 0, 0], ey, ez, H, W)]   # the ends
+    for k in range(6):
+        x0 = 0.1 + k * 0.105
+        faces += [face([x0, 0, 0], ey, ez, 0.045, W), face([x0 + 0.005, 0, 0], ey, ez, 0.045, W),
+                  face([x0, 0.045, 0], ex, ez, 0.005, W)]
+    return np.concatenate(faces)
+
+
 def domain(lo, hi, h):
     """FSCaseSetDomainAround: the walls' box with a margin of 4 h."""
     return [v - 4 * h for v in lo], [v + 4 * h for v in hi]
@@ -187,9 +260,9 @@ def counted(counts_dir, case):
 
 
 def rates(runs):
-    """From the counted runs of a case (P >= 2): collectives per step, halo messages per step per rank sent to,
-    bytes sent per ghost per step, wall-pressure reductions per step and values per reduction at that dx, and the
-    pairs' imbalance over the owned particles' (what the pair lists add to the count's imbalance) per P."""
+    """From the counted runs of a case (P >= 2): collectives per step, messages per step per rank sent to (the halo's
+    and the wall pressure's), bytes sent per ghost per step, and the pairs' imbalance over the owned particles' (what
+    the pair lists add to the count's imbalance) per P."""
     col, msg, byt, imb = [], [], [], {}
     for P, s in runs.items():
         if P < 2:
@@ -200,16 +273,12 @@ def rates(runs):
         msg.append(sum(p["messages_per_step"]) / max(sr, 1))
         byt.append(sum(p["bytes_per_step"]) / max(sum(p["ghosts_mean"]), 1))
         imb[P] = p["imbalance_pairs"] / max(p["imbalance_owned"], 1e-9)
-    s = runs[max(runs)]
-    rhs_per_step = s["rhs_evaluations"] / max(s["steps"], 1)
     return dict(collectives=max(col), messages_per_sendrank=float(np.mean(msg)), bytes_per_ghost=float(np.mean(byt)),
-                wp_reductions=s.get("wall_pressure_reductions", 0) * rhs_per_step,
-                wp_values=s.get("wall_pressure_reduced_values", 0) / max(s.get("wall_pressure_reductions", 1), 1),
-                dx=s["dx"], pair_imbalance=imb)
+                dx=runs[max(runs)]["dx"], pair_imbalance=imb)
 
 
 def decompositions(x, w, lo, hi, h, Ps, on_work=False):
-    """The replayed decomposition on each P of Ps: {P: (grid, owned, ghosts, sendranks, work)}."""
+    """The replayed decomposition on each P of Ps: {P: Decomp}."""
     dlo, dhi = domain(lo, hi, h)
     return {P: decompose(x, dlo, dhi, P, 2.5 * h, w, on_work) for P in Ps}  # the halo: support 2h plus the skin 0.5h
 
@@ -225,19 +294,28 @@ def drift_at(drift, P):
     return float(np.interp(math.log2(P), lp, [f for _, f in pts]))
 
 
-def project(decs, dim, steps, cost, ghost_cost, r, wp_values, alpha=1.5e-6, beta=10e9, mu=10e9, drift=1.0,
-            collectives=None, wall_pressure=True):
-    """Wall time (s) and efficiency on each P of the decompositions decs, with the breakdown of a step."""
+def project(decs, dim, steps, cost, ghost_cost, r, alpha=1.5e-6, beta=10e9, drift=1.0, collectives=None, mem=None,
+            elements=None):
+    """Wall time (s) and efficiency on each P of the decompositions decs, with the breakdown of a step; with mem
+    (bytes: process, particle, ghost, element) and elements ({P: wall elements per rank}) the largest memory of a
+    rank."""
     rows = []
-    for P, (grid, owned, ghosts, sendranks, work) in sorted(decs.items()):
+    for P, dec in sorted(decs.items()):
+        grid, owned, ghosts, sendranks, work = dec.grid, dec.owned, dec.ghosts, dec.sendranks, dec.work
         comp = cost * work.max() * drift_at(drift, P) + ghost_cost * ghosts.max()
         lg = math.ceil(math.log2(P)) if P > 1 else 0
         halo = (r["messages_per_sendrank"] * sendranks.max() * alpha + r["bytes_per_ghost"] * ghosts.max() / beta) if P > 1 else 0
         coll = (collectives or r["collectives"]) * lg * alpha
-        wp = r["wp_reductions"] * (2 * 8 * wp_values / beta + 8 * wp_values / mu) if P > 1 and wall_pressure else 0
-        rows.append(dict(P=P, grid=grid[:dim], owned_max=int(owned.max()), ghosts_max=int(ghosts.max()),
-                         work_imbalance=float(work.max() * P / work.sum()), sendranks_max=int(sendranks.max()),
-                         compute=comp, halo=halo, collectives=coll, wall_pressure=wp, step=comp + halo + coll + wp))
+        row = dict(P=P, grid=grid[:dim], owned_max=int(owned.max()), ghosts_max=int(ghosts.max()),
+                   work_imbalance=float(work.max() * P / work.sum()), sendranks_max=int(sendranks.max()),
+                   compute=comp, halo=halo, collectives=coll, step=comp + halo + coll)
+        if mem is not None:
+            el = elements[P] if elements is not None else np.zeros(P)
+            per_rank = mem[0] + mem[1] * owned + mem[2] * ghosts + mem[3] * el
+            every = mem[0] + mem[1] * owned + mem[2] * ghosts + mem[3] * (el.max() if P == 1 else elements[1].max())
+            row.update(elements_max=int(el.max()), memory_max=float(per_rank.max()),
+                       memory_elements=float(mem[3] * el.max()), memory_every_element=float(every.max()))
+        rows.append(row)
     t1 = rows[0]["step"] * steps
     for row in rows:
         row["wall"] = row["step"] * steps
@@ -256,12 +334,52 @@ def validate(counts_dir):
         dlo, dhi = domain(lo, hi, h)
         for P, s in sorted(counted(counts_dir, case).items()):
             p = s["parallel"]
-            grid, owned, ghosts, sendranks, _ = decompose(x, dlo, dhi, P, 2.5 * h, w)
-            _, owned_w, ghosts_w, sendranks_w, _ = decompose(x, dlo, dhi, P, 2.5 * h, w, on_work=True)
+            dp = decompose(x, dlo, dhi, P, 2.5 * h, w)
+            dw = decompose(x, dlo, dhi, P, 2.5 * h, w, on_work=True)
+            grid, owned, ghosts, sendranks = dp.grid, dp.owned, dp.ghosts, dp.sendranks
+            owned_w, ghosts_w, sendranks_w = dw.owned, dw.ghosts, dw.sendranks
             print(f"  {case:9s} {P:3d} ranks: grid {'x'.join(str(int(g)) for g in p['grid'])} / {'x'.join(map(str, grid[:x.shape[1]]))}"
                   f"  owned {max(p['owned_first']):6.0f} / {owned.max():6d} / {owned_w.max():6d}"
                   f"  ghosts {max(p['ghosts_first']):6.0f} / {ghosts.max():6d} / {ghosts_w.max():6d}"
                   f"  send ranks {max(p['send_ranks']):3.0f} / {sendranks.max():3d} / {sendranks_w.max():3d}")
+    print("the wall elements held, summed over the ranks (counted: summary.json's walls_elements over the bytes of an "
+          "element on one rank; replayed on the pairs' cuts)")
+    x, lo, hi, w = lattice_baffled3d(0.005, 0.05)
+    dlo, dhi = domain(lo, hi, 0.01)
+    el = walls_baffled3d(0.01, 0.05)
+    runs = counted(counts_dir, "baffled3d")
+    if 1 in runs:
+        per = runs[1]["memory"]["walls_elements"] / runs[1]["wall_elements"]
+        for P, s in sorted(runs.items()):
+            held = elements_per_rank(decompose(x, dlo, dhi, P, 0.025, w, on_work=True), el, (5 + 3 * 0.58) * 0.01)
+            print(f"  baffled3d {P:3d} ranks: {s['memory']['walls_elements'] / per:8.0f} / {held.sum():8d}")
+
+
+def fit_memory(counts_dir, case):
+    """The memory coefficients from the counted runs of a case (summary.json's "memory", summed over the ranks, and
+    "parallel"'s owned and ghost counts at the end): the accounted bytes without the wall elements fitted as
+    a N + b G + c P (N the particles, G the ghosts summed over the ranks, P the ranks), the wall elements' bytes per element from
+    the 1-rank run (every element), and a rank's own bytes (the peak's unaccounted part less the pages shared
+    with the node's other ranks) as their largest mean over the runs. Prints and returns (own, a, b, element)."""
+    runs = counted(counts_dir, case)
+    rows = []
+    for P, s in sorted(runs.items()):
+        m, p = s["memory"], s["parallel"]
+        rows.append((P, s["particles"], sum(p["ghosts"]), m["accounted"] - m["walls_elements"], m["walls_elements"],
+                     (m["not_accounted"] - m["shared_clean"]) / P, s["wall_elements"]))
+    A = np.array([[r[1], r[2], r[0]] for r in rows], dtype=float)
+    y = np.array([r[3] for r in rows], dtype=float)
+    (a, b, c), *_ = np.linalg.lstsq(A, y, rcond=None)
+    one = runs.get(1)
+    el = one["memory"]["walls_elements"] / max(one["wall_elements"], 1) if one else float("nan")
+    own = max(r[5] for r in rows) + c
+    print(f"{case}: memory a rank = {own / 1e6:.1f} MB + {a:.0f} B an owned particle + {b:.0f} B a ghost + {el:.0f} B a "
+          f"wall element held (the rank's own: its largest unshared and unaccounted part, {max(r[5] for r in rows) / 1e6:.1f}"
+          f" MB, and {c / 1e6:.2f} MB of the accounted items a rank)")
+    for P, N, G, acc, wel, o, ne in rows:
+        print(f"  {P:4d} ranks: accounted less elements {acc / 1e6:8.2f} MB (fit {(a * N + b * G + c * P) / 1e6:8.2f}), "
+              f"elements held {wel / el if el > 0 else 0:9.0f} of {ne} ({wel / 1e6:6.2f} MB), own {o / 1e6:6.1f} MB a rank")
+    return own, a, b, el
 
 
 def fmt_time(t):
@@ -271,22 +389,27 @@ def fmt_time(t):
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--counts", required=True, help="bench_scaling.py's --out")
-    ap.add_argument("--cost2d", type=float, default=4.43e-6,
+    ap.add_argument("--cost2d", type=float, default=4.82e-6,
                     help="s per particle-step, one core, the seed's 2-D tank (bench_scaling.py --timed)")
-    ap.add_argument("--cost3d", type=float, default=6.6e-5,
+    ap.add_argument("--cost3d", type=float, default=5.6e-5,
                     help="s per particle-step, one core, the 3-D baffled tank (bench_scaling.py --timed, dx = 2.5 mm)")
     ap.add_argument("--ghost-share", type=float, default=0.02, help="a ghost's cost per step over a particle's")
-    ap.add_argument("--steps2d", type=float, default=284000, help="steps of (a): 3 s")
+    ap.add_argument("--steps2d", type=float, default=123700,
+                    help="steps of (a): 3 s (the 0.7 mm run's 20,616 steps a simulated second through the slams, doubled)")
     ap.add_argument("--steps3d", type=float, default=87000, help="steps of (b): 3 s")
-    ap.add_argument("--wp3d", type=float, nargs=2, default=[589400, 0.0025], metavar=("VALUES", "DX"),
-                    help="the 3-D tank's wall-pressure values per sum measured at DX (0.1 m wide; scaled by 1/dx^2)")
-    ap.add_argument("--drift", default="2:1.013,8:1.201",
+    ap.add_argument("--drift", default="2:1.018,8:1.131",
                     help="the pair lists' imbalance over a sloshing run, the cuts moving with the liquid (a scenario), "
-                         "measured on some rank counts (P:factor,...; bench_scaling.py --cases seed2d_slosh): "
+                         "measured on some rank counts (P:factor,...; bench_scaling.py --cases seed2d_slosh, 2 mm, "
+                         "-fs_rebalance_threshold 1.2; 2:1.018,8:1.090 with 1.1): "
                          "interpolated in log2 P from 1 on one rank, the last one's beyond")
-    ap.add_argument("--collectives-series", type=float, default=None,
-                    help="collectives per step with the time-series rows thinned out (a scenario; default: counted, "
-                         "the largest of bench_scaling.py's <case>_thin runs in --counts)")
+    ap.add_argument("--element-radius", type=float, default=0.58,
+                    help="the largest wall element's bounding radius in h (edges of at most h: h / sqrt(3))")
+    ap.add_argument("--mem2d", type=float, nargs=4, default=MEM2D, metavar=("PROCESS", "PARTICLE", "GHOST", "ELEMENT"),
+                    help="bytes a rank: its own (not shared with the node's other ranks), per owned particle, per ghost,"
+                         " per wall element (2-D; fitted to the counted runs' summary.json, --fit-memory)")
+    ap.add_argument("--mem3d", type=float, nargs=4, default=MEM3D, metavar=("PROCESS", "PARTICLE", "GHOST", "ELEMENT"),
+                    help="the same in 3-D")
+    ap.add_argument("--fit-memory", action="store_true", help="fit the memory coefficients to the counted runs")
     ap.add_argument("--alpha", type=float, default=1.5e-6)
     ap.add_argument("--beta", type=float, default=10e9)
     ap.add_argument("--plot", help="PNG of the efficiencies")
@@ -297,53 +420,58 @@ def main():
     drift_label = ", ".join(f"x{v:g} on {k}" for k, v in sorted(a.drift.items()))
     if a.validate:
         validate(a.counts)
+    if a.fit_memory:
+        for case in ("seed2d", "baffled3d"):
+            if counted(a.counts, case):
+                fit_memory(a.counts, case)
+        return 0
     Ps = [2 ** k for k in range(11)]
     out = {}
-    for key, case, lat, dim, h, steps, cost in [
-        ("a", "seed2d", lambda: lattice_seed2d(0.00035), 2, 0.0007, a.steps2d, a.cost2d),
-        ("b", "baffled3d", lambda: lattice_baffled3d(0.001, 0.1), 3, 0.002, a.steps3d, a.cost3d),
+    # the sloshing runs whose collectives a step the drifted columns take: (a)'s numerics (the split, rebuilds every 2-3
+    # steps in the slams), and for (b) the case file's own (no split: seed2d_slosh_5mm)
+    for key, case, slosh_case, lat, walls, dim, h, steps, cost in [
+        ("a", "seed2d", "seed2d_slosh", lambda: lattice_seed2d(0.00035), lambda: walls_seed2d(0.0007), 2, 0.0007,
+         a.steps2d, a.cost2d),
+        ("b", "baffled3d", "seed2d_slosh_5mm", lambda: lattice_baffled3d(0.001, 0.1), lambda: walls_baffled3d(0.002, 0.1),
+         3, 0.002, a.steps3d, a.cost3d),
     ]:
         runs = counted(a.counts, case)
         if not runs:
             print(f"no counted runs of {case} in {a.counts}", file=sys.stderr)
             continue
         r = rates(runs)
-        thin = counted(a.counts, case + "_thin")
-        coll_thin = a.collectives_series or (rates(thin)["collectives"] if len(thin) > 1 else r["collectives"])
         # over a sloshing run the lists' rebuilds, the migrations and the cuts' moves add their collectives
-        slosh = {P: s for P, s in counted(a.counts, "seed2d_slosh").items() if P > 1}
+        slosh = {P: s for P, s in counted(a.counts, slosh_case).items() if P > 1}
         coll_slosh = max(rates(slosh)["collectives"], r["collectives"]) if slosh else r["collectives"]
-        dx = h / 2
-        if dim == 2:  # segments ~ 1/dx
-            wp_values = r["wp_values"] * r["dx"] / dx
-        else:  # triangles ~ 1/dx^2, from the 0.1 m wide tank's count (the counted runs' is 0.05 m wide)
-            wp_values = a.wp3d[0] * (a.wp3d[1] / dx) ** 2
         x, lo, hi, w = lat()
         decs = decompositions(x, w, lo, hi, h, Ps)
         decs_work = decompositions(x, w, lo, hi, h, Ps, on_work=True)
-        common = dict(dim=dim, steps=steps, cost=cost, ghost_cost=a.ghost_share * cost, r=r, wp_values=wp_values,
-                      alpha=a.alpha, beta=a.beta)
-        rows = project(decs, **common)
-        scen = {"drift": project(decs, drift=a.drift, collectives=coll_slosh, **common),
-                "work": project(decs_work, **common),
-                "work_drift": project(decs_work, drift=a.drift, collectives=coll_slosh, **common),
-                "all": project(decs_work, drift=a.drift, collectives=coll_slosh - r["collectives"] + coll_thin,
-                               **common)}
-        out[key] = dict(case=case, particles=len(x), steps=steps, cost=cost, rates=r, wp_values=wp_values, rows=rows,
-                        collectives_thinned=coll_thin, collectives_sloshing=coll_slosh,
-                        scenarios=scen)
-        print(f"\n({key}) {case}: {len(x)} particles, {steps:.0f} steps, {cost:.3g} s per particle-step on one core; "
-              f"counted rates: {r['collectives']:.1f} collectives/step, {r['messages_per_sendrank']:.1f} messages/step "
-              f"per rank sent to, {r['bytes_per_ghost']:.0f} bytes/ghost/step, {r['wp_reductions']:.0f} wall-pressure "
-              f"sums/step of {wp_values:.0f} values; {coll_thin:.2f} collectives/step with the rows thinned out, "
-              f"{coll_slosh:.2f} over a sloshing second (the drifted columns)")
-        print("cores  grid       owned max  work imb.  ghosts max  send ranks  compute ms  halo ms  coll ms  wall-p ms"
-              "   step ms   wall time  efficiency | drifted  cuts on work  and drifted  and rows thinned")
+        el = walls()
+        # the elements whose bounding sphere (radius at most r) meets the part grown by 2 (R + r): centroids within
+        # 2 R + 3 r of it, R = 2h + the skin 0.5h
+        margin = (2 * 2.5 + 3 * a.element_radius) * h
+        if dim == 3:
+            elements = {P: elements_per_rank(d, el, margin) for P, d in decs_work.items()}
+        else:  # a polygon's segments are not distributed (a few thousand): every rank holds them all
+            elements = {P: np.full(P, len(el)) for P in decs_work}
+        mem = a.mem3d if dim == 3 else a.mem2d
+        common = dict(dim=dim, steps=steps, cost=cost, ghost_cost=a.ghost_share * cost, r=r, alpha=a.alpha, beta=a.beta)
+        rows = project(decs_work, mem=mem, elements=elements, **common)
+        scen = {"drifted": project(decs_work, drift=a.drift, collectives=coll_slosh, **common),
+                "cuts on particles": project(decs, **common)}
+        out[key] = dict(case=case, particles=len(x), wall_elements=len(el), steps=steps, cost=cost, rates=r, rows=rows,
+                        collectives_sloshing=coll_slosh, scenarios=scen)
+        print(f"\n({key}) {case}: {len(x)} particles, {len(el)} wall elements, {steps:.0f} steps, {cost:.3g} s per "
+              f"particle-step on one core; counted: {r['collectives']:.1f} collectives/step, "
+              f"{r['messages_per_sendrank']:.1f} messages/step per rank sent to, {r['bytes_per_ghost']:.0f} bytes/ghost/step; "
+              f"{coll_slosh:.2f} collectives/step over the sloshing run ({slosh_case}: the drifted column)")
+        print("cores  grid       owned max  work imb.  ghosts max  send ranks  compute ms  halo ms  coll ms   step ms"
+              "   wall time  efficiency  elements max  memory max (MB) | " + "  ".join(scen))
         for k, w in enumerate(rows):
             print(f"{w['P']:5d}  {'x'.join(map(str, w['grid'])):9s} {w['owned_max']:10d} {w['work_imbalance']:9.3f}"
                   f" {w['ghosts_max']:10d} {w['sendranks_max']:10d} {1e3 * w['compute']:11.3f} {1e3 * w['halo']:8.3f}"
-                  f" {1e3 * w['collectives']:8.3f} {1e3 * w['wall_pressure']:9.3f} {1e3 * w['step']:9.3f}  "
-                  f"{fmt_time(w['wall']):>10s}  {100 * w['efficiency']:8.1f} % | "
+                  f" {1e3 * w['collectives']:8.3f} {1e3 * w['step']:9.3f}  {fmt_time(w['wall']):>10s}  "
+                  f"{100 * w['efficiency']:8.1f} %  {w['elements_max']:12d}  {w['memory_max'] / 1e6:15.1f} | "
                   + "  ".join(f"{100 * scen[s][k]['efficiency']:8.1f} %" for s in scen))
     if a.json:
         json.dump(out, open(a.json, "w"), indent=1, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o))
@@ -351,17 +479,22 @@ def main():
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+        fig, ax = plt.subplots(1, 3, figsize=(14, 4))
         for key, o in out.items():
             P = [w["P"] for w in o["rows"]]
             ax[0].loglog(P, [w["wall"] / 3600 for w in o["rows"]], "o-", label=f"({key}) {o['case']}, {o['particles']:,} particles")
-            line = ax[1].semilogx(P, [100 * w["efficiency"] for w in o["rows"]], "o-", label=f"({key}) cuts on particles")
-            ax[1].semilogx(P, [100 * w["efficiency"] for w in o["scenarios"]["work"]], "s--", color=line[0].get_color(),
-                           label=f"({key}) cuts on work (-fs_balance work)")
-            ax[1].semilogx(P, [100 * w["efficiency"] for w in o["scenarios"]["all"]], ":", color=line[0].get_color(),
-                           label=f"({key}) cuts on work, drifted ({drift_label} ranks), rows thinned")
+            line = ax[1].semilogx(P, [100 * w["efficiency"] for w in o["rows"]], "o-", label=f"({key})")
+            ax[1].semilogx(P, [100 * w["efficiency"] for w in o["scenarios"]["drifted"]], "s--", color=line[0].get_color(),
+                           label=f"({key}) drifted ({drift_label} ranks)")
+            line = ax[2].loglog(P, [w["memory_max"] / 1e6 for w in o["rows"]], "o-", label=f"({key})")
+            if o["rows"][-1]["memory_every_element"] > 1.01 * o["rows"][-1]["memory_max"]:
+                ax[2].loglog(P, [w["memory_every_element"] / 1e6 for w in o["rows"]], "x:", color=line[0].get_color(),
+                             label=f"({key}) every wall element on every rank")
         for o in out.values():
             ax[0].loglog(P, [o["rows"][0]["wall"] / 3600 / p for p in P], "k:", lw=0.8)
+        ax[2].set_xlabel("cores")
+        ax[2].set_ylabel("memory of the fullest rank (MB)")
+        ax[2].legend(fontsize=8)
         ax[0].set_xlabel("cores")
         ax[0].set_ylabel("wall time of 3 s (h)")
         ax[0].legend(fontsize=8)
