@@ -278,6 +278,33 @@ PetscErrorCode FSSolverBalanceWork(FSSolver s)
   PetscFunctionReturn(0);
 }
 
+/* whether a rebuild at this step may move the cuts (FSSolverRebalance) */
+static PetscBool FSSolverRebalanceDue(FSSolver s, PetscInt step)
+{
+  return (PetscBool)(s->pw.decomp.size > 1 && s->opt.rebalance_threshold > 0 && s->pw.nglobal_particles > 0 &&
+                     step - s->pw.balance_step >= s->opt.rebalance_interval);
+}
+
+/*
+   FSSolverRebalanceWork - with -fs_balance work, when a rebuild at this step may move the cuts: this rank's work
+   (FSSolverGetWork's sum), which the step's reduction sums and maximizes over the ranks (FSSolverStepReduce) for
+   FSSolverRebalance, so that its imbalance takes no collective of its own. *wanted: whether it is needed.
+
+   Not collective
+*/
+PetscErrorCode FSSolverRebalanceWork(FSSolver s, PetscInt step, PetscBool *wanted, PetscReal *work)
+{
+  PetscInt64 sum;
+
+  PetscFunctionBegin;
+  *work   = 0;
+  *wanted = (PetscBool)(s->opt.balance == FS_BALANCE_WORK && FSSolverRebalanceDue(s, step));
+  if (!*wanted) PetscFunctionReturn(0);
+  PetscCall(FSSolverGetWorkSum(s, &sum));
+  *work = (PetscReal)sum; /* exact: below 2^53 */
+  PetscFunctionReturn(0);
+}
+
 /*
    FSSolverRebalance - at a rebuild of the lists, before the migration: when the rank with the most work holds more
    than -fs_rebalance_threshold times the mean and -fs_rebalance_interval steps have passed since the cuts last moved,
@@ -285,9 +312,10 @@ PetscErrorCode FSSolverBalanceWork(FSSolver s)
    each particle to its new owner. The work is a rank's particles (-fs_balance particles) or their work in a
    right-hand side (-fs_balance work, FSSolverGetWork: candidate pairs and wall elements). The cuts set at the start
    are balanced on the liquid as it was then; a sloshing or collapsing liquid leaves them behind (the largest rank's
-   share drifts, measured in docs/performance.md). With -fs_balance particles the imbalance is the time step's
-   reduction's (no collective unless the cuts move); with work one gather of a number per rank at each rebuild.
-   *moved says whether they did (on every rank).
+   share drifts, measured in docs/performance.md). The imbalance comes from the step's reduction (the largest owned
+   count; with work, the work's largest and sum, FSSolverRebalanceWork), so no collective is taken unless the cuts
+   move (or, with work, when the step's reduction did not sum it: one reduction of two values). *moved says whether
+   they did (on every rank).
 
    Collective
 */
@@ -298,22 +326,21 @@ PetscErrorCode FSSolverRebalance(FSSolver s, PetscInt step, PetscBool *moved)
 
   PetscFunctionBegin;
   *moved = PETSC_FALSE;
-  if (s->pw.decomp.size == 1 || s->opt.rebalance_threshold <= 0 || s->pw.nglobal_particles <= 0 ||
-      step - s->pw.balance_step < s->opt.rebalance_interval)
-    PetscFunctionReturn(0);
+  if (!FSSolverRebalanceDue(s, step)) PetscFunctionReturn(0);
   if (s->opt.balance == FS_BALANCE_WORK) {
-    PetscInt64 *all, max = 0, total = 0;
-    PetscCall(FSSolverGetWork(s, &work, &sum));
-    PetscCall(PetscMalloc1(s->pw.decomp.size, &all));
-    PetscCallMPI(MPI_Allgather(&sum, 1, MPIU_INT64, all, 1, MPIU_INT64, PetscObjectComm((PetscObject)s)));
-    for (PetscMPIInt r = 0; r < s->pw.decomp.size; r++) {
-      max = PetscMax(max, all[r]);
-      total += all[r];
+    PetscReal max, total;
+    if (s->pw.work_step == step) {
+      max   = s->pw.work_max;
+      total = s->pw.work_total;
+    } else {
+      PetscCall(FSSolverGetWorkSum(s, &sum));
+      max = total = (PetscReal)sum;
+      PetscCall(FSSolverReduceSumMax(s, 1, &total, 1, &max));
     }
-    PetscCall(PetscFree(all));
-    imbalance = total > 0 ? (PetscReal)max / ((PetscReal)total / s->pw.decomp.size) : 1;
+    imbalance = total > 0 ? max / (total / s->pw.decomp.size) : 1;
   } else imbalance = s->mon.par.step_max[0] / ((PetscReal)s->pw.nglobal_particles / s->pw.decomp.size);
   if (imbalance > s->opt.rebalance_threshold) {
+    if (s->opt.balance == FS_BALANCE_WORK) PetscCall(FSSolverGetWork(s, &work, &sum));
     PetscCall(FSSolverBalanceCuts(s, work));
     PetscCall(PetscInfo(s, "step %" PetscInt_FMT ": imbalance %g above %g, cuts balanced again\n", step,
                         (double)imbalance, (double)s->opt.rebalance_threshold));

@@ -116,7 +116,9 @@ typedef struct {
   PetscReal  moved;        /* the largest displacement of a particle since the last build of the lists (all ranks) */
   PetscInt   sort_step;    /* the step of the last ordering by cell */
   PetscInt   balance_step; /* the step at which the cuts were last balanced on the particles */
-  PetscBool  resume;       /* the next build takes the positions of the swarm's build field (a restart) */
+  PetscInt   work_step;    /* the step whose reduction summed the ranks' work: work_max, work_total (-1: none) */
+  PetscReal  work_max, work_total;
+  PetscBool  resume; /* the next build takes the positions of the swarm's build field (a restart) */
 } FSParticleWork;
 
 /* What limits a time step (the time series' dt_limit column; FSSolverDtLimitName) */
@@ -309,6 +311,7 @@ PETSC_INTERN PetscErrorCode FSSolverRebuildDecide(FSSolver, const PetscReal[], P
                                                   PetscBool *);
 PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver, PetscBool packed);
 PETSC_INTERN PetscErrorCode FSSolverRebalance(FSSolver, PetscInt step, PetscBool *moved);
+PETSC_INTERN PetscErrorCode FSSolverRebalanceWork(FSSolver, PetscInt step, PetscBool *wanted, PetscReal *work);
 PETSC_INTERN PetscErrorCode FSSolverBalanceWork(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetWorkSum(FSSolver, PetscInt64 *);
 PETSC_INTERN PetscErrorCode FSSolverPartitionWalls(FSSolver);

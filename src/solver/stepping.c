@@ -868,13 +868,15 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
                                          PetscBool *sort)
 {
   const PetscInt nsrc = 1 + s->terms.nterms;
-  PetscReal      mx[FS_CHECK_N + FS_REBUILD_N + 2 + FS_MAX_TERMS + 2], *rb = mx + FS_CHECK_N, *cnt = rb + FS_REBUILD_N,
-                                                                  *nus = cnt + 2, nu;
+  PetscReal      mx[FS_CHECK_N + FS_REBUILD_N + 2 + FS_MAX_TERMS + 3], *rb = mx + FS_CHECK_N, *cnt = rb + FS_REBUILD_N,
+                                                                  *nus = cnt + 2, nu, sums[3];
   PetscInt           source                                            = 0, step;
-  const PetscInt     nmx                                               = FS_CHECK_N + FS_REBUILD_N + 2 + nsrc + 1;
-  FSMonitorRowBatch *rows                                              = &s->mon.rows;
+  const PetscInt     nmx  = FS_CHECK_N + FS_REBUILD_N + 2 + nsrc + 2; /* the last: the work's largest */
+  FSMonitorRowBatch *rows = &s->mon.rows;
+  PetscBool          work;
 
   PetscFunctionBegin;
+  PetscCall(TSGetStepNumber(s->ts, &step));
   for (PetscInt k = 0; k < FS_CHECK_N; k++) mx[k] = check[k];
   PetscCall(FSSolverRebuildNeededLocal(s, rb));
   cnt[0] = (PetscReal)s->pw.nowned;
@@ -882,27 +884,37 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
   for (PetscInt k = 0; k < nsrc; k++) nus[k] = s->state.nu_src[k];
   nus[0]    = PetscMax(nus[0], s->opt.nu);
   nus[nsrc] = FSSolverWriteStatus(s); /* the last rows' write status (rank 0's) */
-  if (rows->nsum + rows->nmax == 0) PetscCall(FSSolverReduceSumMax(s, 2, jump, nmx, mx));
+  /* a rebuild that may move the cuts on the work: the ranks' work, its sum and largest (FSSolverRebalance) */
+  PetscCall(FSSolverRebalanceWork(s, step, &work, &sums[2]));
+  nus[nsrc + 1] = sums[2];
+  sums[0]       = jump[0];
+  sums[1]       = jump[1];
+  if (rows->nsum + rows->nmax == 0) PetscCall(FSSolverReduceSumMax(s, 3, sums, nmx, mx));
   else { /* this step's rows' sums and maxima too (FSMonitorRowsBegin()), in room kept from step to step */
     PetscReal *sum, *max;
-    if (2 + rows->nsum + nmx + rows->nmax > s->mon.nreduce) {
+    if (3 + rows->nsum + nmx + rows->nmax > s->mon.nreduce) {
       PetscCall(PetscFree(s->mon.reduce));
-      s->mon.nreduce = 2 + rows->nsum + nmx + rows->nmax;
+      s->mon.nreduce = 3 + rows->nsum + nmx + rows->nmax;
       PetscCall(PetscMalloc1(s->mon.nreduce, &s->mon.reduce));
     }
-    sum    = s->mon.reduce;
-    max    = sum + 2 + rows->nsum;
-    sum[0] = jump[0];
-    sum[1] = jump[1];
-    PetscCall(PetscArraycpy(sum + 2, rows->sum, rows->nsum));
+    sum = s->mon.reduce;
+    max = sum + 3 + rows->nsum;
+    PetscCall(PetscArraycpy(sum, sums, 3));
+    PetscCall(PetscArraycpy(sum + 3, rows->sum, rows->nsum));
     PetscCall(PetscArraycpy(max, mx, nmx));
     PetscCall(PetscArraycpy(max + nmx, rows->max, rows->nmax));
-    PetscCall(FSSolverReduceSumMax(s, 2 + rows->nsum, sum, nmx + rows->nmax, max));
-    jump[0] = sum[0];
-    jump[1] = sum[1];
-    PetscCall(PetscArraycpy(rows->sum, sum + 2, rows->nsum));
+    PetscCall(FSSolverReduceSumMax(s, 3 + rows->nsum, sum, nmx + rows->nmax, max));
+    PetscCall(PetscArraycpy(sums, sum, 3));
+    PetscCall(PetscArraycpy(rows->sum, sum + 3, rows->nsum));
     PetscCall(PetscArraycpy(mx, max, nmx));
     PetscCall(PetscArraycpy(rows->max, max + nmx, rows->nmax));
+  }
+  jump[0] = sums[0];
+  jump[1] = sums[1];
+  if (work) {
+    s->pw.work_step  = step;
+    s->pw.work_total = sums[2];
+    s->pw.work_max   = nus[nsrc + 1];
   }
   PetscCall(FSSolverWriteStatusRaise(s, nus[nsrc])); /* a failed row: the run stops one step after it */
   PetscCall(FSSolverCheckStateEnd(s, mx));
@@ -913,7 +925,6 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
       source = k;
     }
   PetscCall(FSSolverRebuildDecide(s, rb, nu, source, rebuild, sort));
-  PetscCall(TSGetStepNumber(s->ts, &step));
   s->state.dtnext.ready  = (PetscBool) !*rebuild;
   s->state.dtnext.step   = step;
   s->state.dtnext.v2     = rb[1];
