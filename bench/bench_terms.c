@@ -14,6 +14,22 @@
 */
 #include "solver/solverimpl.h"
 
+/* a pair's shared quantities: grad W = -F (x_j - x_i), (u_j - u_i).grad W, (u_j - u_i).(x_j - x_i), the delta term's
+   correction (<grad rho>_i + <grad rho>_j).(x_j - x_i) and (x_j - x_i).grad W */
+static inline void PairDots(PetscInt dim, PetscReal F, const PetscReal dx[], const PetscReal ui[], const PetscReal uj[],
+                            const PetscReal gi[], const PetscReal gj[], PetscReal gw[], PetscReal *du_g,
+                            PetscReal *du_dx, PetscReal *corr, PetscReal *proj)
+{
+  *du_g = *du_dx = *corr = *proj = 0;
+  for (PetscInt d = 0; d < dim; d++) gw[d] = -F * dx[d];
+  for (PetscInt d = 0; d < dim; d++) {
+    *du_g += (uj[d] - ui[d]) * gw[d];
+    *du_dx += (uj[d] - ui[d]) * dx[d];
+    *corr += (gi[d] + gj[d]) * dx[d];
+    *proj += dx[d] * gw[d];
+  }
+}
+
 /* The five terms fused by hand: the same formulas as src/terms/impls/{continuity,delta,pressure,viscosity}.c. */
 static void FusedRates(FSSolver s, const PetscReal *delta, const PetscReal *a, PetscReal *f, PetscReal Kvisc)
 {
@@ -37,13 +53,7 @@ static void FusedRates(FSSolver s, const PetscReal *delta, const PetscReal *a, P
       }
       if (r2 >= s->pw.kernel.support2) continue;
       F = FSKernelF(&s->pw.kernel, PetscSqrtReal(r2));
-      for (PetscInt d = 0; d < dim; d++) gw[d] = -F * dx[d];
-      for (PetscInt d = 0; d < dim; d++) {
-        du_g += (rj[dim + d] - ui[d]) * gw[d];
-        du_dx += (rj[dim + d] - ui[d]) * dx[d];
-        corr += (gi[d] + gj[d]) * dx[d];
-        proj += dx[d] * gw[d];
-      }
+      PairDots(dim, F, dx, ui, rj + dim, gi, gj, gw, &du_g, &du_dx, &corr, &proj);
       cont += du_g * V[j];
       if (di + delta[j] > 0)
         diff += 2.0 * di * delta[j] / (di + delta[j]) * 2.0 * ((rj[2 * dim] - rhoi) - 0.5 * corr) / r2 * proj * V[j];
@@ -113,13 +123,7 @@ static void FusedRatesSymmetric(FSSolver s, const PetscInt *start, const PetscIn
         dx[d] = rj[d] - xi[d];
         r2 += dx[d] * dx[d];
       }
-      for (PetscInt d = 0; d < dim; d++) gw[d] = -F * dx[d];
-      for (PetscInt d = 0; d < dim; d++) {
-        du_g += (rj[dim + d] - ui[d]) * gw[d];
-        du_dx += (rj[dim + d] - ui[d]) * dx[d];
-        corr += (gi[d] + gj[d]) * dx[d];
-        proj += dx[d] * gw[d];
-      }
+      PairDots(dim, F, dx, ui, rj + dim, gi, gj, gw, &du_g, &du_dx, &corr, &proj);
       if (di + delta[j] > 0)
         diff = 2.0 * di * delta[j] / (di + delta[j]) * 2.0 * ((rj[2 * dim] - rhoi) - 0.5 * corr) / r2 * proj;
       visc = du_dx / r2;
