@@ -121,10 +121,8 @@ PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscI
   PetscMPIInt    size = dd->size, nto = 0, nfrom = 0, *toranks, *fromranks = NULL;
   PetscInt      *counts, *todata, *fromdata = NULL, *perm, *order;
   PetscReal     *sendbuf, *recvbuf;
-  PetscSF        tmp;
   PetscSFNode   *remote;
   PetscInt      *ilocal, nrec = 1 + dim;
-  MPI_Datatype   rtype;
 
   PetscFunctionBegin;
   PetscCall(FSHaloFindSends(hl, dd, nowned, rec, stride, width));
@@ -192,15 +190,27 @@ PetscErrorCode FSHaloBuild(FSHalo *hl, MPI_Comm comm, const FSDecomp *dd, PetscI
       }
     }
   }
-  PetscCall(PetscSFCreate(comm, &tmp));
-  PetscCall(PetscSFSetGraph(tmp, hl->nsend, hl->nghost, NULL, PETSC_OWN_POINTER, remote, PETSC_COPY_VALUES));
-  PetscCall(PetscSFSetUp(tmp));
-  PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)nrec, MPIU_REAL, &rtype));
-  PetscCallMPI(MPI_Type_commit(&rtype));
-  PetscCall(PetscSFBcastBegin(tmp, rtype, sendbuf, recvbuf, MPI_REPLACE));
-  PetscCall(PetscSFBcastEnd(tmp, rtype, sendbuf, recvbuf, MPI_REPLACE));
-  PetscCallMPI(MPI_Type_free(&rtype));
-  PetscCall(PetscSFDestroy(&tmp));
+  { /* each ghost's source index and shift, by messages to and from the ranks the handshake found (a PetscSF would
+       take a collective of its own to find them again) */
+    MPI_Comm     icomm;
+    PetscMPIInt  tag;
+    MPI_Request *req;
+    PetscInt     g = 0;
+    PetscCall(PetscCommDuplicate(comm, &icomm, &tag));
+    PetscCall(PetscMalloc1(nfrom + nto, &req));
+    for (PetscMPIInt a = 0; a < nfrom; a++) { /* the ghosts by source rank, each source's in its order */
+      PetscMPIInt k = (PetscMPIInt)order[a];
+      PetscCallMPI(MPI_Irecv(&recvbuf[g * nrec], (PetscMPIInt)(fromdata[2 * k] * nrec), MPIU_REAL, fromranks[k], tag,
+                             icomm, &req[a]));
+      g += fromdata[2 * k];
+    }
+    for (PetscMPIInt k = 0; k < nto; k++)
+      PetscCallMPI(MPI_Isend(&sendbuf[todata[2 * k + 1] * nrec], (PetscMPIInt)(todata[2 * k] * nrec), MPIU_REAL,
+                             toranks[k], tag, icomm, &req[nfrom + k]));
+    PetscCallMPI(MPI_Waitall(nfrom + nto, req, MPI_STATUSES_IGNORE));
+    PetscCall(PetscFree(req));
+    PetscCall(PetscCommDestroy(&icomm));
+  }
 
   /* the refresh SF: leaf g (record nowned+g) <- root (source rank, source index) */
   if (hl->nghost > hl->cap) {
