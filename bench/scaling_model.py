@@ -410,8 +410,8 @@ def main():
     ap.add_argument("--mem3d", type=float, nargs=4, default=MEM3D, metavar=("PROCESS", "PARTICLE", "GHOST", "ELEMENT"),
                     help="the same in 3-D")
     ap.add_argument("--fit-memory", action="store_true", help="fit the memory coefficients to the counted runs")
-    ap.add_argument("--alpha", type=float, default=1.5e-6)
-    ap.add_argument("--beta", type=float, default=10e9)
+    ap.add_argument("--alpha", type=float, default=1.5e-6, help="the network's latency a message (s)")
+    ap.add_argument("--beta", type=float, default=10e9, help="the network's bandwidth a rank (bytes/s)")
     ap.add_argument("--plot", help="PNG of the efficiencies")
     ap.add_argument("--json", help="the projections as JSON")
     ap.add_argument("--validate", action="store_true", help="compare the replayed decomposition with the counted runs")
