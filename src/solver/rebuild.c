@@ -225,17 +225,20 @@ static PetscErrorCode FSSolverGetWork(FSSolver s, PetscInt64 **work, PetscInt64 
 
 /*
    FSSolverGetWorkSum - this rank's work in a right-hand side, in fluid candidate pairs (FSSolverGetWork), whatever
-   -fs_balance says: the parallel statistics' "work". From the lists of the last build.
+   -fs_balance says: the parallel statistics' "work", the rebalancing's trigger. From the lists of the last build,
+   counted once a build (FSSolverResize forgets it).
 
    Not collective
 */
 PetscErrorCode FSSolverGetWorkSum(FSSolver s, PetscInt64 *sum)
 {
-  PetscInt64 *work;
-
   PetscFunctionBegin;
-  PetscCall(FSSolverGetWork(s, &work, sum));
-  PetscCall(PetscFree(work));
+  if (s->pw.worksum < 0) {
+    PetscInt64 *work;
+    PetscCall(FSSolverGetWork(s, &work, &s->pw.worksum));
+    PetscCall(PetscFree(work));
+  }
+  *sum = s->pw.worksum;
   PetscFunctionReturn(0);
 }
 
@@ -287,14 +290,14 @@ static PetscBool FSSolverRebalanceDue(FSSolver s, PetscInt step)
 
 /*
    FSSolverRebalanceWork - with -fs_balance work, when a rebuild at this step may move the cuts: this rank's work
-   (FSSolverGetWork's sum), which the step's reduction sums and maximizes over the ranks (FSSolverStepReduce) for
+   (FSSolverGetWorkSum), which the step's reduction sums and maximizes over the ranks (FSSolverStepReduce) for
    FSSolverRebalance, so that its imbalance takes no collective of its own. *wanted: whether it is needed.
 
    Not collective
 */
 PetscErrorCode FSSolverRebalanceWork(FSSolver s, PetscInt step, PetscBool *wanted, PetscReal *work)
 {
-  PetscInt64 sum;
+  PetscInt64 sum = 0;
 
   PetscFunctionBegin;
   *work   = 0;
@@ -312,43 +315,34 @@ PetscErrorCode FSSolverRebalanceWork(FSSolver s, PetscInt step, PetscBool *wante
    each particle to its new owner. The work is a rank's particles (-fs_balance particles) or their work in a
    right-hand side (-fs_balance work, FSSolverGetWork: candidate pairs and wall elements). The cuts set at the start
    are balanced on the liquid as it was then; a sloshing or collapsing liquid leaves them behind (the largest rank's
-   share drifts, measured in docs/performance.md). The imbalance comes from the step's reduction (the largest owned
-   count; with work, the work's largest and sum, FSSolverRebalanceWork), so no collective is taken unless the cuts
-   move (or, with work, when the step's reduction did not sum it: one reduction of two values). *moved says whether
-   they did (on every rank).
+   share drifts, measured in docs/performance.md). The imbalance comes from the step's reduction: the largest owned
+   count, or with work the ranks' largest work and their sum (work[0], work[1], FSSolverRebalanceWork), so no
+   collective is taken unless the cuts move. *moved says whether they did (on every rank).
 
    Collective
 */
-PetscErrorCode FSSolverRebalance(FSSolver s, PetscInt step, PetscBool *moved)
+PetscErrorCode FSSolverRebalance(FSSolver s, PetscInt step, const PetscReal work[2], PetscBool *moved)
 {
   PetscReal   imbalance;
-  PetscInt64 *work = NULL, sum;
+  PetscInt64 *pwork = NULL, sum;
 
   PetscFunctionBegin;
   *moved = PETSC_FALSE;
   if (!FSSolverRebalanceDue(s, step)) PetscFunctionReturn(0);
   if (s->opt.balance == FS_BALANCE_WORK) {
-    PetscReal max, total;
-    if (s->pw.work_step == step) {
-      max   = s->pw.work_max;
-      total = s->pw.work_total;
-    } else {
-      PetscCall(FSSolverGetWorkSum(s, &sum));
-      max = total = (PetscReal)sum;
-      PetscCall(FSSolverReduceSumMax(s, 1, &total, 1, &max));
-    }
-    imbalance = total > 0 ? max / (total / s->pw.decomp.size) : 1;
+    PetscCheck(work[1] >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "The step's reduction did not sum the work");
+    imbalance = work[1] > 0 ? work[0] / (work[1] / s->pw.decomp.size) : 1;
   } else imbalance = s->mon.par.step_max[0] / ((PetscReal)s->pw.nglobal_particles / s->pw.decomp.size);
   if (imbalance > s->opt.rebalance_threshold) {
-    if (s->opt.balance == FS_BALANCE_WORK) PetscCall(FSSolverGetWork(s, &work, &sum));
-    PetscCall(FSSolverBalanceCuts(s, work));
+    if (s->opt.balance == FS_BALANCE_WORK) PetscCall(FSSolverGetWork(s, &pwork, &sum));
+    PetscCall(FSSolverBalanceCuts(s, pwork));
     PetscCall(PetscInfo(s, "step %" PetscInt_FMT ": imbalance %g above %g, cuts balanced again\n", step,
                         (double)imbalance, (double)s->opt.rebalance_threshold));
     s->pw.balance_step = step;
     s->mon.nrebalances++;
     *moved = PETSC_TRUE;
   }
-  PetscCall(PetscFree(work));
+  PetscCall(PetscFree(pwork));
   PetscFunctionReturn(0);
 }
 

@@ -46,7 +46,7 @@ PetscErrorCode FSSolverCreate(MPI_Comm comm, FSSolver *solver)
   s->opt.sort_interval         = 1;
   s->opt.rebalance_threshold   = 1.2;
   s->opt.rebalance_interval    = 100;
-  s->pw.work_step              = -1;
+  s->pw.worksum                = -1;
   s->opt.balance               = FS_BALANCE_WORK;
   s->opt.rebuild               = FS_REBUILD_AUTO;
   s->opt.candidates            = 0; /* auto */

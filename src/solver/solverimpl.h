@@ -116,9 +116,8 @@ typedef struct {
   PetscReal  moved;        /* the largest displacement of a particle since the last build of the lists (all ranks) */
   PetscInt   sort_step;    /* the step of the last ordering by cell */
   PetscInt   balance_step; /* the step at which the cuts were last balanced on the particles */
-  PetscInt   work_step;    /* the step whose reduction summed the ranks' work: work_max, work_total (-1: none) */
-  PetscReal  work_max, work_total;
-  PetscBool  resume; /* the next build takes the positions of the swarm's build field (a restart) */
+  PetscInt64 worksum;      /* this rank's work from the lists of the last build (FSSolverGetWorkSum; -1: not yet) */
+  PetscBool  resume;       /* the next build takes the positions of the swarm's build field (a restart) */
 } FSParticleWork;
 
 /* What limits a time step (the time series' dt_limit column; FSSolverDtLimitName) */
@@ -310,7 +309,7 @@ PETSC_INTERN PetscErrorCode FSSolverRebuildNeededLocal(FSSolver, PetscReal[]);
 PETSC_INTERN PetscErrorCode FSSolverRebuildDecide(FSSolver, const PetscReal[], PetscReal, PetscInt, PetscBool *,
                                                   PetscBool *);
 PETSC_INTERN PetscErrorCode FSSolverKeepLists(FSSolver, PetscBool packed);
-PETSC_INTERN PetscErrorCode FSSolverRebalance(FSSolver, PetscInt step, PetscBool *moved);
+PETSC_INTERN PetscErrorCode FSSolverRebalance(FSSolver, PetscInt step, const PetscReal work[2], PetscBool *moved);
 PETSC_INTERN PetscErrorCode FSSolverRebalanceWork(FSSolver, PetscInt step, PetscBool *wanted, PetscReal *work);
 PETSC_INTERN PetscErrorCode FSSolverBalanceWork(FSSolver);
 PETSC_INTERN PetscErrorCode FSSolverGetWorkSum(FSSolver, PetscInt64 *);

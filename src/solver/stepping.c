@@ -214,6 +214,7 @@ PetscErrorCode FSSolverResize(FSSolver s, PetscBool resize)
   PetscFunctionBegin;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   s->state.dtnext.ready = PETSC_FALSE; /* the next time step is reduced anew */
+  s->pw.worksum         = -1;          /* the work is counted again from the new lists (FSSolverGetWorkSum) */
   if (resize || !s->state.U) {
     Vec            U;
     const PetscInt ng = FSSolverLocalGlobalDofs(s, rank); /* after the particles */
@@ -332,13 +333,18 @@ static void MPIAPI FSSumMaxOp(void *in, void *inout, int *len, MPI_Datatype *typ
   }
 }
 
-static MPI_Op FSSumMax = MPI_OP_NULL;
+static MPI_Op       FSSumMax     = MPI_OP_NULL;
+static MPI_Datatype FSSumMaxType = MPI_DATATYPE_NULL; /* the buffer as one element, of FSSumMaxLen reals */
+static PetscMPIInt  FSSumMaxLen  = 0;
 
 static PetscErrorCode FSSumMaxFree(void)
 {
   PetscFunctionBegin;
   if (FSSumMax != MPI_OP_NULL) PetscCallMPI(MPI_Op_free(&FSSumMax));
-  FSSumMax = MPI_OP_NULL;
+  if (FSSumMaxType != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&FSSumMaxType));
+  FSSumMax     = MPI_OP_NULL;
+  FSSumMaxType = MPI_DATATYPE_NULL;
+  FSSumMaxLen  = 0;
   PetscFunctionReturn(0);
 }
 
@@ -364,13 +370,13 @@ PetscErrorCode FSSolverReduceSumMax(FSSolver s, PetscInt nsum, PetscReal sum[], 
   v[0] = (PetscReal)nsum;
   for (PetscInt k = 0; k < nsum; k++) v[1 + k] = sum[k];
   for (PetscInt k = 0; k < nmax; k++) v[1 + nsum + k] = max[k];
-  {
-    MPI_Datatype whole;
-    PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)(1 + nsum + nmax), MPIU_REAL, &whole));
-    PetscCallMPI(MPI_Type_commit(&whole));
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v, 1, whole, FSSumMax, PetscObjectComm((PetscObject)s)));
-    PetscCallMPI(MPI_Type_free(&whole));
+  if (FSSumMaxLen != (PetscMPIInt)(1 + nsum + nmax)) { /* the type of the last length is kept: it rarely changes */
+    if (FSSumMaxType != MPI_DATATYPE_NULL) PetscCallMPI(MPI_Type_free(&FSSumMaxType));
+    FSSumMaxLen = (PetscMPIInt)(1 + nsum + nmax);
+    PetscCallMPI(MPI_Type_contiguous(FSSumMaxLen, MPIU_REAL, &FSSumMaxType));
+    PetscCallMPI(MPI_Type_commit(&FSSumMaxType));
   }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, v, 1, FSSumMaxType, FSSumMax, PetscObjectComm((PetscObject)s)));
   for (PetscInt k = 0; k < nsum; k++) sum[k] = v[1 + k];
   for (PetscInt k = 0; k < nmax; k++) max[k] = v[1 + nsum + k];
   if (v != buf) PetscCall(PetscFree(v));
@@ -859,13 +865,14 @@ PetscErrorCode FSSolverCheckStateEnd(FSSolver s, const PetscReal glob[])
    and the viscosity bound (FSSolverRebuildNeeded()), and the next step's time-step reduction (the largest speed,
    which the rebuild decision's is once the particles stay where they are, the viscosity bound, the largest owned
    count and pair list), and the write status of the last csv rows (FSSolverWriteStatus()): kept in s->state.dtnext
-   for FSSolverComputeStableDt() when the lists are kept. Then a failed row's error, the check's verdict
-   (FSSolverCheckStateEnd()) and the rebuild decision.
+   for FSSolverComputeStableDt() when the lists are kept, and when the cuts may move on the work, the ranks' largest
+   work and its sum (work[0], work[1]; work[1] = -1 when not summed) for FSSolverRebalance(). Then a failed row's
+   error, the check's verdict (FSSolverCheckStateEnd()) and the rebuild decision.
 
    Collective
 */
 static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscReal jump[2], PetscBool *rebuild,
-                                         PetscBool *sort)
+                                         PetscBool *sort, PetscReal work[2])
 {
   const PetscInt nsrc = 1 + s->terms.nterms;
   PetscReal      mx[FS_CHECK_N + FS_REBUILD_N + 2 + FS_MAX_TERMS + 3], *rb = mx + FS_CHECK_N, *cnt = rb + FS_REBUILD_N,
@@ -873,7 +880,7 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
   PetscInt           source                                            = 0, step;
   const PetscInt     nmx  = FS_CHECK_N + FS_REBUILD_N + 2 + nsrc + 2; /* the last: the work's largest */
   FSMonitorRowBatch *rows = &s->mon.rows;
-  PetscBool          work;
+  PetscBool          haswork;
 
   PetscFunctionBegin;
   PetscCall(TSGetStepNumber(s->ts, &step));
@@ -885,7 +892,7 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
   nus[0]    = PetscMax(nus[0], s->opt.nu);
   nus[nsrc] = FSSolverWriteStatus(s); /* the last rows' write status (rank 0's) */
   /* a rebuild that may move the cuts on the work: the ranks' work, its sum and largest (FSSolverRebalance) */
-  PetscCall(FSSolverRebalanceWork(s, step, &work, &sums[2]));
+  PetscCall(FSSolverRebalanceWork(s, step, &haswork, &sums[2]));
   nus[nsrc + 1] = sums[2];
   sums[0]       = jump[0];
   sums[1]       = jump[1];
@@ -911,11 +918,8 @@ static PetscErrorCode FSSolverStepReduce(FSSolver s, PetscReal check[], PetscRea
   }
   jump[0] = sums[0];
   jump[1] = sums[1];
-  if (work) {
-    s->pw.work_step  = step;
-    s->pw.work_total = sums[2];
-    s->pw.work_max   = nus[nsrc + 1];
-  }
+  work[0] = nus[nsrc + 1];                           /* the largest rank's work */
+  work[1] = haswork ? sums[2] : -1;                  /* the ranks' (-1: not summed) */
   PetscCall(FSSolverWriteStatusRaise(s, nus[nsrc])); /* a failed row: the run stops one step after it */
   PetscCall(FSSolverCheckStateEnd(s, mx));
   nu = nus[0]; /* as FSSolverReduceWithViscosity() */
@@ -951,7 +955,7 @@ PetscErrorCode FSSolverStep(FSSolver s)
   TSAdapt           adapt;
   TSConvergedReason reason;
   PetscInt          step;
-  PetscReal         ejump[2], check[FS_CHECK_N];
+  PetscReal         ejump[2], check[FS_CHECK_N], work[2];
   PetscBool         bounced, rebuild, sort;
 
   PetscFunctionBegin;
@@ -1005,10 +1009,10 @@ PetscErrorCode FSSolverStep(FSSolver s)
      bounces moved the particles' fields, so the state takes them first (FSSolverKeepLists() need not again) */
   if (bounced) PetscCall(FSSolverPackState(s));
   PetscCall(FSMonitorRowsBegin(s->mon.nlist, s->mon.list, s, &s->mon.rows));
-  PetscCall(FSSolverStepReduce(s, check, ejump, &rebuild, &sort)); /* the check, the rebuild decision, the next dt */
+  PetscCall(FSSolverStepReduce(s, check, ejump, &rebuild, &sort, work)); /* the check, the rebuild, the next dt */
   if (rebuild) {
     PetscBool rebalanced;
-    PetscCall(FSSolverRebalance(s, step, &rebalanced));
+    PetscCall(FSSolverRebalance(s, step, work, &rebalanced));
     PetscCall(FSSolverMigrate(s, &changed));
     if (sort || rebalanced) { /* the particles a rebalance brings are in no order */
       PetscCall(FSSolverSortByCell(s));
