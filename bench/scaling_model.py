@@ -145,6 +145,13 @@ def decompose(x, lo, hi, P, width, weights=None, on_work=False):
     return Decomp(grid, owned, ghosts, sendranks, work, cuts)
 
 
+def element_margin(h, element_radius=0.58):
+    """How far beyond its part a rank holds wall elements' centroids with the distributed mesh: the bounding sphere
+    (radius r, at most element_radius h) meets the part grown by 2 (R + r), R = 2h + the skin 0.5h the candidate
+    radius: 2 R + 3 r."""
+    return (2 * 2.5 + 3 * element_radius) * h
+
+
 def elements_per_rank(dec, walls, margin):
     """The wall elements each rank holds with the distributed wall mesh (-fs_walls_distribute, the default on
     several ranks; docs/walls.md): those whose centroid lies within margin of the rank's part of the domain
@@ -261,9 +268,8 @@ def counted(counts_dir, case):
 
 def rates(runs):
     """From the counted runs of a case (P >= 2): collectives per step, messages per step per rank sent to (the halo's
-    and the wall pressure's), bytes sent per ghost per step, and the pairs' imbalance over the owned particles' (what
-    the pair lists add to the count's imbalance) per P."""
-    col, msg, byt, imb = [], [], [], {}
+    and the wall pressure's) and bytes sent per ghost per step."""
+    col, msg, byt = [], [], []
     for P, s in runs.items():
         if P < 2:
             continue
@@ -272,9 +278,7 @@ def rates(runs):
         sr = sum(p["send_ranks"])
         msg.append(sum(p["messages_per_step"]) / max(sr, 1))
         byt.append(sum(p["bytes_per_step"]) / max(sum(p["ghosts_mean"]), 1))
-        imb[P] = p["imbalance_pairs"] / max(p["imbalance_owned"], 1e-9)
-    return dict(collectives=max(col), messages_per_sendrank=float(np.mean(msg)), bytes_per_ghost=float(np.mean(byt)),
-                dx=runs[max(runs)]["dx"], pair_imbalance=imb)
+    return dict(collectives=max(col), messages_per_sendrank=float(np.mean(msg)), bytes_per_ghost=float(np.mean(byt)))
 
 
 def decompositions(x, w, lo, hi, h, Ps, on_work=False):
@@ -295,10 +299,10 @@ def drift_at(drift, P):
 
 
 def project(decs, dim, steps, cost, ghost_cost, r, alpha=1.5e-6, beta=10e9, drift=1.0, collectives=None, mem=None,
-            elements=None):
+            elements=None, nelements=0):
     """Wall time (s) and efficiency on each P of the decompositions decs, with the breakdown of a step; with mem
-    (bytes: process, particle, ghost, element) and elements ({P: wall elements per rank}) the largest memory of a
-    rank."""
+    (bytes: process, particle, ghost, element), elements ({P: wall elements per rank}) and nelements (all of them) the
+    largest memory of a rank, as it is and with every element on every rank."""
     rows = []
     for P, dec in sorted(decs.items()):
         grid, owned, ghosts, sendranks, work = dec.grid, dec.owned, dec.ghosts, dec.sendranks, dec.work
@@ -310,11 +314,10 @@ def project(decs, dim, steps, cost, ghost_cost, r, alpha=1.5e-6, beta=10e9, drif
                    work_imbalance=float(work.max() * P / work.sum()), sendranks_max=int(sendranks.max()),
                    compute=comp, halo=halo, collectives=coll, step=comp + halo + coll)
         if mem is not None:
-            el = elements[P] if elements is not None else np.zeros(P)
-            per_rank = mem[0] + mem[1] * owned + mem[2] * ghosts + mem[3] * el
-            every = mem[0] + mem[1] * owned + mem[2] * ghosts + mem[3] * (el.max() if P == 1 else elements[1].max())
-            row.update(elements_max=int(el.max()), memory_max=float(per_rank.max()),
-                       memory_elements=float(mem[3] * el.max()), memory_every_element=float(every.max()))
+            el = elements[P]
+            rest = mem[0] + mem[1] * owned + mem[2] * ghosts
+            row.update(elements_max=int(el.max()), memory_max=float((rest + mem[3] * el).max()),
+                       memory_every_element=float((rest + mem[3] * nelements).max()))
         rows.append(row)
     t1 = rows[0]["step"] * steps
     for row in rows:
@@ -351,7 +354,7 @@ def validate(counts_dir):
     if 1 in runs:
         per = runs[1]["memory"]["walls_elements"] / runs[1]["wall_elements"]
         for P, s in sorted(runs.items()):
-            held = elements_per_rank(decompose(x, dlo, dhi, P, 0.025, w, on_work=True), el, (5 + 3 * 0.58) * 0.01)
+            held = elements_per_rank(decompose(x, dlo, dhi, P, 0.025, w, on_work=True), el, element_margin(0.01))
             print(f"  baffled3d {P:3d} ranks: {s['memory']['walls_elements'] / per:8.0f} / {held.sum():8d}")
 
 
@@ -447,16 +450,14 @@ def main():
         decs = decompositions(x, w, lo, hi, h, Ps)
         decs_work = decompositions(x, w, lo, hi, h, Ps, on_work=True)
         el = walls()
-        # the elements whose bounding sphere (radius at most r) meets the part grown by 2 (R + r): centroids within
-        # 2 R + 3 r of it, R = 2h + the skin 0.5h
-        margin = (2 * 2.5 + 3 * a.element_radius) * h
+        margin = element_margin(h, a.element_radius)
         if dim == 3:
             elements = {P: elements_per_rank(d, el, margin) for P, d in decs_work.items()}
         else:  # a polygon's segments are not distributed (a few thousand): every rank holds them all
             elements = {P: np.full(P, len(el)) for P in decs_work}
         mem = a.mem3d if dim == 3 else a.mem2d
         common = dict(dim=dim, steps=steps, cost=cost, ghost_cost=a.ghost_share * cost, r=r, alpha=a.alpha, beta=a.beta)
-        rows = project(decs_work, mem=mem, elements=elements, **common)
+        rows = project(decs_work, mem=mem, elements=elements, nelements=len(el), **common)
         scen = {"drifted": project(decs_work, drift=a.drift, collectives=coll_slosh, **common),
                 "cuts on particles": project(decs, **common)}
         out[key] = dict(case=case, particles=len(x), wall_elements=len(el), steps=steps, cost=cost, rates=r, rows=rows,

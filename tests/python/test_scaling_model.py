@@ -20,7 +20,7 @@ def test_elements_per_rank_against_a_direct_count(P):
     dlo, dhi = m.domain(lo, hi, 0.01)
     dec = m.decompose(x, dlo, dhi, P, 0.025, w, on_work=True)
     el = m.walls_baffled3d(0.01, 0.05)
-    margin = 0.0674
+    margin = m.element_margin(0.01)
     held = m.elements_per_rank(dec, el, margin)
     direct = np.zeros(P, dtype=int)
     for k, idx in enumerate(np.ndindex(*reversed(dec.grid[:3]))):
@@ -49,5 +49,5 @@ def test_replayed_decomposition_matches_the_counted_runs():
         dec = m.decompose(x, dlo, dhi, P, 0.025, w)
         assert tuple(dec.grid) == grid and dec.owned.max() == owned and dec.ghosts.max() == ghosts
         assert dec.sendranks.max() == sends
-        replayed = m.elements_per_rank(m.decompose(x, dlo, dhi, P, 0.025, w, on_work=True), el, (5 + 3 * 0.58) * 0.01)
+        replayed = m.elements_per_rank(m.decompose(x, dlo, dhi, P, 0.025, w, on_work=True), el, m.element_margin(0.01))
         assert abs(replayed.sum() / held - 1) < 0.04, (P, replayed.sum(), held)
